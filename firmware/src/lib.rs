@@ -1,0 +1,9 @@
+//! Hardware-independent logic of the Drosophibot II controller firmware.
+//!
+//! Everything here is `no_std` and free of embassy-rp, so it runs on the RP2040 and in host tests
+//! alike: the binary (`main.rs`) only wires these pieces to the UART, the USB link, the flash and
+//! the clock. Each piece of hardware is reached through one seam (a trait) with a test double.
+
+#![cfg_attr(not(test), no_std)]
+
+pub mod memory_map;

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The one test command: installs what a fresh machine lacks, then checks formatting and lints, builds
+# the firmware image and prints its budget, and runs every test. `.ci/run` calls exactly this.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
+
+step() { printf '\n==> %s\n' "$*"; }
+
+step "toolchain: thumbv6m-none-eabi target, rustfmt, clippy"
+rustup target add thumbv6m-none-eabi >/dev/null
+rustup component add rustfmt clippy >/dev/null 2>&1 || true
+
+step "cargo fmt --check"
+cargo fmt --all --check
+
+step "clippy on the host crates (-D warnings)"
+cargo clippy --workspace --all-targets --locked -- -D warnings
+
+step "clippy on the firmware for thumbv6m-none-eabi (-D warnings)"
+(cd firmware && cargo clippy --release --locked -- -D warnings)
+
+step "firmware release image for thumbv6m-none-eabi"
+(cd firmware && cargo build --release --locked)
+cargo run --quiet --locked -p hil-tests --bin firmware-size -- target/thumbv6m-none-eabi/release/firmware
+
+step "doc tests"
+cargo test --workspace --doc --locked
+
+step "all host-side tests (nextest)"
+cargo nextest run --workspace --locked --no-fail-fast
