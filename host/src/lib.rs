@@ -1,2 +1,4 @@
 //! The Drosophibot II host library: organism models, kinematics, inverse dynamics, gait planning,
 //! reports and the link to the board. The `dbot` CLI is a thin layer over it.
+
+pub mod model;

@@ -1,0 +1,13 @@
+//! Organism models: rigid bodies connected by hinge joints in a tree rooted at the thorax, with foot
+//! contact points, actuators, optional parallel springs and the servo map.
+//!
+//! Conventions (one place for all of them):
+//! - SI units: m, kg, kg m^2, rad, N m / rad. Frames follow ROS REP-103: x forward, y left, z up.
+//!   Imports from the paper's / AnimatLab's y-up frame convert at the importer.
+//! - Body 0 is the thorax, the root. Every other body has exactly one proximal joint, and a body's
+//!   frame is the frame of that joint: at angle `q` the child frame is `parent * origin * R(axis, q)`.
+//! - A body's centre of mass and inertia are given in its own frame (inertia about the CoM).
+
+mod types;
+
+pub use types::*;

@@ -1,0 +1,164 @@
+//! The model data types shared by the planner (kinematics, dynamics) and the reports.
+
+use nalgebra::{Isometry3, Matrix3, Unit, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// A leg, named as in the paper: left/right, front/middle/hind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Leg {
+    LF,
+    LM,
+    LH,
+    RF,
+    RM,
+    RH,
+}
+
+impl Leg {
+    /// All six legs in the paper's order (left front to right hind).
+    pub const ALL: [Leg; 6] = [Leg::LF, Leg::LM, Leg::LH, Leg::RF, Leg::RM, Leg::RH];
+
+    /// +1 for a left leg, -1 for a right leg (REP-103: y points left).
+    pub fn side(self) -> f64 {
+        match self {
+            Leg::LF | Leg::LM | Leg::LH => 1.0,
+            _ => -1.0,
+        }
+    }
+
+    /// Short name, e.g. `"LF"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Leg::LF => "LF",
+            Leg::LM => "LM",
+            Leg::LH => "LH",
+            Leg::RF => "RF",
+            Leg::RM => "RM",
+            Leg::RH => "RH",
+        }
+    }
+}
+
+/// A leg joint, named as in the paper.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum JointKind {
+    /// Thorax-coxa protraction / retraction.
+    ThC1,
+    /// Thorax-coxa levation / depression.
+    ThC2,
+    /// Thorax-coxa rotation.
+    ThC3,
+    /// Coxa-trochanter flexion / extension.
+    CTr,
+    /// Trochanter-femur rotation (the paper's "TrF" on the robot).
+    TrF1,
+    /// Trochanter-femur flexion / extension.
+    TrF2,
+    /// Femur-tibia flexion / extension.
+    FTi,
+    /// Tibia-tarsus (fixed on both models).
+    TiTar,
+}
+
+/// What drives a joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Actuation {
+    /// Driven by an actuator with a proportional controller of this stiffness (N m / rad).
+    Actuated {
+        actuator: ActuatorKind,
+        stiffness: f64,
+    },
+    /// Locked at a fixed angle (rad); its moment about the axis is carried by the structure.
+    Fixed { angle: f64 },
+}
+
+/// Actuator family of a joint, for torque limits and the servo model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ActuatorKind {
+    /// Dynamixel MX-28(2.0): stall torque 2.5 N m at 12 V.
+    Mx28,
+    /// Dynamixel MX-64(2.0): stall torque 6.0 N m at 12 V.
+    Mx64,
+    /// A generic actuator (e.g. the fly's muscles) with no servo behind it.
+    Generic,
+}
+
+/// A spring in parallel with a joint: torque = -stiffness (q - equilibrium).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ParallelSpring {
+    /// N m / rad.
+    pub stiffness: f64,
+    /// rad.
+    pub equilibrium: f64,
+}
+
+/// Where a joint's servo sits on the bus and how its ticks map to the joint angle:
+/// `angle = sign * (ticks - 2048) * 2 pi / 4096 + zero_offset`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ServoMap {
+    /// Dynamixel ID, 0..=252.
+    pub id: u8,
+    /// Servo model.
+    pub model: ActuatorKind,
+    /// Joint angle (rad) at the servo's centre position (2048 ticks).
+    pub zero_offset: f64,
+    /// +1 or -1: whether increasing ticks increase the joint angle.
+    pub sign: i8,
+}
+
+/// A rigid body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Body {
+    pub name: String,
+    /// kg.
+    pub mass: f64,
+    /// Centre of mass in the body's frame, m.
+    pub com: Vector3<f64>,
+    /// Inertia tensor about the centre of mass in the body's frame, kg m^2.
+    pub inertia: Matrix3<f64>,
+}
+
+/// A hinge joint between a parent body and a child body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Joint {
+    /// Full name `<leg>_<joint>`, e.g. `LF_ThC1`.
+    pub name: String,
+    pub leg: Leg,
+    pub kind: JointKind,
+    /// Index of the parent body in [`Model::bodies`].
+    pub parent: usize,
+    /// Index of the child body; the child's frame is this joint's frame.
+    pub child: usize,
+    /// Pose of the joint frame in the parent's frame at angle zero.
+    pub origin: Isometry3<f64>,
+    /// Rotation axis in the joint frame.
+    pub axis: Unit<Vector3<f64>>,
+    /// Lower and upper angle limits, rad.
+    pub limits: (f64, f64),
+    pub actuation: Actuation,
+    pub spring: Option<ParallelSpring>,
+    pub servo: Option<ServoMap>,
+}
+
+/// A foot contact point on a leg's last body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Foot {
+    pub leg: Leg,
+    /// Index of the body that carries the foot (the tarsus).
+    pub body: usize,
+    /// Contact point in that body's frame, m.
+    pub point: Vector3<f64>,
+}
+
+/// A legged organism: bodies, joints (a tree rooted at body 0, the thorax) and feet.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Model {
+    pub name: String,
+    /// Body 0 is the thorax. Bodies rigidly attached to the thorax (head, abdomen, ballast) are
+    /// either merged into it or hang from it on `Fixed` joints.
+    pub bodies: Vec<Body>,
+    /// Ordered so that a joint's parent body is the thorax or the child of an earlier joint.
+    pub joints: Vec<Joint>,
+    /// One foot per leg.
+    pub feet: Vec<Foot>,
+}
