@@ -11,6 +11,12 @@ step "toolchain: thumbv6m-none-eabi target, rustfmt, clippy"
 rustup target add thumbv6m-none-eabi >/dev/null
 rustup component add rustfmt clippy >/dev/null 2>&1 || true
 
+for setup in scripts/setup.d/*.sh; do
+    [ -e "$setup" ] || continue
+    step "setup: $setup"
+    bash "$setup"
+done
+
 step "cargo fmt --check"
 cargo fmt --all --check
 
