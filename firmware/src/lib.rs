@@ -11,5 +11,6 @@ extern crate std;
 
 pub mod bias;
 pub mod memory_map;
+pub mod playback;
 pub mod safety;
 pub mod store;
