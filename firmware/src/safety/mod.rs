@@ -1,12 +1,16 @@
 //! Safety state machine of the controller: which state the robot is in and which events move it.
 //! Pure data, no I/O: the controller feeds events and acts on the state (drive goals, torque off).
+//! The states are those of the protocol's `RunState`, plus `Boot`, with the fault split into
+//! `Safe(reason)` and `EStop`.
 //!
 //! ```text
-//!  Boot ──BootDone──> Idle ──Start──> Ramping ──RampDone──> Walking ──Stop──> Stopping
-//!                      ^  ^             │Stop                  │StepsDone      │EndOfStep / StepsDone
-//!                      │  └─────────────┘                      v               v
-//!                      └────────────────────────────────────  Idle <──────────┘
-//!  any ──Fault(r)──> Safe(r)      any ──EStop──> EStop      Safe / EStop / Idle ──Reboot──> Boot
+//!  Boot ─BootDone─> Idle ─TorqueOn─> Standing ─Start─> Ramping ─RampDone─> Walking ─Stop─> Stopping
+//!                    ^ └──TorqueOff──┘ ^ │ ^  ^          │Stop               │StepsDone    │EndOfStep,
+//!                    │                 │ │ │  └──────────┘                   v             │StepsDone
+//!                    │                 │ │ └─────────────────────────────  Standing <────┘
+//!                    │                 │ └EnterStreaming─> Streaming ─LeaveStreaming─┘
+//!  Safe(r) / EStop ─ClearFault─┘   any ─Fault(r)─> Safe(r)   any ─EStop─> EStop
+//!  Idle / Standing / Safe / EStop ─Reboot─> Boot
 //! ```
 
 /// Why the robot went into the safe state.
@@ -14,11 +18,13 @@
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum SafeReason {
-    /// The servo reported a hardware error (`error` = its Hardware Error Status bits, or the status
-    /// packet's error byte when the alert bit is set).
-    ServoError { id: u8, error: u8 },
-    /// The servo did not answer (or answered corrupt) for `cycles` consecutive bus cycles.
-    ServoMissing { id: u8, cycles: u8 },
+    /// The servo of `joint` (bus `id`) reported a hardware error (`error` = its Hardware Error
+    /// Status bits, or the status packet's error number).
+    ServoError { joint: u8, id: u8, error: u8 },
+    /// The servo of `joint` (bus `id`) did not answer usably for `cycles` consecutive bus cycles.
+    ServoMissing { joint: u8, id: u8, cycles: u8 },
+    /// Streaming mode got no new setpoint in time.
+    SetpointTimeout,
     /// The watchdog reset a hung firmware.
     Watchdog,
 }
@@ -29,15 +35,19 @@ pub enum SafeReason {
 pub enum State {
     /// Servos are being found and configured; nothing moves.
     Boot,
-    /// Servos hold their last goals; uploads and settings are allowed.
+    /// Torque off; feedback is still read.
     Idle,
+    /// Torque on, holding a posture.
+    Standing,
     /// Moving from the present positions to the first slice of the gait.
     Ramping,
     /// Playing the gait.
     Walking,
-    /// Playing on until the end of the current step, then Idle.
+    /// Playing on until the end of the current step, then Standing.
     Stopping,
-    /// A fault stopped playback; goals are no longer written, telemetry goes on.
+    /// Following setpoints streamed by the host.
+    Streaming,
+    /// A fault stopped the robot: goals are no longer written, telemetry goes on.
     Safe(SafeReason),
     /// Torque off on every servo, by the host's order.
     EStop,
@@ -47,8 +57,12 @@ pub enum State {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Event {
-    /// Every servo of the joint map answered and was configured.
+    /// Every servo of the joint map answered.
     BootDone,
+    /// Host: torque on (hold the present posture).
+    TorqueOn,
+    /// Host: torque off.
+    TorqueOff,
     /// Host: start playing the selected gait.
     Start,
     /// The ramp reached the first slice.
@@ -59,11 +73,17 @@ pub enum Event {
     EndOfStep,
     /// Playback finished the requested number of steps (at the end of a step).
     StepsDone,
+    /// Host: follow streamed setpoints.
+    EnterStreaming,
+    /// Host: stop streaming, hold the last setpoint.
+    LeaveStreaming,
     /// Host: emergency stop.
     EStop,
-    /// A servo fault or the watchdog.
+    /// A servo fault, a setpoint timeout or the watchdog.
     Fault(SafeReason),
-    /// Host: reboot the servos and configure them again.
+    /// Host: the cause of the fault is gone; go to Idle (torque off).
+    ClearFault,
+    /// Host: reboot the servos and look for them again.
     Reboot,
 }
 
@@ -88,25 +108,33 @@ impl State {
             (S::EStop, E::Fault(_)) => S::EStop,
             (_, E::Fault(r)) => S::Safe(r),
             (S::Boot, E::BootDone) => S::Idle,
-            (S::Idle, E::Start) => S::Ramping,
-            (S::Idle, E::Stop) => S::Idle,
-            (S::Idle | S::Safe(_) | S::EStop, E::Reboot) => S::Boot,
+            (S::Idle | S::Standing, E::TorqueOn) => S::Standing,
+            (S::Idle | S::Standing, E::TorqueOff) => S::Idle,
+            (S::Idle | S::Standing, E::Start) => S::Ramping,
+            (S::Idle | S::Standing, E::Stop) => self,
+            (S::Idle | S::Standing, E::EnterStreaming) => S::Streaming,
+            (S::Idle | S::Standing | S::Safe(_) | S::EStop, E::Reboot) => S::Boot,
+            (S::Safe(_) | S::EStop, E::ClearFault) => S::Idle,
             (S::Ramping, E::RampDone) => S::Walking,
             // Stopping a ramp holds where it got to: the gait never started, there is no step to end.
-            (S::Ramping, E::Stop) => S::Idle,
+            (S::Ramping, E::Stop) => S::Standing,
             (S::Walking, E::Stop) => S::Stopping,
             (S::Walking, E::EndOfStep) => S::Walking,
-            (S::Walking | S::Stopping, E::StepsDone) => S::Idle,
-            (S::Stopping, E::EndOfStep) => S::Idle,
+            (S::Walking | S::Stopping, E::StepsDone) => S::Standing,
+            (S::Stopping, E::EndOfStep) => S::Standing,
             (S::Stopping, E::Stop) => S::Stopping,
+            (S::Streaming, E::LeaveStreaming | E::Stop) => S::Standing,
             (state, event) => return Err(Refused { state, event }),
         };
         Ok(next)
     }
 
-    /// Whether the bus loop writes goal positions in this state.
+    /// Whether the bus loop writes goal positions (and servos have torque on) in this state.
     pub fn drives_goals(self) -> bool {
-        matches!(self, State::Ramping | State::Walking | State::Stopping | State::Idle)
+        matches!(
+            self,
+            State::Standing | State::Ramping | State::Walking | State::Stopping | State::Streaming
+        )
     }
 
     /// Whether the gait clock advances.
@@ -117,7 +145,10 @@ impl State {
     /// Whether the flash may be written: never while anything moves, because a sector erase stalls
     /// XIP (and with it the bus loop) for tens of milliseconds.
     pub fn allows_flash_writes(self) -> bool {
-        matches!(self, State::Idle | State::Safe(_) | State::EStop | State::Boot)
+        matches!(
+            self,
+            State::Boot | State::Idle | State::Standing | State::Safe(_) | State::EStop
+        )
     }
 }
 
@@ -137,11 +168,15 @@ impl<const N: usize> MissCounter<N> {
         }
     }
 
-    /// Records one cycle for the servo at `index` (with bus `id`): `answered` resets its count.
-    pub fn record(&mut self, index: usize, id: u8, answered: bool) -> Option<SafeReason> {
-        let m = self.misses.get_mut(index)?;
+    /// Records one cycle for the servo of `joint` (bus `id`): `answered` resets its count.
+    pub fn record(&mut self, joint: usize, id: u8, answered: bool) -> Option<SafeReason> {
+        let m = self.misses.get_mut(joint)?;
         *m = if answered { 0 } else { m.saturating_add(1) };
-        (*m >= self.limit).then_some(SafeReason::ServoMissing { id, cycles: *m })
+        (*m >= self.limit).then_some(SafeReason::ServoMissing {
+            joint: joint as u8,
+            id,
+            cycles: *m,
+        })
     }
 
     /// Forgets all misses (after a reboot).

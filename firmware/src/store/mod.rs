@@ -87,6 +87,9 @@ struct Upload {
     /// Received bytes that do not fill a write unit yet.
     tail: [u8; MAX_WRITE],
     tail_len: usize,
+    /// Bytes of the bank (from its start) erased so far; sectors are erased as chunks reach them,
+    /// so no request blocks for more than one sector erase (tens of ms) beyond its writes.
+    erased: u32,
 }
 
 /// Summary of one slot, for listings.
@@ -170,8 +173,9 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
         self.flash
     }
 
-    /// Starts replacing the table of `slot` with `total` bytes: erases as much of the spare bank as the
-    /// table needs. Any upload in progress is abandoned (its bank was never committed).
+    /// Starts replacing the table of `slot` with `total` bytes: erases the first sector of the spare
+    /// bank (its record, so the bank is invalid from here on); later sectors are erased as chunks
+    /// reach them. Any upload in progress is abandoned (its bank was never committed).
     pub fn begin(&mut self, slot: u8, total: u32) -> Result<(), StoreError> {
         self.check_slot(slot)?;
         if total == 0 || total > self.max_table_len() {
@@ -185,9 +189,10 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
         let bank = cur.map_or(0, |r| 1 - r.bank);
         let seq = cur.map_or(1, |r| r.seq.wrapping_add(1));
         let base = self.bank_base(slot, bank);
-        let span = (HEADER as u32 + total).div_ceil(F::ERASE_SIZE as u32) * F::ERASE_SIZE as u32;
         // The record sits in the first sector, so the bank stops being valid with the first erase.
-        self.flash.erase(base, base + span).map_err(fault)?;
+        self.flash
+            .erase(base, base + F::ERASE_SIZE as u32)
+            .map_err(fault)?;
         self.upload = Some(Upload {
             slot,
             bank,
@@ -196,13 +201,23 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
             flushed: 0,
             tail: [0xFF; MAX_WRITE],
             tail_len: 0,
+            erased: F::ERASE_SIZE as u32,
         });
         Ok(())
     }
 
     /// Appends `data` at `offset` of the table being uploaded. Chunks must come in order and without
     /// gaps: NOR cannot rewrite, so a reordered or repeated chunk is refused, not merged.
+    /// A flash failure ends the upload (what reached the bank is unknown); a refused chunk does not.
     pub fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StoreError> {
+        let result = self.append(offset, data);
+        if let Err(StoreError::Flash(_)) = result {
+            self.upload = None;
+        }
+        result
+    }
+
+    fn append(&mut self, offset: u32, data: &[u8]) -> Result<(), StoreError> {
         let u = self.upload.as_ref().ok_or(StoreError::NoUpload)?;
         let base = self.bank_base(u.slot, u.bank) + HEADER as u32;
         let received = u.flushed + u.tail_len as u32;
@@ -221,6 +236,10 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
             });
         }
         let w = F::WRITE_SIZE;
+        // Everything this chunk can program lies below the bank offset of its end, rounded up to a
+        // write unit.
+        let end = HEADER as u32 + (received + len).div_ceil(w as u32) * w as u32;
+        self.erase_to(end)?;
         let u = self.upload.as_mut().ok_or(StoreError::NoUpload)?;
         let mut data = data;
         if u.tail_len > 0 {
@@ -320,6 +339,26 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
                 .map_err(fault)?;
             if bank == cur {
                 self.current[slot as usize] = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// Erases the upload's bank up to `end` (bank-relative), sector by sector.
+    fn erase_to(&mut self, end: u32) -> Result<(), StoreError> {
+        let Some(u) = self.upload.as_ref() else {
+            return Err(StoreError::NoUpload);
+        };
+        let base = self.bank_base(u.slot, u.bank);
+        let mut erased = u.erased;
+        while erased < end {
+            let at = base + erased;
+            self.flash
+                .erase(at, at + F::ERASE_SIZE as u32)
+                .map_err(fault)?;
+            erased += F::ERASE_SIZE as u32;
+            if let Some(u) = self.upload.as_mut() {
+                u.erased = erased;
             }
         }
         Ok(())
