@@ -10,7 +10,12 @@
 extern crate std;
 
 pub mod bias;
+pub mod bus_loop;
+pub mod controller;
+pub mod gait_view;
+pub mod link;
 pub mod memory_map;
 pub mod playback;
 pub mod safety;
 pub mod store;
+pub mod telemetry;

@@ -7,7 +7,7 @@ use crate::bias::JointCal;
 use crate::gait_view;
 use crate::playback::{Direction, MAX_JOINTS, PlayClock};
 use crate::safety::{Event, Refused, SafeReason, State};
-use crate::store::{FlashWindow, SlotInfo, StoreError};
+use crate::store::{CommitError, FlashWindow, SlotInfo, StoreError};
 
 /// Why a command was refused. Nothing changes when a command is refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,8 +96,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             .store
             .table(slot)
             .ok_or(CommandError::SlotEmpty { slot })?;
-        let (layout, maps) =
+        let checked =
             gait_view::check(bytes).map_err(|error| CommandError::BadTable { slot, error })?;
+        let layout = checked.layout;
+        let maps = checked.joints;
         let same_servos = maps.len() == self.joints.len()
             && maps.iter().zip(&self.joints).all(|(m, j)| m.id == j.id);
         if !same_servos && self.torque_sent {
@@ -106,10 +108,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 event: Event::Start,
             }));
         }
-        for (j, m) in maps.iter().enumerate() {
-            self.stiffness[j] = gait_view::stiffness(bytes, layout, j);
-            let _ = m;
-        }
+        self.stiffness = checked.stiffness;
         self.joints = maps;
         self.selected = Some(Selected { slot, layout });
         if !same_servos {
@@ -336,8 +335,25 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
 
     /// Commits the upload once its CRC-32 verifies; the slot's old table is replaced only then.
     pub fn upload_commit(&mut self, crc: u32) -> Result<SlotInfo, CommandError> {
-        self.not_moving()?;
-        let info = self.store.commit(crc)?;
+        self.upload_commit_verified(crc, |_| Ok::<(), core::convert::Infallible>(()))
+            .map_err(|e| match e {
+                CommitError::Store(e) => e.into(),
+                CommitError::Rejected(never) => match never {},
+            })
+    }
+
+    /// As [`Controller::upload_commit`], with `verify` checking the table bytes in flash first.
+    pub fn upload_commit_verified<E>(
+        &mut self,
+        crc: u32,
+        verify: impl FnOnce(&[u8]) -> Result<(), E>,
+    ) -> Result<SlotInfo, CommitError<E>> {
+        if !self.state.allows_flash_writes() {
+            // Only reachable if the caller skipped its own state check; nothing was written.
+            self.store.abort();
+            return Err(CommitError::Store(StoreError::NoUpload));
+        }
+        let info = self.store.commit_verified(crc, verify)?;
         if self.selected.is_some_and(|s| s.slot == info.slot) || self.selected.is_none() {
             // The selected table changed under us: take the new one (or its error) now.
             let _ = self.select(info.slot);

@@ -152,7 +152,16 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             return;
         };
         let view = crate::gait_view::View::new(bytes, sel.layout);
-        self.count_clamped(playback::goals(&view, sample, &self.stiffness, &mut target[..n]));
+        let mut cut = [false; MAX_JOINTS];
+        let clamped = playback::goals(
+            &view,
+            sample,
+            &self.joints,
+            &self.stiffness,
+            &mut target[..n],
+            &mut cut[..n],
+        );
+        self.count_clamped(clamped);
         let ramp = self.ramp.get_or_insert_with(|| {
             let mut from = [0i32; MAX_JOINTS];
             for (f, p) in from.iter_mut().zip(&self.present[..n]) {
@@ -197,8 +206,17 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let view = crate::gait_view::View::new(bytes, sel.layout);
         let n = self.joints.len();
         let mut goals = [0i32; MAX_JOINTS];
-        let clamped = playback::goals(&view, sample, &self.stiffness, &mut goals[..n]);
+        let mut cut = [false; MAX_JOINTS];
+        let clamped = playback::goals(
+            &view,
+            sample,
+            &self.joints,
+            &self.stiffness,
+            &mut goals[..n],
+            &mut cut[..n],
+        );
         self.goals[..n].copy_from_slice(&goals[..n]);
+        self.clamped = cut;
         self.count_clamped(clamped);
     }
 
@@ -369,24 +387,17 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
 
     fn enter(&mut self, _from: State, to: State) {
         match to {
-            State::Idle | State::EStop => {
-                self.torque_want = false;
-                self.ramp = None;
-            }
+            State::Idle | State::EStop => self.ramp = None,
             State::Boot => {
                 self.misses.reset();
                 self.known = [false; MAX_JOINTS];
                 self.ramp = None;
             }
             State::Standing | State::Streaming => {
-                self.torque_want = true;
                 self.ramp = None;
                 self.stream.age = 0;
             }
-            State::Ramping => {
-                self.torque_want = true;
-                self.ramp = None;
-            }
+            State::Ramping => self.ramp = None,
             State::Safe(_) => self.ramp = None,
             State::Walking | State::Stopping => {}
         }

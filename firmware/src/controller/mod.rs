@@ -18,7 +18,7 @@ use crate::safety::{MissCounter, State};
 use crate::store::{FlashWindow, GaitStore};
 use crate::telemetry::{DropQueue, Record};
 
-pub use commands::{CommandError, PlayParams};
+pub use commands::{CommandError, PlayParams, Setting};
 pub use cycle::{BusAction, CyclePlan, Outcome};
 
 /// Telemetry records the queue holds before it drops (about 400 B each).
@@ -101,8 +101,7 @@ pub struct Controller<F> {
     /// Last good feedback per joint, and whether every joint has answered since the map changed.
     present: [Feedback; MAX_JOINTS],
     known: [bool; MAX_JOINTS],
-    /// Torque the servos should have, and what was last sent.
-    torque_want: bool,
+    /// Torque as last sent to the servos.
     torque_sent: bool,
     misses: MissCounter<MAX_JOINTS>,
     reboot_pending: bool,
@@ -132,7 +131,6 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             clamped: [false; MAX_JOINTS],
             present: [Feedback::default(); MAX_JOINTS],
             known: [false; MAX_JOINTS],
-            torque_want: false,
             torque_sent: false,
             misses: MissCounter::new(config.miss_limit),
             reboot_pending: false,
@@ -225,10 +223,6 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// Gives the flash back (tests cut the power with it).
     pub fn into_flash(self) -> F {
         self.store.into_flash()
-    }
-
-    fn ids(&self) -> impl Iterator<Item = u8> + '_ {
-        self.joints.iter().map(|j| j.id)
     }
 
     fn all_known(&self) -> bool {

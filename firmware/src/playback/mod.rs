@@ -6,10 +6,10 @@
 use crate::bias::{JointCal, goal_ticks};
 
 /// Most joints a table may have (Drosophibot II has 22).
-pub const MAX_JOINTS: usize = 24;
+pub const MAX_JOINTS: usize = protocol::MAX_JOINTS;
 
-/// A step table as playback reads it (implemented by the protocol's zero-copy table view and by test
-/// tables). Angles in microradians, torques in mN m, stiffness in mN m / rad.
+/// A step table as playback reads it (implemented by [`crate::gait_view::View`] over the protocol's
+/// format and by test tables). Angles in microradians, torques in mN m.
 pub trait Gait {
     fn joints(&self) -> usize;
     fn slices(&self) -> usize;
@@ -17,9 +17,6 @@ pub trait Gait {
     fn period_us(&self) -> u32;
     fn angle_urad(&self, slice: usize, joint: usize) -> i32;
     fn torque_mnm(&self, slice: usize, joint: usize) -> i32;
-    fn cal(&self, joint: usize) -> JointCal;
-    /// Stiffness the table was planned with (the run-time setting starts from it).
-    fn stiffness(&self, joint: usize) -> u32;
 }
 
 /// Which way through the step the clock runs.
@@ -157,19 +154,28 @@ pub fn lerp(a: i32, b: i32, frac: u32) -> i32 {
     (a as i64 + (d + if d >= 0 { 32768 } else { -32768 }) / 65536) as i32
 }
 
-/// Goals in ticks for every joint at `s`, torque-biased with `stiffness` (per joint) and clamped.
-/// Returns how many joints the limits clamped.
-pub fn goals<G: Gait + ?Sized>(gait: &G, s: Sample, stiffness: &[u32], out: &mut [i32]) -> usize {
-    let mut clamped = 0;
-    for (j, goal) in out.iter_mut().enumerate().take(gait.joints()) {
+/// Goals in ticks for the joints of `cals` at `s`, torque-biased with `stiffness` (per joint) and
+/// clamped to each joint's limits; `clamped[j]` says whether joint j was cut. Returns how many were.
+pub fn goals<G: Gait + ?Sized>(
+    gait: &G,
+    s: Sample,
+    cals: &[JointCal],
+    stiffness: &[u32],
+    out: &mut [i32],
+    clamped: &mut [bool],
+) -> usize {
+    let mut count = 0;
+    let n = gait.joints().min(cals.len()).min(out.len()).min(clamped.len());
+    for j in 0..n {
         let angle = lerp(gait.angle_urad(s.slice, j), gait.angle_urad(s.next, j), s.frac);
         let torque = lerp(gait.torque_mnm(s.slice, j), gait.torque_mnm(s.next, j), s.frac);
         let k = stiffness.get(j).copied().unwrap_or(0);
-        let (g, c) = goal_ticks(&gait.cal(j), angle, torque, k);
-        *goal = g;
-        clamped += c as usize;
+        let (g, c) = goal_ticks(&cals[j], angle, torque, k);
+        out[j] = g;
+        clamped[j] = c;
+        count += c as usize;
     }
-    clamped
+    count
 }
 
 /// A straight move of every joint from where it is to where the gait starts, at a bounded speed.

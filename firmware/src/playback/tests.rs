@@ -21,18 +21,6 @@ impl Gait for Line {
     fn torque_mnm(&self, slice: usize, _: usize) -> i32 {
         slice as i32 * 10
     }
-    fn cal(&self, _: usize) -> JointCal {
-        JointCal {
-            id: 1,
-            zero_ticks: 2048,
-            sign: 1,
-            min_ticks: 0,
-            max_ticks: 4095,
-        }
-    }
-    fn stiffness(&self, _: usize) -> u32 {
-        0
-    }
 }
 
 fn angle_at(clock: &PlayClock) -> i32 {
@@ -138,30 +126,28 @@ fn goals_bias_and_clamp_every_joint() {
         fn torque_mnm(&self, slice: usize, _: usize) -> i32 {
             [0, 1680][slice]
         }
-        fn cal(&self, joint: usize) -> JointCal {
-            JointCal {
-                id: joint as u8 + 1,
-                zero_ticks: 2048,
-                sign: if joint == 0 { 1 } else { -1 },
-                min_ticks: 1000,
-                max_ticks: 3500,
-            }
-        }
-        fn stiffness(&self, _: usize) -> u32 {
-            8400
-        }
     }
+    let cal = |joint: usize| JointCal {
+        id: joint as u8 + 1,
+        zero_ticks: 2048,
+        sign: if joint == 0 { 1 } else { -1 },
+        min_ticks: 1000,
+        max_ticks: 3500,
+    };
+    let cals = [cal(0), cal(1)];
     let mut out = [0; 2];
+    let mut cut = [false; 2];
     let s = Sample { slice: 0, next: 1, frac: 32768 };
-    let clamped = goals(&Two, s, &[8400, 8400], &mut out);
+    let clamped = goals(&Two, s, &cals, &[8400, 8400], &mut out, &mut cut);
     // Joint 0 halfway: pi/4 + 0.84 N m / 8.4 N m/rad = 0.785398 + 0.1 rad = 0.885398 rad
     // x 4096 / 2 pi = 577.19 ticks -> 577.
     assert_eq!(out[0], 2048 + 577);
     // Joint 1: 2048 - (3 + 0.1) x 651.9 = 27 ticks, below the 1000 limit.
     assert_eq!(out[1], 1000);
     assert_eq!(clamped, 1);
+    assert_eq!(cut, [false, true]);
     // Stiffness set to 0 at run time switches the bias off: pi/4 = 512 ticks.
-    goals(&Two, s, &[0, 0], &mut out);
+    goals(&Two, s, &cals, &[0, 0], &mut out, &mut cut);
     assert_eq!(out[0], 2048 + 512);
 }
 

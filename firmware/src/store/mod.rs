@@ -67,6 +67,20 @@ pub enum StoreError {
     Flash(FlashFault),
 }
 
+/// Why a verified commit failed: the store, or the caller's check of the table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CommitError<E> {
+    Store(StoreError),
+    Rejected(E),
+}
+
+impl<E> From<StoreError> for CommitError<E> {
+    fn from(e: StoreError) -> Self {
+        CommitError::Store(e)
+    }
+}
+
 fn fault<E: NorFlashError>(e: E) -> StoreError {
     StoreError::Flash(match e.kind() {
         NorFlashErrorKind::NotAligned => FlashFault::NotAligned,
@@ -273,13 +287,28 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
     /// commit record: from then on the new table is current. On any error the old table stays current
     /// and the upload is over.
     pub fn commit(&mut self, crc: u32) -> Result<SlotInfo, StoreError> {
+        self.commit_verified(crc, |_| Ok::<(), core::convert::Infallible>(()))
+            .map_err(|e| match e {
+                CommitError::Store(e) => e,
+                CommitError::Rejected(never) => match never {},
+            })
+    }
+
+    /// As [`GaitStore::commit`], and `verify` must also accept the table's bytes as they sit in flash
+    /// before the record makes them current (the link checks the table format there).
+    pub fn commit_verified<E>(
+        &mut self,
+        crc: u32,
+        verify: impl FnOnce(&[u8]) -> Result<(), E>,
+    ) -> Result<SlotInfo, CommitError<E>> {
         let u = self.upload.take().ok_or(StoreError::NoUpload)?;
         let received = u.flushed + u.tail_len as u32;
         if received != u.total {
             return Err(StoreError::Incomplete {
                 received,
                 total: u.total,
-            });
+            }
+            .into());
         }
         let bank_base = self.bank_base(u.slot, u.bank);
         let base = bank_base + HEADER as u32;
@@ -295,8 +324,10 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
             return Err(StoreError::ChecksumMismatch {
                 expected: crc,
                 actual,
-            });
+            }
+            .into());
         }
+        verify(&self.flash.window()[start..start + u.total as usize]).map_err(CommitError::Rejected)?;
         let record = Record {
             slot: u.slot as u16,
             bank: u.bank,
@@ -308,7 +339,7 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
         bytes[..RECORD_LEN].copy_from_slice(&record.encode());
         self.flash.write(bank_base, &bytes).map_err(fault)?;
         if self.valid_record(u.slot, u.bank) != Some(record) {
-            return Err(StoreError::Verify { offset: bank_base });
+            return Err(StoreError::Verify { offset: bank_base }.into());
         }
         self.current[u.slot as usize] = Some(record);
         Ok(SlotInfo {
