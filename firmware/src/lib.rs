@@ -19,3 +19,5 @@ pub mod playback;
 pub mod safety;
 pub mod store;
 pub mod telemetry;
+#[cfg(any(test, feature = "std"))]
+pub mod testkit;
