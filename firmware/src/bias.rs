@@ -46,7 +46,10 @@ pub fn bias_urad(torque_mnm: i32, stiffness_mnm_per_rad: u32) -> i64 {
 /// A joint angle (microradians) in servo ticks relative to the joint's zero, unclamped.
 pub fn urad_to_ticks(urad: i64) -> i64 {
     // ticks = urad * 4096 / (2 pi 1e6) = urad * 4096 * 1000 / (2 pi 1e9).
-    div_round(urad.clamp(-1 << 40, 1 << 40) * TICKS_PER_REV * 1000, TWO_PI_NANO)
+    div_round(
+        urad.clamp(-1 << 40, 1 << 40) * TICKS_PER_REV * 1000,
+        TWO_PI_NANO,
+    )
 }
 
 /// Servo ticks back to a joint angle in microradians (inverse of the above, for telemetry).
@@ -81,7 +84,8 @@ mod tests {
         } else {
             (torque_mnm as f64 * 1e-3) / (k as f64 * 1e-3)
         };
-        cal.zero_ticks as f64 + cal.sign as f64 * (theta + bias) * 4096.0 / (2.0 * std::f64::consts::PI)
+        cal.zero_ticks as f64
+            + cal.sign as f64 * (theta + bias) * 4096.0 / (2.0 * std::f64::consts::PI)
     }
 
     /// xorshift64*: deterministic random inputs without a dependency.
@@ -137,7 +141,7 @@ mod tests {
             };
             let angle = rng.range(-3_141_593, 3_141_593) as i32;
             let torque = rng.range(-6000, 6000) as i32;
-            let k = if rng.next() % 50 == 0 {
+            let k = if rng.next().is_multiple_of(50) {
                 0
             } else {
                 rng.range(500, 30_000) as u32
@@ -156,10 +160,18 @@ mod tests {
             }
             // The clamp flag is set exactly when the goal left the limits (give or take the rounding).
             if free < cal.min_ticks as f64 - 1.0 || free > cal.max_ticks as f64 + 1.0 {
-                assert!(clamped, "{free} outside {}..{}", cal.min_ticks, cal.max_ticks);
+                assert!(
+                    clamped,
+                    "{free} outside {}..{}",
+                    cal.min_ticks, cal.max_ticks
+                );
             }
             if free > cal.min_ticks as f64 + 1.0 && free < cal.max_ticks as f64 - 1.0 {
-                assert!(!clamped, "{free} inside {}..{}", cal.min_ticks, cal.max_ticks);
+                assert!(
+                    !clamped,
+                    "{free} inside {}..{}",
+                    cal.min_ticks, cal.max_ticks
+                );
             }
         }
         // Off by one only within a hair of a half tick: rare.

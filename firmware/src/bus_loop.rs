@@ -174,6 +174,10 @@ where
     C: Clock,
 {
     let value = [on];
-    bus.sync_write(TORQUE_ENABLE.addr, 1, ids.iter().map(|&id| (id, &value[..])))
-        .await
+    bus.sync_write(
+        TORQUE_ENABLE.addr,
+        1,
+        ids.iter().map(|&id| (id, &value[..])),
+    )
+    .await
 }

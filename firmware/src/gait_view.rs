@@ -39,7 +39,7 @@ pub fn check(bytes: &[u8]) -> Result<Checked, TableError> {
     };
     let mut joints = heapless::Vec::new();
     let mut stiffness = [0; MAX_JOINTS];
-    for j in 0..layout.joints {
+    for (j, k) in stiffness.iter_mut().enumerate().take(layout.joints) {
         let Some(m) = t.joint(j) else { break };
         // A reversed servo turns the angle limits around in ticks.
         let a = m.angle_to_ticks(m.min.into());
@@ -54,7 +54,7 @@ pub fn check(bytes: &[u8]) -> Result<Checked, TableError> {
         if joints.push(cal).is_err() {
             break;
         }
-        stiffness[j] = m.stiffness;
+        *k = m.stiffness;
     }
     Ok(Checked {
         layout,

@@ -33,7 +33,11 @@ impl SyntheticGait {
                 } else {
                     ServoModel::Mx28
                 },
-                sign: if j % 2 == 0 { Sign::Positive } else { Sign::Negative },
+                sign: if j % 2 == 0 {
+                    Sign::Positive
+                } else {
+                    Sign::Negative
+                },
                 zero_offset: (2048 + (j as i32 * 37 % 201) - 100) as u16,
                 min_rad: -1.5,
                 max_rad: 1.5,
@@ -62,7 +66,11 @@ impl SyntheticGait {
             let angles: Vec<f64> = (0..JOINTS).map(|j| self.angle(s, j)).collect();
             let torques: Vec<f64> = (0..JOINTS).map(|j| self.torque(s, j)).collect();
             // Tripod: LF, LH, RM in stance for the first half, the others for the second.
-            let stance = if s < self.slices / 2 { 0b010_101 } else { 0b101_010 };
+            let stance = if s < self.slices / 2 {
+                0b010_101
+            } else {
+                0b101_010
+            };
             b.slice(stance, &angles, &torques);
         }
         b.build().expect("the synthetic gait is valid")

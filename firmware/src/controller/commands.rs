@@ -21,7 +21,10 @@ pub enum CommandError {
     /// The slot is empty.
     SlotEmpty { slot: u8 },
     /// The slot's table does not validate.
-    BadTable { slot: u8, error: protocol::TableError },
+    BadTable {
+        slot: u8,
+        error: protocol::TableError,
+    },
     /// The slot is past the last one.
     NoSuchSlot { slot: u8, slots: u8 },
     /// The joint index is past the joint map.
@@ -183,7 +186,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
 
     /// Torque on (hold the present posture) or off.
     pub fn set_torque(&mut self, on: bool) -> Result<(), CommandError> {
-        self.apply(if on { Event::TorqueOn } else { Event::TorqueOff })
+        self.apply(if on {
+            Event::TorqueOn
+        } else {
+            Event::TorqueOff
+        })
     }
 
     /// The board came up from a watchdog reset: it stays safe until the host clears the fault.
@@ -214,7 +221,12 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     }
 
     /// Limits of `joint` in ticks.
-    pub fn set_limits(&mut self, joint: u8, min_ticks: i32, max_ticks: i32) -> Result<(), CommandError> {
+    pub fn set_limits(
+        &mut self,
+        joint: u8,
+        min_ticks: i32,
+        max_ticks: i32,
+    ) -> Result<(), CommandError> {
         self.check_joint(joint)?;
         if !(0..=4095).contains(&min_ticks) || !(min_ticks..=4095).contains(&max_ticks) {
             return Err(CommandError::OutOfRange {
@@ -258,7 +270,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     }
 
     /// Follows streamed setpoints; no setpoint for `timeout_cycles` cycles is a fault.
-    pub fn enter_streaming(&mut self, timeout_cycles: u16, feedback_every: u16) -> Result<(), CommandError> {
+    pub fn enter_streaming(
+        &mut self,
+        timeout_cycles: u16,
+        feedback_every: u16,
+    ) -> Result<(), CommandError> {
         if timeout_cycles == 0 {
             return Err(CommandError::OutOfRange {
                 what: Setting::StreamTimeout,
@@ -278,7 +294,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
 
     /// A streamed setpoint: per joint the angle (microradians) and optionally a torque (mN m) for the
     /// bias. Ignored outside streaming.
-    pub fn setpoint(&mut self, seq: u32, joints: &[(i32, Option<i32>)]) -> Result<(), CommandError> {
+    pub fn setpoint(
+        &mut self,
+        seq: u32,
+        joints: &[(i32, Option<i32>)],
+    ) -> Result<(), CommandError> {
         if self.state != State::Streaming {
             return Err(CommandError::WrongState(Refused {
                 state: self.state,

@@ -227,7 +227,13 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// Takes in what the bus action of `plan` gave: replies (one per joint, for Cycle and ReadOnly),
     /// statistics, and `late_us` = how late the cycle started. Updates feedback, counts misses and
     /// errors, moves the state machine, and queues telemetry.
-    pub fn complete(&mut self, plan: &CyclePlan, outcome: Outcome, replies: &[Reply], late_us: u32) {
+    pub fn complete(
+        &mut self,
+        plan: &CyclePlan,
+        outcome: Outcome,
+        replies: &[Reply],
+        late_us: u32,
+    ) {
         self.counters.cycles = self.counters.cycles.wrapping_add(1);
         self.counters.jitter_us = late_us;
         self.counters.max_jitter_us = self.counters.max_jitter_us.max(late_us);

@@ -162,7 +162,9 @@ fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
     assert_eq!(r.cycle(), BusAction::TorqueOn);
     // Ramp: straight to slice 0 at 400 ticks/s for the joint with the longest way.
     let start: Vec<i32> = r.servos.pos[..JOINTS].to_vec();
-    let target: Vec<f64> = (0..JOINTS).map(|j| r.gait.goal(0.0, j, STIFFNESS)).collect();
+    let target: Vec<f64> = (0..JOINTS)
+        .map(|j| r.gait.goal(0.0, j, STIFFNESS))
+        .collect();
     let longest = (0..JOINTS)
         .map(|j| (target[j] - start[j] as f64).abs())
         .fold(0.0, f64::max);
@@ -172,8 +174,11 @@ fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
         (ramp_cycles as f64 - expected).abs() <= 2.0,
         "ramp took {ramp_cycles} cycles, expected about {expected:.1}"
     );
-    for j in 0..JOINTS {
-        assert!((r.servos.pos[j] as f64 - target[j]).abs() <= 1.0, "joint {j} after the ramp");
+    for (j, t) in target.iter().enumerate() {
+        assert!(
+            (r.servos.pos[j] as f64 - t).abs() <= 1.0,
+            "joint {j} after the ramp"
+        );
     }
     // Walking: every cycle's goals are the table interpolated at the gait clock, biased.
     let mut cycles = 0;
@@ -199,8 +204,11 @@ fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
     assert_eq!(cycles, 200);
     assert_eq!(r.c.state(), State::Standing);
     assert_eq!(r.c.playback().unwrap().0, 2);
-    for j in 0..JOINTS {
-        assert!((r.servos.pos[j] as f64 - target[j]).abs() <= 1.0, "joint {j} at rest");
+    for (j, t) in target.iter().enumerate() {
+        assert!(
+            (r.servos.pos[j] as f64 - t).abs() <= 1.0,
+            "joint {j} at rest"
+        );
     }
     // Standing holds.
     let held: Vec<i32> = r.servos.pos[..JOINTS].to_vec();
@@ -280,7 +288,15 @@ fn emergency_stop_turns_torque_off_and_needs_a_clear() {
     assert_eq!(r.cycle(), BusAction::TorqueOff);
     assert!(!r.servos.torque);
     assert_eq!(r.cycle(), BusAction::ReadOnly);
-    assert!(matches!(r.c.play(PlayParams { slot: 0, direction: Direction::Forward, period_scale: 1000, steps: None }), Err(CommandError::WrongState(_))));
+    assert!(matches!(
+        r.c.play(PlayParams {
+            slot: 0,
+            direction: Direction::Forward,
+            period_scale: 1000,
+            steps: None
+        }),
+        Err(CommandError::WrongState(_))
+    ));
     r.c.clear_fault().unwrap();
     assert_eq!(r.c.state(), State::Idle);
     assert_eq!(r.servos.torque_writes, [true, false]);
@@ -320,7 +336,11 @@ fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
     r.cycle();
     assert!(matches!(
         r.c.state(),
-        State::Safe(SafeReason::ServoError { joint: 3, id: 4, .. })
+        State::Safe(SafeReason::ServoError {
+            joint: 3,
+            id: 4,
+            ..
+        })
     ));
     assert_eq!(r.cycle(), BusAction::ReadHardwareError { joint: 3 });
     assert_eq!(
@@ -346,7 +366,12 @@ fn a_status_error_number_is_a_servo_error() {
     let plan = r.c.plan(r.now);
     let mut replies = [Ok(Feedback::default()); 22];
     replies[5] = Err(ReplyFault::Status(StatusError(0x04)));
-    r.c.complete(&plan, Outcome::Feedback(Ok(CycleStats::default())), &replies, 0);
+    r.c.complete(
+        &plan,
+        Outcome::Feedback(Ok(CycleStats::default())),
+        &replies,
+        0,
+    );
     assert_eq!(
         r.c.state(),
         State::Safe(SafeReason::ServoError {
@@ -370,7 +395,10 @@ fn uploads_are_refused_while_walking_and_the_table_stays() {
             state: State::Ramping
         })
     );
-    assert!(matches!(r.c.delete_gait(0), Err(CommandError::Moving { .. })));
+    assert!(matches!(
+        r.c.delete_gait(0),
+        Err(CommandError::Moving { .. })
+    ));
     assert!(r.c.store().table(0).is_some());
 }
 
@@ -381,7 +409,9 @@ fn telemetry_every_nth_cycle_and_drops_counted_when_nobody_reads() {
     for _ in 0..9 {
         r.cycle();
     }
-    let cycles: Vec<u32> = core::iter::from_fn(|| r.c.pop_telemetry()).map(|t| t.cycle).collect();
+    let cycles: Vec<u32> = core::iter::from_fn(|| r.c.pop_telemetry())
+        .map(|t| t.cycle)
+        .collect();
     assert_eq!(cycles, [1, 4, 7]);
     r.c.set_telemetry(1);
     for _ in 0..20 {
@@ -397,7 +427,15 @@ fn a_watchdog_reset_stays_safe_until_cleared() {
     assert_eq!(r.c.state(), State::Safe(SafeReason::Watchdog));
     r.cycle();
     assert_eq!(r.c.state(), State::Safe(SafeReason::Watchdog));
-    assert!(r.c.play(PlayParams { slot: 0, direction: Direction::Forward, period_scale: 1000, steps: None }).is_err());
+    assert!(
+        r.c.play(PlayParams {
+            slot: 0,
+            direction: Direction::Forward,
+            period_scale: 1000,
+            steps: None
+        })
+        .is_err()
+    );
     r.c.clear_fault().unwrap();
     assert_eq!(r.c.state(), State::Idle);
 }

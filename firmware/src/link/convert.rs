@@ -164,15 +164,19 @@ pub fn store_error(e: StoreError) -> ProtocolError {
                 received: expected,
             })
         }
-        StoreError::OutOfOrder { expected, got } => ProtocolError::Upload(UploadError::OutOfOrder {
-            offset: got,
-            expected,
-        }),
-        StoreError::Overflow { offset, len, total } => ProtocolError::Upload(UploadError::PastEnd {
-            offset,
-            len,
-            total_len: total,
-        }),
+        StoreError::OutOfOrder { expected, got } => {
+            ProtocolError::Upload(UploadError::OutOfOrder {
+                offset: got,
+                expected,
+            })
+        }
+        StoreError::Overflow { offset, len, total } => {
+            ProtocolError::Upload(UploadError::PastEnd {
+                offset,
+                len,
+                total_len: total,
+            })
+        }
         StoreError::Incomplete { received, total } => {
             ProtocolError::Upload(UploadError::Truncated {
                 received,

@@ -7,11 +7,13 @@ use protocol::gait::{FORMAT_VERSION, GaitTable};
 use protocol::upload::verify_stored;
 use protocol::{
     Capabilities, DeviceInfo, FirmwareVersion, GaitSummary, JointSettings, PROTOCOL_VERSION,
-    PlaybackPosition, ProtocolError, Request, Response, ServoSelect, Settings, Setpoint, SlotInfo,
+    PlaybackPosition, ProtocolError, Request, Response, ServoSelect, Setpoint, Settings, SlotInfo,
     Status, Steps, UploadLimits, UploadTracker,
 };
 
-use super::convert::{angle_to_ticks, command_error, fault, run_state, store_error, ticks_to_angle};
+use super::convert::{
+    angle_to_ticks, command_error, fault, run_state, store_error, ticks_to_angle,
+};
 use crate::controller::{Controller, PlayParams};
 use crate::gait_view::URAD_PER_ANGLE_UNIT;
 use crate::playback::Direction;
@@ -41,7 +43,9 @@ fn version() -> FirmwareVersion {
     }
 }
 
-fn slots<F: NorFlash + FlashWindow>(c: &Controller<F>) -> heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }> {
+fn slots<F: NorFlash + FlashWindow>(
+    c: &Controller<F>,
+) -> heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }> {
     let mut v = heapless::Vec::new();
     for slot in 0..c.store().slots() {
         let gait = c
@@ -168,7 +172,8 @@ pub fn handle<F: NorFlash + FlashWindow>(
                     return Response::Error(e.into());
                 }
             };
-            match c.upload_commit_verified(crc, |bytes| verify_stored(&finished, bytes).map(|_| ())) {
+            match c.upload_commit_verified(crc, |bytes| verify_stored(&finished, bytes).map(|_| ()))
+            {
                 Ok(info) => Response::Committed {
                     slot: info.slot,
                     crc: info.crc,

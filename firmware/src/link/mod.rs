@@ -67,7 +67,8 @@ impl Link {
             };
             let answer = match message {
                 Ok(HostMessage::Request { seq, request }) => {
-                    let response = shared.with(|c| self::dispatch::handle(&mut self.upload, c, request));
+                    let response =
+                        shared.with(|c| self::dispatch::handle(&mut self.upload, c, request));
                     Some(DeviceMessage::Reply { seq, response })
                 }
                 Ok(HostMessage::Setpoint(sp)) => {

@@ -165,10 +165,22 @@ pub fn goals<G: Gait + ?Sized>(
     clamped: &mut [bool],
 ) -> usize {
     let mut count = 0;
-    let n = gait.joints().min(cals.len()).min(out.len()).min(clamped.len());
+    let n = gait
+        .joints()
+        .min(cals.len())
+        .min(out.len())
+        .min(clamped.len());
     for j in 0..n {
-        let angle = lerp(gait.angle_urad(s.slice, j), gait.angle_urad(s.next, j), s.frac);
-        let torque = lerp(gait.torque_mnm(s.slice, j), gait.torque_mnm(s.next, j), s.frac);
+        let angle = lerp(
+            gait.angle_urad(s.slice, j),
+            gait.angle_urad(s.next, j),
+            s.frac,
+        );
+        let torque = lerp(
+            gait.torque_mnm(s.slice, j),
+            gait.torque_mnm(s.next, j),
+            s.frac,
+        );
         let k = stiffness.get(j).copied().unwrap_or(0);
         let (g, c) = goal_ticks(&cals[j], angle, torque, k);
         out[j] = g;
@@ -202,7 +214,9 @@ impl Ramp {
         };
         r.from[..n].copy_from_slice(&from[..n]);
         r.to[..n].copy_from_slice(&to[..n]);
-        let longest = (0..n).map(|j| (to[j] as i64 - from[j] as i64).unsigned_abs()).max();
+        let longest = (0..n)
+            .map(|j| (to[j] as i64 - from[j] as i64).unsigned_abs())
+            .max();
         let speed = speed_ticks_per_s.max(1) as u64;
         let needed = longest.unwrap_or(0) * 1_000_000 / speed;
         r.duration_us = r.duration_us.max(needed.min(u32::MAX as u64) as u32);

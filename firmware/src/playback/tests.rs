@@ -25,7 +25,11 @@ impl Gait for Line {
 
 fn angle_at(clock: &PlayClock) -> i32 {
     let s = clock.sample(10);
-    lerp(Line.angle_urad(s.slice, 0), Line.angle_urad(s.next, 0), s.frac)
+    lerp(
+        Line.angle_urad(s.slice, 0),
+        Line.angle_urad(s.next, 0),
+        s.frac,
+    )
 }
 
 #[test]
@@ -34,14 +38,34 @@ fn forward_interpolates_between_slices_and_wraps_to_the_first() {
     assert_eq!(angle_at(&c), 0);
     c.advance(250_000);
     // 0.25 s = 2.5 slices: halfway between 2000 and 3000.
-    assert_eq!(c.sample(10), Sample { slice: 2, next: 3, frac: 32768 });
+    assert_eq!(
+        c.sample(10),
+        Sample {
+            slice: 2,
+            next: 3,
+            frac: 32768
+        }
+    );
     assert_eq!(angle_at(&c), 2500);
     c.advance(700_000);
     // 0.95 s: halfway from slice 9 (9000) back to slice 0 (0).
-    assert_eq!(c.sample(10), Sample { slice: 9, next: 0, frac: 32768 });
+    assert_eq!(
+        c.sample(10),
+        Sample {
+            slice: 9,
+            next: 0,
+            frac: 32768
+        }
+    );
     assert_eq!(angle_at(&c), 4500);
     let a = c.advance(100_000);
-    assert_eq!(a, Advance { steps_ended: 1, finished: false });
+    assert_eq!(
+        a,
+        Advance {
+            steps_ended: 1,
+            finished: false
+        }
+    );
     assert_eq!(c.phase_us(), 50_000);
     assert_eq!(angle_at(&c), 500);
 }
@@ -102,7 +126,13 @@ fn a_number_of_steps_ends_exactly_at_the_step_boundary() {
     assert_eq!(c.steps_done(), 3);
     // Resting at slice 0, and staying there.
     assert_eq!(c.phase_us(), 0);
-    assert_eq!(c.advance(90_000), Advance { steps_ended: 0, finished: true });
+    assert_eq!(
+        c.advance(90_000),
+        Advance {
+            steps_ended: 0,
+            finished: true
+        }
+    );
     assert_eq!(c.phase_us(), 0);
 }
 
@@ -137,7 +167,11 @@ fn goals_bias_and_clamp_every_joint() {
     let cals = [cal(0), cal(1)];
     let mut out = [0; 2];
     let mut cut = [false; 2];
-    let s = Sample { slice: 0, next: 1, frac: 32768 };
+    let s = Sample {
+        slice: 0,
+        next: 1,
+        frac: 32768,
+    };
     let clamped = goals(&Two, s, &cals, &[8400, 8400], &mut out, &mut cut);
     // Joint 0 halfway: pi/4 + 0.84 N m / 8.4 N m/rad = 0.785398 + 0.1 rad = 0.885398 rad
     // x 4096 / 2 pi = 577.19 ticks -> 577.

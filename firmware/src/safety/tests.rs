@@ -80,11 +80,20 @@ fn every_transition_matches_the_design_table() {
 #[test]
 fn goals_are_driven_only_while_torque_is_meant_to_be_on() {
     let drives: Vec<bool> = STATES.iter().map(|s| s.drives_goals()).collect();
-    assert_eq!(drives, [false, false, true, true, true, true, true, false, false]);
+    assert_eq!(
+        drives,
+        [false, false, true, true, true, true, true, false, false]
+    );
     let plays: Vec<bool> = STATES.iter().map(|s| s.plays()).collect();
-    assert_eq!(plays, [false, false, false, false, true, true, false, false, false]);
+    assert_eq!(
+        plays,
+        [false, false, false, false, true, true, false, false, false]
+    );
     let flash: Vec<bool> = STATES.iter().map(|s| s.allows_flash_writes()).collect();
-    assert_eq!(flash, [true, true, true, false, false, false, false, true, true]);
+    assert_eq!(
+        flash,
+        [true, true, true, false, false, false, false, true, true]
+    );
 }
 
 #[test]

@@ -130,7 +130,7 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
     /// Scans `flash` for committed banks: per slot the valid bank (record and table CRC hold) with the
     /// highest sequence number is current. Never writes, so mounting after a power loss is safe.
     pub fn mount(flash: F, slots: u8) -> Self {
-        const { assert!(F::WRITE_SIZE <= MAX_WRITE && RECORD_SPAN % F::WRITE_SIZE == 0) };
+        const { assert!(F::WRITE_SIZE <= MAX_WRITE && RECORD_SPAN.is_multiple_of(F::WRITE_SIZE)) };
         let slots = slots.clamp(1, MAX_SLOTS as u8);
         let bank = flash.capacity() / (2 * slots as usize);
         let bank_size = (bank - bank % F::ERASE_SIZE) as u32;
@@ -327,7 +327,8 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
             }
             .into());
         }
-        verify(&self.flash.window()[start..start + u.total as usize]).map_err(CommitError::Rejected)?;
+        verify(&self.flash.window()[start..start + u.total as usize])
+            .map_err(CommitError::Rejected)?;
         let record = Record {
             slot: u.slot as u16,
             bank: u.bank,

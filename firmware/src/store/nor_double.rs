@@ -98,7 +98,7 @@ impl<const W: usize> NorDouble<W> {
         if end > self.mem.len() {
             return Err(NorDoubleError::OutOfBounds { offset, len });
         }
-        if offset as usize % unit != 0 || len % unit != 0 {
+        if !(offset as usize).is_multiple_of(unit) || !len.is_multiple_of(unit) {
             return Err(NorDoubleError::NotAligned { offset, len });
         }
         Ok(())

@@ -39,7 +39,10 @@ fn upload_reads_back_in_place_and_survives_a_remount() {
     assert_eq!(store.table(2), Some(&t[..]));
     // In place: the slice points into the flash window, past the 256-byte header of bank A of slot 2.
     let window = store.flash.window().as_ptr() as usize;
-    assert_eq!(store.table(2).unwrap().as_ptr() as usize - window, 2 * 2 * 4 * 4096 + 256);
+    assert_eq!(
+        store.table(2).unwrap().as_ptr() as usize - window,
+        2 * 2 * 4 * 4096 + 256
+    );
     assert_eq!(store.table(0), None);
     let store = GaitStore::mount(store.into_flash(), 4);
     assert_eq!(store.table(2), Some(&t[..]));
@@ -52,7 +55,8 @@ fn successive_uploads_alternate_banks_and_the_newest_wins() {
     for seed in 1..=5u8 {
         let t = table(3000 + seed as usize * 100, seed);
         assert_eq!(upload(&mut store, 1, &t, 64).unwrap().seq, seed as u32);
-        let offset = store.table(1).unwrap().as_ptr() as usize - store.flash.window().as_ptr() as usize;
+        let offset =
+            store.table(1).unwrap().as_ptr() as usize - store.flash.window().as_ptr() as usize;
         // Bank A of slot 1 starts at 8 sectors, bank B at 12: odd uploads land in A, even in B.
         let bank_start = if seed % 2 == 1 { 8 * 4096 } else { 12 * 4096 };
         assert_eq!(offset, bank_start + 256, "upload {seed}");
@@ -80,7 +84,11 @@ fn power_loss_sweep(history: u8) {
     let before = clean.flash.ticks;
     upload(&mut clean, 3, &new, 256).unwrap();
     let total = clean.flash.ticks - before;
-    assert_eq!(total, 2 + 6100 + 32, "two sectors erased, table and padded record programmed");
+    assert_eq!(
+        total,
+        2 + 6100 + 32,
+        "two sectors erased, table and padded record programmed"
+    );
     let commit = 2 + 6100 + 24;
 
     let (mut saw_old, mut saw_new) = (0, 0);
@@ -167,7 +175,10 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
     s.write(0, &new[..1900]).unwrap();
     assert_eq!(
         s.commit(CRC32.checksum(&new)),
-        Err(StoreError::Incomplete { received: 1900, total: 2000 })
+        Err(StoreError::Incomplete {
+            received: 1900,
+            total: 2000
+        })
     );
     check_old(s);
 
@@ -176,7 +187,10 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
     s.begin(0, 2000).unwrap();
     assert_eq!(
         s.write(1000, &new[1000..]),
-        Err(StoreError::OutOfOrder { expected: 0, got: 1000 })
+        Err(StoreError::OutOfOrder {
+            expected: 0,
+            got: 1000
+        })
     );
     check_old(s);
 
@@ -186,7 +200,10 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
     s.write(0, &new[..1000]).unwrap();
     assert_eq!(
         s.write(0, &new[..1000]),
-        Err(StoreError::OutOfOrder { expected: 1000, got: 0 })
+        Err(StoreError::OutOfOrder {
+            expected: 1000,
+            got: 0
+        })
     );
     check_old(s);
 
@@ -196,11 +213,18 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
     s.write(0, &new[..1500]).unwrap();
     assert_eq!(
         s.write(1500, &[0; 501]),
-        Err(StoreError::Overflow { offset: 1500, len: 501, total: 2000 })
+        Err(StoreError::Overflow {
+            offset: 1500,
+            len: 501,
+            total: 2000
+        })
     );
     assert_eq!(
         s.begin(0, 4 * 4096 - 255),
-        Err(StoreError::BadSize { len: 4 * 4096 - 255, max: 4 * 4096 - 256 })
+        Err(StoreError::BadSize {
+            len: 4 * 4096 - 255,
+            max: 4 * 4096 - 256
+        })
     );
     check_old(s);
 
@@ -211,7 +235,10 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
     let good = CRC32.checksum(&new);
     assert_eq!(
         s.commit(good ^ 1),
-        Err(StoreError::ChecksumMismatch { expected: good ^ 1, actual: good })
+        Err(StoreError::ChecksumMismatch {
+            expected: good ^ 1,
+            actual: good
+        })
     );
     // The failed commit ended the upload.
     assert_eq!(s.commit(good), Err(StoreError::NoUpload));
@@ -219,7 +246,10 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
 
     // No such slot.
     let mut s = fresh();
-    assert_eq!(s.begin(4, 10), Err(StoreError::NoSuchSlot { slot: 4, slots: 4 }));
+    assert_eq!(
+        s.begin(4, 10),
+        Err(StoreError::NoSuchSlot { slot: 4, slots: 4 })
+    );
     check_old(s);
 }
 
