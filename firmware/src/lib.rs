@@ -10,6 +10,7 @@
 extern crate std;
 
 pub mod bias;
+pub mod board;
 pub mod bus_loop;
 pub mod controller;
 pub mod gait_view;
