@@ -70,8 +70,9 @@ impl Link {
             };
             let answer = match message {
                 Ok(HostMessage::Request { seq, request }) => {
-                    let response =
-                        shared.with(|c| self::dispatch::handle(&mut self.upload, c, request));
+                    let rejected = self.rejected;
+                    let response = shared
+                        .with(|c| self::dispatch::handle(&mut self.upload, c, request, rejected));
                     Some(DeviceMessage::Reply { seq, response })
                 }
                 Ok(HostMessage::Setpoint(sp)) => {
