@@ -44,11 +44,11 @@ fn ask(board: &mut SimBoard, client: &mut Client, request: Request) -> Response 
     board.receive(&frame, |f| out.extend_from_slice(f));
     let mut acc = FrameAccumulator::new();
     for &b in &out {
-        if let Some(m) = acc.push_message::<DeviceMessage>(b) {
-            if let Ok(DeviceMessage::Reply { seq: s, response }) = m {
-                assert_eq!(s, seq);
-                return response;
-            }
+        if let Some(Ok(DeviceMessage::Reply { seq: s, response })) =
+            acc.push_message::<DeviceMessage>(b)
+        {
+            assert_eq!(s, seq);
+            return response;
         }
     }
     panic!("no reply to {request:?}");
