@@ -6,6 +6,7 @@
 
 mod commands;
 mod cycle;
+mod feedback;
 #[cfg(test)]
 mod tests;
 
