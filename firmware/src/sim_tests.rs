@@ -270,3 +270,15 @@ fn bus_rate_and_jitter_at_1_and_4_mbps() {
         assert!(1e6 / f64::from(busy) >= 0.9 * wire_limited);
     }
 }
+
+#[test]
+fn a_rate_above_the_wire_limit_counts_every_missed_start() {
+    // 200 Hz asks for 5 ms cycles; a walking cycle takes 6.23 ms of wire at 1 Mbit/s. Each cycle
+    // therefore misses the next start: the loop runs on every second grid point (100 Hz) and counts
+    // one overrun per cycle instead of drifting.
+    let (rate, busy, late, overruns) = measure(1_000_000, 200);
+    assert!(busy > 5_000);
+    assert_eq!(late, 0);
+    assert!((rate - 100.0).abs() < 0.5, "{rate} Hz");
+    assert_eq!(overruns, 400, "one per cycle over 400 cycles");
+}
