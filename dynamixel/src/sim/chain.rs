@@ -62,7 +62,16 @@ impl VirtualChain {
     /// `n` servos with IDs 1..=n; IDs in [`DROSOPHIBOT_CTR_IDS`] are MX-64(2.0), others MX-28(2.0).
     pub fn drosophibot(n: u8, baud: u32) -> Result<Self, ChainError> {
         let list: Vec<(u8, Model)> = (1..=n)
-            .map(|id| (id, if DROSOPHIBOT_CTR_IDS.contains(&id) { Model::Mx64V2 } else { Model::Mx28V2 }))
+            .map(|id| {
+                (
+                    id,
+                    if DROSOPHIBOT_CTR_IDS.contains(&id) {
+                        Model::Mx64V2
+                    } else {
+                        Model::Mx28V2
+                    },
+                )
+            })
             .collect();
         Self::new(&list, baud)
     }
@@ -80,7 +89,10 @@ impl VirtualChain {
     }
 
     pub fn servo_mut(&mut self, id: u8) -> Result<&mut VirtualServo, ChainError> {
-        self.servos.iter_mut().find(|s| s.id() == id).ok_or(ChainError::UnknownId { id })
+        self.servos
+            .iter_mut()
+            .find(|s| s.id() == id)
+            .ok_or(ChainError::UnknownId { id })
     }
 
     /// Sets the Return Delay Time register (2 us units) of every servo.
@@ -142,7 +154,9 @@ impl VirtualChain {
                     out.push(self.planned(s, 0, &data, false));
                 }
             }
-            Instruction::Read if p.len() != 4 => self.reply_one(req.id, baud, 1, StatusError::DATA_LENGTH, &[], &mut out),
+            Instruction::Read if p.len() != 4 => {
+                self.reply_one(req.id, baud, 1, StatusError::DATA_LENGTH, &[], &mut out)
+            }
             Instruction::Read => {
                 let (addr, len) = (u16le(&p[0..2]), u16le(&p[2..4]));
                 if let Some(s) = self.listening(baud).find(|s| s.id() == req.id) {
@@ -153,7 +167,9 @@ impl VirtualChain {
                     out.extend(r);
                 }
             }
-            Instruction::Write if p.len() < 3 => self.reply_one(req.id, baud, 2, StatusError::DATA_LENGTH, &[], &mut out),
+            Instruction::Write if p.len() < 3 => {
+                self.reply_one(req.id, baud, 2, StatusError::DATA_LENGTH, &[], &mut out)
+            }
             Instruction::Write => {
                 let addr = u16le(&p[0..2]);
                 for s in self.listening_mut(baud, req.id) {
@@ -186,8 +202,11 @@ impl VirtualChain {
             Instruction::BulkWrite => {
                 let mut rest = p;
                 while rest.len() >= 5 {
-                    let (id, addr, len) = (rest[0], u16le(&rest[1..3]), u16le(&rest[3..5]) as usize);
-                    let Some(data) = rest.get(5..5 + len) else { break };
+                    let (id, addr, len) =
+                        (rest[0], u16le(&rest[1..3]), u16le(&rest[3..5]) as usize);
+                    let Some(data) = rest.get(5..5 + len) else {
+                        break;
+                    };
                     if let Some(s) = self.listening_mut(baud, id).next() {
                         let _ = s.write(addr, data);
                     }
@@ -206,7 +225,10 @@ impl VirtualChain {
                 }
             }
             // Fast Sync/Bulk Read are X-series only: MX(2.0) firmware ignores them (broadcast).
-            Instruction::FastSyncRead | Instruction::FastBulkRead | Instruction::SyncRead | Instruction::SyncWrite => {}
+            Instruction::FastSyncRead
+            | Instruction::FastBulkRead
+            | Instruction::SyncRead
+            | Instruction::SyncWrite => {}
             // Not modelled: answered as an unknown instruction.
             _ => {
                 if req.id != BROADCAST_ID {
@@ -232,10 +254,20 @@ impl VirtualChain {
     }
 
     fn listening_mut(&mut self, baud: u32, id: u8) -> impl Iterator<Item = &mut VirtualServo> {
-        self.servos.iter_mut().filter(move |s| s.baud() == Some(baud) && (id == BROADCAST_ID || s.id() == id))
+        self.servos
+            .iter_mut()
+            .filter(move |s| s.baud() == Some(baud) && (id == BROADCAST_ID || s.id() == id))
     }
 
-    fn reply_one(&self, id: u8, baud: u32, level: u32, error: u8, data: &[u8], out: &mut Vec<PlannedReply>) {
+    fn reply_one(
+        &self,
+        id: u8,
+        baud: u32,
+        level: u32,
+        error: u8,
+        data: &[u8],
+        out: &mut Vec<PlannedReply>,
+    ) {
         if let Some(s) = self.listening(baud).find(|s| s.id() == id) {
             out.extend(self.planned_if(s, level, error, data, false));
         }
@@ -243,11 +275,24 @@ impl VirtualChain {
 
     /// A reply if the servo's Status Return Level allows one for an instruction of `level`
     /// (0: only Ping, 1: also reads, 2: everything).
-    fn planned_if(&self, s: &VirtualServo, level: u32, error: u8, data: &[u8], chained: bool) -> Option<PlannedReply> {
+    fn planned_if(
+        &self,
+        s: &VirtualServo,
+        level: u32,
+        error: u8,
+        data: &[u8],
+        chained: bool,
+    ) -> Option<PlannedReply> {
         Self::planned_static(s, level, error, data, chained)
     }
 
-    fn planned_static(s: &VirtualServo, level: u32, error: u8, data: &[u8], chained: bool) -> Option<PlannedReply> {
+    fn planned_static(
+        s: &VirtualServo,
+        level: u32,
+        error: u8,
+        data: &[u8],
+        chained: bool,
+    ) -> Option<PlannedReply> {
         if s.get(ct::STATUS_RETURN_LEVEL) < level {
             return None;
         }
