@@ -2,6 +2,7 @@
 //! `dbot sim-bus`: ping all 22 IDs, broadcast ping, model numbers, goal writes, Sync Write,
 //! Sync Read. Needs `.venv` (scripts/setup.d/10-venv.sh).
 
+#[path = "sdk/sim_bus.rs"]
 mod sim_bus_support;
 
 use std::path::PathBuf;

@@ -174,13 +174,10 @@ impl VirtualChain {
                 let addr = u16le(&p[0..2]);
                 for s in self.listening_mut(baud, req.id) {
                     let e = s.write(addr, &p[2..]).err().unwrap_or(0);
-                    if req.id != BROADCAST_ID {
-                        out.extend(Self::planned_static(s, 2, e, &[], false));
+                    // The reply goes out under the ID the request used, even after an ID change.
+                    if req.id != BROADCAST_ID && s.get(ct::STATUS_RETURN_LEVEL) >= 2 {
+                        out.push(Self::status_as(s, req.id, e, &[], false));
                     }
-                }
-                // The reply goes out under the ID the request used, even after an ID change.
-                for r in &mut out {
-                    r.id = req.id;
                 }
             }
             Instruction::Reboot => {
@@ -304,15 +301,19 @@ impl VirtualChain {
     }
 
     fn status(s: &VirtualServo, error: u8, data: &[u8], chained: bool) -> PlannedReply {
+        Self::status_as(s, s.id(), error, data, chained)
+    }
+
+    fn status_as(s: &VirtualServo, id: u8, error: u8, data: &[u8], chained: bool) -> PlannedReply {
         let mut buf = vec![0u8; 16 + data.len() * 2];
         // Cannot fail: the buffer has room for the worst-case stuffing.
-        let n = encode::status(&mut buf, s.id(), error | s.alert(), data).unwrap_or(0);
+        let n = encode::status(&mut buf, id, error | s.alert(), data).unwrap_or(0);
         buf.truncate(n);
         if s.faults.corrupt_crc && n > 0 {
             buf[n - 2] ^= 0xFF;
         }
         PlannedReply {
-            id: s.id(),
+            id,
             delay_us: s.reply_delay_us(),
             bytes: (!s.faults.no_reply).then_some(buf),
             chained,

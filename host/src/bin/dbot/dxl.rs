@@ -149,18 +149,20 @@ fn scan(m: &mut SerialMaster, max_id: u8, port: &str, baud: u32) -> anyhow::Resu
             Ok(p) => {
                 found += 1;
                 let name = Model::from_number(p.model_number).map_or("unknown model", |m| m.name());
-                bar.println(format!(
-                    "ID {id:3}: model {} ({name}), firmware {}{}",
-                    p.model_number,
-                    p.firmware,
-                    alert(p.error.alert())
-                ));
+                bar.suspend(|| {
+                    println!(
+                        "ID {id:3}: model {} ({name}), firmware {}{}",
+                        p.model_number,
+                        p.firmware,
+                        alert(p.error.alert())
+                    )
+                });
             }
             Err(BusError::Reply {
                 fault: ReplyFault::Timeout,
                 ..
             }) => {}
-            Err(e) => bar.println(format!("ID {id:3}: answered badly: {e:?}")),
+            Err(e) => bar.suspend(|| println!("ID {id:3}: answered badly: {e}")),
         }
     }
     bar.finish_and_clear();
