@@ -23,8 +23,9 @@ pub enum BusAction {
     TorqueOn,
     /// Torque Enable = 0 on all.
     TorqueOff,
-    /// Reboot every servo (clears hardware errors; torque is off afterwards).
-    Reboot,
+    /// Reboot the servos of the joints in the mask (bit j = joint j; clears hardware errors,
+    /// their torque is off afterwards).
+    Reboot { joints: u32 },
     /// Read the Hardware Error Status of one joint's servo.
     ReadHardwareError { joint: u8 },
 }
@@ -99,8 +100,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }
             return BusAction::Nothing;
         }
-        if self.reboot_pending {
-            return BusAction::Reboot;
+        if let Some(joints) = self.reboot_pending {
+            return BusAction::Reboot { joints };
         }
         if let Some(joint) = self.hw_error_pending {
             return BusAction::ReadHardwareError { joint };

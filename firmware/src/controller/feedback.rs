@@ -27,10 +27,14 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         match (plan.action, outcome) {
             (BusAction::TorqueOn, Outcome::Done(Ok(()))) => self.torque_sent = true,
             (BusAction::TorqueOff, Outcome::Done(Ok(()))) => self.torque_sent = false,
-            (BusAction::Reboot, Outcome::Done(r)) => {
-                // Rebooted servos come back with torque off; Boot then looks for all of them.
-                self.reboot_pending = false;
-                self.torque_sent = false;
+            (BusAction::Reboot { joints }, Outcome::Done(r)) => {
+                // Rebooted servos come back with torque off; Boot then looks for all of them. If
+                // only some were rebooted the others may still hold torque: Idle turns it off.
+                self.reboot_pending = None;
+                let n = self.joints.len();
+                if n == 0 || joints.count_ones() as usize >= n {
+                    self.torque_sent = false;
+                }
                 if r.is_err() {
                     self.counters.bus_errors = self.counters.bus_errors.wrapping_add(1);
                 }

@@ -107,7 +107,8 @@ pub struct Controller<F> {
     /// Torque as last sent to the servos.
     torque_sent: bool,
     misses: MissCounter<MAX_JOINTS>,
-    reboot_pending: bool,
+    /// Joints whose servos are to be rebooted (bit j), if a reboot is pending.
+    reboot_pending: Option<u32>,
     hw_error_pending: Option<u8>,
     last_plan_us: Option<u64>,
     stream: cycle::Stream,
@@ -136,7 +137,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             known: [false; MAX_JOINTS],
             torque_sent: false,
             misses: MissCounter::new(config.miss_limit),
-            reboot_pending: false,
+            reboot_pending: None,
             hw_error_pending: None,
             last_plan_us: None,
             stream: cycle::Stream::default(),
