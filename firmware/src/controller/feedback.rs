@@ -69,6 +69,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let n = self.joints.len().min(plan.n).min(replies.len());
         for (j, reply) in replies.iter().enumerate().take(n) {
             let id = self.joints[j].id;
+            self.reply_flags[j] = match reply {
+                Ok(_) | Err(ReplyFault::Status(_)) => 0,
+                Err(ReplyFault::Crc) => flags::NO_REPLY | flags::CRC_ERROR,
+                Err(_) => flags::NO_REPLY,
+            };
             let usable = match reply {
                 Ok(fb) => {
                     self.present[j] = *fb;
@@ -129,7 +134,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let mut joints = [JointSample::default(); MAX_JOINTS];
         for (j, s) in joints.iter_mut().enumerate().take(n) {
             let fb = self.present[j];
-            let mut f = 0;
+            let mut f = self.reply_flags[j];
             if self.clamped[j] {
                 f |= flags::CLAMPED;
             }
@@ -144,7 +149,14 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 present: fb.position,
                 velocity: fb.velocity,
                 load: fb.load,
-                error: 0,
+                error: match self.state {
+                    State::Safe(SafeReason::ServoError { joint, error, .. })
+                        if usize::from(joint) == j =>
+                    {
+                        error
+                    }
+                    _ => 0,
+                },
                 flags: f,
             };
         }

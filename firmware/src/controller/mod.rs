@@ -101,6 +101,8 @@ pub struct Controller<F> {
     /// Goals of the last cycle (what standing holds).
     goals: [i32; MAX_JOINTS],
     clamped: [bool; MAX_JOINTS],
+    /// Telemetry flags of each joint's last reply (no reply, CRC error).
+    reply_flags: [u8; MAX_JOINTS],
     /// Last good feedback per joint, and whether every joint has answered since the map changed.
     present: [Feedback; MAX_JOINTS],
     known: [bool; MAX_JOINTS],
@@ -133,6 +135,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             ramp: None,
             goals: [0; MAX_JOINTS],
             clamped: [false; MAX_JOINTS],
+            reply_flags: [0; MAX_JOINTS],
             present: [Feedback::default(); MAX_JOINTS],
             known: [false; MAX_JOINTS],
             torque_sent: false,

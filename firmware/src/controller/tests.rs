@@ -324,8 +324,16 @@ fn a_silent_servo_puts_the_robot_in_the_safe_state_naming_it() {
         })
     );
     // No more goals: only reads.
+    while r.c.pop_telemetry().is_some() {}
     assert_eq!(r.cycle(), BusAction::ReadOnly);
     assert_eq!(r.c.counters().timeouts, 4);
+    // Telemetry names the silent servo.
+    let last = core::iter::from_fn(|| r.c.pop_telemetry()).last().unwrap();
+    assert_eq!(
+        last.joints[7].flags & crate::telemetry::flags::NO_REPLY,
+        crate::telemetry::flags::NO_REPLY
+    );
+    assert_eq!(last.joints[6].flags & crate::telemetry::flags::NO_REPLY, 0);
 }
 
 #[test]
