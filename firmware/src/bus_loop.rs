@@ -1,0 +1,294 @@
+//! The fixed-rate bus loop: cycle starts on a grid of `1 / cycle_hz`, each cycle asks the controller
+//! what to do, does it on the Dynamixel bus and hands back the result. A cycle that runs past the
+//! next start makes the loop skip to the following grid point and count every missed start as an
+//! overrun; how late each start really was (jitter) is measured on the bus master's clock.
+
+use core::cell::RefCell;
+
+use dynamixel::control_table::{GOAL_POSITION, HARDWARE_ERROR_STATUS, TORQUE_ENABLE};
+use dynamixel::master::{BusError, BusMaster, Clock, DirectionPin, Reply, ReplyFault};
+use embedded_io_async::{Read, ReadReady, Write};
+use embedded_storage::nor_flash::NorFlash;
+
+use crate::controller::{BusAction, Controller, CyclePlan, Outcome};
+use crate::playback::MAX_JOINTS;
+use crate::store::FlashWindow;
+
+/// Access to the controller shared by the bus and link tasks: the board uses a blocking mutex,
+/// the host a `RefCell`. Closures must be short: never `.await` inside.
+pub trait Shared<T> {
+    fn with<R>(&self, f: impl FnOnce(&mut T) -> R) -> R;
+}
+
+impl<T> Shared<T> for RefCell<T> {
+    fn with<R>(&self, f: impl FnOnce(&mut T) -> R) -> R {
+        f(&mut self.borrow_mut())
+    }
+}
+
+/// Timing of the loop since it started.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Timing {
+    pub cycles: u64,
+    /// Cycle starts skipped because a cycle ran past them.
+    pub overruns: u64,
+    /// Lateness of cycle starts against the grid, microseconds.
+    pub max_late_us: u32,
+    pub sum_late_us: u64,
+    /// Longest bus action, microseconds.
+    pub max_busy_us: u32,
+    pub first_start_us: u64,
+    pub last_start_us: u64,
+}
+
+impl Timing {
+    /// Cycles per second over the run, from the first to the last start.
+    pub fn rate_hz(&self) -> f64 {
+        let span = self.last_start_us.saturating_sub(self.first_start_us);
+        if self.cycles < 2 || span == 0 {
+            return 0.0;
+        }
+        (self.cycles - 1) as f64 * 1e6 / span as f64
+    }
+}
+
+/// The loop's schedule.
+#[derive(Debug, Clone, Default)]
+pub struct BusLoop {
+    next_us: Option<u64>,
+    pub timing: Timing,
+}
+
+impl BusLoop {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Runs one cycle: waits for its start on the grid, plans, performs and completes it.
+    pub async fn run_cycle<S, F, IO, D, C>(&mut self, shared: &S, bus: &mut BusMaster<IO, D, C>)
+    where
+        S: Shared<Controller<F>>,
+        F: NorFlash + FlashWindow,
+        IO: Read + ReadReady + Write,
+        D: DirectionPin,
+        C: Clock,
+    {
+        let (period, baud) = shared.with(|c| (u64::from(c.period_us()), c.config().baud));
+        if bus.config().baud != baud {
+            let mut cfg = *bus.config();
+            cfg.baud = baud;
+            bus.set_config(cfg);
+        }
+        let due = *self.next_us.get_or_insert_with(|| bus.clock().now_us());
+        bus.clock().wait_until(due).await;
+        let start = bus.clock().now_us();
+        let late = start.saturating_sub(due).min(u32::MAX as u64) as u32;
+        let plan = shared.with(|c| c.plan(start));
+        let mut replies = [Err(ReplyFault::Timeout); MAX_JOINTS];
+        let outcome = perform(&plan, bus, &mut replies).await;
+        let end = bus.clock().now_us();
+
+        let mut next = due + period;
+        let mut missed = 0u32;
+        if end > next {
+            let behind = (end - next).div_ceil(period);
+            missed = behind.min(u32::MAX as u64) as u32;
+            next += behind * period;
+        }
+        self.next_us = Some(next);
+        shared.with(|c| {
+            c.complete(&plan, outcome, &replies[..plan.n], late);
+            c.count_overruns(missed);
+        });
+
+        let t = &mut self.timing;
+        if t.cycles == 0 {
+            t.first_start_us = start;
+        }
+        t.cycles += 1;
+        t.last_start_us = start;
+        t.overruns += u64::from(missed);
+        t.max_late_us = t.max_late_us.max(late);
+        t.sum_late_us += u64::from(late);
+        t.max_busy_us = t
+            .max_busy_us
+            .max(end.saturating_sub(start).min(u32::MAX as u64) as u32);
+    }
+}
+
+/// Performs `plan.action` on the bus.
+pub async fn perform<IO, D, C>(
+    plan: &CyclePlan,
+    bus: &mut BusMaster<IO, D, C>,
+    replies: &mut [Reply],
+) -> Outcome
+where
+    IO: Read + ReadReady + Write,
+    D: DirectionPin,
+    C: Clock,
+{
+    let (ids, n) = plan.ids();
+    let ids = &ids[..n];
+    match plan.action {
+        BusAction::Nothing => Outcome::Done(Ok(())),
+        BusAction::Cycle => Outcome::Feedback(bus.cycle(plan.goals(), replies).await),
+        BusAction::ReadOnly => Outcome::Feedback(bus.read_feedback(ids, replies).await),
+        BusAction::TorqueOn => {
+            let mut bytes = [[0u8; 4]; MAX_JOINTS];
+            for (b, g) in bytes.iter_mut().zip(plan.goals()) {
+                *b = g.position.to_le_bytes();
+            }
+            let goals = plan.goals().iter().zip(&bytes).map(|(g, b)| (g.id, &b[..]));
+            let r = match bus.sync_write(GOAL_POSITION.addr, 4, goals).await {
+                Ok(()) => torque(bus, ids, 1).await,
+                Err(e) => Err(e),
+            };
+            Outcome::Done(r)
+        }
+        BusAction::TorqueOff => Outcome::Done(torque(bus, ids, 0).await),
+        BusAction::Reboot { joints } => {
+            let mut result = Ok(());
+            let chosen = ids
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j < 32 && joints & (1 << j) != 0);
+            for (_, &id) in chosen {
+                if let Err(e) = bus.reboot(id).await {
+                    result = Err(e);
+                }
+            }
+            Outcome::Done(result)
+        }
+        BusAction::ReadHardwareError { joint } => {
+            let Some(&id) = ids.get(usize::from(joint)) else {
+                return Outcome::HardwareError(Ok(0));
+            };
+            let mut bits = [0u8; 1];
+            let r = bus.read(id, HARDWARE_ERROR_STATUS.addr, &mut bits).await;
+            Outcome::HardwareError(r.map(|_| bits[0]))
+        }
+    }
+}
+
+async fn torque<IO, D, C>(bus: &mut BusMaster<IO, D, C>, ids: &[u8], on: u8) -> Result<(), BusError>
+where
+    IO: Read + ReadReady + Write,
+    D: DirectionPin,
+    C: Clock,
+{
+    let value = [on];
+    bus.sync_write(
+        TORQUE_ENABLE.addr,
+        1,
+        ids.iter().map(|&id| (id, &value[..])),
+    )
+    .await
+}
+
+#[cfg(test)]
+mod tests {
+    use core::future::Future;
+    use core::pin::pin;
+    use core::task::{Context, Poll, Waker};
+    use std::cell::Cell;
+
+    use dynamixel::master::{AutoDirection, MasterConfig};
+
+    use super::*;
+    use crate::controller::Config;
+    use crate::store::nor_double::NorDouble;
+    use crate::store::record::CRC32;
+    use crate::testkit::SyntheticGait;
+
+    /// A clock whose waits end at once by moving time to the deadline.
+    struct JumpClock(Cell<u64>);
+    impl Clock for JumpClock {
+        fn now_us(&self) -> u64 {
+            self.0.get()
+        }
+        async fn wait_until(&self, deadline_us: u64) {
+            self.0.set(self.0.get().max(deadline_us));
+        }
+    }
+
+    /// A bus on which nobody answers.
+    struct Silent;
+    impl embedded_io_async::ErrorType for Silent {
+        type Error = core::convert::Infallible;
+    }
+    impl Read for Silent {
+        async fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> {
+            core::future::pending().await
+        }
+    }
+    impl embedded_io_async::ReadReady for Silent {
+        fn read_ready(&mut self) -> Result<bool, Self::Error> {
+            Ok(false)
+        }
+    }
+    impl Write for Silent {
+        async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+            Ok(buf.len())
+        }
+        async fn flush(&mut self) -> Result<(), Self::Error> {
+            Ok(())
+        }
+    }
+
+    fn block_on<F: Future>(f: F) -> F::Output {
+        let mut f = pin!(f);
+        let mut cx = Context::from_waker(Waker::noop());
+        loop {
+            if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
+                return v;
+            }
+        }
+    }
+
+    #[test]
+    fn cycles_start_on_the_grid_and_every_skipped_start_is_an_overrun() {
+        let table = SyntheticGait::new(10, 1.0).build();
+        let mut c = Controller::new(NorDouble::<4>::new(64), 4, Config::default());
+        c.upload_begin(0, table.len() as u32).unwrap();
+        c.upload_chunk(0, &table).unwrap();
+        c.upload_commit(CRC32.checksum(&table)).unwrap();
+        let shared = RefCell::new(c);
+        // 100 Hz, and a reply budget of 25 ms: each silent cycle takes about 2.5 periods.
+        let config = MasterConfig {
+            baud: 1_000_000,
+            reply_slack_us: 25_000,
+        };
+        let mut bus = BusMaster::new(Silent, AutoDirection, JumpClock(Cell::new(0)), config);
+        let mut l = BusLoop::new();
+        let mut starts = vec![];
+        let mut overruns = vec![];
+        for _ in 0..6 {
+            block_on(l.run_cycle(&shared, &mut bus));
+            starts.push(l.timing.last_start_us);
+            overruns.push(l.timing.overruns);
+        }
+        for s in &starts {
+            assert_eq!(s % 10_000, 0, "start {s} off the 10 ms grid");
+        }
+        // The grid points skipped between two starts are the overruns the first of them counted.
+        for k in 0..5 {
+            let skipped = (starts[k + 1] - starts[k]) / 10_000 - 1;
+            let counted = overruns[k] - if k == 0 { 0 } else { overruns[k - 1] };
+            assert!(skipped >= 1, "cycle {k} overran: {starts:?}");
+            assert_eq!(counted, skipped, "cycle {k}: {starts:?}");
+        }
+        assert_eq!(u64::from(shared.borrow().counters().overruns), overruns[5]);
+        // Starts were never late: the loop skips to the next grid point instead of starting late.
+        assert_eq!(l.timing.max_late_us, 0);
+        // Three silent cycles in Boot make every servo missing: the first one is named.
+        assert!(matches!(
+            shared.borrow().state(),
+            crate::safety::State::Safe(crate::safety::SafeReason::ServoMissing {
+                joint: 0,
+                id: 1,
+                cycles: 3
+            })
+        ));
+    }
+}

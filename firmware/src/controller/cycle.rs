@@ -1,0 +1,263 @@
+//! One bus cycle as the controller sees it: what to do on the bus next (ramp, gait clock, streaming,
+//! torque) and the state machine events that move it; `feedback.rs` takes the results.
+
+use dynamixel::master::{BusError, CycleStats, Goal};
+use embedded_storage::nor_flash::NorFlash;
+
+use super::Controller;
+use crate::playback::{self, MAX_JOINTS, Ramp};
+use crate::safety::{Event, SafeReason, State};
+use crate::store::FlashWindow;
+
+/// What the bus loop performs next.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum BusAction {
+    /// Nothing to talk to (no joint map).
+    Nothing,
+    /// Sync Write the plan's goals, then Sync Read feedback.
+    Cycle,
+    /// Sync Read feedback only.
+    ReadOnly,
+    /// Sync Write the plan's goals (the present posture), then Torque Enable = 1 on all.
+    TorqueOn,
+    /// Torque Enable = 0 on all.
+    TorqueOff,
+    /// Reboot the servos of the joints in the mask (bit j = joint j; clears hardware errors,
+    /// their torque is off afterwards).
+    Reboot { joints: u32 },
+    /// Read the Hardware Error Status of one joint's servo.
+    ReadHardwareError { joint: u8 },
+}
+
+/// The next bus action with the goals it writes (`goals[..n]`, also the servos it reads).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CyclePlan {
+    pub action: BusAction,
+    pub goals: [Goal; MAX_JOINTS],
+    pub n: usize,
+    pub start_us: u64,
+}
+
+impl CyclePlan {
+    pub fn goals(&self) -> &[Goal] {
+        &self.goals[..self.n]
+    }
+
+    /// Bus IDs in joint order.
+    pub fn ids(&self) -> ([u8; MAX_JOINTS], usize) {
+        let mut ids = [0; MAX_JOINTS];
+        for (i, g) in self.goals().iter().enumerate() {
+            ids[i] = g.id;
+        }
+        (ids, self.n)
+    }
+}
+
+/// What came of a bus action.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// A Cycle or ReadOnly: statistics (replies are passed alongside).
+    Feedback(Result<CycleStats, BusError>),
+    /// TorqueOn, TorqueOff, Reboot or Nothing.
+    Done(Result<(), BusError>),
+    /// ReadHardwareError: the status bits.
+    HardwareError(Result<u8, BusError>),
+}
+
+/// Streaming mode: latest setpoint goals and their age.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct Stream {
+    pub seq: u32,
+    pub age: u16,
+    pub timeout_cycles: u16,
+    pub feedback_every: u16,
+}
+
+impl<F: NorFlash + FlashWindow> Controller<F> {
+    /// Decides the next bus action at `now_us` (the cycle start) and advances ramp, gait clock and
+    /// streaming by the time since the previous plan.
+    pub fn plan(&mut self, now_us: u64) -> CyclePlan {
+        let dt = match self.last_plan_us {
+            Some(t) => now_us.saturating_sub(t).min(u32::MAX as u64) as u32,
+            None => 0,
+        };
+        self.last_plan_us = Some(now_us);
+        let action = self.next_action(dt);
+        let (goals, n) = self.goal_list();
+        CyclePlan {
+            action,
+            goals,
+            n,
+            start_us: now_us,
+        }
+    }
+
+    fn next_action(&mut self, dt: u32) -> BusAction {
+        if self.joints.is_empty() {
+            if self.state == State::Boot {
+                self.event(Event::BootDone);
+            }
+            return BusAction::Nothing;
+        }
+        if let Some(joints) = self.reboot_pending {
+            return BusAction::Reboot { joints };
+        }
+        if let Some(joint) = self.hw_error_pending {
+            return BusAction::ReadHardwareError { joint };
+        }
+        if !self.state.drives_goals() {
+            // Safe keeps whatever torque the servos have: the faulty one has dropped it already,
+            // the others hold their last goal rather than letting the robot fall.
+            let off = matches!(self.state, State::Idle | State::EStop);
+            return if off && self.torque_sent {
+                BusAction::TorqueOff
+            } else {
+                BusAction::ReadOnly
+            };
+        }
+        if !self.torque_sent {
+            if !self.all_known() {
+                return BusAction::ReadOnly;
+            }
+            // Before torque comes on, the goals become the present posture, so nothing jumps.
+            for j in 0..self.joints.len() {
+                self.goals[j] = self.present[j].position;
+            }
+            return BusAction::TorqueOn;
+        }
+        match self.state {
+            State::Ramping => self.ramp_goals(dt),
+            State::Walking | State::Stopping => self.walk_goals(dt),
+            State::Streaming => {
+                self.stream.age = self.stream.age.saturating_add(1);
+                if self.stream.age > self.stream.timeout_cycles {
+                    self.event(Event::Fault(SafeReason::SetpointTimeout));
+                    return BusAction::ReadOnly;
+                }
+            }
+            _ => {}
+        }
+        BusAction::Cycle
+    }
+
+    fn ramp_goals(&mut self, dt: u32) {
+        let Some(sel) = self.selected else { return };
+        let n = self.joints.len();
+        let mut target = [0i32; MAX_JOINTS];
+        let Some(sample) = self.play.as_ref().map(|p| p.sample(sel.layout.slices)) else {
+            return;
+        };
+        let Some(bytes) = self.store.table(sel.slot) else {
+            return;
+        };
+        let view = crate::gait_view::View::new(bytes, sel.layout);
+        let mut cut = [false; MAX_JOINTS];
+        let clamped = playback::goals(
+            &view,
+            sample,
+            &self.joints,
+            &self.stiffness,
+            &mut target[..n],
+            &mut cut[..n],
+        );
+        self.count_clamped(clamped);
+        let ramp = self.ramp.get_or_insert_with(|| {
+            let mut from = [0i32; MAX_JOINTS];
+            for (f, p) in from.iter_mut().zip(&self.present[..n]) {
+                *f = p.position;
+            }
+            Ramp::new(
+                &from[..n],
+                &target[..n],
+                self.config.ramp_ticks_per_s,
+                self.config.ramp_min_us,
+            )
+        });
+        let arrived = ramp.advance(dt);
+        ramp.goals(&mut self.goals[..n]);
+        if arrived {
+            self.ramp = None;
+            self.event(Event::RampDone);
+        }
+    }
+
+    fn walk_goals(&mut self, dt: u32) {
+        let Some(sel) = self.selected else { return };
+        let Some(play) = self.play.as_mut() else {
+            return;
+        };
+        let adv = play.advance(dt);
+        if adv.finished {
+            self.event(Event::StepsDone);
+        } else if adv.steps_ended > 0 {
+            if self.state == State::Stopping {
+                play.rest_at_boundary();
+            }
+            self.event(Event::EndOfStep);
+        }
+        let Some(play) = self.play.as_ref() else {
+            return;
+        };
+        let sample = play.sample(sel.layout.slices);
+        let Some(bytes) = self.store.table(sel.slot) else {
+            return;
+        };
+        let view = crate::gait_view::View::new(bytes, sel.layout);
+        let n = self.joints.len();
+        let mut goals = [0i32; MAX_JOINTS];
+        let mut cut = [false; MAX_JOINTS];
+        let clamped = playback::goals(
+            &view,
+            sample,
+            &self.joints,
+            &self.stiffness,
+            &mut goals[..n],
+            &mut cut[..n],
+        );
+        self.goals[..n].copy_from_slice(&goals[..n]);
+        self.clamped = cut;
+        self.count_clamped(clamped);
+    }
+
+    fn count_clamped(&mut self, n: usize) {
+        self.counters.clamped = self.counters.clamped.wrapping_add(n as u32);
+    }
+
+    /// Records cycle starts the bus loop missed.
+    pub fn count_overruns(&mut self, missed: u32) {
+        self.counters.overruns = self.counters.overruns.wrapping_add(missed);
+    }
+
+    /// Applies `event` to the state machine and does what entering the new state requires.
+    /// Refused events change nothing.
+    pub(crate) fn event(&mut self, event: Event) -> bool {
+        let Ok(next) = self.state.next(event) else {
+            return false;
+        };
+        let before = self.state;
+        self.state = next;
+        if before != next {
+            self.enter(before, next);
+        }
+        true
+    }
+
+    fn enter(&mut self, _from: State, to: State) {
+        match to {
+            State::Idle | State::EStop => self.ramp = None,
+            State::Boot => {
+                self.misses.reset();
+                self.known = [false; MAX_JOINTS];
+                self.ramp = None;
+            }
+            State::Standing | State::Streaming => {
+                self.ramp = None;
+                self.stream.age = 0;
+            }
+            State::Ramping => self.ramp = None,
+            State::Safe(_) => self.ramp = None,
+            State::Walking | State::Stopping => {}
+        }
+    }
+}
