@@ -364,3 +364,37 @@ fn a_stuck_servo_stays_and_strains() {
     // Stalled motor: PWM 6.64 * 100 / 885 = 75.0 % of stall torque -> load 750 (0.1 % units).
     assert!((f.load - 750).abs() <= 2, "load {}", f.load);
 }
+
+#[test]
+fn garbage_before_the_replies_is_skipped_and_counted() {
+    let (wire, mut m) = bus(0);
+    // Noise that looks like the start of headers, arriving while the request goes out.
+    wire.inject_noise(&[0xFF, 0xFF, 0xFD, 0x12, 0xFF, 0xFF, 0x00, 0x55, 0xAA]);
+    let (replies, stats) = run_cycle(&wire, &mut m, &goals(2048));
+    assert!(replies.iter().all(|r| r.is_ok()), "{replies:?}");
+    // The noise lands on the echo of the Sync Write (124 bytes), which is lost with it; the Sync
+    // Read's echo (36 bytes) after it is intact.
+    assert_eq!((stats.garbage_bytes, stats.echo_frames), (9 + 124, 1));
+}
+
+#[test]
+fn without_echo_no_instruction_frames_are_seen() {
+    let mut chain = VirtualChain::drosophibot(22, 1_000_000).unwrap();
+    chain.set_return_delay_all(0);
+    let wire = SimWire::new(
+        chain,
+        WireConfig {
+            baud: 1_000_000,
+            echo: false,
+        },
+    );
+    let mut m = BusMaster::new(
+        wire.clone(),
+        AutoDirection,
+        wire.clone(),
+        MasterConfig::new(1_000_000),
+    );
+    let (replies, stats) = run_cycle(&wire, &mut m, &goals(2048));
+    assert!(replies.iter().all(|r| r.is_ok()));
+    assert_eq!((stats.echo_frames, stats.duration_us()), (0, 6_220));
+}

@@ -83,7 +83,8 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         goals: &[Goal],
         replies: &mut [Reply],
     ) -> Result<CycleStats, BusError> {
-        if replies.len() < goals.len() || goals.len() > MAX_SERVOS {
+        check_count(goals.len())?;
+        if replies.len() < goals.len() {
             return Err(BusError::ResultsTooShort {
                 servos: goals.len(),
                 results: replies.len(),
@@ -122,6 +123,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         ids: &[u8],
         replies: &mut [Reply],
     ) -> Result<CycleStats, BusError> {
+        check_count(ids.len())?;
         if replies.len() < ids.len() {
             return Err(BusError::ResultsTooShort {
                 servos: ids.len(),
@@ -262,6 +264,17 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
             }
         }
     }
+}
+
+/// Requests for more than [`MAX_SERVOS`] servos are refused (fixed-size bookkeeping, no alloc).
+pub(crate) fn check_count(servos: usize) -> Result<(), BusError> {
+    if servos > MAX_SERVOS {
+        return Err(BusError::TooManyServos {
+            servos,
+            max: MAX_SERVOS,
+        });
+    }
+    Ok(())
 }
 
 /// Hands every complete frame to `on_frame`; returns (done, progress).

@@ -1,6 +1,8 @@
 //! Setup helpers of the bus master: Ping, Read, Write, Reboot, generic Sync/Bulk Read and Write.
 
-use super::{BusError, BusMaster, Clock, DirectionPin, MAX_SERVOS, PingReply, ReplyFault, Step};
+use super::{
+    BusError, BusMaster, Clock, DirectionPin, MAX_SERVOS, PingReply, ReplyFault, Step, check_count,
+};
 use crate::encode;
 use crate::instruction::{BROADCAST_ID, STATUS, StatusError};
 use crate::parser::{Frame, FrameError};
@@ -140,6 +142,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         data: &mut [u8],
         outcomes: &mut [ReadOutcome],
     ) -> Result<(), BusError> {
+        check_count(ids.len())?;
         let n = encode::sync_read(&mut self.tx, addr, len, ids)?;
         let mut lens = [0u16; MAX_SERVOS];
         lens[..ids.len().min(MAX_SERVOS)].fill(len);
@@ -153,6 +156,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         data: &mut [u8],
         outcomes: &mut [ReadOutcome],
     ) -> Result<(), BusError> {
+        check_count(entries.len())?;
         let n = encode::bulk_read(&mut self.tx, entries)?;
         let mut ids = [0u8; MAX_SERVOS];
         let mut lens = [0u16; MAX_SERVOS];
@@ -174,7 +178,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         outcomes: &mut [ReadOutcome],
     ) -> Result<(), BusError> {
         let total: usize = lens[..ids.len()].iter().map(|&l| l as usize).sum();
-        if ids.len() > MAX_SERVOS || outcomes.len() < ids.len() || data.len() < total {
+        if outcomes.len() < ids.len() || data.len() < total {
             return Err(BusError::ResultsTooShort {
                 servos: ids.len(),
                 results: outcomes.len().min(data.len()),

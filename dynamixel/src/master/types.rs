@@ -99,6 +99,8 @@ pub enum BusError {
     Encode(EncodeError),
     /// The result slice is shorter than the list of servos.
     ResultsTooShort { servos: usize, results: usize },
+    /// More servos in one request than [`super::MAX_SERVOS`].
+    TooManyServos { servos: usize, max: usize },
     /// A single-servo transaction's reply was missing or bad.
     Reply { id: u8, fault: ReplyFault },
     /// A read returned a different number of bytes than asked.
@@ -169,8 +171,11 @@ impl core::fmt::Display for BusError {
             BusError::ResultsTooShort { servos, results } => {
                 write!(
                     f,
-                    "{servos} servos asked but room for only {results} results (max 64 servos)"
+                    "{servos} servos asked but room for only {results} results"
                 )
+            }
+            BusError::TooManyServos { servos, max } => {
+                write!(f, "{servos} servos in one request, at most {max}")
             }
             BusError::Reply { id, fault } => write!(f, "servo ID {id}: {fault}"),
             BusError::DataLength { id, expected, got } => {

@@ -100,6 +100,18 @@ impl SimWire {
         (s.bytes_to_servos, s.bytes_to_master)
     }
 
+    /// Puts `bytes` on the wire toward the master, starting now at the wire's byte rate (noise,
+    /// a glitch, another device talking): for testing resynchronisation.
+    pub fn inject_noise(&self, bytes: &[u8]) {
+        let mut s = self.state.borrow_mut();
+        let byte_ns = s.byte_ns();
+        let start = s.now_ns;
+        for (i, &b) in bytes.iter().enumerate() {
+            s.to_master.push_back((start + (i as u64 + 1) * byte_ns, b));
+        }
+        s.to_master.make_contiguous().sort_by_key(|b| b.0);
+    }
+
     /// Changes the line rate (after the servos were told to switch).
     pub fn set_baud(&self, baud: u32) {
         self.state.borrow_mut().config.baud = baud;

@@ -66,7 +66,8 @@ def main():
         comm, err = ph.write4ByteTxRx(port, i, ADDR_GOAL, goal)
         back, comm2, _ = ph.read4ByteTxRx(port, i, ADDR_GOAL)
         if comm != COMM_SUCCESS or err != 0 or comm2 != COMM_SUCCESS or back != goal:
-            fail("write goal %d to ID %d read back %d (%s)" % (goal, i, back, ph.getTxRxResult(comm)))
+            fail("write goal %d to ID %d read back %d (write: %s, error %d; read: %s)"
+                 % (goal, i, back, ph.getTxRxResult(comm), err, ph.getTxRxResult(comm2)))
     comm, err = ph.write4ByteTxRx(port, 1, ADDR_GOAL, 5000)
     if comm != COMM_SUCCESS or err & 0x7F != 6:
         fail("goal beyond Max Position Limit should be a Data Limit error (6), got %s, error %d" % (ph.getTxRxResult(comm), err))

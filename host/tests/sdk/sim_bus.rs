@@ -10,6 +10,9 @@ use std::time::{Duration, Instant};
 
 pub struct SimBus {
     child: Child,
+    // Held while the server runs: wall-clock tests of the pty server run one at a time, so that
+    // two of them do not starve each other's servers on a small CI machine.
+    _lock: nix::fcntl::Flock<std::fs::File>,
     _dir: tempfile::TempDir,
     link: PathBuf,
     log: Arc<Mutex<String>>,
@@ -18,6 +21,11 @@ pub struct SimBus {
 impl SimBus {
     /// Starts `dbot sim-bus --servos N --baud B --return-delay RD` (RD in 2 us units).
     pub fn start(servos: u8, baud: u32, return_delay: u8) -> Self {
+        let lock_path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("dbot-sim-bus.lock");
+        let file = std::fs::File::create(&lock_path).expect("create the sim-bus lock file");
+        let _lock = nix::fcntl::Flock::lock(file, nix::fcntl::FlockArg::LockExclusive)
+            .map_err(|(_, e)| e)
+            .expect("lock the sim-bus lock file");
         let dir = tempfile::tempdir().expect("temp dir");
         let link = dir.path().join("bus");
         let mut child = Command::new(env!("CARGO_BIN_EXE_dbot"))
@@ -62,6 +70,7 @@ impl SimBus {
         }
         Self {
             child,
+            _lock,
             _dir: dir,
             link,
             log,
