@@ -2,3 +2,8 @@
 //! reports and the link to the board. The `dbot` CLI is a thin layer over it.
 
 pub mod model;
+pub mod kinematics;
+pub mod terrain;
+pub mod gait;
+pub mod plan;
+pub mod report;
