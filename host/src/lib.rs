@@ -1,9 +1,9 @@
 //! The Drosophibot II host library: organism models, kinematics, inverse dynamics, gait planning,
 //! reports and the link to the board. The `dbot` CLI is a thin layer over it.
 
-pub mod model;
-pub mod kinematics;
-pub mod terrain;
 pub mod gait;
+pub mod kinematics;
+pub mod model;
 pub mod plan;
 pub mod report;
+pub mod terrain;

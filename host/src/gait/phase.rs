@@ -13,7 +13,10 @@ pub struct Gait {
 }
 
 impl Gait {
-    pub const TRIPOD: Gait = Gait { phi_i: 0.5, phi_c: 0.5 };
+    pub const TRIPOD: Gait = Gait {
+        phi_i: 0.5,
+        phi_c: 0.5,
+    };
     /// Diagonal pairs swing together: (LF, RM), (LM, RH), (LH, RF).
     pub const TETRAPOD: Gait = Gait {
         phi_i: 1.0 / 3.0,
