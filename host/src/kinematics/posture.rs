@@ -17,6 +17,8 @@ pub struct Posture {
     pub q: Vec<f64>,
     /// Foot position per leg, [`Model::legs`] order.
     pub feet: Vec<(Leg, Vector3<f64>)>,
+    /// Centre of a ball terrain: `offset_m` below the centre of mass of the flat posture.
+    pub ball_centre: Option<Vector3<f64>>,
 }
 
 impl Posture {
@@ -107,8 +109,8 @@ pub fn resting_posture(
         feet.push((leg, chain.foot_position(&qa)));
         chains.push((chain, qa));
     }
-    if let Terrain::Ball { radius_m, .. } = terrain {
-        let centre = terrain.ball_centre(model, &q).expect("a ball has a centre");
+    let ball_centre = terrain.ball_centre(model, &q);
+    if let (Terrain::Ball { radius_m, .. }, Some(centre)) = (terrain, ball_centre) {
         for ((chain, qa), (leg, foot)) in chains.iter_mut().zip(feet.iter_mut()) {
             let d = Vector3::new(foot.x - centre.x, foot.y - centre.y, 0.0);
             let h2 = radius_m * radius_m - d.norm_squared();
@@ -136,5 +138,9 @@ pub fn resting_posture(
         }
     }
 
-    Ok(Posture { q, feet })
+    Ok(Posture {
+        q,
+        feet,
+        ball_centre,
+    })
 }

@@ -76,14 +76,8 @@ impl Plan {
 }
 
 /// The footpaths of every leg for a model, parameters and resting posture.
-pub fn footpaths(
-    model: &Model,
-    params: &StepParams,
-    terrain: &Terrain,
-    posture: &Posture,
-) -> Vec<Footpath> {
-    let centre = terrain.ball_centre(model, &posture.q);
-    let motion = GroundMotion::new(terrain, params, centre);
+pub fn footpaths(params: &StepParams, terrain: &Terrain, posture: &Posture) -> Vec<Footpath> {
+    let motion = GroundMotion::new(terrain, params, posture.ball_centre);
     posture
         .feet
         .iter()
@@ -96,7 +90,7 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
     params.validate()?;
     let terrain = Terrain::parse(&params.terrain, params.ball_radius_m, params.ball_offset_m)?;
     let posture = resting_posture(model, &terrain, &|leg| params.foot_goal(leg))?;
-    let paths = footpaths(model, params, &terrain, &posture);
+    let paths = footpaths(params, &terrain, &posture);
     let n = params.slices;
     let dt = params.period_s() / n as f64;
     let legs: Vec<Leg> = paths.iter().map(|p| p.leg).collect();
@@ -135,7 +129,7 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
         model: model.clone(),
         params: params.clone(),
         gravity: terrain.gravity(),
-        ball_centre: terrain.ball_centre(model, &posture.q),
+        ball_centre: posture.ball_centre,
         terrain,
         period_s: params.period_s(),
         dt,
