@@ -140,6 +140,8 @@ impl LegChain {
     /// Moves `qa` (warm start, updated in place) until the foot is at `target` within tolerance,
     /// pulling spare degrees of freedom towards `rest`. Returns the iterations used, or the
     /// remaining distance (m) if the target was not reached.
+    // The loops walk several index-parallel fixed-size arrays (angles, limits, Jacobian columns).
+    #[allow(clippy::needless_range_loop)]
     pub fn solve(
         &self,
         target: &Vector3<f64>,
