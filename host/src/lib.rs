@@ -2,4 +2,9 @@
 //! reports and the link to the board. The `dbot` CLI is a thin layer over it.
 
 pub mod bus;
+pub mod gait;
+pub mod kinematics;
 pub mod model;
+pub mod plan;
+pub mod report;
+pub mod terrain;

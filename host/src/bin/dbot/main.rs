@@ -4,6 +4,8 @@
 //! and a `run(self)` that does the work.
 
 mod dxl;
+mod model;
+mod plan;
 mod sim_bus;
 
 use clap::{Parser, Subcommand};
@@ -24,6 +26,10 @@ enum Cmd {
     SimBus(sim_bus::Args),
     /// Set up and inspect Dynamixel servos through a USB serial adapter
     Dxl(dxl::Args),
+    /// Plan a step cycle (posture, footpaths, inverse kinematics) and write CSV, JSON, URDF, plots.
+    Plan(plan::Args),
+    /// Export, import or inspect organism models.
+    Model(model::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -31,5 +37,7 @@ fn main() -> anyhow::Result<()> {
     match cli.cmd {
         Cmd::SimBus(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
+        Cmd::Plan(a) => a.run(),
+        Cmd::Model(a) => a.run(),
     }
 }
