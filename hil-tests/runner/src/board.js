@@ -1,0 +1,109 @@
+//! One emulated Drosophibot II controller: an rp2040js chip with the firmware's flash image, the
+//! stand-in boot ROM, the paced UART0 and the fixed USB OUT path, run on simulated time.
+//!
+//! The five emulator defects of shared/reference/firmware-toolchain.md are fixed here at run time:
+//! 1 and 2 by replacing UART0 with PacedUart (uart.js), 3 and 4 by CdcHost (cdc.js), and 5 (SEV does
+//! nothing, so embassy's thread-mode executor sleeps in WFE until the next interrupt) by turning the
+//! core's "SEV" log call into what SEV does: setting the event register.
+//!
+//! A reset builds a new chip and keeps the flash contents, so the gait store survives like on a
+//! board; simulated time keeps counting across resets.
+
+import { RP2040 } from 'rp2040js';
+import { installBootrom } from './bootrom.js';
+import { CdcHost } from './cdc.js';
+import { PacedUart } from './uart.js';
+
+const UART0_BASE = 0x40034;
+const UART0_IRQ = 20;
+const CYCLE_NANOS = 1e9 / 125e6;
+
+export class Board {
+  /**
+   * @param flash the 16 MB flash image (Uint8Array), kept and shared across resets
+   * @param hooks { onUsbData(bytes), onUsbConfigured(), onWarn(msg), onFlashWrite(kind, off, len) }
+   */
+  constructor(flash, hooks) {
+    this.flash = flash;
+    this.hooks = hooks;
+    this.epoch = 0;
+    this.baseNanos = 0;
+    this.build();
+  }
+
+  build() {
+    // RP2040's default clock is a SimulationClock (the class itself is not exported).
+    const rp2040 = new RP2040();
+    const clock = rp2040.clock;
+    rp2040.flash.set(this.flash);
+    this.flash = rp2040.flash;
+    const core = rp2040.core;
+    const { onWarn } = this.hooks;
+    rp2040.logger = {
+      debug() {},
+      // Defect 5: SEV is logged and otherwise ignored by the core; make it set the event register.
+      info(_name, msg) {
+        if (msg === 'SEV') core.eventRegistered = true;
+      },
+      warn: (name, msg) => onWarn?.(`${name}: ${msg}`),
+      error: (name, msg) => onWarn?.(`${name}: ${msg}`),
+    };
+    // Defects 1 and 2: a PL011 model with UARTDMACR, edge TX interrupt and wire timing.
+    const uart = new PacedUart(rp2040, 'UART0', UART0_IRQ);
+    rp2040.uart[0] = uart;
+    rp2040.peripherals[UART0_BASE] = uart;
+    installBootrom(rp2040, {
+      warn: onWarn,
+      onFlashWrite: (kind, offset, length) => this.hooks.onFlashWrite?.(kind, offset, length),
+      tornProgram: (offset, count) => this.hooks.tornProgram?.(offset, count),
+      onBreakpoint: (n, pc) => {
+        this.halted = `breakpoint #${n} at 0x${(pc - 2).toString(16)} (panic or semihosting call)`;
+      },
+    });
+    this.usb = new CdcHost(rp2040, {
+      onData: (data) => this.hooks.onUsbData?.(data),
+      onConfigured: () => this.hooks.onUsbConfigured?.(),
+    });
+    // Boot like the ROM does: run boot2 from the start of flash; it sets up XIP and enters the
+    // vector table at 0x10000100.
+    core.SP = 0x20042000;
+    core.LR = 0;
+    core.PC = 0x10000000;
+    this.rp2040 = rp2040;
+    this.clock = clock;
+    this.uart = uart;
+    this.halted = null;
+    this.hold = false;
+  }
+
+  /** Simulated nanoseconds since the first boot for a time of the current chip's clock. */
+  simNanos(chipNanos = this.clock.nanos) {
+    return this.baseNanos + chipNanos;
+  }
+
+  /** Resets the chip: a new RP2040 with the same flash contents; simulated time goes on. */
+  reset() {
+    this.baseNanos += this.clock.nanos;
+    this.epoch++;
+    this.build();
+  }
+
+  /**
+   * Runs until the chip clock reaches `target` (chip nanoseconds), something sets `hold` (the bus
+   * waiting for the servo chain), or the core halts. Sleeping (WFI/WFE) skips straight to the next
+   * alarm, one alarm at a time, so a hold set by an alarm stops time right there.
+   */
+  runUntil(target) {
+    const { rp2040, clock } = this;
+    const core = rp2040.core;
+    while (clock.nanos < target && this.halted === null && !this.hold) {
+      if (core.waiting) {
+        const next = clock.nextAlarm ? clock.nextAlarm.nanos : target;
+        clock.tick(Math.max(0, Math.min(next, target) - clock.nanos));
+      } else {
+        const cycles = core.executeInstruction();
+        clock.tick(cycles * CYCLE_NANOS);
+      }
+    }
+  }
+}
