@@ -31,6 +31,7 @@ export class CdcHost {
     this.queued = 0;
     this.armed = new Map();
     this.outBytes = 0;
+    this.outPackets = 0;
     this.inBytes = 0;
     this.deliverAlarm = rp2040.clock.createAlarm(() => this.deliver());
     this.onData = onData;
@@ -108,6 +109,7 @@ export class CdcHost {
     }
     this.queued -= packet.length;
     this.outBytes += packet.length;
+    this.outPackets++;
     this.armed.delete(endpoint);
     const usb = this.usb;
     const view = this.rp2040.usbDPRAMView;

@@ -213,7 +213,12 @@ control.handlers = {
     sim_ns: board.simNanos(),
     wall_ms: Math.round(performance.now() - wallStart),
     uart: { ...board.uart.stats, baud: Math.round(board.uart.baudRate) },
-    usb: { out: board.usb.outBytes, in: board.usb.inBytes, configured: board.usb.configured },
+    usb: {
+      out: board.usb.outBytes,
+      out_packets: board.usb.outPackets,
+      in: board.usb.inBytes,
+      configured: board.usb.configured,
+    },
     bus: bus?.stats ?? null,
     flash: flashStats,
     halted,
