@@ -11,6 +11,12 @@ export const SECTOR = 4096;
 
 const code = (s) => s.charCodeAt(0) | (s.charCodeAt(1) << 8);
 
+// How long the flash chip is busy, typical values of the W25Q16JV datasheet (estimates: the real
+// part varies, up to 400 ms per sector erase and 3 ms per page program at worst). Simulated time
+// advances by these while the ROM call runs, with interrupts masked as on the board.
+const ERASE_NANOS_PER_SECTOR = 45e6;
+const PROGRAM_NANOS_PER_PAGE = 0.7e6;
+
 /**
  * Installs the stand-in ROM into `rp2040.bootrom` and hooks `onBreak`. `hooks.onFlashWrite(kind,
  * offset, length)` is told of every erase/program after it is applied; it may return 'reset' to
@@ -34,6 +40,7 @@ export function installBootrom(rp2040, hooks = {}) {
         const start = offset - (offset % SECTOR);
         const end = Math.min(flash.length, Math.ceil((offset + count) / SECTOR) * SECTOR);
         flash.fill(0xff, start, end);
+        rp2040.clock.tick(((end - start) / SECTOR) * ERASE_NANOS_PER_SECTOR);
         hooks.onFlashWrite?.('erase', start, end - start);
       },
     ],
@@ -46,6 +53,7 @@ export function installBootrom(rp2040, hooks = {}) {
         const torn = hooks.tornProgram?.(offset, count);
         const n = torn === undefined ? count : torn;
         for (let i = 0; i < n && offset + i < flash.length; i++) flash[offset + i] &= u8(data + i);
+        rp2040.clock.tick(Math.ceil(n / 256) * PROGRAM_NANOS_PER_PAGE);
         hooks.onFlashWrite?.('program', offset, n);
       },
     ],
