@@ -9,10 +9,12 @@
 //!
 //! Lock step: when the transmitter goes idle the runner sends the burst to the servo chain process
 //! as one JSON line `{"tx":"<hex>","start_ns":..,"end_ns":..,"baud":..}` and stops simulated time
-//! until the process answers with exactly one line `{"rx":"<hex>","delay_ns":..}` (rx may be empty):
-//! the reply starts `delay_ns` after the end of the burst and its characters arrive one character
-//! time apart. Simulated time never runs ahead of the servo model, so timing does not depend on the
-//! host machine's speed.
+//! until the process answers with exactly one line, `{"segments":[{"delay_ns":..,"rx":"<hex>"},..]}`
+//! (possibly no segments): each segment starts `delay_ns` after the end of the previous one (the
+//! first after the end of the burst) and its characters arrive one character time apart, so chained
+//! status packets of a Sync Read keep their gaps. `{"rx":"<hex>","delay_ns":..}` is short for one
+//! segment. Lines `{"control":{..}}` from the runner (fault injection) are not answered. Simulated
+//! time never runs ahead of the servo model, so timing does not depend on the host machine's speed.
 
 import { spawn } from 'node:child_process';
 import { createInterface } from 'node:readline';
@@ -92,13 +94,17 @@ export class BusLink {
     this.board.hold = false;
     this.onReply?.();
     if (!pending || pending.boardEpoch !== this.board.epoch) return;
-    const rx = Buffer.from(msg.rx ?? '', 'hex');
-    if (rx.length === 0) return;
+    const segments = msg.segments ?? [{ delay_ns: msg.delay_ns, rx: msg.rx }];
     const { uart, rp2040 } = this.board;
     const charNanos = uart.charNanos;
-    // The reply begins delay_ns after the burst's last stop bit; one character time per byte.
-    const first = pending.end + (msg.delay_ns ?? 0) + charNanos;
-    for (let i = 0; i < rx.length; i++) this.rxQueue.push({ at: first + i * charNanos, byte: rx[i] });
+    // Each segment begins delay_ns after the previous one's last stop bit; one character per byte.
+    let end = pending.end;
+    for (const seg of segments) {
+      const rx = Buffer.from(seg.rx ?? '', 'hex');
+      const first = end + (seg.delay_ns ?? 0) + charNanos;
+      for (let i = 0; i < rx.length; i++) this.rxQueue.push({ at: first + i * charNanos, byte: rx[i] });
+      end = first + (rx.length - 1) * charNanos;
+    }
     this.armRx(rp2040.clock.nanos);
   }
 

@@ -12,7 +12,10 @@ const PEER = `
   const rl = require('node:readline').createInterface({ input: process.stdin });
   rl.on('line', (l) => {
     const m = JSON.parse(l);
-    if (m.tx !== undefined) process.stdout.write(JSON.stringify({ rx: 'a1b2c3', delay_ns: 250000 }) + '\\n');
+    const reply = m.tx === '02'
+      ? { segments: [{ delay_ns: 100000, rx: 'a1' }, { delay_ns: 50000, rx: 'b2c3' }] }
+      : { rx: 'a1b2c3', delay_ns: 250000 };
+    if (m.tx !== undefined) process.stdout.write(JSON.stringify(reply) + '\\n');
   });`;
 
 function rig() {
@@ -56,6 +59,25 @@ test('a burst is sent when the line goes idle and time holds until the answer', 
       [0xa1, 290_000],
       [0xb2, 300_000],
       [0xc3, 310_000],
+    ]);
+  } finally {
+    bus.close();
+  }
+});
+
+test('chained replies keep their gaps', async () => {
+  const { clock, uart, pin, bus, received, reply } = rig();
+  try {
+    uart.writeUint32Atomic(0, 0x02, 0);
+    clock.tick(10_000); // burst ends at 10 us
+    await reply;
+    pin.outputValue = false;
+    clock.tick(1_000_000);
+    // 10 + 100 + 10 = 120 us; then 50 us gap after it: 120 + 50 + 10 = 180, 190.
+    assert.deepEqual(received, [
+      [0xa1, 120_000],
+      [0xb2, 180_000],
+      [0xc3, 190_000],
     ]);
   } finally {
     bus.close();
