@@ -177,8 +177,15 @@ impl Emulator {
         let deadline = self.sim_time()? + sim_timeout;
         let started = Instant::now();
         loop {
-            if let Some(l) = self.logs().into_iter().find(|l| l.text.contains(needle)) {
-                return Ok(l);
+            let logs = self.logs();
+            if let Some(l) = logs.iter().find(|l| l.text.contains(needle)) {
+                return Ok(l.clone());
+            }
+            if logs.iter().any(|l| l.text.contains("panicked at")) {
+                bail!(
+                    "the firmware panicked while waiting for {needle:?}:\n{}",
+                    self.log_text()
+                );
             }
             let now = self.sim_time()?;
             if now > deadline || started.elapsed() > WALL_LIMIT {

@@ -45,7 +45,14 @@ export class Board {
       info(_name, msg) {
         if (msg === 'SEV') core.eventRegistered = true;
       },
-      warn: (name, msg) => onWarn?.(`${name}: ${msg}`),
+      warn: (name, msg) => {
+        // An undefined instruction is where panic-probe ends up (`udf`) and where a wild jump lands:
+        // rp2040js has no HardFault, so stop the core instead of executing garbage.
+        if (msg.includes('is not implemented yet') && this.halted === null) {
+          this.halted = msg;
+        }
+        onWarn?.(`${name}: ${msg}`);
+      },
       error: (name, msg) => onWarn?.(`${name}: ${msg}`),
     };
     // Defects 1 and 2: a PL011 model with UARTDMACR, edge TX interrupt and wire timing.
