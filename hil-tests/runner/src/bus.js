@@ -69,7 +69,9 @@ export class BusLink {
     this.stats.bursts++;
     this.stats.txChars += tx.length;
     const start = this.board.simNanos(this.burstStart);
-    this.trace?.push({ start_ns: start, len: tx.length });
+    // Instruction byte of a Protocol 2.0 packet at the start of the burst (FF FF FD 00 id len len inst).
+    const header = tx.length > 7 && tx[0] === 0xff && tx[1] === 0xff && tx[2] === 0xfd;
+    this.trace?.push({ start_ns: start, len: tx.length, inst: header ? tx[7] : null });
     this.pendingReply = { end: this.burstEnd, boardEpoch: this.board.epoch };
     this.board.hold = true;
     const msg = {
