@@ -28,6 +28,17 @@ pub struct Options {
     pub realtime: Option<f64>,
 }
 
+/// One transmission of the board on the bus, as the runner saw it on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BusBurst {
+    /// Simulated time of the first start bit.
+    pub start: Duration,
+    /// Bytes in the burst.
+    pub len: usize,
+    /// Instruction byte when the burst starts with a Protocol 2.0 header.
+    pub instruction: Option<u8>,
+}
+
 /// One decoded defmt line.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogLine {
@@ -309,22 +320,18 @@ impl Emulator {
             .map(drop)
     }
 
-    /// Stops recording and returns (start time, length in bytes) of every burst since the start.
-    pub fn bus_trace_stop(&self) -> Result<Vec<(Duration, usize)>> {
+    /// Stops recording and returns every burst the board transmitted since the start.
+    pub fn bus_trace_stop(&self) -> Result<Vec<BusBurst>> {
         let r = self.command(json!({"cmd": "bus_trace", "on": false}))?;
-        Ok(r["bursts"]
-            .as_array()
-            .map(|a| {
-                a.iter()
-                    .map(|b| {
-                        (
-                            nanos(&b["start_ns"]),
-                            b["len"].as_u64().unwrap_or(0) as usize,
-                        )
-                    })
-                    .collect()
+        let bursts = r["bursts"].as_array().cloned().unwrap_or_default();
+        Ok(bursts
+            .iter()
+            .map(|b| BusBurst {
+                start: nanos(&b["start_ns"]),
+                len: b["len"].as_u64().unwrap_or(0) as usize,
+                instruction: b["inst"].as_u64().map(|i| i as u8),
             })
-            .unwrap_or_default())
+            .collect())
     }
 
     /// Sends a control message to the servo chain process (fault injection).

@@ -11,5 +11,5 @@ pub mod paths;
 pub mod pty;
 pub mod target;
 
-pub use emulator::{Emulator, LogLine, Options};
+pub use emulator::{BusBurst, Emulator, LogLine, Options};
 pub use target::Target;
