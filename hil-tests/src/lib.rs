@@ -7,6 +7,7 @@
 
 pub mod emulator;
 pub mod image;
+pub mod link;
 pub mod paths;
 pub mod pty;
 pub mod target;
