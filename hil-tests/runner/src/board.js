@@ -16,6 +16,7 @@ import { PacedUart } from './uart.js';
 
 const UART0_BASE = 0x40034;
 const UART0_IRQ = 20;
+const WATCHDOG_BASE = 0x40058;
 const CYCLE_NANOS = 1e9 / 125e6;
 
 export class Board {
@@ -71,6 +72,19 @@ export class Board {
       onData: (data) => this.hooks.onUsbData?.(data),
       onConfigured: () => this.hooks.onUsbConfigured?.(),
     });
+    // The watchdog resets the chip (rp2040js only logs it). Its scratch registers and the reset
+    // reason survive a watchdog reset, as on the chip, so firmware can tell why it rebooted.
+    const watchdog = rp2040.peripherals[WATCHDOG_BASE];
+    if (this.watchdogCarry) {
+      watchdog.scratchData.set(this.watchdogCarry.scratch);
+      watchdog.reason = this.watchdogCarry.reason;
+      this.watchdogCarry = null;
+    }
+    watchdog.onWatchdogTrigger = () => {
+      this.watchdogCarry = { scratch: watchdog.scratchData.slice(), reason: watchdog.reason };
+      this.hooks.onWatchdog?.(watchdog.reason);
+      this.halted = 'reset requested';
+    };
     // Boot like the ROM does: run boot2 from the start of flash; it sets up XIP and enters the
     // vector table at 0x10000100.
     core.SP = 0x20042000;
@@ -88,8 +102,13 @@ export class Board {
     return this.baseNanos + chipNanos;
   }
 
-  /** Resets the chip: a new RP2040 with the same flash contents; simulated time goes on. */
-  reset() {
+  /**
+   * Resets the chip: a new RP2040 with the same flash contents; simulated time goes on. After a
+   * watchdog trigger the watchdog's scratch and reason registers are carried over; any other reset
+   * (the reset command: the RUN pin or power) clears them.
+   */
+  reset({ watchdog = false } = {}) {
+    if (!watchdog) this.watchdogCarry = null;
     this.baseNanos += this.clock.nanos;
     this.epoch++;
     this.build();

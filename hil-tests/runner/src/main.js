@@ -84,6 +84,9 @@ const hooks = {
   onUsbData: (data) => usbSocket?.write(data),
   onUsbConfigured: () => control.event('usb_configured', { sim_ns: board.simNanos() }),
   onWarn: warn,
+  onWatchdog(reason) {
+    resetRequest = reason & 2 ? 'watchdog (forced)' : 'watchdog (timer expired)';
+  },
   onFlashWrite(kind, offset, length) {
     flashDirty = true;
     if (kind === 'erase') flashStats.erases++;
@@ -160,7 +163,7 @@ if (opts['bus-cmd']) {
 }
 
 function resetBoard(reason) {
-  board.reset();
+  board.reset({ watchdog: reason.startsWith('watchdog') });
   rtt = rttAddress === undefined ? null : new RttReader(board.rp2040, rttAddress);
   bus?.attach(board);
   halted = null;
