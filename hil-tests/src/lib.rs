@@ -6,6 +6,7 @@
 //! controls (reset, flash file, fault injection, bus trace) are on `board.emulator()`.
 
 pub mod emulator;
+pub mod gait;
 pub mod image;
 pub mod link;
 pub mod paths;

@@ -132,7 +132,10 @@ pub struct MasterConfig {
 impl MasterConfig {
     /// 1 Mbit/s with slack for the default Return Delay Time (500 us) plus 500 us.
     pub const fn new(baud: u32) -> Self {
-        Self { baud, reply_slack_us: 1_000 }
+        Self {
+            baud,
+            reply_slack_us: 1_000,
+        }
     }
 
     /// Wire time of `bytes` bytes in microseconds (rounded up).

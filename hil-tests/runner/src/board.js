@@ -17,6 +17,19 @@ import { PacedUart } from './uart.js';
 const UART0_BASE = 0x40034;
 const UART0_IRQ = 20;
 const WATCHDOG_BASE = 0x40058;
+const XIP_CTRL_BASE = 0x14000000;
+
+/** XIP_CTRL registers of an idle XIP block: CTRL = EN|ERR_BADWRITE, STAT = FIFO_EMPTY|FLUSH_READY. */
+function xipCtrlRead(offset) {
+  switch (offset) {
+    case 0x00:
+      return 0x3;
+    case 0x08:
+      return 0x3;
+    default:
+      return 0; // counters, STREAM_ADDR, STREAM_CTR (no stream running), STREAM_FIFO
+  }
+}
 const CYCLE_NANOS = 1e9 / 125e6;
 
 export class Board {
@@ -55,6 +68,21 @@ export class Board {
         onWarn?.(`${name}: ${msg}`);
       },
       error: (name, msg) => onWarn?.(`${name}: ${msg}`),
+    };
+    // Not in the reference's list: XIP_CTRL (0x1400_0000) is unmapped in rp2040js, so a read returns
+    // 0xffffffff and embassy-rp's flash driver spins forever on `STREAM_CTR != 0` before every
+    // erase/program. Answer its registers as an idle XIP block does (no streaming, cache flushed).
+    const readUint32 = rp2040.readUint32.bind(rp2040);
+    rp2040.readUint32 = (address) => {
+      const a = address >>> 0;
+      if (a >= XIP_CTRL_BASE && a < XIP_CTRL_BASE + 0x20) return xipCtrlRead(a - XIP_CTRL_BASE);
+      return readUint32(address);
+    };
+    const writeUint32 = rp2040.writeUint32.bind(rp2040);
+    rp2040.writeUint32 = (address, value) => {
+      const a = address >>> 0;
+      if (a >= XIP_CTRL_BASE && a < XIP_CTRL_BASE + 0x4000) return;
+      writeUint32(address, value);
     };
     // Defects 1 and 2: a PL011 model with UARTDMACR, edge TX interrupt and wire timing.
     const uart = new PacedUart(rp2040, 'UART0', UART0_IRQ);
