@@ -261,6 +261,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                     });
                 }
             }
+            // No servos: the record still tells the host the board is alive and in which state.
+            (BusAction::Nothing, _) => self.queue_telemetry(plan, &CycleStats::default()),
             (BusAction::Cycle | BusAction::ReadOnly, Outcome::Feedback(Ok(stats))) => {
                 self.take_replies(plan, replies);
                 self.queue_telemetry(plan, &stats);
