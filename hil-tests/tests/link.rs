@@ -215,7 +215,6 @@ fn garbage_and_oversized_frames_are_rejected_and_the_board_keeps_serving() -> Re
 }
 
 #[test]
-#[ignore = "firmware reports Status.counters.rejected_frames as a constant 0 (firmware/src/link/dispatch.rs)"]
 fn status_counts_rejected_frames() -> Result<()> {
     let Some((_board, mut link)) = start("rejected_counter", None)? else {
         return Ok(());
