@@ -11,9 +11,29 @@ use std::time::Duration;
 /// Joints of Drosophibot II in servo-ID order 1..=22 (CTr joints on MX-64).
 pub const JOINTS: usize = 22;
 
+/// Servo stiffness in the test gaits, N m/rad (the torque bias is torque / stiffness).
+pub const STIFFNESS_NM_PER_RAD: f64 = 10.0;
+
 /// A test gait: `slices` slices of a sinusoid per joint (amplitude `amp_rad`, joint-dependent
 /// phase) with zero torques, 0.6 s step period, duty 0.6.
 pub fn sine_gait(name: &str, slices: usize, amp_rad: f64) -> Result<(GaitTableBuilder, Vec<u8>)> {
+    sine_gait_with_torque(name, slices, amp_rad, 0.0)
+}
+
+/// Planned angle (rad) of joint `j` (0-based) at slice `s` of an `n`-slice test gait.
+pub fn sine_angle(amp_rad: f64, s: usize, n: usize, j: usize) -> f64 {
+    let phase = s as f64 / n as f64 * std::f64::consts::TAU;
+    amp_rad * (phase + j as f64 * 0.3).sin()
+}
+
+/// Like [`sine_gait`] with the same planned torque `torque_nm` on every joint in every slice, so
+/// the torque bias (`torque_nm / STIFFNESS_NM_PER_RAD` rad) is a known constant offset.
+pub fn sine_gait_with_torque(
+    name: &str,
+    slices: usize,
+    amp_rad: f64,
+    torque_nm: f64,
+) -> Result<(GaitTableBuilder, Vec<u8>)> {
     let joints: Vec<JointSpec> = (0..JOINTS)
         .map(|j| JointSpec {
             name: format!("joint{}", j + 1),
@@ -27,21 +47,14 @@ pub fn sine_gait(name: &str, slices: usize, amp_rad: f64) -> Result<(GaitTableBu
             zero_offset: 2048,
             min_rad: -1.5,
             max_rad: 1.5,
-            stiffness_nm_per_rad: 20.0,
+            stiffness_nm_per_rad: STIFFNESS_NM_PER_RAD,
         })
         .collect();
     let mut b = GaitTableBuilder::new(name, 0.6, 0.6, joints);
     for s in 0..slices {
-        let phase = s as f64 / slices as f64 * std::f64::consts::TAU;
-        let angles: Vec<f64> = (0..JOINTS)
-            .map(|j| amp_rad * (phase + j as f64 * 0.3).sin())
-            .collect();
-        let stance = if s < slices * 6 / 10 {
-            0b0010_1010
-        } else {
-            0b0001_0101
-        };
-        b.slice(stance, &angles, &vec![0.0; JOINTS]);
+        let angles: Vec<f64> = (0..JOINTS).map(|j| sine_angle(amp_rad, s, slices, j)).collect();
+        let stance = if s < slices * 6 / 10 { 0b0010_1010 } else { 0b0001_0101 };
+        b.slice(stance, &angles, &vec![torque_nm; JOINTS]);
     }
     let bytes = b.build().context("building the test gait")?;
     Ok((b, bytes))
