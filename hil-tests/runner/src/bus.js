@@ -30,7 +30,7 @@ export class BusLink {
     this.proc.on('error', (e) => onWarn?.(`servo chain process ${argv[0]} failed: ${e.message}`));
     this.pendingReply = null;
     createInterface({ input: this.proc.stdout }).on('line', (line) => this.reply(line));
-    this.stats = { bursts: 0, txChars: 0, rxChars: 0, lostTx: 0, lostRx: 0 };
+    this.stats = { bursts: 0, txChars: 0, rxChars: 0, lostTx: 0, lostRx: 0, collisions: 0 };
     /** Start times (ns of simulated time) of every burst while recording is on. */
     this.trace = null;
   }
@@ -104,10 +104,27 @@ export class BusLink {
     for (const seg of segments) {
       const rx = Buffer.from(seg.rx ?? '', 'hex');
       const first = end + (seg.delay_ns ?? 0) + charNanos;
-      for (let i = 0; i < rx.length; i++) this.rxQueue.push({ at: first + i * charNanos, byte: rx[i] });
+      for (let i = 0; i < rx.length; i++) this.queueRx(first + i * charNanos, rx[i], charNanos);
       end = first + (rx.length - 1) * charNanos;
     }
     this.armRx(rp2040.clock.nanos);
+  }
+
+  /**
+   * Queues a character that completes at `at`. A character that would overlap the one queued before
+   * it means two drivers on the wire at once (e.g. a late reply running into the board's next
+   * request's answer): both arrive corrupted and the later one waits its turn, so the collision
+   * shows as a CRC error to the firmware instead of bytes teleporting into the FIFO.
+   */
+  queueRx(at, byte, charNanos) {
+    const last = this.rxQueue[this.rxQueue.length - 1];
+    if (last && at < last.at + charNanos) {
+      this.stats.collisions++;
+      last.byte ^= 0xff;
+      this.rxQueue.push({ at: last.at + charNanos, byte: byte ^ 0xff });
+      return;
+    }
+    this.rxQueue.push({ at, byte });
   }
 
   armRx(now) {

@@ -84,6 +84,29 @@ test('chained replies keep their gaps', async () => {
   }
 });
 
+test('a reply overlapping another one on the wire arrives corrupted, never all at once', async () => {
+  const { clock, uart, pin, bus, received, reply } = rig();
+  try {
+    uart.writeUint32Atomic(0, 0x01, 0);
+    clock.tick(10_000); // burst ends at 10 us; its reply is due at 270..290 us
+    await reply;
+    // A second answer whose bytes would land on top of the first one's.
+    bus.pendingReply = { end: 10_000, boardEpoch: 0 };
+    bus.reply(JSON.stringify({ rx: '0102', delay_ns: 255_000 }));
+    pin.outputValue = false;
+    clock.tick(1_000_000);
+    const times = received.map(([, t]) => t);
+    assert.deepEqual(times, [270_000, 280_000, 290_000, 300_000, 310_000], 'one character time apart');
+    assert.ok(bus.stats.collisions > 0);
+    assert.notDeepEqual(
+      received.map(([b]) => b),
+      [0xa1, 0xb2, 0xc3, 0x01, 0x02],
+    );
+  } finally {
+    bus.close();
+  }
+});
+
 test('characters sent while the direction pin is low never reach the bus', async () => {
   const { clock, uart, pin, bus } = rig();
   try {
