@@ -39,11 +39,7 @@ impl<'a> Frame<'a> {
             return None;
         }
         let (&error, data) = self.params.split_first()?;
-        Some(Status {
-            id: self.id,
-            error: StatusError(error),
-            data,
-        })
+        Some(Status { id: self.id, error: StatusError(error), data })
     }
 }
 
@@ -53,17 +49,9 @@ impl<'a> Frame<'a> {
 #[non_exhaustive]
 pub enum FrameError {
     /// The CRC does not match: `id` is as received and may itself be corrupt.
-    Crc {
-        id: u8,
-        received: u16,
-        computed: u16,
-    },
+    Crc { id: u8, received: u16, computed: u16 },
     /// LEN is below the minimum of 3 or the packet would not fit the parser's buffer.
-    Length {
-        id: u8,
-        length: u16,
-        capacity: usize,
-    },
+    Length { id: u8, length: u16, capacity: usize },
 }
 
 impl FrameError {
@@ -93,12 +81,7 @@ impl<const N: usize> Default for Parser<N> {
 
 impl<const N: usize> Parser<N> {
     pub const fn new() -> Self {
-        Self {
-            buf: [0; N],
-            len: 0,
-            consumed: 0,
-            skipped: 0,
-        }
+        Self { buf: [0; N], len: 0, consumed: 0, skipped: 0 }
     }
 
     /// Forgets everything buffered.
@@ -148,11 +131,7 @@ impl<const N: usize> Parser<N> {
         let total = PRE_INST + length as usize;
         if length < 3 || total > N {
             self.drop_front(1);
-            return Some(Err(FrameError::Length {
-                id,
-                length,
-                capacity: N,
-            }));
+            return Some(Err(FrameError::Length { id, length, capacity: N }));
         }
         if self.len < total {
             return None;
@@ -161,11 +140,7 @@ impl<const N: usize> Parser<N> {
         let computed = crc::crc16(&self.buf[..total - 2]);
         if received != computed {
             self.drop_front(1);
-            return Some(Err(FrameError::Crc {
-                id,
-                received,
-                computed,
-            }));
+            return Some(Err(FrameError::Crc { id, received, computed }));
         }
         let end = unstuff(&mut self.buf[PRE_INST..total - 2]) + PRE_INST;
         self.consumed = total;

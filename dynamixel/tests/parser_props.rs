@@ -14,11 +14,7 @@ fn byte() -> impl Strategy<Value = u8> {
 }
 
 fn packet() -> impl Strategy<Value = Packet> {
-    (
-        0u8..=252,
-        prop_oneof![Just(0x55u8), Just(0x03u8), Just(0x83u8)],
-        prop::collection::vec(byte(), 1..40),
-    )
+    (0u8..=252, prop_oneof![Just(0x55u8), Just(0x03u8), Just(0x83u8)], prop::collection::vec(byte(), 1..40))
 }
 
 fn encode_packet(p: &Packet) -> Vec<u8> {

@@ -5,9 +5,7 @@ use dynamixel::encode;
 use dynamixel::parser::Parser;
 
 fn hex(s: &str) -> Vec<u8> {
-    s.split_whitespace()
-        .map(|b| u8::from_str_radix(b, 16).unwrap())
-        .collect()
+    s.split_whitespace().map(|b| u8::from_str_radix(b, 16).unwrap()).collect()
 }
 
 fn encoded(f: impl FnOnce(&mut [u8]) -> Result<usize, encode::EncodeError>) -> Vec<u8> {
@@ -18,18 +16,12 @@ fn encoded(f: impl FnOnce(&mut [u8]) -> Result<usize, encode::EncodeError>) -> V
 
 #[test]
 fn ping_id_1() {
-    assert_eq!(
-        encoded(|b| encode::ping(b, 1)),
-        hex("FF FF FD 00 01 03 00 01 19 4E")
-    );
+    assert_eq!(encoded(|b| encode::ping(b, 1)), hex("FF FF FD 00 01 03 00 01 19 4E"));
 }
 
 #[test]
 fn read_id_1_addr_132_len_4() {
-    assert_eq!(
-        encoded(|b| encode::read(b, 1, 132, 4)),
-        hex("FF FF FD 00 01 07 00 02 84 00 04 00 1D 15")
-    );
+    assert_eq!(encoded(|b| encode::read(b, 1, 132, 4)), hex("FF FF FD 00 01 07 00 02 84 00 04 00 1D 15"));
 }
 
 #[test]
@@ -51,23 +43,14 @@ fn sync_read_132_len_4_ids_1_2() {
 #[test]
 fn sync_write_116_ids_1_2() {
     let want = hex("FF FF FD 00 FE 11 00 83 74 00 04 00 01 96 00 00 00 02 AA 00 00 00 82 87");
-    assert_eq!(
-        encoded(|b| encode::sync_write_u32(b, 116, [(1, 150), (2, 170)])),
-        want
-    );
+    assert_eq!(encoded(|b| encode::sync_write_u32(b, 116, [(1, 150), (2, 170)])), want);
     let (a, c) = (150u32.to_le_bytes(), 170u32.to_le_bytes());
-    assert_eq!(
-        encoded(|b| encode::sync_write(b, 116, 4, [(1, &a[..]), (2, &c[..])])),
-        want
-    );
+    assert_eq!(encoded(|b| encode::sync_write(b, 116, 4, [(1, &a[..]), (2, &c[..])])), want);
 }
 
 #[test]
 fn reboot_id_1() {
-    assert_eq!(
-        encoded(|b| encode::reboot(b, 1)),
-        hex("FF FF FD 00 01 03 00 08 2F 4E")
-    );
+    assert_eq!(encoded(|b| encode::reboot(b, 1)), hex("FF FF FD 00 01 03 00 08 2F 4E"));
 }
 
 #[test]
@@ -83,10 +66,7 @@ fn ping_status_model_1030_fw_0x26() {
     assert_eq!(s.data[2], 0x26);
     assert!(p.next().is_none());
     // And the encoder of the virtual servo produces it.
-    assert_eq!(
-        encoded(|b| encode::status(b, 1, 0, &[0x06, 0x04, 0x26])),
-        bytes
-    );
+    assert_eq!(encoded(|b| encode::status(b, 1, 0, &[0x06, 0x04, 0x26])), bytes);
 }
 
 #[test]
@@ -118,11 +98,7 @@ fn one_flipped_bit_is_a_crc_error_naming_the_id() {
     let mut p: Parser = Parser::new();
     p.feed(&bytes);
     match p.next() {
-        Some(Err(dynamixel::parser::FrameError::Crc {
-            id: 1,
-            received: 0x0CA1,
-            ..
-        })) => {}
+        Some(Err(dynamixel::parser::FrameError::Crc { id: 1, received: 0x0CA1, .. })) => {}
         other => panic!("expected a CRC error for ID 1, got {other:?}"),
     }
 }

@@ -77,6 +77,9 @@ pub struct CycleStats {
     pub stray_frames: u8,
     /// Bytes the parser dropped as garbage during the cycle.
     pub garbage_bytes: u32,
+    /// Bytes already waiting before the request was sent (a late reply of an earlier exchange),
+    /// discarded.
+    pub stale_bytes: u32,
 }
 
 impl CycleStats {
@@ -132,10 +135,7 @@ pub struct MasterConfig {
 impl MasterConfig {
     /// 1 Mbit/s with slack for the default Return Delay Time (500 us) plus 500 us.
     pub const fn new(baud: u32) -> Self {
-        Self {
-            baud,
-            reply_slack_us: 1_000,
-        }
+        Self { baud, reply_slack_us: 1_000 }
     }
 
     /// Wire time of `bytes` bytes in microseconds (rounded up).
