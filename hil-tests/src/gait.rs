@@ -52,9 +52,15 @@ pub fn sine_gait_with_torque(
         .collect();
     let mut b = GaitTableBuilder::new(name, 0.6, 0.6, joints);
     for s in 0..slices {
-        let angles: Vec<f64> = (0..JOINTS).map(|j| sine_angle(amp_rad, s, slices, j)).collect();
-        let stance = if s < slices * 6 / 10 { 0b0010_1010 } else { 0b0001_0101 };
-        b.slice(stance, &angles, &vec![torque_nm; JOINTS]);
+        let angles: Vec<f64> = (0..JOINTS)
+            .map(|j| sine_angle(amp_rad, s, slices, j))
+            .collect();
+        let stance = if s < slices * 6 / 10 {
+            0b0010_1010
+        } else {
+            0b0001_0101
+        };
+        b.slice(stance, &angles, &[torque_nm; JOINTS]);
     }
     let bytes = b.build().context("building the test gait")?;
     Ok((b, bytes))

@@ -11,6 +11,7 @@ pub mod image;
 pub mod link;
 pub mod paths;
 pub mod pty;
+pub mod servo_bus;
 pub mod target;
 
 pub use emulator::{BusBurst, Emulator, LogLine, Options};
