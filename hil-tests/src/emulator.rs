@@ -37,6 +37,8 @@ pub struct BusBurst {
     pub len: usize,
     /// Instruction byte when the burst starts with a Protocol 2.0 header.
     pub instruction: Option<u8>,
+    /// When the servos' answer to this burst ended on the wire (None: no answer).
+    pub answer_end: Option<Duration>,
 }
 
 /// One decoded defmt line.
@@ -330,6 +332,9 @@ impl Emulator {
                 start: nanos(&b["start_ns"]),
                 len: b["len"].as_u64().unwrap_or(0) as usize,
                 instruction: b["inst"].as_u64().map(|i| i as u8),
+                answer_end: b["rx_end_ns"]
+                    .as_f64()
+                    .map(|n| Duration::from_nanos(n as u64)),
             })
             .collect())
     }

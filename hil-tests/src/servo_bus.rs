@@ -27,19 +27,30 @@ pub struct ServoBus {
     chain: VirtualChain,
     parser: Parser,
     now_ns: Option<u64>,
+    /// A servo's own processing time before its Return Delay Time starts, ns.
+    turnaround_ns: u64,
     /// Instruction packets executed so far.
     pub packets: u64,
 }
 
 impl ServoBus {
-    /// A bus with this chain; its motors start at the first burst's time.
+    /// A bus with this chain; its motors start at the first burst's time. Servos answer at once
+    /// when their Return Delay Time is 0; see [`Self::with_turnaround`].
     pub fn new(chain: VirtualChain) -> Self {
         Self {
             chain,
             parser: Parser::default(),
             now_ns: None,
+            turnaround_ns: 0,
             packets: 0,
         }
+    }
+
+    /// Adds a servo's processing time to every reply: a real MX does not answer within one character
+    /// time even at Return Delay Time 0 (the firmware's notes cite about 50 us for the MX-64).
+    pub fn with_turnaround(mut self, turnaround: std::time::Duration) -> Self {
+        self.turnaround_ns = turnaround.as_nanos() as u64;
+        self
     }
 
     /// The chain, for inspection.
@@ -70,7 +81,8 @@ impl ServoBus {
                 }
                 self.packets += 1;
                 for reply in self.chain.handle(&frame, baud) {
-                    let delay_ns = u64::from(reply.delay_us) * 1000 + silent_ns;
+                    let delay_ns =
+                        u64::from(reply.delay_us) * 1000 + self.turnaround_ns + silent_ns;
                     match reply.bytes {
                         Some(rx) => {
                             silent_ns = 0;

@@ -36,6 +36,15 @@ fn ping_is_answered_with_the_model_number_after_the_return_delay() {
 }
 
 #[test]
+fn turnaround_adds_to_the_return_delay() {
+    let chain = VirtualChain::drosophibot(22, 1_000_000).unwrap();
+    let mut b = ServoBus::new(chain).with_turnaround(std::time::Duration::from_micros(20));
+    let replies = b.burst(&PING_1, 100_000, 1_000_000);
+    // Factory Return Delay Time 250 x 2 us = 500 us, plus 20 us.
+    assert_eq!(replies[0].delay_ns, 520_000);
+}
+
+#[test]
 fn a_packet_split_across_bursts_is_executed_once_complete() {
     let mut b = bus(0);
     assert!(b.burst(&PING_1[..4], 10_000, 1_000_000).is_empty());

@@ -4,87 +4,12 @@
 //! overload and a silent host.
 
 use anyhow::{Context, Result, ensure};
+use hil_tests::drive::{T, play_steps, start_with_servos};
 use hil_tests::gait::{JOINTS, STIFFNESS_NM_PER_RAD, sine_angle, sine_gait_with_torque, upload};
-use hil_tests::link::Link;
-use hil_tests::{Options, Target};
-use protocol::message::{Direction, PlayCommand, RunState, Status, Steps};
-use protocol::{DeviceMessage, MAX_CHUNK_LEN, Request, Response, Telemetry};
-use std::time::Duration;
+use protocol::message::Direction;
+use protocol::{MAX_CHUNK_LEN, Request, Response, Telemetry};
 
-const T: Duration = Duration::from_secs(10);
-
-/// Board with 22 virtual servos on its bus at `baud`.
-fn start(test: &str, baud: u32) -> Result<Option<(Target, Link)>> {
-    let opts = Options {
-        bus: Some(vec![
-            env!("CARGO_BIN_EXE_hil-bus").into(),
-            "--servos".into(),
-            JOINTS.to_string(),
-            "--baud".into(),
-            baud.to_string(),
-        ]),
-        ..Options::default()
-    };
-    let Some(board) = Target::start(test, opts)? else {
-        return Ok(None);
-    };
-    board.wait_for_log("host connected", Duration::from_secs(5))?;
-    let link = Link::open(board.port())?;
-    Ok(Some((board, link)))
-}
-
-fn telemetry(msgs: &[DeviceMessage]) -> Vec<&Telemetry> {
-    msgs.iter()
-        .filter_map(|m| match m {
-            DeviceMessage::Telemetry(t) => Some(t),
-            _ => None,
-        })
-        .collect()
-}
-
-/// Plays `steps` steps and collects telemetry until the board stands again.
-fn play(link: &mut Link, slot: u8, direction: Direction, steps: u32) -> Result<Vec<Telemetry>> {
-    let play = Request::Play(PlayCommand {
-        slot,
-        direction,
-        period_scale: 1000,
-        steps: Steps::Count(steps),
-    });
-    // Selecting a slot sends the board to Boot to find the table's servos; it refuses Play until
-    // they are all known, and the host plays again (firmware/src/controller/commands.rs).
-    let mut tries = 0;
-    loop {
-        let seq = link.send(&play)?;
-        match link.reply::<Response>(seq, T) {
-            Ok(Response::Ack) => break,
-            Ok(other) => anyhow::bail!("Play answered {other:?}"),
-            Err(e) if tries < 50 && format!("{e:#}").contains("WrongState") => {
-                tries += 1;
-                std::thread::sleep(Duration::from_millis(100));
-            }
-            Err(e) => return Err(e),
-        }
-    }
-    let mut out = Vec::new();
-    let mut walked = false;
-    for _ in 0..600 {
-        let msgs = link.collect(Duration::from_millis(100))?;
-        out.extend(telemetry(&msgs).into_iter().cloned());
-        let s: Status = link.request(&Request::GetStatus, T)?;
-        out.extend(
-            telemetry(&link.unsolicited.drain(..).collect::<Vec<_>>())
-                .into_iter()
-                .cloned(),
-        );
-        ensure!(s.fault.is_none(), "fault while walking: {s:?}");
-        walked |= matches!(s.state, RunState::Walking | RunState::Stopping);
-        if walked && s.state == RunState::Standing {
-            return Ok(out);
-        }
-    }
-    anyhow::bail!("the board was still walking after 60 s (wall)")
-}
-
+const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 const SLICES: usize = 40;
 const AMP_RAD: f64 = 0.2;
 const TORQUE_NM: f64 = 1.0;
@@ -93,7 +18,7 @@ const HALF_TICK: f64 = std::f64::consts::PI / 4096.0;
 
 #[test]
 fn walks_10_steps_forward_and_10_backward_following_the_biased_targets() -> Result<()> {
-    let Some((_board, mut link)) = start("walk", 1_000_000)? else {
+    let Some((_board, mut link)) = start_with_servos("walk", HIL_BUS, JOINTS, 1_000_000)? else {
         return Ok(());
     };
     let (builder, table) = sine_gait_with_torque("walk", SLICES, AMP_RAD, TORQUE_NM)?;
@@ -108,7 +33,7 @@ fn walks_10_steps_forward_and_10_backward_following_the_biased_targets() -> Resu
         (Direction::Forward, "forward"),
         (Direction::Backward, "backward"),
     ] {
-        let tele = play(&mut link, 0, direction, 10)?;
+        let tele = play_steps(&mut link, 0, direction, 10)?;
         let last = tele.last().context("telemetry")?;
         assert_eq!(last.step, 10, "{name}: 10 steps completed");
         let walking: Vec<&Telemetry> = tele.iter().filter(|t| t.step >= 1 && t.step < 10).collect();

@@ -71,8 +71,9 @@ export class BusLink {
     const start = this.board.simNanos(this.burstStart);
     // Instruction byte of a Protocol 2.0 packet at the start of the burst (FF FF FD 00 id len len inst).
     const header = tx.length > 7 && tx[0] === 0xff && tx[1] === 0xff && tx[2] === 0xfd;
-    this.trace?.push({ start_ns: start, len: tx.length, inst: header ? tx[7] : null });
-    this.pendingReply = { end: this.burstEnd, boardEpoch: this.board.epoch };
+    const entry = { start_ns: start, len: tx.length, inst: header ? tx[7] : null, rx_end_ns: null };
+    this.trace?.push(entry);
+    this.pendingReply = { end: this.burstEnd, boardEpoch: this.board.epoch, entry };
     this.board.hold = true;
     const msg = {
       tx: tx.toString('hex'),
@@ -107,6 +108,8 @@ export class BusLink {
       for (let i = 0; i < rx.length; i++) this.queueRx(first + i * charNanos, rx[i], charNanos);
       end = first + (rx.length - 1) * charNanos;
     }
+    // When the burst's answer ends on the wire: the bus is busy from the burst's start until then.
+    if (segments.some((seg) => (seg.rx ?? '').length > 0)) pending.entry.rx_end_ns = this.board.simNanos(end);
     this.armRx(rp2040.clock.nanos);
   }
 

@@ -13,24 +13,33 @@ fn main() -> Result<()> {
     // The robot's servos run with Return Delay Time 0 (the firmware's reply slack assumes it, see
     // master_config in firmware/src/rp.rs); factory default is 250 (500 us).
     let mut return_delay = 0u8;
+    // A servo's processing time before it answers, an estimate: below the ~50 us the firmware's
+    // notes report for the MX-64, so the firmware's bus turnaround is still tested with margin.
+    let mut turnaround_us = 20u64;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let v = args.next().with_context(|| format!("{a} needs a value"))?;
         match a.as_str() {
             "--servos" => servos = v.parse().context("--servos: a number 1..=253")?,
             "--baud" => baud = v.parse().context("--baud: bit/s")?,
+            "--turnaround-us" => {
+                turnaround_us = v.parse().context("--turnaround-us: microseconds")?
+            }
             "--return-delay" => {
                 return_delay = v
                     .parse()
                     .context("--return-delay: register code, 2 us units")?
             }
-            _ => anyhow::bail!("unknown option {a} (use --servos N --baud B --return-delay CODE)"),
+            _ => anyhow::bail!(
+                "unknown option {a} (use --servos N --baud B --return-delay CODE --turnaround-us US)"
+            ),
         }
     }
     let mut chain = VirtualChain::drosophibot(servos, baud)
         .with_context(|| format!("{servos} servos at {baud} baud"))?;
     chain.set_return_delay_all(return_delay);
-    let mut bus = ServoBus::new(chain);
+    let mut bus =
+        ServoBus::new(chain).with_turnaround(std::time::Duration::from_micros(turnaround_us));
     let stdin = std::io::stdin();
     let mut out = std::io::stdout().lock();
     for line in stdin.lock().lines() {
