@@ -104,6 +104,18 @@ fn check(t: &Timing, cycle_hz: u16) -> Result<()> {
         t.period_max_us
     );
     ensure!(
+        t.period_sd_us < period * 0.01,
+        "cycle period jitter {:.1} us (standard deviation)",
+        t.period_sd_us
+    );
+    // A 2 s window on a 1 / cycle_hz grid holds 2 * cycle_hz cycle starts, give or take the edge.
+    let expected = 2 * usize::from(cycle_hz);
+    ensure!(
+        t.cycles.abs_diff(expected) <= 1,
+        "{} cycles in 2 s, expected {expected}",
+        t.cycles
+    );
+    ensure!(
         t.busy_mean_us < period,
         "the bus is busy for the whole cycle: {t:?}"
     );
