@@ -1,0 +1,117 @@
+//! Faults while walking, with the real firmware image and the virtual servo chain: a servo overload
+//! must stop the gait safely and be reported (fault kind, joint, the servo's overload bit), and a
+//! host that stops reading must not stop the gait; its telemetry resumes when it reads again.
+
+use anyhow::{Context, Result, ensure};
+use hil_tests::drive::{T, start_playing, start_with_servos, telemetry};
+use hil_tests::gait::{JOINTS, sine_gait, upload};
+use protocol::message::{Direction, FaultKind, RunState, Status, Steps};
+use protocol::{MAX_CHUNK_LEN, Request, Response};
+use serde_json::json;
+use std::time::{Duration, Instant};
+
+const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
+/// Hardware Error Status bit 5: overload (e-manual, MX(2.0) address 70).
+const OVERLOAD_BIT: u8 = 1 << 5;
+
+fn walking(test: &str) -> Result<Option<(hil_tests::Target, hil_tests::link::Link)>> {
+    let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, 1_000_000)? else {
+        return Ok(None);
+    };
+    let (builder, table) = sine_gait("safety", 40, 0.2)?;
+    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
+    ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
+    let r: Response = link.request(&Request::SetTelemetry { every: 1 }, T)?;
+    ensure!(r == Response::Ack, "{r:?}");
+    start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
+    Ok(Some((board, link)))
+}
+
+#[test]
+fn servo_overload_stops_the_gait_and_names_the_joint() -> Result<()> {
+    let Some((board, mut link)) = walking("overload")? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip("overload", "injecting an overload needs the servo model");
+    };
+    emu.run_for(Duration::from_secs(1))?;
+    let s: Status = link.request(&Request::GetStatus, T)?;
+    ensure!(
+        s.state == RunState::Walking,
+        "walking before the fault: {s:?}"
+    );
+    // Servo ID 3 is the table's third joint (index 2), an MX-64 on LF CTr.
+    emu.bus_control(json!({"overload": 3}))?;
+    let started = Instant::now();
+    let fault = loop {
+        let s: Status = link.request(&Request::GetStatus, T)?;
+        if let Some(f) = s.fault {
+            break (s, f);
+        }
+        ensure!(
+            started.elapsed() < Duration::from_secs(30),
+            "no fault reported: {s:?}"
+        );
+        emu.run_for(Duration::from_millis(20))?;
+    };
+    let (status, fault) = fault;
+    println!("fault: {fault:?}, status: {status:?}");
+    assert_eq!(fault.joint, Some(2), "the overloaded servo's joint");
+    match fault.kind {
+        FaultKind::ServoError { bits } => {
+            assert_ne!(bits & OVERLOAD_BIT, 0, "overload bit in {bits:#04x}")
+        }
+        other => anyhow::bail!("fault kind {other:?}, expected ServoError with the overload bit"),
+    }
+    assert_eq!(status.state, RunState::Fault);
+    assert!(status.playback.is_none(), "playback stopped: {status:?}");
+    // Safe stop: the gait does not resume on its own.
+    emu.run_for(Duration::from_millis(500))?;
+    let later: Status = link.request(&Request::GetStatus, T)?;
+    assert_eq!(later.state, RunState::Fault, "{later:?}");
+    Ok(())
+}
+
+#[test]
+fn a_silent_host_does_not_stop_the_gait_and_telemetry_resumes() -> Result<()> {
+    let Some((board, mut link)) = walking("silent_host")? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip("silent_host", "timing the silence needs the emulator");
+    };
+    emu.run_for(Duration::from_millis(500))?;
+    let before = telemetry(&link.collect(Duration::from_millis(300))?);
+    let last_before = before.last().context("telemetry while walking")?.clone();
+    // The host says nothing and reads nothing for 3 s of simulated time.
+    let silence = Duration::from_secs(3);
+    emu.run_for(silence)?;
+    let s: Status = link.request(&Request::GetStatus, T)?;
+    ensure!(
+        s.state == RunState::Walking && s.fault.is_none(),
+        "after the silence: {s:?}"
+    );
+    let after = telemetry(&link.collect(Duration::from_millis(500))?);
+    let newest = after
+        .iter()
+        .map(|t| t.cycle)
+        .max()
+        .context("telemetry resumed")?;
+    // 3 s at 100 Hz: at least 300 more cycles, and at 0.6 s per step at least 4 more steps.
+    let cycles = newest - last_before.cycle;
+    ensure!(cycles >= 300, "only {cycles} cycles during 3 s of silence");
+    let step = after.iter().map(|t| t.step).max().unwrap_or(0);
+    ensure!(
+        step >= last_before.step + 4,
+        "steps {} -> {step}",
+        last_before.step
+    );
+    println!(
+        "silent host: cycle {} -> {newest}, step {} -> {step}, {} records after",
+        last_before.cycle,
+        last_before.step,
+        after.len()
+    );
+    Ok(())
+}
