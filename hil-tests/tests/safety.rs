@@ -115,3 +115,48 @@ fn a_silent_host_does_not_stop_the_gait_and_telemetry_resumes() -> Result<()> {
     );
     Ok(())
 }
+
+#[test]
+fn bad_frames_while_walking_are_rejected_and_the_gait_goes_on() -> Result<()> {
+    let Some((board, mut link)) = walking("bad_frames_walking")? else {
+        return Ok(());
+    };
+    if let Some(emu) = board.emulator() {
+        emu.run_for(Duration::from_millis(700))?;
+    }
+    let before: Status = link.request(&Request::GetStatus, T)?;
+    ensure!(before.state == RunState::Walking, "{before:?}");
+    link.unsolicited.clear();
+    // A frame whose CRC cannot match, then one longer than any frame the board accepts.
+    link.send_raw(&[0x05, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x00])?;
+    link.send_raw(&vec![0x42u8; protocol::MAX_FRAME_LEN * 3])?;
+    link.send_raw(&[0x00])?;
+    if let Some(emu) = board.emulator() {
+        emu.run_for(Duration::from_millis(700))?;
+    } else {
+        std::thread::sleep(Duration::from_millis(700));
+    }
+    let after: Status = link.request(&Request::GetStatus, T)?;
+    let rejected = link
+        .unsolicited
+        .iter()
+        .filter(|m| matches!(m, protocol::DeviceMessage::Rejected(_)))
+        .count();
+    assert_eq!(rejected, 2, "one rejection per bad frame");
+    assert_eq!(after.state, RunState::Walking, "{after:?}");
+    assert!(after.fault.is_none(), "{after:?}");
+    let (b, a) = (
+        before.playback.context("playback")?,
+        after.playback.context("playback")?,
+    );
+    // 0.7 s at 0.6 s per step: the step counter moved on.
+    assert!(
+        a.step > b.step || (a.step == b.step && a.slice != b.slice),
+        "{b:?} -> {a:?}"
+    );
+    assert_eq!(
+        after.counters.rejected_frames,
+        before.counters.rejected_frames + 2
+    );
+    Ok(())
+}
