@@ -80,6 +80,13 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
         busy_mean_us: busy.iter().sum::<f64>() / busy.len().max(1) as f64,
         cycles: cycles.len(),
     };
+    println!(
+        "missed deadlines {} -> {}, timeouts {} -> {}",
+        before.counters.missed_deadlines,
+        after.counters.missed_deadlines,
+        before.counters.bus_timeouts,
+        after.counters.bus_timeouts
+    );
     let stats = emu.stats()?;
     println!(
         "{baud} baud, {cycle_hz} Hz: {timing:?}; {:.1} s simulated in {:.1} s wall",

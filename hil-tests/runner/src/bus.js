@@ -109,7 +109,9 @@ export class BusLink {
       end = first + (rx.length - 1) * charNanos;
     }
     // When the burst's answer ends on the wire: the bus is busy from the burst's start until then.
-    if (segments.some((seg) => (seg.rx ?? '').length > 0)) pending.entry.rx_end_ns = this.board.simNanos(end);
+    if (pending.entry && segments.some((seg) => (seg.rx ?? '').length > 0)) {
+      pending.entry.rx_end_ns = this.board.simNanos(end);
+    }
     this.armRx(rp2040.clock.nanos);
   }
 
