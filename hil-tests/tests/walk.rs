@@ -1,7 +1,7 @@
 //! Walking with the real firmware image against the virtual servo chain on the emulated bus: 10 steps
 //! forward and 10 backward, checked from the board's telemetry against targets computed here from
-//! the uploaded table (angle + torque / stiffness, the torque bias), then bus timing, a servo
-//! overload and a silent host.
+//! the uploaded table (angle + torque / stiffness, the torque bias): every goal sent is a biased
+//! target, every servo's present position follows its goals, and the steps take as long as planned.
 
 use anyhow::{Context, Result, ensure};
 use hil_tests::drive::{T, play_steps, start_with_servos};
