@@ -13,9 +13,10 @@ fn main() -> Result<()> {
     // The robot's servos run with Return Delay Time 0 (the firmware's reply slack assumes it, see
     // master_config in firmware/src/rp.rs); factory default is 250 (500 us).
     let mut return_delay = 0u8;
-    // A servo's processing time before it answers, an estimate: below the ~50 us the firmware's
-    // notes report for the MX-64, so the firmware's bus turnaround is still tested with margin.
-    let mut turnaround_us = 20u64;
+    // A servo's processing time before it answers at Return Delay Time 0: about 50 us as the
+    // firmware's notes report for the MX-64 (master_config in firmware/src/rp.rs); an estimate,
+    // the e-manual does not give it.
+    let mut turnaround_us = 50u64;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let v = args.next().with_context(|| format!("{a} needs a value"))?;
