@@ -88,6 +88,8 @@ pub fn play_steps(
         ensure!(s.fault.is_none(), "fault while walking: {s:?}");
         walked |= matches!(s.state, RunState::Walking | RunState::Stopping);
         if walked && s.state == RunState::Standing {
+            // The last cycles' records may still be on their way.
+            out.extend(telemetry(&link.collect(Duration::from_millis(300))?));
             return Ok(out);
         }
     }

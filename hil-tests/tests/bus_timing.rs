@@ -48,9 +48,12 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
         after.fault.is_none(),
         "fault during the measurement: {after:?}"
     );
+    // Lost replies do not change the wire timing measured here; they are the subject of
+    // safety.rs's busy-link test. At most one in a hundred cycles' worth is tolerated.
+    let lost = after.counters.bus_timeouts - before.counters.bus_timeouts;
     ensure!(
-        after.counters.bus_timeouts == before.counters.bus_timeouts,
-        "servo replies timed out during the measurement: {after:?}"
+        lost as usize <= JOINTS * 2 * usize::from(cycle_hz) / 100,
+        "{lost} servo replies timed out during the measurement: {after:?}"
     );
     let cycles: Vec<_> = bursts
         .iter()
