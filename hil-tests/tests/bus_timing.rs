@@ -35,6 +35,10 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
     let (builder, table) = sine_gait("timing", 40, 0.2)?;
     let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
     ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
+    // Telemetry off: the link task's work every cycle delays the bus task's direction-pin release
+    // (see safety.rs, a_busy_host_link_does_not_cost_servo_replies); this test measures the bus.
+    let r: Response = link.request(&Request::SetTelemetry { every: 0 }, T)?;
+    ensure!(r == Response::Ack, "SetTelemetry answered {r:?}");
     let r: Response = link.request(&Request::SetBus { baud, cycle_hz }, T)?;
     ensure!(r == Response::Ack, "SetBus answered {r:?}");
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
