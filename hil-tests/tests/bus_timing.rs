@@ -59,10 +59,27 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
         lost as usize <= JOINTS * 2 * usize::from(cycle_hz) / 100,
         "{lost} servo replies timed out during the measurement: {after:?}"
     );
-    let cycles: Vec<_> = bursts
+    // A cycle starts with the first burst at least half a period after the previous cycle's start.
+    // Most cycles open with a Sync Write; some run another action (e.g. reading a servo's
+    // hardware error after boot trouble), so the instruction alone does not mark a cycle.
+    let period_ns = 1e9 / f64::from(cycle_hz);
+    let mut cycles: Vec<&hil_tests::BusBurst> = Vec::new();
+    for b in &bursts {
+        let new_cycle = cycles
+            .last()
+            .is_none_or(|c| (b.start - c.start).as_nanos() as f64 >= period_ns / 2.0);
+        if new_cycle {
+            cycles.push(b);
+        }
+    }
+    let sync_writes = cycles
         .iter()
         .filter(|b| b.instruction == Some(SYNC_WRITE))
-        .collect();
+        .count();
+    println!(
+        "{} cycles, {sync_writes} opening with a Sync Write",
+        cycles.len()
+    );
     ensure!(
         cycles.len() > 10,
         "only {} cycles on the wire",
@@ -77,6 +94,7 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
     let sd = (periods.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / n).sqrt();
     let busy: Vec<f64> = cycles
         .iter()
+        .filter(|b| b.instruction == Some(SYNC_WRITE))
         .filter_map(|b| b.answer_end.map(|e| (e - b.start).as_secs_f64() * 1e6))
         .collect();
     let timing = Timing {
