@@ -13,6 +13,14 @@ fn encode<T: serde::Serialize>(m: &T) -> Vec<u8> {
     protocol::frame::encode_frame_vec(m).unwrap()
 }
 
+/// Whatever decodes survives a round trip. (Not byte-identical: postcard accepts over-long varints
+/// such as `81 80 00` for 1, so one message has several spellings; only the value matters.)
+fn reencoded<T: serde::Serialize + serde::de::DeserializeOwned>(m: &T) -> T {
+    let mut acc = FrameAccumulator::new();
+    let mut out: Vec<_> = acc.messages::<T>(&encode(m)).collect();
+    out.pop().unwrap().unwrap()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(1000))]
 
@@ -25,6 +33,37 @@ proptest! {
         prop_assert!(n <= zeros);
         let mut acc = FrameAccumulator::new();
         prop_assert!(acc.messages::<DeviceMessage>(&bytes).count() <= zeros);
+    }
+
+    /// Arbitrary message bodies with a valid CRC reach the postcard decoder: a value or an error.
+    #[test]
+    fn arbitrary_bodies_with_a_valid_crc_decode_or_fail_cleanly(body in vec(any::<u8>(), 0..700)) {
+        let mut raw = body.clone();
+        raw.extend(protocol::crc32::checksum(&body).to_le_bytes());
+        if let Ok(m) = protocol::decode_message::<HostMessage>(&raw) {
+            prop_assert_eq!(reencoded(&m), m);
+        }
+        if let Ok(m) = protocol::decode_message::<DeviceMessage>(&raw) {
+            prop_assert_eq!(reencoded(&m), m);
+        }
+    }
+
+    /// Valid encodings with one byte changed or cut short: deep into the decoder, never a panic.
+    #[test]
+    fn mutated_message_bodies_decode_or_fail_cleanly(
+        msg in common::device_message(),
+        at in any::<usize>(),
+        value in any::<u8>(),
+        cut in any::<bool>(),
+    ) {
+        let mut body = postcard::to_allocvec(&msg).unwrap();
+        let i = at % body.len();
+        if cut { body.truncate(i) } else { body[i] = value }
+        let mut raw = body.clone();
+        raw.extend(protocol::crc32::checksum(&body).to_le_bytes());
+        if let Ok(m) = protocol::decode_message::<DeviceMessage>(&raw) {
+            prop_assert_eq!(reencoded(&m), m);
+        }
     }
 
     #[test]

@@ -3,6 +3,9 @@
 //! One file per subcommand; each holds a clap `Args` struct whose doc comments are the help text,
 //! and a `run(self)` that does the work.
 
+mod dxl;
+mod sim_bus;
+
 use clap::{Parser, Subcommand};
 
 /// Plan, run and record gaits of the Drosophibot II hexapod.
@@ -16,9 +19,17 @@ struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
-enum Cmd {}
+enum Cmd {
+    /// Serve virtual Dynamixel servos on a pseudo-terminal
+    SimBus(sim_bus::Args),
+    /// Set up and inspect Dynamixel servos through a USB serial adapter
+    Dxl(dxl::Args),
+}
 
 fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
-    match cli.cmd {}
+    match cli.cmd {
+        Cmd::SimBus(a) => a.run(),
+        Cmd::Dxl(a) => a.run(),
+    }
 }
