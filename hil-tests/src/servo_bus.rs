@@ -74,7 +74,7 @@ impl ServoBus {
         while !rest.is_empty() {
             let n = self.parser.feed(rest);
             rest = &rest[n..];
-            while let Some(frame) = self.parser.next() {
+            while let Some(frame) = self.parser.next_frame() {
                 let Ok(frame) = frame else { continue };
                 if frame.status().is_some() {
                     continue;
