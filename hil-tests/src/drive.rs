@@ -1,0 +1,97 @@
+//! Driving the board like `dbot` does, for the walking tests: start it with the virtual servo chain,
+//! upload and select a gait, play a number of steps and collect telemetry until it stands again.
+
+use crate::link::Link;
+use crate::{Options, Target};
+use anyhow::{Result, bail, ensure};
+use protocol::message::{Direction, PlayCommand, RunState, Status, Steps};
+use protocol::{DeviceMessage, Request, Response, Telemetry};
+use std::time::Duration;
+
+/// Wall-clock bound per request.
+pub const T: Duration = Duration::from_secs(10);
+
+/// The board with `servos` virtual servos (IDs 1..=servos) on its bus at `baud`, connected and
+/// past boot; `hil_bus` is the servo chain program, `env!("CARGO_BIN_EXE_hil-bus")` in a test.
+/// On a real board the servos are whatever is wired.
+pub fn start_with_servos(
+    test: &str,
+    hil_bus: &str,
+    servos: usize,
+    baud: u32,
+) -> Result<Option<(Target, Link)>> {
+    let opts = Options {
+        bus: Some(vec![
+            hil_bus.into(),
+            "--servos".into(),
+            servos.to_string(),
+            "--baud".into(),
+            baud.to_string(),
+        ]),
+        ..Options::default()
+    };
+    let Some(board) = Target::start(test, opts)? else {
+        return Ok(None);
+    };
+    board.wait_for_log("host connected", Duration::from_secs(5))?;
+    let link = Link::open(board.port())?;
+    Ok(Some((board, link)))
+}
+
+/// The telemetry records among `msgs`.
+pub fn telemetry(msgs: &[DeviceMessage]) -> Vec<Telemetry> {
+    msgs.iter()
+        .filter_map(|m| match m {
+            DeviceMessage::Telemetry(t) => Some(t.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Sends `Play`. Selecting a slot sends the board to Boot to find the table's servos; it refuses
+/// `Play` until they are all known and the host plays again (firmware/src/controller/commands.rs).
+pub fn start_playing(link: &mut Link, slot: u8, direction: Direction, steps: Steps) -> Result<()> {
+    let play = Request::Play(PlayCommand {
+        slot,
+        direction,
+        period_scale: 1000,
+        steps,
+    });
+    for _ in 0..50 {
+        let seq = link.send(&play)?;
+        match link.reply::<Response>(seq, T) {
+            Ok(Response::Ack) => return Ok(()),
+            Ok(other) => bail!("Play answered {other:?}"),
+            Err(e) if format!("{e:#}").contains("WrongState") => {
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    bail!("the board refused Play for 5 s (wall): it never left Boot")
+}
+
+/// Plays `steps` steps and collects telemetry until the board stands again.
+pub fn play_steps(
+    link: &mut Link,
+    slot: u8,
+    direction: Direction,
+    steps: u32,
+) -> Result<Vec<Telemetry>> {
+    start_playing(link, slot, direction, Steps::Count(steps))?;
+    let mut out = Vec::new();
+    let mut walked = false;
+    for _ in 0..600 {
+        out.extend(telemetry(&link.collect(Duration::from_millis(100))?));
+        let s: Status = link.request(&Request::GetStatus, T)?;
+        out.extend(telemetry(&link.unsolicited.drain(..).collect::<Vec<_>>()));
+        ensure!(s.fault.is_none(), "fault while walking: {s:?}");
+        walked |= matches!(s.state, RunState::Walking | RunState::Stopping);
+        if walked && s.state == RunState::Standing {
+            // The last cycles' records may still be on their way.
+            out.extend(telemetry(&link.collect(Duration::from_millis(300))?));
+            return Ok(out);
+        }
+    }
+    bail!("the board was still walking after 60 s (wall)")
+}

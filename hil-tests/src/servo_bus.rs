@@ -1,0 +1,152 @@
+//! The servo chain side of the emulator's bus link (runner/src/bus.js): the dynamixel crate's
+//! [`VirtualChain`] (the one servo model of the project) driven in lock step with simulated time.
+//!
+//! For every burst the emulated board puts on the bus, the runner sends
+//! `{"tx":"<hex>","start_ns":..,"end_ns":..,"baud":..}`; [`ServoBus::burst`] advances the motors to
+//! the burst's end, parses the bytes (a packet may span bursts; garbage is skipped as a servo would),
+//! lets the chain execute each complete instruction packet and answers with the status packets as
+//! timed segments. `{"control":{..}}` lines inject faults ([`ServoBus::control`]).
+
+use anyhow::{Context, Result, bail};
+use dynamixel::parser::Parser;
+use dynamixel::sim::VirtualChain;
+use serde_json::{Value, json};
+
+/// One reply on the wire: `delay_ns` after the end of the previous segment (or of the request).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Segment {
+    /// Idle time before the first byte, nanoseconds.
+    pub delay_ns: u64,
+    /// The bytes.
+    pub rx: Vec<u8>,
+}
+
+/// A virtual servo chain on simulated time.
+#[derive(Debug)]
+pub struct ServoBus {
+    chain: VirtualChain,
+    parser: Parser,
+    now_ns: Option<u64>,
+    /// A servo's own processing time before its Return Delay Time starts, ns.
+    turnaround_ns: u64,
+    /// Instruction packets executed so far.
+    pub packets: u64,
+}
+
+impl ServoBus {
+    /// A bus with this chain; its motors start at the first burst's time. Servos answer at once
+    /// when their Return Delay Time is 0; see [`Self::with_turnaround`].
+    pub fn new(chain: VirtualChain) -> Self {
+        Self {
+            chain,
+            parser: Parser::default(),
+            now_ns: None,
+            turnaround_ns: 0,
+            packets: 0,
+        }
+    }
+
+    /// Adds a servo's processing time to every reply: a real MX does not answer within one character
+    /// time even at Return Delay Time 0 (the firmware's notes cite about 50 us for the MX-64).
+    pub fn with_turnaround(mut self, turnaround: std::time::Duration) -> Self {
+        self.turnaround_ns = turnaround.as_nanos() as u64;
+        self
+    }
+
+    /// The chain, for inspection.
+    pub fn chain(&self) -> &VirtualChain {
+        &self.chain
+    }
+
+    /// Handles one burst from the board; returns the replies in wire order.
+    pub fn burst(&mut self, tx: &[u8], end_ns: u64, baud: u32) -> Vec<Segment> {
+        if let Some(then) = self.now_ns
+            && end_ns > then
+        {
+            self.chain.step((end_ns - then) as f64 * 1e-9);
+        }
+        self.now_ns = Some(end_ns);
+        let mut out = Vec::new();
+        let mut rest = tx;
+        // Carried-over silence of a servo with the no-reply fault: the next chained reply waits
+        // for its slot anyway.
+        let mut silent_ns = 0u64;
+        while !rest.is_empty() {
+            let n = self.parser.feed(rest);
+            rest = &rest[n..];
+            while let Some(frame) = self.parser.next_frame() {
+                let Ok(frame) = frame else { continue };
+                if frame.status().is_some() {
+                    continue;
+                }
+                self.packets += 1;
+                for reply in self.chain.handle(&frame, baud) {
+                    let delay_ns =
+                        u64::from(reply.delay_us) * 1000 + self.turnaround_ns + silent_ns;
+                    match reply.bytes {
+                        Some(rx) => {
+                            silent_ns = 0;
+                            out.push(Segment { delay_ns, rx });
+                        }
+                        None => silent_ns = delay_ns,
+                    }
+                }
+            }
+            if n == 0 {
+                break;
+            }
+        }
+        out
+    }
+
+    /// Applies a control message: `{"overload": id}`, `{"external_torque": [id, N m]}`,
+    /// `{"return_delay": code}`.
+    pub fn control(&mut self, msg: &Value) -> Result<()> {
+        if let Some(id) = msg.get("overload") {
+            let id = id.as_u64().context("overload: servo id")? as u8;
+            self.chain.trigger_overload(id)?;
+        } else if let Some(v) = msg.get("external_torque") {
+            let id = v[0].as_u64().context("external_torque[0]: servo id")? as u8;
+            let nm = v[1].as_f64().context("external_torque[1]: N m")?;
+            self.chain.set_external_torque(id, nm)?;
+        } else if let Some(code) = msg.get("return_delay") {
+            self.chain
+                .set_return_delay_all(code.as_u64().context("return_delay: code")? as u8);
+        } else {
+            bail!("unknown servo chain control message {msg}");
+        }
+        Ok(())
+    }
+
+    /// Handles one line of the runner protocol; returns the answer line for a burst.
+    pub fn line(&mut self, line: &str) -> Result<Option<String>> {
+        let msg: Value = serde_json::from_str(line).with_context(|| format!("not JSON: {line}"))?;
+        if let Some(c) = msg.get("control") {
+            self.control(c)?;
+            return Ok(None);
+        }
+        let tx = hex_decode(msg["tx"].as_str().context("burst without tx")?)?;
+        let end = msg["end_ns"].as_f64().context("burst without end_ns")? as u64;
+        let baud = msg["baud"].as_u64().context("burst without baud")? as u32;
+        let segments: Vec<Value> = self
+            .burst(&tx, end, baud)
+            .into_iter()
+            .map(|s| json!({"delay_ns": s.delay_ns, "rx": hex_encode(&s.rx)}))
+            .collect();
+        Ok(Some(json!({ "segments": segments }).to_string()))
+    }
+}
+
+fn hex_decode(s: &str) -> Result<Vec<u8>> {
+    if !s.len().is_multiple_of(2) {
+        bail!("odd-length hex string");
+    }
+    (0..s.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&s[i..i + 2], 16).with_context(|| format!("bad hex at {i}")))
+        .collect()
+}
+
+fn hex_encode(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
