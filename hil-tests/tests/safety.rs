@@ -162,8 +162,6 @@ fn bad_frames_while_walking_are_rejected_and_the_gait_goes_on() -> Result<()> {
 }
 
 #[test]
-#[ignore = "firmware: a busy host link delays the bus task's direction-pin release past the servo \
-            turnaround (cooperative executor; release_after_tx in firmware/src/rp.rs), so replies are lost"]
 fn a_busy_host_link_does_not_cost_servo_replies() -> Result<()> {
     let Some((board, mut link)) = walking("busy_link")? else {
         return Ok(());
