@@ -11,7 +11,7 @@ mod serial;
 mod transport;
 mod upload;
 
-pub use board::{Board, DEFAULT_REPLY_TIMEOUT, request_name};
+pub use board::{BOOT_WAIT, Board, DEFAULT_REPLY_TIMEOUT, request_name};
 pub use devices::{BoardPort, list_boards};
 pub use error::LinkError;
 pub use serial::SerialTransport;
