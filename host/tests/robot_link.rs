@@ -93,3 +93,71 @@ fn an_upload_cut_midway_leaves_the_old_gait() {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::with_flash(flash))).unwrap();
     assert_eq!(b.gaits().unwrap()[2].gait, Some(before));
 }
+
+/// Plays `steps` steps of the synthetic 1 s gait and returns the board once it is walking.
+fn walking(steps: Steps) -> Board<VirtualTransport> {
+    let mut b = board();
+    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
+        .unwrap();
+    b.play(PlayCommand {
+        slot: 0,
+        direction: Direction::Forward,
+        period_scale: 1000,
+        steps,
+    })
+    .unwrap();
+    while b.status().unwrap().state != RunState::Walking {
+        b.wait(Duration::from_millis(50)).unwrap();
+    }
+    b
+}
+
+#[test]
+fn stop_ends_the_walk_at_the_end_of_the_step() {
+    let mut b = walking(Steps::Continuous);
+    b.wait(Duration::from_millis(1300)).unwrap();
+    b.discard_telemetry();
+    b.stop().unwrap();
+    let stopped_at = b.now();
+    let mut last = None;
+    while b.status().unwrap().state != RunState::Standing {
+        b.wait(Duration::from_millis(10)).unwrap();
+        assert!(
+            b.now() - stopped_at < Duration::from_secs(2),
+            "still walking"
+        );
+    }
+    while let Some(t) = b.telemetry(Duration::ZERO).unwrap() {
+        last = Some(t);
+    }
+    let last = last.unwrap();
+    // Standing comes at a step boundary: the last walking record is at the end of a step
+    // (slice 99 of 100, or 0 of the next) and within one step of the stop.
+    assert!(
+        last.slice >= 98 || last.slice <= 1,
+        "stopped at slice {}",
+        last.slice
+    );
+    assert!(b.now() - stopped_at <= Duration::from_millis(1100));
+}
+
+#[test]
+fn estop_drops_torque_on_every_servo_at_once() {
+    let mut b = walking(Steps::Continuous);
+    b.wait(Duration::from_millis(300)).unwrap();
+    b.emergency_stop().unwrap();
+    b.wait(Duration::from_millis(50)).unwrap();
+    let st = b.status().unwrap();
+    assert_eq!(st.state, RunState::Fault);
+    assert_eq!(st.fault.unwrap().kind, protocol::FaultKind::EmergencyStop);
+    assert_eq!(st.torque_enabled, 0);
+    let robot = b.transport().robot();
+    for id in 1..=22 {
+        assert!(!robot.servos().get(id).unwrap().torque_on, "servo {id}");
+    }
+    // Play is refused until the fault is cleared.
+    let e = b.play(play(0, 1, Direction::Forward)).unwrap_err();
+    assert!(e.to_string().contains("Play refused"), "{e}");
+    b.clear_fault().unwrap();
+    assert_eq!(b.status().unwrap().state, RunState::Idle);
+}

@@ -7,6 +7,7 @@
 mod board;
 mod devices;
 mod error;
+mod port;
 mod serial;
 mod transport;
 mod upload;
@@ -14,6 +15,7 @@ mod upload;
 pub use board::{BOOT_WAIT, Board, DEFAULT_REPLY_TIMEOUT, request_name};
 pub use devices::{BoardPort, list_boards};
 pub use error::LinkError;
+pub use port::PortSpec;
 pub use serial::SerialTransport;
 pub use transport::{Transport, TransportError};
 pub use upload::{UploadReport, Uploaded};

@@ -5,6 +5,17 @@
 
 use clap::{Parser, Subcommand};
 
+mod board_args;
+mod devices;
+mod estop;
+mod gaits;
+mod run;
+mod servos;
+mod set;
+mod status;
+mod stop;
+mod upload;
+
 /// Plan, run and record gaits of the Drosophibot II hexapod.
 ///
 /// Units on the command line are SI (m, s, rad, N m) unless a flag says otherwise.
@@ -16,9 +27,38 @@ struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
-enum Cmd {}
+enum Cmd {
+    /// List the boards plugged in over USB.
+    Devices(devices::Args),
+    /// Upload a step table into a gait slot.
+    Upload(upload::Args),
+    /// List the board's gait slots.
+    Gaits(gaits::Args),
+    /// Play a gait.
+    Run(run::Args),
+    /// Stop walking at the end of the step.
+    Stop(stop::Args),
+    /// Emergency stop: torque off everywhere.
+    Estop(estop::Args),
+    /// Show the board's state and counters.
+    Status(status::Args),
+    /// Show the joints and their servos.
+    Servos(servos::Args),
+    /// Change run-time settings (stiffness, rate, baud).
+    Set(set::Args),
+}
 
 fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
-    match cli.cmd {}
+    match cli.cmd {
+        Cmd::Devices(a) => a.run(),
+        Cmd::Upload(a) => a.run(),
+        Cmd::Gaits(a) => a.run(),
+        Cmd::Run(a) => a.run(),
+        Cmd::Stop(a) => a.run(),
+        Cmd::Estop(a) => a.run(),
+        Cmd::Status(a) => a.run(),
+        Cmd::Servos(a) => a.run(),
+        Cmd::Set(a) => a.run(),
+    }
 }
