@@ -4,4 +4,5 @@
 pub mod config;
 pub mod link;
 pub mod model;
+pub mod record;
 pub mod robot;

@@ -9,6 +9,7 @@ mod board_args;
 mod devices;
 mod estop;
 mod gaits;
+mod record;
 mod run;
 mod servos;
 mod set;
@@ -46,6 +47,8 @@ enum Cmd {
     Servos(servos::Args),
     /// Change run-time settings (stiffness, rate, baud).
     Set(set::Args),
+    /// Record telemetry to CSV and plot it.
+    Record(record::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -60,5 +63,6 @@ fn main() -> anyhow::Result<()> {
         Cmd::Status(a) => a.run(),
         Cmd::Servos(a) => a.run(),
         Cmd::Set(a) => a.run(),
+        Cmd::Record(a) => a.run(),
     }
 }
