@@ -87,13 +87,22 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         }
     }
 
-    /// Validates the table of `slot` and takes its joint map. A map with other servo IDs than the
-    /// one in use makes the controller look for the servos again (Boot), so it is only allowed while
-    /// torque is off.
+    /// Validates the table of `slot` and takes its joint map, stiffness and limits. A map with other
+    /// servo IDs than the one in use makes the controller look for the servos again (Boot), so it is
+    /// only allowed while torque is off. Selecting the table already selected keeps the run-time
+    /// settings (stiffness, limits) the host made since.
     pub(crate) fn select(&mut self, slot: u8) -> Result<(), CommandError> {
         let slots = self.store.slots();
         if slot >= slots {
             return Err(CommandError::NoSuchSlot { slot, slots });
+        }
+        let crc = self.store.info(slot).map(|i| i.crc);
+        if crc.is_some()
+            && self
+                .selected
+                .is_some_and(|s| s.slot == slot && Some(s.crc) == crc)
+        {
+            return Ok(());
         }
         let bytes = self
             .store
@@ -113,7 +122,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         }
         self.stiffness = checked.stiffness;
         self.joints = maps;
-        self.selected = Some(Selected { slot, layout });
+        self.selected = Some(Selected {
+            slot,
+            layout,
+            crc: crc.unwrap_or(0),
+        });
         if !same_servos {
             self.known = [false; MAX_JOINTS];
             self.misses.reset();

@@ -82,6 +82,8 @@ pub struct Counters {
 pub(crate) struct Selected {
     pub slot: u8,
     pub layout: crate::gait_view::Layout,
+    /// CRC of the table's bytes: a new upload to the same slot is a new table.
+    pub crc: u32,
 }
 
 /// The controller over the gait store's flash `F`.

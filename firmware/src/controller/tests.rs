@@ -465,3 +465,17 @@ fn streaming_follows_setpoints_and_faults_when_they_stop() {
     r.cycle();
     assert_eq!(r.c.state(), State::Safe(SafeReason::SetpointTimeout));
 }
+
+#[test]
+fn run_time_stiffness_survives_playing_the_same_gait_again() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.c.set_stiffness(2, 1234).unwrap();
+    r.play(Some(1));
+    assert_eq!(r.c.stiffness()[2], 1234);
+    r.cycles_until(3000, |r| r.c.state() == State::Standing);
+    r.play(Some(1));
+    assert_eq!(r.c.stiffness()[2], 1234);
+    // The table's own value for the joints not overridden.
+    assert_eq!(r.c.stiffness()[3], 8400);
+}
