@@ -152,9 +152,12 @@ fn estop_drops_torque_on_every_servo_at_once() {
     assert_eq!(st.fault.unwrap().kind, protocol::FaultKind::EmergencyStop);
     assert_eq!(st.torque_enabled, 0);
     let robot = b.transport().robot();
-    for id in 1..=22 {
-        assert!(!robot.servos().get(id).unwrap().torque_on, "servo {id}");
-    }
+    robot.with_chain(|c| {
+        assert_eq!(c.servos().len(), 22);
+        for s in c.servos() {
+            assert!(!s.torque_enabled(), "servo {}", s.id());
+        }
+    });
     // Play is refused until the fault is cleared.
     let e = b.play(play(0, 1, Direction::Forward)).unwrap_err();
     assert!(e.to_string().contains("Play refused"), "{e}");

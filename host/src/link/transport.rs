@@ -20,7 +20,7 @@ pub enum TransportError {
 }
 
 /// A byte stream to a board.
-pub trait Transport: Debug + Send {
+pub trait Transport: Debug {
     /// Writes every byte of `bytes`.
     fn send(&mut self, bytes: &[u8]) -> Result<(), TransportError>;
     /// Reads whatever arrives within `timeout` into `buf`; `Ok(0)` when nothing came in time.

@@ -5,10 +5,8 @@
 
 mod board;
 mod image;
-mod servos;
 mod transport;
 
 pub use board::{FLASH_SECTORS, SLOTS, VirtualFlash, VirtualRobot};
 pub use image::{IMAGE_LEN, ImageError};
-pub use servos::{P_GAIN, SimServo, SimServos, TIME_CONSTANT_S};
 pub use transport::VirtualTransport;
