@@ -52,10 +52,24 @@ fn check_balance(model: &Model, inputs: &[SliceInput], options: &DynamicsOptions
         let mass: f64 = model.bodies.iter().map(|b| b.mass).sum();
         let coms = com_positions(model, &input.q);
         let force = s.grf.iter().sum::<Vector3<f64>>() + mass * input.gravity;
-        let moment = s.grf.iter().zip(&s.foot_position).map(|(g, p)| p.cross(g)).sum::<Vector3<f64>>()
-            + model.bodies.iter().zip(&coms).map(|(b, c)| c.cross(&(b.mass * input.gravity))).sum::<Vector3<f64>>();
+        let moment = s
+            .grf
+            .iter()
+            .zip(&s.foot_position)
+            .map(|(g, p)| p.cross(g))
+            .sum::<Vector3<f64>>()
+            + model
+                .bodies
+                .iter()
+                .zip(&coms)
+                .map(|(b, c)| c.cross(&(b.mass * input.gravity)))
+                .sum::<Vector3<f64>>();
         let span = s.foot_position.iter().map(|p| p.norm()).fold(0.0, f64::max);
-        assert!((force - dp).norm() <= 1e-9 * total_weight, "slice {i}: force balance off by {:e}", (force - dp).norm());
+        assert!(
+            (force - dp).norm() <= 1e-9 * total_weight,
+            "slice {i}: force balance off by {:e}",
+            (force - dp).norm()
+        );
         assert!(
             (moment - dh).norm() <= 1e-9 * total_weight * span,
             "slice {i}: moment balance off by {:e}",
@@ -63,7 +77,11 @@ fn check_balance(model: &Model, inputs: &[SliceInput], options: &DynamicsOptions
         );
         for (f, g) in s.grf.iter().enumerate() {
             if !input.stance[f] {
-                assert_eq!(*g, Vector3::zeros(), "slice {i}: swing foot {f} has GRF {g}");
+                assert_eq!(
+                    *g,
+                    Vector3::zeros(),
+                    "slice {i}: swing foot {f} has GRF {g}"
+                );
             }
         }
     }
@@ -72,7 +90,11 @@ fn check_balance(model: &Model, inputs: &[SliceInput], options: &DynamicsOptions
 #[test]
 fn balance_with_inertial_thorax_every_stance_pattern() {
     let model = toy_hexapod();
-    check_balance(&model, &slices(&model, ThoraxMotion::default(), 24), &DynamicsOptions::default());
+    check_balance(
+        &model,
+        &slices(&model, ThoraxMotion::default(), 24),
+        &DynamicsOptions::default(),
+    );
 }
 
 #[test]
@@ -84,16 +106,36 @@ fn balance_with_rotating_and_accelerating_thorax() {
         linear_acceleration: Vector3::new(0.5, -0.2, 0.1),
         angular_acceleration: Vector3::new(-0.4, 0.3, 0.2),
     };
-    check_balance(&model, &slices(&model, thorax, 16), &DynamicsOptions::default());
+    check_balance(
+        &model,
+        &slices(&model, thorax, 16),
+        &DynamicsOptions::default(),
+    );
 }
 
 #[test]
 fn balance_with_clarabel_and_contact_constraints() {
     let model = toy_hexapod();
-    let options = DynamicsOptions { friction_cone: true, mu: 0.8, always_clarabel: true, ..Default::default() };
-    check_balance(&model, &slices(&model, ThoraxMotion::default(), 12), &options);
-    let options = DynamicsOptions { push_only: true, ..Default::default() };
-    check_balance(&model, &slices(&model, ThoraxMotion::default(), 12), &options);
+    let options = DynamicsOptions {
+        friction_cone: true,
+        mu: 0.8,
+        always_clarabel: true,
+        ..Default::default()
+    };
+    check_balance(
+        &model,
+        &slices(&model, ThoraxMotion::default(), 12),
+        &options,
+    );
+    let options = DynamicsOptions {
+        push_only: true,
+        ..Default::default()
+    };
+    check_balance(
+        &model,
+        &slices(&model, ThoraxMotion::default(), 12),
+        &options,
+    );
 }
 
 /// The momentum rate by finite differences of CoM positions along the trajectory (no shared
@@ -109,16 +151,29 @@ fn linear_momentum_rate_matches_finite_differences_of_com() {
         let mut input = SliceInput::still(&model, q);
         input.qd = qd;
         input.qdd = qdd;
-        let sol = solve_cycle(&model, std::slice::from_ref(&input), &DynamicsOptions::default()).unwrap();
+        let sol = solve_cycle(
+            &model,
+            std::slice::from_ref(&input),
+            &DynamicsOptions::default(),
+        )
+        .unwrap();
         let com_sum = |t: f64| -> Vector3<f64> {
             let (q, _, _) = trajectory(&model, &q0, t);
-            com_positions(&model, &q).iter().zip(&model.bodies).map(|(c, b)| b.mass * c).sum()
+            com_positions(&model, &q)
+                .iter()
+                .zip(&model.bodies)
+                .map(|(c, b)| b.mass * c)
+                .sum()
         };
-        let acc = (-com_sum(t + 2.0 * h) + 16.0 * com_sum(t + h) - 30.0 * com_sum(t) + 16.0 * com_sum(t - h)
+        let acc = (-com_sum(t + 2.0 * h) + 16.0 * com_sum(t + h) - 30.0 * com_sum(t)
+            + 16.0 * com_sum(t - h)
             - com_sum(t - 2.0 * h))
             / (12.0 * h * h);
         let mass: f64 = model.bodies.iter().map(|b| b.mass).sum();
         let force = sol.slices[0].grf.iter().sum::<Vector3<f64>>() + mass * input.gravity;
-        assert!((force - acc).norm() < 1e-6 * mass * 9.81, "t {t}: {force} vs {acc}");
+        assert!(
+            (force - acc).norm() < 1e-6 * mass * 9.81,
+            "t {t}: {force} vs {acc}"
+        );
     }
 }

@@ -38,16 +38,37 @@ fn torques_match_independent_rnea() {
         let scale = weight * 0.3;
         for j in 0..model.joints.len() {
             let name = &model.joints[j].name;
-            assert!((r.tau[j] - s.axis_moment[j]).abs() < 1e-10 * scale, "slice {i} {name}: {} vs {}", r.tau[j], s.axis_moment[j]);
+            assert!(
+                (r.tau[j] - s.axis_moment[j]).abs() < 1e-10 * scale,
+                "slice {i} {name}: {} vs {}",
+                r.tau[j],
+                s.axis_moment[j]
+            );
             // The actuator torque is the axis moment minus the spring's share.
-            let spring = model.joints[j].spring.map_or(0.0, |sp| -sp.stiffness * (q[j] - sp.equilibrium));
+            let spring = model.joints[j]
+                .spring
+                .map_or(0.0, |sp| -sp.stiffness * (q[j] - sp.equilibrium));
             if model.joints[j].spring.is_some() {
                 assert!((s.torque[j] - (r.tau[j] - spring)).abs() < 1e-10 * scale);
             }
-            assert!((r.force[j] - s.joint_force[j]).norm() < 1e-10 * weight, "slice {i} {name} force");
-            assert!((r.moment[j] - s.joint_moment[j]).norm() < 1e-10 * scale, "slice {i} {name} moment");
+            assert!(
+                (r.force[j] - s.joint_force[j]).norm() < 1e-10 * weight,
+                "slice {i} {name} force"
+            );
+            assert!(
+                (r.moment[j] - s.joint_moment[j]).norm() < 1e-10 * scale,
+                "slice {i} {name} moment"
+            );
         }
-        assert!(r.base.1.norm() < 1e-10 * weight, "slice {i}: thorax force residual {}", r.base.1);
-        assert!(r.base.0.norm() < 1e-10 * scale, "slice {i}: thorax moment residual {}", r.base.0);
+        assert!(
+            r.base.1.norm() < 1e-10 * weight,
+            "slice {i}: thorax force residual {}",
+            r.base.1
+        );
+        assert!(
+            r.base.0.norm() < 1e-10 * scale,
+            "slice {i}: thorax moment residual {}",
+            r.base.0
+        );
     }
 }

@@ -2,12 +2,21 @@
 //! horizontal leg on a fixed stand, with and without a parallel spring.
 
 use host::dynamics::{Base, DynamicsOptions, SliceInput, solve_slice};
-use host::model::{Actuation, ActuatorKind, Body, Foot, Joint, JointKind, Leg, Model, ParallelSpring};
+use host::model::{
+    Actuation, ActuatorKind, Body, Foot, Joint, JointKind, Leg, Model, ParallelSpring,
+};
 use nalgebra::{Isometry3, Matrix3, Unit, Vector3};
 
 const G: f64 = 9.80665;
 
-fn joint(name: &str, kind: JointKind, parent: usize, child: usize, origin: Isometry3<f64>, axis: Vector3<f64>) -> Joint {
+fn joint(
+    name: &str,
+    kind: JointKind,
+    parent: usize,
+    child: usize,
+    origin: Isometry3<f64>,
+    axis: Vector3<f64>,
+) -> Joint {
     Joint {
         name: name.into(),
         leg: Leg::LM,
@@ -17,14 +26,22 @@ fn joint(name: &str, kind: JointKind, parent: usize, child: usize, origin: Isome
         origin,
         axis: Unit::new_normalize(axis),
         limits: (-3.0, 3.0),
-        actuation: Actuation::Actuated { actuator: ActuatorKind::Mx28, stiffness: 2.0 },
+        actuation: Actuation::Actuated {
+            actuator: ActuatorKind::Mx28,
+            stiffness: 2.0,
+        },
         spring: None,
         servo: None,
     }
 }
 
 fn point_body(name: &str, mass: f64, com: Vector3<f64>) -> Body {
-    Body { name: name.into(), mass, com, inertia: Matrix3::identity() * 1e-6 }
+    Body {
+        name: name.into(),
+        mass,
+        com,
+        inertia: Matrix3::identity() * 1e-6,
+    }
 }
 
 /// Thorax (M) - yaw joint (z) at the origin - hip pitch (y) - femur along +x (L1, m1, CoM at
@@ -41,11 +58,36 @@ fn pogo(big_m: f64, m1: f64, m2: f64, l1: f64, l2: f64) -> Model {
             point_body("tibia", m2, Vector3::new(0.0, 0.0, -l2 / 2.0)),
         ],
         joints: vec![
-            joint("LM_ThC1", JointKind::ThC1, 0, 1, Isometry3::identity(), Vector3::z()),
-            joint("LM_CTr", JointKind::CTr, 1, 2, Isometry3::identity(), Vector3::y()),
-            joint("LM_FTi", JointKind::FTi, 2, 3, Isometry3::translation(l1, 0.0, 0.0), Vector3::y()),
+            joint(
+                "LM_ThC1",
+                JointKind::ThC1,
+                0,
+                1,
+                Isometry3::identity(),
+                Vector3::z(),
+            ),
+            joint(
+                "LM_CTr",
+                JointKind::CTr,
+                1,
+                2,
+                Isometry3::identity(),
+                Vector3::y(),
+            ),
+            joint(
+                "LM_FTi",
+                JointKind::FTi,
+                2,
+                3,
+                Isometry3::translation(l1, 0.0, 0.0),
+                Vector3::y(),
+            ),
         ],
-        feet: vec![Foot { leg: Leg::LM, body: 3, point: Vector3::new(0.0, 0.0, -l2) }],
+        feet: vec![Foot {
+            leg: Leg::LM,
+            body: 3,
+            point: Vector3::new(0.0, 0.0, -l2),
+        }],
     }
 }
 
@@ -53,7 +95,13 @@ fn pogo(big_m: f64, m1: f64, m2: f64, l1: f64, l2: f64) -> Model {
 fn pogo_balanced_over_its_foot() {
     let (big_m, m1, m2, l1, l2) = (2.0, 0.3, 0.2, 0.1, 0.15);
     let model = pogo(big_m, m1, m2, l1, l2);
-    let s = solve_slice(&model, &SliceInput::still(&model, vec![0.0; 3]), &DynamicsOptions::default(), 0).unwrap();
+    let s = solve_slice(
+        &model,
+        &SliceInput::still(&model, vec![0.0; 3]),
+        &DynamicsOptions::default(),
+        0,
+    )
+    .unwrap();
     // By hand: the foot carries the whole weight straight up.
     let w = (big_m + m1 + m2) * G;
     assert!((s.grf[0] - Vector3::new(0.0, 0.0, w)).norm() < 1e-9 * w);
@@ -64,7 +112,12 @@ fn pogo_balanced_over_its_foot() {
     // Yaw: all moments are about y, so zero. Knee: foot force and tibia weight act along the tibia.
     let expected = [0.0, hip, 0.0];
     for (j, e) in expected.iter().enumerate() {
-        assert!((s.torque[j] - e).abs() < 1e-9 * hip, "{}: {} vs {e}", model.joints[j].name, s.torque[j]);
+        assert!(
+            (s.torque[j] - e).abs() < 1e-9 * hip,
+            "{}: {} vs {e}",
+            model.joints[j].name,
+            s.torque[j]
+        );
     }
     // V* = 1/2 hip^2 / k with k = 2 N m/rad.
     assert!((s.v_star - 0.5 * hip * hip / 2.0).abs() < 1e-9 * s.v_star);
@@ -87,15 +140,26 @@ fn horizontal_leg_on_a_stand_carries_its_weight() {
     let model = arm(None);
     let mut input = SliceInput::still(&model, vec![0.0; 3]);
     input.stance = vec![false];
-    let options = DynamicsOptions { base: Base::Fixed, ..Default::default() };
+    let options = DynamicsOptions {
+        base: Base::Fixed,
+        ..Default::default()
+    };
     let s = solve_slice(&model, &input, &options, 0).unwrap();
     // Hip about +y: to hold a mass at +x against gravity the parent pushes with moment
     // n_y = -(x m g): r x F with r = (x,0,0), F = (0,0,-m g) is (0, x m g, 0); n cancels it.
     let (m1, m2, l1) = (0.3, 0.2, 0.1);
     let hip = -(m1 * G * l1 / 2.0 + m2 * G * (l1 + 0.075));
     let knee = -(m2 * G * 0.075);
-    assert!((s.torque[1] - hip).abs() < 1e-12, "hip {} vs {hip}", s.torque[1]);
-    assert!((s.torque[2] - knee).abs() < 1e-12, "knee {} vs {knee}", s.torque[2]);
+    assert!(
+        (s.torque[1] - hip).abs() < 1e-12,
+        "hip {} vs {hip}",
+        s.torque[1]
+    );
+    assert!(
+        (s.torque[2] - knee).abs() < 1e-12,
+        "knee {} vs {knee}",
+        s.torque[2]
+    );
     assert!(s.torque[0].abs() < 1e-12);
     assert_eq!(s.grf[0], Vector3::zeros());
     // The stand takes the whole weight (thorax 1 kg + leg).
@@ -106,11 +170,17 @@ fn horizontal_leg_on_a_stand_carries_its_weight() {
 fn parallel_spring_takes_part_of_the_torque() {
     // Spring torque -k_s (q - q_eq) = -0.5 (0 - 0.4) = +0.2 N m on every joint: the actuator
     // supplies the total axis moment minus that.
-    let spring = ParallelSpring { stiffness: 0.5, equilibrium: 0.4 };
+    let spring = ParallelSpring {
+        stiffness: 0.5,
+        equilibrium: 0.4,
+    };
     let model = arm(Some(spring));
     let mut input = SliceInput::still(&model, vec![0.0; 3]);
     input.stance = vec![false];
-    let options = DynamicsOptions { base: Base::Fixed, ..Default::default() };
+    let options = DynamicsOptions {
+        base: Base::Fixed,
+        ..Default::default()
+    };
     let s = solve_slice(&model, &input, &options, 0).unwrap();
     let hip = -(0.3 * G * 0.05 + 0.2 * G * 0.175);
     assert!((s.spring_torque[1] - 0.2).abs() < 1e-15);

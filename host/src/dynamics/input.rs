@@ -2,7 +2,7 @@
 
 use nalgebra::Vector3;
 
-use crate::model::{ActuatorKind, Actuation, Model};
+use crate::model::{Actuation, ActuatorKind, Model};
 
 /// Motion of the thorax at a slice, in its own frame. The default is the paper's assumption:
 /// constant velocity, no rotation. (A constant linear velocity changes no force.)

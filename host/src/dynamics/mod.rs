@@ -32,4 +32,6 @@ pub mod wrench;
 pub use error::DynamicsError;
 pub use input::{Base, DynamicsOptions, SliceInput, ThoraxMotion, TorqueLimits};
 pub use report::{ConstraintReport, Saturation, Slip};
-pub use solve::{CycleSolution, SliceSolution, slice_problem, solve_cycle, solve_problem, solve_slice};
+pub use solve::{
+    CycleSolution, SliceSolution, slice_problem, solve_cycle, solve_problem, solve_slice,
+};

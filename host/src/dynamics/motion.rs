@@ -48,8 +48,9 @@ impl BodyMotion {
         let r = self.rotation * com_local;
         self.com = self.origin + r;
         self.com_velocity = self.origin_velocity + self.omega.cross(&r);
-        self.com_acceleration =
-            self.origin_acceleration + self.alpha.cross(&r) + self.omega.cross(&self.omega.cross(&r));
+        self.com_acceleration = self.origin_acceleration
+            + self.alpha.cross(&r)
+            + self.omega.cross(&self.omega.cross(&r));
     }
 }
 
@@ -77,7 +78,8 @@ pub fn body_motions(model: &Model, input: &SliceInput) -> Vec<BodyMotion> {
         c.omega = p.omega + spin;
         c.alpha = p.alpha + axis * input.qdd[j] + p.omega.cross(&spin);
         c.origin_velocity = p.origin_velocity + p.omega.cross(&r);
-        c.origin_acceleration = p.origin_acceleration + p.alpha.cross(&r) + p.omega.cross(&p.omega.cross(&r));
+        c.origin_acceleration =
+            p.origin_acceleration + p.alpha.cross(&r) + p.omega.cross(&p.omega.cross(&r));
         c.finish_com(&model.bodies[joint.child].com);
         out[joint.child] = c;
     }

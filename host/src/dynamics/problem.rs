@@ -24,7 +24,10 @@ pub fn joint_stiffness(model: &Model) -> Result<Vec<Option<f64>>, DynamicsError>
                 if k > 0.0 && k.is_finite() {
                     Ok(Some(k))
                 } else {
-                    Err(DynamicsError::Stiffness { joint: j.name.clone(), stiffness: k })
+                    Err(DynamicsError::Stiffness {
+                        joint: j.name.clone(),
+                        stiffness: k,
+                    })
                 }
             }
         })
@@ -107,14 +110,23 @@ pub fn build(
     let weight: f64 = model.bodies.iter().map(|b| b.mass).sum::<f64>() * input.gravity.norm();
     let force_scale = positive_or_one(weight + unloaded.base_force.norm());
     let length_scale = positive_or_one(
-        feet.iter().chain(motions.iter().map(|m| &m.origin)).map(|p| p.norm()).fold(0.0, f64::max),
+        feet.iter()
+            .chain(motions.iter().map(|m| &m.origin))
+            .map(|p| p.norm())
+            .fold(0.0, f64::max),
     );
     let torque_scale = force_scale * length_scale;
 
     // Actuated torques T = c + B x (N m, x in N), scaled: T / torque_scale = c~ + B~ x~.
     let springs = spring_torques(model, &input.q);
-    let actuated: Vec<usize> = (0..model.joints.len()).filter(|&j| stiffness[j].is_some()).collect();
-    let k_ref = actuated.iter().map(|&j| stiffness[j].unwrap_or(1.0)).sum::<f64>() / actuated.len().max(1) as f64;
+    let actuated: Vec<usize> = (0..model.joints.len())
+        .filter(|&j| stiffness[j].is_some())
+        .collect();
+    let k_ref = actuated
+        .iter()
+        .map(|&j| stiffness[j].unwrap_or(1.0))
+        .sum::<f64>()
+        / actuated.len().max(1) as f64;
     let mut c = DVector::zeros(actuated.len());
     let mut bt = DMatrix::zeros(actuated.len(), n);
     let mut w = DVector::zeros(actuated.len());
@@ -206,7 +218,13 @@ pub fn build(
         a.set_row(i, &r.transpose());
     }
     SliceProblem {
-        qp: QpProblem { p, q, a, b: DVector::from_vec(rhs), cones },
+        qp: QpProblem {
+            p,
+            q,
+            a,
+            b: DVector::from_vec(rhs),
+            cones,
+        },
         stance,
         force_scale,
         cost_scale: torque_scale * torque_scale / k_ref,
@@ -224,7 +242,11 @@ fn positive_or_one(x: f64) -> f64 {
 
 /// Two unit vectors completing `n` (unit) to a right-handed orthonormal basis.
 pub fn tangents(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    let helper = if n.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+    let helper = if n.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
     let t1 = n.cross(&helper).normalize();
     (t1, n.cross(&t1))
 }

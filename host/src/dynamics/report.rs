@@ -1,8 +1,8 @@
 //! Which slices would make a foot slip (or pull) or an actuator saturate: the check to run when
 //! the contact and torque constraints are off, to see whether they matter.
 
-use super::SliceSolution;
 use super::SliceInput;
+use super::SliceSolution;
 use crate::model::Model;
 
 /// A stance foot whose GRF leaves the friction cone or pulls on the ground.
@@ -55,19 +55,24 @@ pub(super) fn check_slice(
         let tangential = (g - n * normal).norm();
         let tol = SLACK * g.norm();
         if normal < -tol || tangential > mu * normal + tol {
-            report.slips.push(Slip { slice, leg: foot.leg.name().into(), normal, tangential });
+            report.slips.push(Slip {
+                slice,
+                leg: foot.leg.name().into(),
+                normal,
+                tangential,
+            });
         }
     }
     for (j, joint) in model.joints.iter().enumerate() {
-        if let Some(limit) = limits.get(j).copied().flatten() {
-            if s.torque[j].abs() > limit * (1.0 + SLACK) {
-                report.saturations.push(Saturation {
-                    slice,
-                    joint: joint.name.clone(),
-                    torque: s.torque[j],
-                    limit,
-                });
-            }
+        if let Some(limit) = limits.get(j).copied().flatten()
+            && s.torque[j].abs() > limit * (1.0 + SLACK)
+        {
+            report.saturations.push(Saturation {
+                slice,
+                joint: joint.name.clone(),
+                torque: s.torque[j],
+                limit,
+            });
         }
     }
 }

@@ -68,17 +68,31 @@ pub fn solve_cycle(
     validate_model(model)?;
     let stiffness = joint_stiffness(model)?;
     let limits = options.torque_limits.resolve(model);
-    let one = |(i, input): (usize, &SliceInput)| solve_prepared(model, input, options, &stiffness, &limits, i);
+    let one = |(i, input): (usize, &SliceInput)| {
+        solve_prepared(model, input, options, &stiffness, &limits, i)
+    };
     let slices: Vec<SliceSolution> = if options.parallel {
-        inputs.par_iter().enumerate().map(one).collect::<Result<_, _>>()?
+        inputs
+            .par_iter()
+            .enumerate()
+            .map(one)
+            .collect::<Result<_, _>>()?
     } else {
-        inputs.iter().enumerate().map(one).collect::<Result<_, _>>()?
+        inputs
+            .iter()
+            .enumerate()
+            .map(one)
+            .collect::<Result<_, _>>()?
     };
     let mut report = ConstraintReport::default();
     for (i, (s, input)) in slices.iter().zip(inputs).enumerate() {
         check_slice(model, i, input, s, options.mu, &limits, &mut report);
     }
-    Ok(CycleSolution { slices, stiffness, report })
+    Ok(CycleSolution {
+        slices,
+        stiffness,
+        report,
+    })
 }
 
 /// The QP of one slice as posed to the solver (for inspection and for checking optimality).
@@ -102,14 +116,34 @@ pub fn solve_problem(
     options: &DynamicsOptions,
     slice: usize,
 ) -> Result<QpSolution, DynamicsError> {
-    let backend = if options.always_clarabel { Backend::Clarabel } else { Backend::Auto };
-    let stance = || problem.stance.iter().map(|&i| model.feet[i].leg.name()).collect::<Vec<_>>().join(" ");
+    let backend = if options.always_clarabel {
+        Backend::Clarabel
+    } else {
+        Backend::Auto
+    };
+    let stance = || {
+        problem
+            .stance
+            .iter()
+            .map(|&i| model.feet[i].leg.name())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     qp::solve(&problem.qp, backend).map_err(|e| match e {
-        QpError::InconsistentEqualities { residual } => {
-            DynamicsError::Unbalanced { slice, stance: stance(), residual }
-        }
-        QpError::NotUnique { condition } => DynamicsError::NotUnique { slice, stance: stance(), condition },
-        other => DynamicsError::Solver { slice, reason: other.to_string() },
+        QpError::InconsistentEqualities { residual } => DynamicsError::Unbalanced {
+            slice,
+            stance: stance(),
+            residual,
+        },
+        QpError::NotUnique { condition } => DynamicsError::NotUnique {
+            slice,
+            stance: stance(),
+            condition,
+        },
+        other => DynamicsError::Solver {
+            slice,
+            reason: other.to_string(),
+        },
     })
 }
 
@@ -164,7 +198,10 @@ fn validate_model(model: &Model) -> Result<(), DynamicsError> {
     }
     for j in &model.joints {
         if j.parent >= known.len() || !known[j.parent] || j.child >= known.len() {
-            return Err(DynamicsError::JointOrder { joint: j.name.clone(), parent: j.parent });
+            return Err(DynamicsError::JointOrder {
+                joint: j.name.clone(),
+                parent: j.parent,
+            });
         }
         known[j.child] = true;
     }
@@ -191,12 +228,20 @@ fn validate_input(model: &Model, input: &SliceInput, slice: usize) -> Result<(),
         ("normals", input.normals.len(), nf),
     ] {
         if got != expected {
-            return Err(DynamicsError::InputLength { slice, field, expected, got });
+            return Err(DynamicsError::InputLength {
+                slice,
+                field,
+                expected,
+                got,
+            });
         }
     }
     for (field, v) in [("q", &input.q), ("qd", &input.qd), ("qdd", &input.qdd)] {
         if let Some(j) = v.iter().position(|x| !x.is_finite()) {
-            return Err(DynamicsError::NotFinite { slice, field: format!("{field} of {}", model.joints[j].name) });
+            return Err(DynamicsError::NotFinite {
+                slice,
+                field: format!("{field} of {}", model.joints[j].name),
+            });
         }
     }
     let t = &input.thorax;
@@ -208,12 +253,18 @@ fn validate_input(model: &Model, input: &SliceInput, slice: usize) -> Result<(),
         ("thorax angular acceleration", &t.angular_acceleration),
     ] {
         if !v.iter().all(|x| x.is_finite()) {
-            return Err(DynamicsError::NotFinite { slice, field: field.into() });
+            return Err(DynamicsError::NotFinite {
+                slice,
+                field: field.into(),
+            });
         }
     }
     for (f, n) in model.feet.iter().zip(&input.normals) {
         if !n.iter().all(|x| x.is_finite()) || n.norm() == 0.0 {
-            return Err(DynamicsError::ZeroNormal { slice, leg: f.leg.name().into() });
+            return Err(DynamicsError::ZeroNormal {
+                slice,
+                leg: f.leg.name().into(),
+            });
         }
     }
     Ok(())

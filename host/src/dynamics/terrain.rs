@@ -24,7 +24,9 @@ impl Terrain {
     pub fn gravity(&self) -> Vector3<f64> {
         let g = Vector3::new(0.0, 0.0, -STANDARD_GRAVITY);
         match self {
-            Terrain::Incline { angle } => Rotation3::from_axis_angle(&Vector3::y_axis(), -angle) * g,
+            Terrain::Incline { angle } => {
+                Rotation3::from_axis_angle(&Vector3::y_axis(), -angle) * g
+            }
             _ => g,
         }
     }
@@ -34,7 +36,11 @@ impl Terrain {
         match self {
             Terrain::Ball { centre, .. } => {
                 let d = foot - centre;
-                if d.norm() > 0.0 { d.normalize() } else { Vector3::z() }
+                if d.norm() > 0.0 {
+                    d.normalize()
+                } else {
+                    Vector3::z()
+                }
             }
             _ => Vector3::z(),
         }

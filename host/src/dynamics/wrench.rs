@@ -70,7 +70,12 @@ pub fn backward_pass(
         force[p] += jf[j];
         moment[p] += jm[j] + lever.cross(&jf[j]);
     }
-    JointWrenches { force: jf, moment: jm, base_force: force[0], base_moment: moment[0] }
+    JointWrenches {
+        force: jf,
+        moment: jm,
+        base_force: force[0],
+        base_moment: moment[0],
+    }
 }
 
 /// Position of every foot's contact point in the thorax frame.

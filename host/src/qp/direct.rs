@@ -17,7 +17,11 @@ pub fn positive_definite_condition(h: &DMatrix<f64>) -> f64 {
 }
 
 /// Minimise over x = x_p + Z w. `reduced_hessian` is `Z' P Z`, already known positive definite.
-pub fn solve(problem: &QpProblem, eq: &ReducedEqualities, reduced_hessian: &DMatrix<f64>) -> QpSolution {
+pub fn solve(
+    problem: &QpProblem,
+    eq: &ReducedEqualities,
+    reduced_hessian: &DMatrix<f64>,
+) -> QpSolution {
     let xp = &eq.x_particular;
     let gradient_at_xp = &problem.p * xp + &problem.q;
     let rhs = -(eq.z.transpose() * &gradient_at_xp);
@@ -25,11 +29,22 @@ pub fn solve(problem: &QpProblem, eq: &ReducedEqualities, reduced_hessian: &DMat
         .clone()
         .cholesky()
         .map(|c| c.solve(&rhs))
-        .unwrap_or_else(|| reduced_hessian.clone().lu().solve(&rhs).unwrap_or(rhs.clone() * 0.0));
+        .unwrap_or_else(|| {
+            reduced_hessian
+                .clone()
+                .lu()
+                .solve(&rhs)
+                .unwrap_or(rhs.clone() * 0.0)
+        });
     let x = xp + &eq.z * w;
     // Stationarity P x + q + A' z = 0 fixes the multipliers of the reduced rows exactly.
     let z_hat = -(eq.v.transpose() * (&problem.p * &x + &problem.q));
     let z = &eq.multiplier_map * z_hat;
     let s = &problem.b - &problem.a * &x;
-    QpSolution { x, s, z, iterations: 0 }
+    QpSolution {
+        x,
+        s,
+        z,
+        iterations: 0,
+    }
 }

@@ -31,7 +31,11 @@ impl ReducedEqualities {
         let n = a.ncols();
         let m = a.nrows();
         let (v, b_hat, multiplier_map) = if m == 0 || n == 0 {
-            (DMatrix::zeros(n, 0), DVector::zeros(0), DMatrix::zeros(m, 0))
+            (
+                DMatrix::zeros(n, 0),
+                DVector::zeros(0),
+                DMatrix::zeros(m, 0),
+            )
         } else {
             let svd = a.clone().svd(true, true);
             let (u, vt) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
@@ -57,7 +61,13 @@ impl ReducedEqualities {
             return Err(QpError::InconsistentEqualities { residual });
         }
         let z = orthogonal_complement(&v);
-        Ok(Self { v, b_hat, multiplier_map, z, x_particular })
+        Ok(Self {
+            v,
+            b_hat,
+            multiplier_map,
+            z,
+            x_particular,
+        })
     }
 
     /// `Z' P Z`: the Hessian on the directions the equalities leave free.

@@ -105,7 +105,10 @@ pub fn solve(problem: &QpProblem, backend: Backend) -> Result<QpSolution, QpErro
     if condition < UNIQUENESS_TOLERANCE {
         return Err(QpError::NotUnique { condition });
     }
-    let only_equalities = problem.cones.iter().all(|c| matches!(c, ConeBlock::Zero(_)));
+    let only_equalities = problem
+        .cones
+        .iter()
+        .all(|c| matches!(c, ConeBlock::Zero(_)));
     if only_equalities && backend == Backend::Auto {
         Ok(direct::solve(problem, &eq, &reduced_hessian))
     } else {
@@ -121,9 +124,17 @@ fn check_shape(p: &QpProblem) -> Result<(), QpError> {
         return bad(format!("P is {:?}, q has {n} entries", p.p.shape()));
     }
     if p.a.shape() != (m, n) || p.b.len() != m {
-        return bad(format!("A is {:?}, b has {}, cones have {m} rows", p.a.shape(), p.b.len()));
+        return bad(format!(
+            "A is {:?}, b has {}, cones have {m} rows",
+            p.a.shape(),
+            p.b.len()
+        ));
     }
-    if p.cones.iter().skip(1).any(|c| matches!(c, ConeBlock::Zero(_))) {
+    if p.cones
+        .iter()
+        .skip(1)
+        .any(|c| matches!(c, ConeBlock::Zero(_)))
+    {
         return bad("a Zero cone block after the first block".into());
     }
     Ok(())

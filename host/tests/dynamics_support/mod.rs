@@ -23,12 +23,23 @@ pub fn rod(mass: f64, length: f64) -> Matrix3<f64> {
 }
 
 fn body(name: &str, mass: f64, com: Vector3<f64>, inertia: Matrix3<f64>) -> Body {
-    Body { name: name.into(), mass, com, inertia }
+    Body {
+        name: name.into(),
+        mass,
+        com,
+        inertia,
+    }
 }
 
 fn actuated(stiffness: f64) -> Actuation {
-    Actuation::Actuated { actuator: ActuatorKind::Mx28, stiffness }
+    Actuation::Actuated {
+        actuator: ActuatorKind::Mx28,
+        stiffness,
+    }
 }
+
+/// Joint kind, joint origin, axis, mass, length, actuation of one leg segment.
+type Segment = (JointKind, Isometry3<f64>, Vector3<f64>, f64, f64, Actuation);
 
 /// A hexapod toy: box thorax (1.5 kg) and six legs with ThC1 (z), CTr (y), FTi (y) actuated and a
 /// fixed TiTar, each leg's local x pointing outward. 25 bodies, 24 joints.
@@ -45,17 +56,51 @@ pub fn toy_hexapod() -> Model {
     for (li, leg) in Leg::ALL.iter().enumerate() {
         let side = leg.side();
         let hip = Vector3::new(hips[li % 3], side * 0.06, 0.0);
-        let yaw = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), side * std::f64::consts::FRAC_PI_2);
-        let segs: [(JointKind, Isometry3<f64>, Vector3<f64>, f64, f64, Actuation); 4] = [
-            (JointKind::ThC1, Isometry3::from_parts(Translation3::from(hip), yaw), Vector3::z(), 0.05, 0.03, actuated(4.0)),
-            (JointKind::CTr, Isometry3::translation(0.03, 0.0, 0.0), Vector3::y(), 0.12, 0.10, actuated(5.0)),
-            (JointKind::FTi, Isometry3::translation(0.10, 0.0, 0.0), Vector3::y(), 0.08, 0.10, actuated(3.0)),
-            (JointKind::TiTar, Isometry3::translation(0.10, 0.0, 0.0), Vector3::y(), 0.02, 0.05, Actuation::Fixed { angle: 0.3 }),
+        let yaw =
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), side * std::f64::consts::FRAC_PI_2);
+        let segs: [Segment; 4] = [
+            (
+                JointKind::ThC1,
+                Isometry3::from_parts(Translation3::from(hip), yaw),
+                Vector3::z(),
+                0.05,
+                0.03,
+                actuated(4.0),
+            ),
+            (
+                JointKind::CTr,
+                Isometry3::translation(0.03, 0.0, 0.0),
+                Vector3::y(),
+                0.12,
+                0.10,
+                actuated(5.0),
+            ),
+            (
+                JointKind::FTi,
+                Isometry3::translation(0.10, 0.0, 0.0),
+                Vector3::y(),
+                0.08,
+                0.10,
+                actuated(3.0),
+            ),
+            (
+                JointKind::TiTar,
+                Isometry3::translation(0.10, 0.0, 0.0),
+                Vector3::y(),
+                0.02,
+                0.05,
+                Actuation::Fixed { angle: 0.3 },
+            ),
         ];
         let mut parent = 0;
         for (kind, origin, axis, mass, length, actuation) in segs {
             let child = bodies.len();
-            bodies.push(body(&format!("{}_{kind:?}", leg.name()), mass, Vector3::new(length / 2.0, 0.0, 0.002), rod(mass, length)));
+            bodies.push(body(
+                &format!("{}_{kind:?}", leg.name()),
+                mass,
+                Vector3::new(length / 2.0, 0.0, 0.002),
+                rod(mass, length),
+            ));
             joints.push(Joint {
                 name: format!("{}_{kind:?}", leg.name()),
                 leg: *leg,
@@ -71,9 +116,18 @@ pub fn toy_hexapod() -> Model {
             });
             parent = child;
         }
-        feet.push(Foot { leg: *leg, body: parent, point: Vector3::new(0.05, 0.0, 0.0) });
+        feet.push(Foot {
+            leg: *leg,
+            body: parent,
+            point: Vector3::new(0.05, 0.0, 0.0),
+        });
     }
-    Model { name: "toy hexapod".into(), bodies, joints, feet }
+    Model {
+        name: "toy hexapod".into(),
+        bodies,
+        joints,
+        feet,
+    }
 }
 
 /// Standing pose of the toy hexapod: coxa straight, femur raised 0.3 rad, tibia down.
@@ -115,7 +169,10 @@ pub fn trajectory(model: &Model, q0: &[f64], t: f64) -> (Vec<f64>, Vec<f64>, Vec
 pub fn with_springs(mut model: Model, stiffness: f64, equilibrium: f64) -> Model {
     for j in &mut model.joints {
         if matches!(j.actuation, Actuation::Actuated { .. }) {
-            j.spring = Some(ParallelSpring { stiffness, equilibrium });
+            j.spring = Some(ParallelSpring {
+                stiffness,
+                equilibrium,
+            });
         }
     }
     model

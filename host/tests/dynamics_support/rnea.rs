@@ -48,7 +48,14 @@ fn cross_force(a: Sv, f: Sv) -> Sv {
 }
 
 /// Forward pass. `gravity` enters as base acceleration -g (pass zero to get true accelerations).
-pub fn forward(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: BaseState, gravity: V3) -> Kin {
+pub fn forward(
+    model: &Model,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    base: BaseState,
+    gravity: V3,
+) -> Kin {
     let n = model.bodies.len();
     let mut k = Kin {
         rot: vec![Matrix3::identity(); n],
@@ -58,9 +65,13 @@ pub fn forward(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: BaseStat
     };
     k.vel[0] = Sv(base.omega, base.velocity);
     // Spatial acceleration of the base: classical minus w x v, then the fictitious -g.
-    k.acc[0] = Sv(base.alpha, base.acceleration - base.omega.cross(&base.velocity) - gravity);
+    k.acc[0] = Sv(
+        base.alpha,
+        base.acceleration - base.omega.cross(&base.velocity) - gravity,
+    );
     for (i, j) in model.joints.iter().enumerate() {
-        let parent_to_joint = j.origin.rotation.to_rotation_matrix().into_inner() * rodrigues(&j.axis, q[i]);
+        let parent_to_joint =
+            j.origin.rotation.to_rotation_matrix().into_inner() * rodrigues(&j.axis, q[i]);
         let e = parent_to_joint.transpose();
         let r = j.origin.translation.vector;
         let xm = |m: Sv| Sv(e * m.0, e * (m.1 - r.cross(&m.0)));
@@ -87,7 +98,10 @@ fn inertia_times(model: &Model, b: usize, m: Sv) -> Sv {
     let mass = body.mass;
     let cx = c.cross_matrix();
     let i_o = body.inertia + mass * cx * cx.transpose();
-    Sv(i_o * m.0 + mass * c.cross(&m.1), mass * m.1 - mass * c.cross(&m.0))
+    Sv(
+        i_o * m.0 + mass * c.cross(&m.1),
+        mass * m.1 - mass * c.cross(&m.0),
+    )
 }
 
 /// Result of the full RNEA with external foot forces.
@@ -103,7 +117,15 @@ pub struct Rnea {
 }
 
 /// Inverse dynamics with the foot forces `grf` (thorax frame) applied at the feet.
-pub fn rnea(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: BaseState, gravity: V3, grf: &[V3]) -> Rnea {
+pub fn rnea(
+    model: &Model,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    base: BaseState,
+    gravity: V3,
+    grf: &[V3],
+) -> Rnea {
     let k = forward(model, q, qd, qdd, base, gravity);
     let n = model.bodies.len();
     let mut f: Vec<Sv> = (0..n)
@@ -120,13 +142,19 @@ pub fn rnea(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: BaseState, 
         f[foot.body].1 -= gb;
     }
     let nj = model.joints.len();
-    let mut out = Rnea { tau: vec![0.0; nj], force: vec![V3::zeros(); nj], moment: vec![V3::zeros(); nj], base: Sv(V3::zeros(), V3::zeros()) };
+    let mut out = Rnea {
+        tau: vec![0.0; nj],
+        force: vec![V3::zeros(); nj],
+        moment: vec![V3::zeros(); nj],
+        base: Sv(V3::zeros(), V3::zeros()),
+    };
     for (i, j) in model.joints.iter().enumerate().rev() {
         let fi = f[j.child];
         out.tau[i] = j.axis.dot(&fi.0);
         out.moment[i] = k.rot[j.child] * fi.0;
         out.force[i] = k.rot[j.child] * fi.1;
-        let parent_to_joint = j.origin.rotation.to_rotation_matrix().into_inner() * rodrigues(&j.axis, q[i]);
+        let parent_to_joint =
+            j.origin.rotation.to_rotation_matrix().into_inner() * rodrigues(&j.axis, q[i]);
         let r = j.origin.translation.vector;
         let et = parent_to_joint; // E^T
         let fp = Sv(et * fi.0 + r.cross(&(et * fi.1)), et * fi.1);
@@ -139,7 +167,13 @@ pub fn rnea(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: BaseState, 
 
 /// Rate of change of linear momentum and of angular momentum about the thorax origin, computed
 /// from the true (gravity-free) accelerations, thorax frame.
-pub fn momentum_rate(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: BaseState) -> (V3, V3) {
+pub fn momentum_rate(
+    model: &Model,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    base: BaseState,
+) -> (V3, V3) {
     let k = forward(model, q, qd, qdd, base, V3::zeros());
     let mut lin = V3::zeros();
     let mut ang = V3::zeros();
@@ -151,7 +185,8 @@ pub fn momentum_rate(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: Ba
         let a_com = k.rot[b] * (a_origin + al.cross(&c) + w.cross(&w.cross(&c)));
         let p_com = k.pos[b] + k.rot[b] * c;
         lin += body.mass * a_com;
-        ang += p_com.cross(&(body.mass * a_com)) + k.rot[b] * (body.inertia * al + w.cross(&(body.inertia * w)));
+        ang += p_com.cross(&(body.mass * a_com))
+            + k.rot[b] * (body.inertia * al + w.cross(&(body.inertia * w)));
     }
     (lin, ang)
 }
@@ -160,5 +195,10 @@ pub fn momentum_rate(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], base: Ba
 pub fn com_positions(model: &Model, q: &[f64]) -> Vec<V3> {
     let z = vec![0.0; q.len()];
     let k = forward(model, q, &z, &z, BaseState::default(), V3::zeros());
-    model.bodies.iter().enumerate().map(|(b, body)| k.pos[b] + k.rot[b] * body.com).collect()
+    model
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(b, body)| k.pos[b] + k.rot[b] * body.com)
+        .collect()
 }
