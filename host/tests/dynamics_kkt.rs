@@ -14,7 +14,7 @@ fn input(model: &Model, i: usize) -> SliceInput {
     let mut s = SliceInput::still(model, q);
     s.qd = qd;
     s.qdd = qdd;
-    s.stance = (0..6).map(|f| i % 3 == 0 || (f + i) % 2 == 0).collect();
+    s.stance = (0..6).map(|f| i.is_multiple_of(3) || (f + i).is_multiple_of(2)).collect();
     s
 }
 

@@ -26,7 +26,7 @@ fn torques_match_independent_rnea() {
         input.qd = qd.clone();
         input.qdd = qdd.clone();
         input.thorax = thorax;
-        input.stance = (0..6).map(|f| i % 2 == 0 || f % 2 == 0).collect();
+        input.stance = (0..6).map(|f| i.is_multiple_of(2) || f.is_multiple_of(2)).collect();
         let s = solve_slice(&model, &input, &DynamicsOptions::default(), i).unwrap();
         let base = BaseState {
             omega: thorax.angular_velocity,
