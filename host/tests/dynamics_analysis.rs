@@ -36,7 +36,7 @@ fn r_squared_edge_cases() {
     // A parabola symmetric about the mean of x has no linear trend at all.
     let parabola: Vec<f64> = x.iter().map(|v| v * v).collect();
     assert!(r_squared(&x, &parabola).unwrap().abs() < 1e-15);
-    assert_eq!(r_squared(&x, &vec![1.0; 11]), None);
+    assert_eq!(r_squared(&x, &[1.0; 11]), None);
     assert_eq!(r_squared(&x[..3], &line), None);
 }
 

@@ -17,7 +17,9 @@ fn cycle(model: &Model, n: usize) -> Vec<SliceInput> {
             let mut s = SliceInput::still(model, q);
             s.qd = qd;
             s.qdd = qdd;
-            s.stance = (0..6).map(|f| i.is_multiple_of(2) || f.is_multiple_of(2)).collect();
+            s.stance = (0..6usize)
+                .map(|f| i.is_multiple_of(2) || f.is_multiple_of(2))
+                .collect();
             s
         })
         .collect()

@@ -14,7 +14,9 @@ fn input(model: &Model, i: usize) -> SliceInput {
     let mut s = SliceInput::still(model, q);
     s.qd = qd;
     s.qdd = qdd;
-    s.stance = (0..6).map(|f| i.is_multiple_of(3) || (f + i).is_multiple_of(2)).collect();
+    s.stance = (0..6usize)
+        .map(|f| i.is_multiple_of(3) || (f + i).is_multiple_of(2))
+        .collect();
     s
 }
 

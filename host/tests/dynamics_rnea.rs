@@ -20,13 +20,15 @@ fn torques_match_independent_rnea() {
         angular_acceleration: Vector3::new(0.2, -0.1, 0.3),
     };
     let weight = model.bodies.iter().map(|b| b.mass).sum::<f64>() * 9.81;
-    for i in 0..10 {
+    for i in 0..10usize {
         let (q, qd, qdd) = trajectory(&model, &q0, 0.05 * i as f64);
         let mut input = SliceInput::still(&model, q.clone());
         input.qd = qd.clone();
         input.qdd = qdd.clone();
         input.thorax = thorax;
-        input.stance = (0..6).map(|f| i.is_multiple_of(2) || f.is_multiple_of(2)).collect();
+        input.stance = (0..6usize)
+            .map(|f| i.is_multiple_of(2) || f.is_multiple_of(2))
+            .collect();
         let s = solve_slice(&model, &input, &DynamicsOptions::default(), i).unwrap();
         let base = BaseState {
             omega: thorax.angular_velocity,
