@@ -4,4 +4,9 @@
 pub mod analysis;
 pub mod dynamics;
 pub mod model;
+pub mod kinematics;
+pub mod terrain;
+pub mod gait;
+pub mod plan;
+pub mod report;
 pub mod qp;
