@@ -21,6 +21,7 @@
 //! the child, moment about the joint's origin.
 
 mod error;
+mod from_plan;
 mod input;
 pub mod motion;
 pub mod problem;
@@ -30,6 +31,7 @@ pub mod terrain;
 pub mod wrench;
 
 pub use error::DynamicsError;
+pub use from_plan::plan_inputs;
 pub use input::{Base, DynamicsOptions, SliceInput, ThoraxMotion, TorqueLimits};
 pub use report::{ConstraintReport, Saturation, Slip};
 pub use solve::{
