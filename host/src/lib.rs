@@ -3,10 +3,10 @@
 
 pub mod analysis;
 pub mod dynamics;
-pub mod model;
-pub mod kinematics;
-pub mod terrain;
 pub mod gait;
+pub mod kinematics;
+pub mod model;
 pub mod plan;
-pub mod report;
 pub mod qp;
+pub mod report;
+pub mod terrain;

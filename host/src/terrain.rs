@@ -14,7 +14,7 @@ pub enum Terrain {
     /// Level ground; the thorax moves over it.
     Flat,
     /// A ball under a fixed thorax (the tethered-fly setup): the ball turns under the feet. Its
-    /// centre lies `offset_m` below the thorax origin, under the body's centre of mass.
+    /// centre lies `offset_m` below the body's centre of mass (in the resting posture).
     Ball { radius_m: f64, offset_m: f64 },
     /// A plane rising forward at `angle_rad`; the thorax stays parallel to it, so the kinematics
     /// equal the flat case and gravity tilts in the thorax frame.
@@ -31,8 +31,12 @@ pub struct TerrainError {
 
 impl Terrain {
     /// Parses `flat`, `ball`, `ball:R`, `ball:R:OFFSET` (metres) or `incline:DEG`. A bare ball gets
-    /// `default_radius` and an offset of radius + `body_height` (the ball's top at foot level).
-    pub fn parse(text: &str, default_radius: f64, body_height: f64) -> Result<Terrain, TerrainError> {
+    /// `default_radius` and `default_offset`.
+    pub fn parse(
+        text: &str,
+        default_radius: f64,
+        default_offset: f64,
+    ) -> Result<Terrain, TerrainError> {
         let err = |p: &str| TerrainError {
             text: text.to_string(),
             problem: p.to_string(),
@@ -54,18 +58,24 @@ impl Terrain {
             "flat" => Terrain::Flat,
             "ball" => {
                 let r = num(parts.next(), "radius")?.unwrap_or(default_radius);
-                let off = num(parts.next(), "offset")?.unwrap_or(r + body_height);
+                let off = num(parts.next(), "offset")?.unwrap_or(default_offset);
                 if r <= 0.0 {
                     return Err(err("ball radius must be > 0"));
                 }
-                Terrain::Ball { radius_m: r, offset_m: off }
+                Terrain::Ball {
+                    radius_m: r,
+                    offset_m: off,
+                }
             }
             "incline" => {
-                let deg = num(parts.next(), "angle")?.ok_or_else(|| err("incline needs an angle in degrees"))?;
+                let deg = num(parts.next(), "angle")?
+                    .ok_or_else(|| err("incline needs an angle in degrees"))?;
                 if deg.abs() >= 90.0 {
                     return Err(err("incline angle must be within (-90, 90) degrees"));
                 }
-                Terrain::Incline { angle_rad: deg.to_radians() }
+                Terrain::Incline {
+                    angle_rad: deg.to_radians(),
+                }
             }
             other => return Err(err(&format!("unknown terrain `{other}`"))),
         };
@@ -78,7 +88,9 @@ impl Terrain {
     /// Gravity in the thorax frame, m/s^2.
     pub fn gravity(&self) -> Vector3<f64> {
         match self {
-            Terrain::Incline { angle_rad } => Vector3::new(-angle_rad.sin(), 0.0, -angle_rad.cos()) * G,
+            Terrain::Incline { angle_rad } => {
+                Vector3::new(-angle_rad.sin(), 0.0, -angle_rad.cos()) * G
+            }
             _ => Vector3::new(0.0, 0.0, -G),
         }
     }
@@ -95,6 +107,6 @@ impl Terrain {
         }
         let m = model.total_mass();
         let c = if m > 0.0 { c / m } else { c };
-        Some(Vector3::new(c.x, c.y, -offset_m))
+        Some(Vector3::new(c.x, c.y, c.z - offset_m))
     }
 }

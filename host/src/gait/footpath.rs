@@ -16,12 +16,19 @@ pub enum GroundMotion {
     /// Every ground point moves with `velocity` (m/s).
     Translation { velocity: Vector3<f64> },
     /// Ground points turn about the axis through `centre` with angular velocity `omega` (rad/s).
-    Rotation { centre: Vector3<f64>, omega: Vector3<f64> },
+    Rotation {
+        centre: Vector3<f64>,
+        omega: Vector3<f64>,
+    },
 }
 
 impl GroundMotion {
     /// The ground motion for walking with `params` on `terrain` (`ball_centre` for a ball).
-    pub fn new(terrain: &Terrain, params: &StepParams, ball_centre: Option<Vector3<f64>>) -> GroundMotion {
+    pub fn new(
+        terrain: &Terrain,
+        params: &StepParams,
+        ball_centre: Option<Vector3<f64>>,
+    ) -> GroundMotion {
         let t_st = params.stance_s();
         let v = params.translation_m / t_st;
         let w = params.rotation_rad / t_st;
@@ -46,7 +53,9 @@ impl GroundMotion {
     pub fn displace(&self, p: &Vector3<f64>, t: f64) -> Vector3<f64> {
         match self {
             GroundMotion::Translation { velocity } => p + velocity * t,
-            GroundMotion::Rotation { centre, omega } => centre + Rotation3::new(omega * t) * (p - centre),
+            GroundMotion::Rotation { centre, omega } => {
+                centre + Rotation3::new(omega * t) * (p - centre)
+            }
         }
     }
 
@@ -84,7 +93,12 @@ pub struct Footpath {
 }
 
 impl Footpath {
-    pub fn new(leg: Leg, rest: Vector3<f64>, params: &StepParams, motion: GroundMotion) -> Footpath {
+    pub fn new(
+        leg: Leg,
+        rest: Vector3<f64>,
+        params: &StepParams,
+        motion: GroundMotion,
+    ) -> Footpath {
         let (t_st, t_sw) = (params.stance_s(), params.swing_s);
         let lo = motion.displace(&rest, 0.5 * t_st);
         let td = motion.displace(&rest, -0.5 * t_st);
@@ -115,11 +129,18 @@ impl Footpath {
     pub fn at(&self, t: f64) -> (Vector3<f64>, bool) {
         let tau = self.local_time(t);
         if tau < self.stance {
-            (self.motion.displace(&self.rest, tau - 0.5 * self.stance), true)
+            (
+                self.motion.displace(&self.rest, tau - 0.5 * self.stance),
+                true,
+            )
         } else {
             let s = tau - self.stance;
             let half = 0.5 * (self.period - self.stance);
-            let z = if s < half { self.z_up.eval(s).0 } else { self.z_down.eval(s - half).0 };
+            let z = if s < half {
+                self.z_up.eval(s).0
+            } else {
+                self.z_down.eval(s - half).0
+            };
             (Vector3::new(self.x.eval(s).0, self.y.eval(s).0, z), false)
         }
     }

@@ -7,6 +7,6 @@ mod phase;
 mod quintic;
 
 pub use footpath::{Footpath, GroundMotion};
-pub use params::{ParamError, ParamsFile, PerPair, StepParams};
+pub use params::{ParamError, ParamsFile, PerPair, Placement, StepParams};
 pub use phase::Gait;
 pub use quintic::Quintic;

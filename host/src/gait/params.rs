@@ -52,13 +52,30 @@ pub struct StepParams {
     pub terrain: String,
     /// Ball radius used for a bare `ball`, m.
     pub ball_radius_m: f64,
+    /// Depth of the ball's centre below the centre of mass, for a bare `ball`, m.
+    pub ball_offset_m: f64,
+    /// Resting foot placement relative to the leg's ThC: forward (x) and outward (|y|) offsets per
+    /// leg pair, m. `None`: the feet go wherever the joints are closest to mid-range.
+    #[serde(default)]
+    pub placement: Option<Placement>,
+}
+
+/// Foot placement relative to each ThC in the resting posture, m.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Placement {
+    pub forward_m: PerPair,
+    pub outward_m: PerPair,
 }
 
 /// A stepping parameter that cannot be right.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
     #[error("parameter `{field}` = {value}: {problem}")]
-    Invalid { field: &'static str, value: String, problem: &'static str },
+    Invalid {
+        field: &'static str,
+        value: String,
+        problem: &'static str,
+    },
     #[error("{file}: {message}")]
     File { file: String, message: String },
 }
@@ -79,8 +96,24 @@ impl StepParams {
                 gait: Gait::TRIPOD,
                 slices: 100,
                 terrain: "flat".into(),
-                // A 9 mm ball, common in tethered-fly rigs (estimate, not from the paper).
-                ball_radius_m: 4.5e-3,
+                // Paper section 3.1: r = 3 mm, centre 3.7 mm below the CoM.
+                ball_radius_m: 3e-3,
+                ball_offset_m: 3.7e-3,
+                // ESTIMATE (the paper's fly stepping data [92] are not available here): chosen by
+                // hand so that table 1's steps stay within the .aproj joint limits on flat ground
+                // and on the ball; the joints' mid-ranges alone cross the fly's legs.
+                placement: Some(Placement {
+                    forward_m: PerPair {
+                        hind: -0.7e-3,
+                        middle: -0.1e-3,
+                        front: 0.5e-3,
+                    },
+                    outward_m: PerPair {
+                        hind: 1.2e-3,
+                        middle: 1.3e-3,
+                        front: 0.6e-3,
+                    },
+                }),
             },
             _ => StepParams {
                 swing_s: 0.5,
@@ -96,8 +129,24 @@ impl StepParams {
                 gait: Gait::TRIPOD,
                 slices: 100,
                 terrain: "flat".into(),
-                // The fly's 4.5 mm ball scaled by body height 175 / 1.3 (estimate).
-                ball_radius_m: 4.5e-3 * 0.175 / 1.3e-3,
+                // Paper section 3.1: r = 0.637 m, centre 0.76 m below the CoM.
+                ball_radius_m: 0.637,
+                ball_offset_m: 0.76,
+                // ESTIMATE, chosen by hand so that table 1's steps stay within the joint limits on
+                // flat ground and on the ball (mid-range alone puts the hind feet out of reach on
+                // the ball).
+                placement: Some(Placement {
+                    forward_m: PerPair {
+                        hind: -0.10,
+                        middle: -0.03,
+                        front: 0.0,
+                    },
+                    outward_m: PerPair {
+                        hind: 0.15,
+                        middle: 0.17,
+                        front: 0.14,
+                    },
+                }),
             },
         }
     }
@@ -120,12 +169,19 @@ impl StepParams {
             problem,
         };
         if !(self.swing_s.is_finite() && self.swing_s > 0.0) {
-            return Err(bad("swing_s", self.swing_s, "swing duration (and so the period) must be > 0"));
+            return Err(bad(
+                "swing_s",
+                self.swing_s,
+                "swing duration (and so the period) must be > 0",
+            ));
         }
         if !(self.duty > 0.0 && self.duty < 1.0) {
             return Err(bad("duty", self.duty, "duty cycle must lie in (0, 1)"));
         }
-        for (f, p) in [("step_height_m", &self.step_height_m), ("body_height_m", &self.body_height_m)] {
+        for (f, p) in [
+            ("step_height_m", &self.step_height_m),
+            ("body_height_m", &self.body_height_m),
+        ] {
             for v in [p.hind, p.middle, p.front] {
                 if !(v.is_finite() && v > 0.0) {
                     return Err(bad(f, v, "must be > 0"));
@@ -136,16 +192,27 @@ impl StepParams {
             return Err(bad("translation_m", self.translation_m, "not finite"));
         }
         if !(self.rotation_rad.is_finite() && self.rotation_rad.abs() < std::f64::consts::PI) {
-            return Err(bad("rotation_rad", self.rotation_rad, "must be finite and below pi per step"));
+            return Err(bad(
+                "rotation_rad",
+                self.rotation_rad,
+                "must be finite and below pi per step",
+            ));
         }
         if self.slices < 4 {
-            return Err(bad("slices", self.slices as f64, "need at least 4 slices per step"));
+            return Err(bad(
+                "slices",
+                self.slices as f64,
+                "need at least 4 slices per step",
+            ));
         }
         if !(self.gait.phi_i.is_finite() && self.gait.phi_c.is_finite()) {
             return Err(bad("gait", self.gait.phi_i, "phase offsets must be finite"));
         }
         if !(self.ball_radius_m.is_finite() && self.ball_radius_m > 0.0) {
             return Err(bad("ball_radius_m", self.ball_radius_m, "must be > 0"));
+        }
+        if !self.ball_offset_m.is_finite() {
+            return Err(bad("ball_offset_m", self.ball_offset_m, "not finite"));
         }
         Ok(())
     }
@@ -165,6 +232,8 @@ pub struct ParamsFile {
     pub slices: Option<usize>,
     pub terrain: Option<String>,
     pub ball_radius_m: Option<f64>,
+    pub ball_offset_m: Option<f64>,
+    pub placement: Option<Placement>,
 }
 
 impl ParamsFile {
@@ -181,6 +250,21 @@ impl ParamsFile {
         macro_rules! set {
             ($($f:ident),*) => { $( if let Some(v) = self.$f.clone() { base.$f = v; } )* };
         }
-        set!(swing_s, duty, step_height_m, translation_m, rotation_rad, body_height_m, gait, slices, terrain, ball_radius_m);
+        set!(
+            swing_s,
+            duty,
+            step_height_m,
+            translation_m,
+            rotation_rad,
+            body_height_m,
+            gait,
+            slices,
+            terrain,
+            ball_radius_m,
+            ball_offset_m
+        );
+        if self.placement.is_some() {
+            base.placement = self.placement;
+        }
     }
 }

@@ -13,8 +13,11 @@ pub struct Gait {
 }
 
 impl Gait {
-    pub const TRIPOD: Gait = Gait { phi_i: 0.5, phi_c: 0.5 };
-    /// Diagonal pairs swing together: (LF, RM), (LM, RH), (LH, RF).
+    pub const TRIPOD: Gait = Gait {
+        phi_i: 0.5,
+        phi_c: 0.5,
+    };
+    /// Diagonal pairs swing together: (LH, RM), (LM, RF), (LF, RH).
     pub const TETRAPOD: Gait = Gait {
         phi_i: 1.0 / 3.0,
         phi_c: 2.0 / 3.0,

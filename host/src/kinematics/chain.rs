@@ -20,9 +20,9 @@ pub struct IkOptions {
 impl Default for IkOptions {
     fn default() -> Self {
         IkOptions {
-            tol_rel: 1e-10,
+            tol_rel: 1e-9,
             tol_null: 1e-10,
-            max_iter: 100,
+            max_iter: 1000,
         }
     }
 }
@@ -47,7 +47,9 @@ pub struct LegChain {
 
 impl LegChain {
     pub fn new(model: &Model, leg: Leg) -> Result<Self, KinematicsError> {
-        let foot = model.foot(leg).ok_or(KinematicsError::NoFoot { leg: leg.name() })?;
+        let foot = model
+            .foot(leg)
+            .ok_or(KinematicsError::NoFoot { leg: leg.name() })?;
         let chain = model.leg_chain(leg);
         if chain.len() > MAX_CHAIN {
             return Err(KinematicsError::ChainTooLong {
@@ -96,7 +98,14 @@ impl LegChain {
     }
 
     /// Foot position and, per actuated joint, its world position and axis.
-    fn fk(&self, qa: &[f64]) -> (Vector3<f64>, [Vector3<f64>; MAX_CHAIN], [Vector3<f64>; MAX_CHAIN]) {
+    fn fk(
+        &self,
+        qa: &[f64],
+    ) -> (
+        Vector3<f64>,
+        [Vector3<f64>; MAX_CHAIN],
+        [Vector3<f64>; MAX_CHAIN],
+    ) {
         let mut pose = Isometry3::identity();
         let mut o = [Vector3::zeros(); MAX_CHAIN];
         let mut a = [Vector3::zeros(); MAX_CHAIN];
@@ -134,54 +143,95 @@ impl LegChain {
     /// Moves `qa` (warm start, updated in place) until the foot is at `target` within tolerance,
     /// pulling spare degrees of freedom towards `rest`. Returns the iterations used, or the
     /// remaining distance (m) if the target was not reached.
-    pub fn solve(&self, target: &Vector3<f64>, qa: &mut [f64], rest: &[f64], opts: &IkOptions) -> Result<usize, f64> {
+    pub fn solve(
+        &self,
+        target: &Vector3<f64>,
+        qa: &mut [f64],
+        rest: &[f64],
+        opts: &IkOptions,
+    ) -> Result<usize, f64> {
         let m = self.dof();
         let tol = opts.tol_rel * self.length;
         let damping = (1e-6 * self.length).powi(2);
         let mut dist = f64::INFINITY;
         for it in 0..opts.max_iter {
-            let (p, jac) = self.jacobian(qa);
+            let (p, mut jac) = self.jacobian(qa);
             let e = target - p;
             dist = e.norm();
-            let mut a = Matrix3::zeros();
-            for col in jac.iter().take(m) {
-                a += col * col.transpose();
-            }
-            let Some(ainv) = (a + Matrix3::identity() * damping).try_inverse() else {
-                return Err(dist);
-            };
-            let y = ainv * e;
+            // Active set: a joint at a limit that the step would push further is locked (its
+            // column and its null-space share removed) and the step recomputed.
+            let mut locked = [false; MAX_CHAIN];
             let mut dq = [0.0; MAX_CHAIN];
-            for k in 0..m {
-                dq[k] = jac[k].dot(&y);
-            }
             let mut null_norm = 0.0;
-            if m > 3 {
-                // Null-space pull towards rest: g - J^T (J J^T)^-1 J g.
-                let mut jg = Vector3::zeros();
+            for _ in 0..=m {
+                let mut a = Matrix3::zeros();
                 for k in 0..m {
-                    jg += jac[k] * (rest[k] - qa[k]);
+                    if locked[k] {
+                        jac[k] = Vector3::zeros();
+                    }
+                    a += jac[k] * jac[k].transpose();
                 }
-                let h = ainv * jg;
+                let Some(ainv) = (a + Matrix3::identity() * damping).try_inverse() else {
+                    return Err(dist);
+                };
+                let y = ainv * e;
                 for k in 0..m {
-                    let n = (rest[k] - qa[k]) - jac[k].dot(&h);
-                    null_norm += n * n;
-                    dq[k] += n;
+                    dq[k] = if locked[k] { 0.0 } else { jac[k].dot(&y) };
                 }
-                null_norm = null_norm.sqrt();
+                null_norm = 0.0;
+                if m > 3 {
+                    // Null-space pull towards rest: g - J^T (J J^T)^-1 J g.
+                    let g = |k: usize| if locked[k] { 0.0 } else { rest[k] - qa[k] };
+                    let mut jg = Vector3::zeros();
+                    for k in 0..m {
+                        jg += jac[k] * g(k);
+                    }
+                    let h = ainv * jg;
+                    for k in 0..m {
+                        let n = g(k) - jac[k].dot(&h);
+                        null_norm += n * n;
+                        dq[k] += n;
+                    }
+                    null_norm = null_norm.sqrt();
+                }
+                let mut newly = false;
+                for k in 0..m {
+                    let out = (qa[k] <= self.lo[k] && dq[k] < 0.0)
+                        || (qa[k] >= self.hi[k] && dq[k] > 0.0);
+                    if out && !locked[k] {
+                        locked[k] = true;
+                        newly = true;
+                    }
+                }
+                if !newly {
+                    break;
+                }
             }
             if dist < tol && null_norm < opts.tol_null {
                 return Ok(it);
             }
+            // Newton steps far from the solution can overshoot wildly: cap the largest at 0.2 rad.
+            let big = dq.iter().take(m).fold(0.0f64, |b, d| b.max(d.abs()));
+            let scale = if big > 0.2 { 0.2 / big } else { 1.0 };
             for k in 0..m {
-                qa[k] = (qa[k] + dq[k]).clamp(self.lo[k], self.hi[k]);
+                qa[k] = (qa[k] + scale * dq[k]).clamp(self.lo[k], self.hi[k]);
             }
         }
-        if dist < tol { Ok(opts.max_iter) } else { Err(dist) }
+        if dist < tol {
+            Ok(opts.max_iter)
+        } else {
+            Err(dist)
+        }
     }
 
     /// Solves a whole footpath, slice by slice from `start`; returns actuated angles per slice.
-    pub fn solve_path(&self, targets: &[Vector3<f64>], start: &[f64], rest: &[f64], opts: &IkOptions) -> Result<Vec<Vec<f64>>, KinematicsError> {
+    pub fn solve_path(
+        &self,
+        targets: &[Vector3<f64>],
+        start: &[f64],
+        rest: &[f64],
+        opts: &IkOptions,
+    ) -> Result<Vec<Vec<f64>>, KinematicsError> {
         let mut q = start.to_vec();
         let mut out = Vec::with_capacity(targets.len());
         for (slice, t) in targets.iter().enumerate() {

@@ -34,10 +34,17 @@ pub fn forward(model: &Model, q: &[f64]) -> Poses {
     for (j, joint) in model.joints.iter().enumerate() {
         let frame = bodies[joint.parent] * joint.origin;
         joint_positions.push(Point3::from(frame.translation.vector));
-        joint_axes.push(Unit::new_unchecked(frame.rotation * joint.axis.into_inner()));
-        bodies[joint.child] = frame * UnitQuaternion::from_axis_angle(&joint.axis, joint_angle(model, j, q));
+        joint_axes.push(Unit::new_unchecked(
+            frame.rotation * joint.axis.into_inner(),
+        ));
+        bodies[joint.child] =
+            frame * UnitQuaternion::from_axis_angle(&joint.axis, joint_angle(model, j, q));
     }
-    let feet = model.feet.iter().map(|f| bodies[f.body] * Point3::from(f.point)).collect();
+    let feet = model
+        .feet
+        .iter()
+        .map(|f| bodies[f.body] * Point3::from(f.point))
+        .collect();
     Poses {
         bodies,
         joint_positions,
@@ -53,10 +60,17 @@ pub fn leg_jacobian(model: &Model, poses: &Poses, leg: Leg) -> (Vec<usize>, Matr
         return (Vec::new(), Matrix3xX::zeros(0));
     };
     let p = poses.feet[fi];
-    let joints: Vec<usize> = model.leg_chain(leg).into_iter().filter(|&j| model.is_actuated(j)).collect();
+    let joints: Vec<usize> = model
+        .leg_chain(leg)
+        .into_iter()
+        .filter(|&j| model.is_actuated(j))
+        .collect();
     let mut jac = Matrix3xX::zeros(joints.len());
     for (k, &j) in joints.iter().enumerate() {
-        jac.set_column(k, &poses.joint_axes[j].cross(&(p - poses.joint_positions[j])));
+        jac.set_column(
+            k,
+            &poses.joint_axes[j].cross(&(p - poses.joint_positions[j])),
+        );
     }
     (joints, jac)
 }

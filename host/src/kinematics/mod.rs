@@ -12,7 +12,7 @@ mod posture;
 pub use chain::{IkOptions, LegChain};
 pub use error::KinematicsError;
 pub use fk::{Poses, forward, joint_angle, leg_jacobian};
-pub use posture::{Posture, resting_posture};
+pub use posture::{FootGoal, Posture, resting_posture};
 
 /// Longest leg chain (joints from thorax to foot) the fixed-size solver handles.
 pub const MAX_CHAIN: usize = 8;

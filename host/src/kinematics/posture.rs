@@ -17,6 +17,8 @@ pub struct Posture {
     pub q: Vec<f64>,
     /// Foot position per leg, [`Model::legs`] order.
     pub feet: Vec<(Leg, Vector3<f64>)>,
+    /// Centre of a ball terrain: `offset_m` below the centre of mass of the flat posture.
+    pub ball_centre: Option<Vector3<f64>>,
 }
 
 impl Posture {
@@ -54,13 +56,27 @@ fn flat_leg(chain: &LegChain, mid: &[f64], z: f64) -> Result<Vec<f64>, Kinematic
     }
     Err(KinematicsError::Posture {
         leg: chain.leg.name(),
-        problem: format!("cannot put the foot at height {z:.4} m (reached {:.4} m) within joint limits", p.z),
+        problem: format!(
+            "cannot put the foot at height {z:.4} m (reached {:.4} m) within joint limits",
+            p.z
+        ),
     })
 }
 
-/// The resting posture on `terrain`, with foot height `ground_z(leg)` (m, thorax frame, negative
-/// below the thorax) on flat ground.
-pub fn resting_posture(model: &Model, terrain: &Terrain, ground_z: &dyn Fn(Leg) -> f64) -> Result<Posture, KinematicsError> {
+/// Where a resting foot should go on flat ground: at height `z` (m, thorax frame, negative below
+/// the thorax), and optionally at `(forward, outward)` metres from the leg's ThC.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FootGoal {
+    pub z: f64,
+    pub from_thc: Option<(f64, f64)>,
+}
+
+/// The resting posture on `terrain` with the foot goals `goal(leg)` on flat ground.
+pub fn resting_posture(
+    model: &Model,
+    terrain: &Terrain,
+    goal: &dyn Fn(Leg) -> FootGoal,
+) -> Result<Posture, KinematicsError> {
     let mut q = model.mid_range_q();
     let mid = q.clone();
     let mut feet = Vec::new();
@@ -68,22 +84,43 @@ pub fn resting_posture(model: &Model, terrain: &Terrain, ground_z: &dyn Fn(Leg) 
     for leg in model.legs() {
         let chain = LegChain::new(model, leg)?;
         let mid_a: Vec<f64> = chain.actuated.iter().map(|&j| mid[j]).collect();
-        let qa = flat_leg(&chain, &mid_a, ground_z(leg))?;
+        let g = goal(leg);
+        let mut qa = flat_leg(&chain, &mid_a, g.z)?;
+        if let Some((fwd, out)) = g.from_thc {
+            let thc = model.joints[model.leg_chain(leg)[0]]
+                .origin
+                .translation
+                .vector;
+            let target = Vector3::new(thc.x + fwd, thc.y + leg.side() * out, g.z);
+            // Walk the foot there in small steps so that Newton stays in its basin.
+            let start = chain.foot_position(&qa);
+            for k in 1..20 {
+                let t = start + (target - start) * (k as f64 / 20.0);
+                let _ = chain.solve(&t, &mut qa, &mid_a, &IkOptions::default());
+            }
+            chain.solve(&target, &mut qa, &mid_a, &IkOptions::default()).map_err(|d| KinematicsError::Posture {
+                leg: leg.name(),
+                problem: format!("placement {fwd} m forward, {out} m outward of the ThC unreachable ({d:.3e} m away)"),
+            })?;
+        }
         for (k, &j) in chain.actuated.iter().enumerate() {
             q[j] = qa[k];
         }
         feet.push((leg, chain.foot_position(&qa)));
         chains.push((chain, qa));
     }
-    if let Terrain::Ball { radius_m, .. } = terrain {
-        let centre = terrain.ball_centre(model, &q).expect("a ball has a centre");
+    let ball_centre = terrain.ball_centre(model, &q);
+    if let (Terrain::Ball { radius_m, .. }, Some(centre)) = (terrain, ball_centre) {
         for ((chain, qa), (leg, foot)) in chains.iter_mut().zip(feet.iter_mut()) {
             let d = Vector3::new(foot.x - centre.x, foot.y - centre.y, 0.0);
             let h2 = radius_m * radius_m - d.norm_squared();
             if h2 <= 0.0 {
                 return Err(KinematicsError::Posture {
                     leg: leg.name(),
-                    problem: format!("foot at ({:.4}, {:.4}) m lies outside the ball of radius {radius_m} m", foot.x, foot.y),
+                    problem: format!(
+                        "foot at ({:.4}, {:.4}) m lies outside the ball of radius {radius_m} m",
+                        foot.x, foot.y
+                    ),
                 });
             }
             let target = Vector3::new(foot.x, foot.y, centre.z + h2.sqrt());
@@ -101,5 +138,9 @@ pub fn resting_posture(model: &Model, terrain: &Terrain, ground_z: &dyn Fn(Leg) 
         }
     }
 
-    Ok(Posture { q, feet })
+    Ok(Posture {
+        q,
+        feet,
+        ball_centre,
+    })
 }

@@ -29,7 +29,10 @@ pub struct ImportOptions {
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        ImportOptions { name: None, stiffness: 1.0 }
+        ImportOptions {
+            name: None,
+            stiffness: 1.0,
+        }
     }
 }
 
@@ -40,7 +43,10 @@ pub fn anim_to_rep() -> Rotation3<f64> {
 }
 
 /// Reads an .aproj file.
-pub fn import_aproj_file(path: &std::path::Path, opts: &ImportOptions) -> Result<Model, ModelError> {
+pub fn import_aproj_file(
+    path: &std::path::Path,
+    opts: &ImportOptions,
+) -> Result<Model, ModelError> {
     let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
         file: path.to_path_buf(),
         source,
@@ -73,15 +79,27 @@ fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
 }
 
 fn text_of(n: Node, tag: &str) -> Option<String> {
-    child(n, tag).and_then(|c| c.text()).map(|s| s.trim().to_string())
+    child(n, tag)
+        .and_then(|c| c.text())
+        .map(|s| s.trim().to_string())
 }
 
 impl Ctx<'_> {
     fn scaled(&self, n: Node, place: &str, tag: &str) -> Result<f64, ModelError> {
         let missing = || field(self.file, place, tag, "missing or not a ScaledNumber");
-        let value: f64 = n.attribute("Value").ok_or_else(missing)?.parse().map_err(|_| missing())?;
-        let p = prefix(n.attribute("Scale").unwrap_or("None"))
-            .ok_or_else(|| field(self.file, place, tag, format!("unknown Scale `{}`", n.attribute("Scale").unwrap_or(""))))?;
+        let value: f64 = n
+            .attribute("Value")
+            .ok_or_else(missing)?
+            .parse()
+            .map_err(|_| missing())?;
+        let p = prefix(n.attribute("Scale").unwrap_or("None")).ok_or_else(|| {
+            field(
+                self.file,
+                place,
+                tag,
+                format!("unknown Scale `{}`", n.attribute("Scale").unwrap_or("")),
+            )
+        })?;
         Ok(value * p)
     }
     fn number(&self, n: Node, place: &str, tag: &str) -> Result<f64, ModelError> {
@@ -103,10 +121,17 @@ impl Ctx<'_> {
         let r = Rotation3::from_axis_angle(&Vector3::x_axis(), e.x)
             * Rotation3::from_axis_angle(&Vector3::y_axis(), e.y)
             * Rotation3::from_axis_angle(&Vector3::z_axis(), e.z);
-        Ok(Isometry3::from_parts(Translation3::from(p), UnitQuaternion::from_rotation_matrix(&r)))
+        Ok(Isometry3::from_parts(
+            Translation3::from(p),
+            UnitQuaternion::from_rotation_matrix(&r),
+        ))
     }
     /// Mass (kg), centre of mass (body frame) and box inertia about it (body axes).
-    fn mass_props(&self, n: Node, place: &str) -> Result<(f64, Vector3<f64>, Matrix3<f64>), ModelError> {
+    fn mass_props(
+        &self,
+        n: Node,
+        place: &str,
+    ) -> Result<(f64, Vector3<f64>, Matrix3<f64>), ModelError> {
         let m = self.number(n, place, "Mass")? * self.mass_scale;
         let com = self.vec3(n, place, "COM")?;
         let (lx, ly, lz) = (
@@ -114,7 +139,11 @@ impl Ctx<'_> {
             self.number(n, place, "Height")?,
             self.number(n, place, "Width")?,
         );
-        let i = Matrix3::from_diagonal(&Vector3::new(ly * ly + lz * lz, lx * lx + lz * lz, lx * lx + ly * ly)) * (m / 12.0);
+        let i = Matrix3::from_diagonal(&Vector3::new(
+            ly * ly + lz * lz,
+            lx * lx + lz * lz,
+            lx * lx + ly * ly,
+        )) * (m / 12.0);
         Ok((m, com, i))
     }
 }
@@ -189,7 +218,14 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         "Grams" => 1e-3,
         "Kilograms" => 1.0,
         "Milligrams" => 1e-6,
-        other => return Err(field(file, "Environment", "MassUnits", format!("unknown unit `{other}`"))),
+        other => {
+            return Err(field(
+                file,
+                "Environment",
+                "MassUnits",
+                format!("unknown unit `{other}`"),
+            ));
+        }
     };
     let cx = Ctx { file, mass_scale };
     let organism = root
@@ -197,7 +233,8 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         .find(|n| n.has_tag_name("Organism"))
         .ok_or_else(|| field(file, "project", "Organisms/Organism", "missing"))?;
     let org_name = text_of(organism, "Name").unwrap_or_default();
-    let thorax_node = child(organism, "RigidBody").ok_or_else(|| field(file, &org_name, "RigidBody", "missing root body"))?;
+    let thorax_node = child(organism, "RigidBody")
+        .ok_or_else(|| field(file, &org_name, "RigidBody", "missing root body"))?;
     let (tm, tcom, ti) = cx.mass_props(thorax_node, "body thorax")?;
     let c = anim_to_rep();
     let thorax = Body {
@@ -207,7 +244,10 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         inertia: c.matrix() * ti * c.matrix().transpose(),
     };
     // Our thorax frame expressed in the AnimatLab thorax body frame.
-    let thorax_frame = Isometry3::from_parts(Translation3::identity(), UnitQuaternion::from_rotation_matrix(&c.inverse()));
+    let thorax_frame = Isometry3::from_parts(
+        Translation3::identity(),
+        UnitQuaternion::from_rotation_matrix(&c.inverse()),
+    );
     let mut raws: Vec<Raw> = Vec::new();
     walk(&cx, thorax_node, "thorax", thorax_frame, 0, &mut raws)?;
     raws.sort_by_key(|r| (r.leg, r.depth, r.order));
@@ -218,14 +258,30 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         let parent = bodies
             .iter()
             .position(|b| b.name == r.parent)
-            .ok_or_else(|| field(file, format!("body {}", r.body.name), "parent", "parent body not imported"))?;
+            .ok_or_else(|| {
+                field(
+                    file,
+                    format!("body {}", r.body.name),
+                    "parent",
+                    "parent body not imported",
+                )
+            })?;
         let child = bodies.len();
         let name = format!("{}_{:?}", r.leg.name(), r.kind);
         if joints.iter().any(|j: &Joint| j.name == name) {
-            return Err(field(file, format!("joint {name}"), "Name", "two joints of one kind on one leg"));
+            return Err(field(
+                file,
+                format!("joint {name}"),
+                "Name",
+                "two joints of one kind on one leg",
+            ));
         }
         if let Some(p) = r.foot {
-            feet.push(Foot { leg: r.leg, body: child, point: p });
+            feet.push(Foot {
+                leg: r.leg,
+                body: child,
+                point: p,
+            });
         }
         bodies.push(r.body);
         joints.push(Joint {
@@ -261,21 +317,37 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
 
 /// Visits the children of `node`; `frame` is the parent's (our) frame in the parent's AnimatLab
 /// body frame.
-fn walk(cx: &Ctx, node: Node, parent: &str, frame: Isometry3<f64>, depth: usize, out: &mut Vec<Raw>) -> Result<(), ModelError> {
+fn walk(
+    cx: &Ctx,
+    node: Node,
+    parent: &str,
+    frame: Isometry3<f64>,
+    depth: usize,
+    out: &mut Vec<Raw>,
+) -> Result<(), ModelError> {
     let Some(children) = child(node, "ChildBodies") else {
         return Ok(());
     };
-    for (order, b) in children.children().filter(|n| n.has_tag_name("RigidBody")).enumerate() {
+    for (order, b) in children
+        .children()
+        .filter(|n| n.has_tag_name("RigidBody"))
+        .enumerate()
+    {
         let bname = text_of(b, "Name").unwrap_or_default();
         let place = format!("body {bname}");
-        let jn = child(b, "Joint").ok_or_else(|| field(cx.file, &place, "Joint", "a child body without a joint"))?;
+        let jn = child(b, "Joint")
+            .ok_or_else(|| field(cx.file, &place, "Joint", "a child body without a joint"))?;
         let jname = text_of(jn, "Name").unwrap_or_default();
         let jplace = format!("joint {jname}");
         let body_pose = cx.pose(b, &place)?;
         let joint_in_body = cx.pose(jn, &jplace)?;
         let (m, com, inertia) = cx.mass_props(b, &place)?;
         let grandchildren: Vec<Node> = child(b, "ChildBodies")
-            .map(|c| c.children().filter(|n| n.has_tag_name("RigidBody")).collect())
+            .map(|c| {
+                c.children()
+                    .filter(|n| n.has_tag_name("RigidBody"))
+                    .collect()
+            })
             .unwrap_or_default();
         let is_tip = grandchildren.is_empty() && bname.to_ascii_lowercase().ends_with("tip");
         if is_tip {
@@ -289,7 +361,12 @@ fn walk(cx: &Ctx, node: Node, parent: &str, frame: Isometry3<f64>, depth: usize,
             continue;
         }
         let (leg, kind) = parse_joint_name(&jname).ok_or_else(|| {
-            field(cx.file, &jplace, "Name", "cannot tell leg and joint from the name (expected e.g. LF_CTr)")
+            field(
+                cx.file,
+                &jplace,
+                "Name",
+                "cannot tell leg and joint from the name (expected e.g. LF_CTr)",
+            )
         })?;
         let lo = cx.number(child(jn, "LowerLimit").unwrap_or(jn), &jplace, "LimitPos");
         let hi = cx.number(child(jn, "UpperLimit").unwrap_or(jn), &jplace, "LimitPos");
@@ -330,7 +407,9 @@ fn merge_point_mass(b: &mut Body, m: f64, p: Vector3<f64>) {
         return;
     }
     let com = (b.com * b.mass + p * m) / total;
-    let shift = |mass: f64, d: Vector3<f64>| (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * mass;
+    let shift = |mass: f64, d: Vector3<f64>| {
+        (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * mass
+    };
     b.inertia += shift(b.mass, b.com - com) + shift(m, p - com);
     b.com = com;
     b.mass = total;

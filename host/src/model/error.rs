@@ -38,7 +38,12 @@ pub enum ModelError {
 }
 
 /// Shorthand for a field error.
-pub(crate) fn field(file: &str, place: impl Into<String>, field: &str, problem: impl Into<String>) -> ModelError {
+pub(crate) fn field(
+    file: &str,
+    place: impl Into<String>,
+    field: &str,
+    problem: impl Into<String>,
+) -> ModelError {
     ModelError::Field {
         file: file.to_string(),
         place: place.into(),

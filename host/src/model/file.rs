@@ -138,7 +138,12 @@ impl ModelFile {
                 return Err(field(file, place, "name", "defined twice"));
             }
             if !(b.mass_kg.is_finite() && b.mass_kg >= 0.0) {
-                return Err(field(file, place, "mass_kg", format!("{} is not a mass >= 0", b.mass_kg)));
+                return Err(field(
+                    file,
+                    place,
+                    "mass_kg",
+                    format!("{} is not a mass >= 0", b.mass_kg),
+                ));
             }
             if !finite3(&b.com_m) {
                 return Err(field(file, place, "com_m", "not finite"));
@@ -148,7 +153,12 @@ impl ModelFile {
             let eig = inertia.symmetric_eigenvalues();
             let tol = 1e-12 * inertia.abs().max();
             if !inertia.iter().all(|x| x.is_finite()) || eig.iter().any(|&e| e < -tol) {
-                return Err(field(file, place, "inertia_kg_m2", "not a positive semi-definite tensor"));
+                return Err(field(
+                    file,
+                    place,
+                    "inertia_kg_m2",
+                    "not a positive semi-definite tensor",
+                ));
             }
             bodies.push(Body {
                 name: b.name.clone(),
@@ -158,7 +168,12 @@ impl ModelFile {
             });
         }
         if bodies.first().map(|b| b.name.as_str()) != Some("thorax") {
-            return Err(field(file, "body list", "body[0].name", "the first body must be `thorax`"));
+            return Err(field(
+                file,
+                "body list",
+                "body[0].name",
+                "the first body must be `thorax`",
+            ));
         }
         let mut joints = Vec::with_capacity(self.joints.len());
         let mut has_parent = vec![false; bodies.len()];
@@ -177,13 +192,28 @@ impl ModelFile {
             let parent = lookup(&j.parent, "parent body")?;
             let child = lookup(&j.child, "child body")?;
             if joints.iter().any(|o: &Joint| o.name == name) {
-                return Err(field(file, &place, "kind", "this leg already has a joint of this kind"));
+                return Err(field(
+                    file,
+                    &place,
+                    "kind",
+                    "this leg already has a joint of this kind",
+                ));
             }
             if !has_parent[parent] {
-                return Err(field(file, &place, "parent", "must be the thorax or the child of an earlier joint"));
+                return Err(field(
+                    file,
+                    &place,
+                    "parent",
+                    "must be the thorax or the child of an earlier joint",
+                ));
             }
             if child == 0 || has_parent[child] {
-                return Err(field(file, &place, "child", "body already has a parent joint (or is the thorax)"));
+                return Err(field(
+                    file,
+                    &place,
+                    "child",
+                    "body already has a parent joint (or is the thorax)",
+                ));
             }
             has_parent[child] = true;
             if !finite3(&j.origin_xyz_m) {
@@ -194,24 +224,44 @@ impl ModelFile {
             }
             let axis = Vector3::from(j.axis);
             if !finite3(&j.axis) || axis.norm() < 1e-9 {
-                return Err(field(file, &place, "axis", "must be a finite non-zero vector"));
+                return Err(field(
+                    file,
+                    &place,
+                    "axis",
+                    "must be a finite non-zero vector",
+                ));
             }
             let [lo, hi] = j.limits_rad;
             if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-                return Err(field(file, &place, "limits_rad", format!("[{lo}, {hi}] is not an interval")));
+                return Err(field(
+                    file,
+                    &place,
+                    "limits_rad",
+                    format!("[{lo}, {hi}] is not an interval"),
+                ));
             }
             let actuation = match j.actuation {
                 ActuationEntry::Fixed => {
                     let angle = j.fixed_angle_rad.unwrap_or(0.0);
                     if !(lo..=hi).contains(&angle) {
-                        return Err(field(file, &place, "fixed_angle_rad", format!("{angle} outside limits [{lo}, {hi}]")));
+                        return Err(field(
+                            file,
+                            &place,
+                            "fixed_angle_rad",
+                            format!("{angle} outside limits [{lo}, {hi}]"),
+                        ));
                     }
                     Actuation::Fixed { angle }
                 }
                 a => {
-                    let stiffness = j
-                        .stiffness_nm_per_rad
-                        .ok_or_else(|| field(file, &place, "stiffness_nm_per_rad", "required for an actuated joint"))?;
+                    let stiffness = j.stiffness_nm_per_rad.ok_or_else(|| {
+                        field(
+                            file,
+                            &place,
+                            "stiffness_nm_per_rad",
+                            "required for an actuated joint",
+                        )
+                    })?;
                     if !(stiffness.is_finite() && stiffness > 0.0) {
                         return Err(field(file, &place, "stiffness_nm_per_rad", "must be > 0"));
                     }
@@ -220,12 +270,22 @@ impl ModelFile {
                         ActuationEntry::Mx64 => ActuatorKind::Mx64,
                         _ => ActuatorKind::Generic,
                     };
-                    Actuation::Actuated { actuator, stiffness }
+                    Actuation::Actuated {
+                        actuator,
+                        stiffness,
+                    }
                 }
             };
             let spring = match j.spring {
-                Some(s) if !(s.stiffness_nm_per_rad.is_finite() && s.stiffness_nm_per_rad >= 0.0) => {
-                    return Err(field(file, &place, "spring.stiffness_nm_per_rad", "must be >= 0"));
+                Some(s)
+                    if !(s.stiffness_nm_per_rad.is_finite() && s.stiffness_nm_per_rad >= 0.0) =>
+                {
+                    return Err(field(
+                        file,
+                        &place,
+                        "spring.stiffness_nm_per_rad",
+                        "must be >= 0",
+                    ));
                 }
                 Some(s) if !s.equilibrium_rad.is_finite() => {
                     return Err(field(file, &place, "spring.equilibrium_rad", "not finite"));
@@ -248,8 +308,16 @@ impl ModelFile {
                     if s.sign != 1 && s.sign != -1 {
                         return Err(field(file, &place, "servo.sign", "must be 1 or -1"));
                     }
-                    if joints.iter().any(|o: &Joint| o.servo.map(|x| x.id) == Some(s.id)) {
-                        return Err(field(file, &place, "servo.id", format!("ID {} used twice", s.id)));
+                    if joints
+                        .iter()
+                        .any(|o: &Joint| o.servo.map(|x| x.id) == Some(s.id))
+                    {
+                        return Err(field(
+                            file,
+                            &place,
+                            "servo.id",
+                            format!("ID {} used twice", s.id),
+                        ));
                     }
                     Some(ServoMap {
                         id: s.id,
@@ -278,7 +346,12 @@ impl ModelFile {
             });
         }
         if let Some(orphan) = has_parent.iter().position(|&p| !p) {
-            return Err(field(file, format!("body {}", bodies[orphan].name), "name", "no joint has this body as child"));
+            return Err(field(
+                file,
+                format!("body {}", bodies[orphan].name),
+                "name",
+                "no joint has this body as child",
+            ));
         }
         let mut feet = Vec::new();
         for f in &self.feet {
@@ -322,7 +395,14 @@ impl ModelFile {
                     name: b.name.clone(),
                     mass_kg: b.mass,
                     com_m: b.com.into(),
-                    inertia_kg_m2: [i[(0, 0)], i[(1, 1)], i[(2, 2)], i[(0, 1)], i[(0, 2)], i[(1, 2)]],
+                    inertia_kg_m2: [
+                        i[(0, 0)],
+                        i[(1, 1)],
+                        i[(2, 2)],
+                        i[(0, 1)],
+                        i[(0, 2)],
+                        i[(1, 2)],
+                    ],
                     source: source(&b.name),
                 }
             })
@@ -334,7 +414,10 @@ impl ModelFile {
                 let [r, p, y] = rpy_of(&j.origin.rotation);
                 let (actuation, stiffness, fixed) = match &j.actuation {
                     Actuation::Fixed { angle } => (ActuationEntry::Fixed, None, Some(*angle)),
-                    Actuation::Actuated { actuator, stiffness } => (
+                    Actuation::Actuated {
+                        actuator,
+                        stiffness,
+                    } => (
                         match actuator {
                             ActuatorKind::Mx28 => ActuationEntry::Mx28,
                             ActuatorKind::Mx64 => ActuationEntry::Mx64,
@@ -399,6 +482,10 @@ pub fn rpy_of(rot: &nalgebra::UnitQuaternion<f64>) -> [f64; 3] {
     if cp < 1e-10 {
         [(-m[(1, 2)]).atan2(m[(1, 1)]), pitch, 0.0]
     } else {
-        [m[(2, 1)].atan2(m[(2, 2)]), pitch, m[(1, 0)].atan2(m[(0, 0)])]
+        [
+            m[(2, 1)].atan2(m[(2, 2)]),
+            pitch,
+            m[(1, 0)].atan2(m[(0, 0)]),
+        ]
     }
 }

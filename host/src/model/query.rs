@@ -36,7 +36,10 @@ impl Model {
 
     /// The legs that have a foot, in [`Leg::ALL`] order.
     pub fn legs(&self) -> Vec<Leg> {
-        Leg::ALL.into_iter().filter(|l| self.foot(*l).is_some()).collect()
+        Leg::ALL
+            .into_iter()
+            .filter(|l| self.foot(*l).is_some())
+            .collect()
     }
 
     /// True if the joint is driven (not fixed).
@@ -46,7 +49,9 @@ impl Model {
 
     /// Indices of the actuated joints in model order.
     pub fn actuated_joints(&self) -> Vec<usize> {
-        (0..self.joints.len()).filter(|&j| self.is_actuated(j)).collect()
+        (0..self.joints.len())
+            .filter(|&j| self.is_actuated(j))
+            .collect()
     }
 
     /// A joint vector with fixed joints at their angle and actuated joints at mid-range.
@@ -86,10 +91,27 @@ impl Model {
                 return Err(field(file, place, "body", "not connected to the thorax"));
             }
             if let Some(&j) = chain.iter().find(|&&j| self.joints[j].leg != foot.leg) {
-                return Err(field(file, place, "body", format!("its chain passes joint {} of another leg", self.joints[j].name)));
+                return Err(field(
+                    file,
+                    place,
+                    "body",
+                    format!(
+                        "its chain passes joint {} of another leg",
+                        self.joints[j].name
+                    ),
+                ));
             }
             if chain.len() > crate::kinematics::MAX_CHAIN {
-                return Err(field(file, place, "body", format!("chain of {} joints; at most {} supported", chain.len(), crate::kinematics::MAX_CHAIN)));
+                return Err(field(
+                    file,
+                    place,
+                    "body",
+                    format!(
+                        "chain of {} joints; at most {} supported",
+                        chain.len(),
+                        crate::kinematics::MAX_CHAIN
+                    ),
+                ));
             }
         }
         Ok(())

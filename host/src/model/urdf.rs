@@ -18,8 +18,14 @@ fn xyz_rpy(iso: &Isometry3<f64>) -> String {
 /// (MX-28: 2.5, MX-64: 6.0, per the Dynamixel e-manuals); 1 N m for a generic actuator.
 fn effort(a: &Actuation) -> f64 {
     match a {
-        Actuation::Actuated { actuator: ActuatorKind::Mx28, .. } => 2.5,
-        Actuation::Actuated { actuator: ActuatorKind::Mx64, .. } => 6.0,
+        Actuation::Actuated {
+            actuator: ActuatorKind::Mx28,
+            ..
+        } => 2.5,
+        Actuation::Actuated {
+            actuator: ActuatorKind::Mx64,
+            ..
+        } => 6.0,
         _ => 1.0,
     }
 }
@@ -34,7 +40,17 @@ pub fn to_urdf(model: &Model) -> String {
         let _ = writeln!(
             s,
             r#"  <link name="{}"><inertial><origin xyz="{:e} {:e} {:e}" rpy="0 0 0"/><mass value="{:e}"/><inertia ixx="{:e}" ixy="{:e}" ixz="{:e}" iyy="{:e}" iyz="{:e}" izz="{:e}"/></inertial></link>"#,
-            b.name, b.com.x, b.com.y, b.com.z, b.mass, i[(0, 0)], i[(0, 1)], i[(0, 2)], i[(1, 1)], i[(1, 2)], i[(2, 2)]
+            b.name,
+            b.com.x,
+            b.com.y,
+            b.com.z,
+            b.mass,
+            i[(0, 0)],
+            i[(0, 1)],
+            i[(0, 2)],
+            i[(1, 1)],
+            i[(1, 2)],
+            i[(2, 2)]
         );
     }
     for j in &model.joints {

@@ -7,7 +7,10 @@ pub fn periodic_central_difference(x: &[Vec<f64>], dt: f64) -> Vec<Vec<f64>> {
     (0..n)
         .map(|t| {
             let (next, prev) = (&x[(t + 1) % n], &x[(t + n - 1) % n]);
-            next.iter().zip(prev).map(|(a, b)| (a - b) / (2.0 * dt)).collect()
+            next.iter()
+                .zip(prev)
+                .map(|(a, b)| (a - b) / (2.0 * dt))
+                .collect()
         })
         .collect()
 }

@@ -7,7 +7,7 @@ mod derivatives;
 pub use derivatives::periodic_central_difference;
 
 use crate::gait::{Footpath, GroundMotion, ParamError, StepParams};
-use crate::kinematics::{IkOptions, KinematicsError, LegChain, Posture, resting_posture};
+use crate::kinematics::{FootGoal, IkOptions, KinematicsError, LegChain, Posture, resting_posture};
 use crate::model::{Leg, Model};
 use crate::terrain::{Terrain, TerrainError};
 use nalgebra::Vector3;
@@ -76,9 +76,8 @@ impl Plan {
 }
 
 /// The footpaths of every leg for a model, parameters and resting posture.
-pub fn footpaths(model: &Model, params: &StepParams, terrain: &Terrain, posture: &Posture) -> Vec<Footpath> {
-    let centre = terrain.ball_centre(model, &posture.q);
-    let motion = GroundMotion::new(terrain, params, centre);
+pub fn footpaths(params: &StepParams, terrain: &Terrain, posture: &Posture) -> Vec<Footpath> {
+    let motion = GroundMotion::new(terrain, params, posture.ball_centre);
     posture
         .feet
         .iter()
@@ -89,9 +88,9 @@ pub fn footpaths(model: &Model, params: &StepParams, terrain: &Terrain, posture:
 /// Plans one step cycle.
 pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
     params.validate()?;
-    let terrain = Terrain::parse(&params.terrain, params.ball_radius_m, params.body_height_m.middle)?;
-    let posture = resting_posture(model, &terrain, &|leg| -params.body_height_m.get(leg))?;
-    let paths = footpaths(model, params, &terrain, &posture);
+    let terrain = Terrain::parse(&params.terrain, params.ball_radius_m, params.ball_offset_m)?;
+    let posture = resting_posture(model, &terrain, &|leg| params.foot_goal(leg))?;
+    let paths = footpaths(params, &terrain, &posture);
     let n = params.slices;
     let dt = params.period_s() / n as f64;
     let legs: Vec<Leg> = paths.iter().map(|p| p.leg).collect();
@@ -130,7 +129,7 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
         model: model.clone(),
         params: params.clone(),
         gravity: terrain.gravity(),
-        ball_centre: terrain.ball_centre(model, &posture.q),
+        ball_centre: posture.ball_centre,
         terrain,
         period_s: params.period_s(),
         dt,
@@ -145,4 +144,16 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
         thorax_velocity,
         thorax_angular_velocity,
     })
+}
+
+impl StepParams {
+    /// The resting-posture goal of a leg's foot on flat ground.
+    pub fn foot_goal(&self, leg: Leg) -> FootGoal {
+        FootGoal {
+            z: -self.body_height_m.get(leg),
+            from_thc: self
+                .placement
+                .map(|p| (p.forward_m.get(leg), p.outward_m.get(leg))),
+        }
+    }
 }

@@ -14,8 +14,16 @@ pub struct ExtraColumn<'a> {
 
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
-    #[error("extra column `{name}`: expected {slices} x {per_slice} values, slice {slice} has {got}")]
-    Shape { name: String, slices: usize, per_slice: usize, slice: usize, got: usize },
+    #[error(
+        "extra column `{name}`: expected {slices} x {per_slice} values, slice {slice} has {got}"
+    )]
+    Shape {
+        name: String,
+        slices: usize,
+        per_slice: usize,
+        slice: usize,
+        got: usize,
+    },
     #[error("CSV: {0}")]
     Csv(#[from] csv::Error),
     #[error("I/O: {0}")]
@@ -29,7 +37,10 @@ fn check(extra: &[ExtraColumn], slices: usize, per_slice: usize) -> Result<(), R
         let bad = if c.values.len() != slices {
             Some((c.values.len().min(slices), c.values.len()))
         } else {
-            c.values.iter().position(|v| v.len() != per_slice).map(|s| (s, c.values[s].len()))
+            c.values
+                .iter()
+                .position(|v| v.len() != per_slice)
+                .map(|s| (s, c.values[s].len()))
         };
         if let Some((slice, got)) = bad {
             return Err(ReportError::Shape {
@@ -46,11 +57,24 @@ fn check(extra: &[ExtraColumn], slices: usize, per_slice: usize) -> Result<(), R
 
 /// `slice,time_s,leg,joint,angle_rad,velocity_rad_s,accel_rad_s2,stance[,extra...]`, every model
 /// joint (fixed ones too) for every slice; `stance` is 1 while the joint's leg is in stance.
-pub fn write_joints_csv<W: Write>(w: W, plan: &Plan, extra: &[ExtraColumn]) -> Result<(), ReportError> {
+pub fn write_joints_csv<W: Write>(
+    w: W,
+    plan: &Plan,
+    extra: &[ExtraColumn],
+) -> Result<(), ReportError> {
     let model = &plan.model;
     check(extra, plan.slices(), model.joints.len())?;
     let mut out = csv::Writer::from_writer(w);
-    let mut header: Vec<&str> = vec!["slice", "time_s", "leg", "joint", "angle_rad", "velocity_rad_s", "accel_rad_s2", "stance"];
+    let mut header: Vec<&str> = vec![
+        "slice",
+        "time_s",
+        "leg",
+        "joint",
+        "angle_rad",
+        "velocity_rad_s",
+        "accel_rad_s2",
+        "stance",
+    ];
     header.extend(extra.iter().map(|c| c.name));
     out.write_record(&header)?;
     for s in 0..plan.slices() {
@@ -76,7 +100,11 @@ pub fn write_joints_csv<W: Write>(w: W, plan: &Plan, extra: &[ExtraColumn]) -> R
 }
 
 /// `slice,time_s,leg,x_m,y_m,z_m,stance[,extra...]`: foot positions in the thorax frame (REP-103).
-pub fn write_feet_csv<W: Write>(w: W, plan: &Plan, extra: &[ExtraColumn]) -> Result<(), ReportError> {
+pub fn write_feet_csv<W: Write>(
+    w: W,
+    plan: &Plan,
+    extra: &[ExtraColumn],
+) -> Result<(), ReportError> {
     check(extra, plan.slices(), plan.legs.len())?;
     let mut out = csv::Writer::from_writer(w);
     let mut header: Vec<&str> = vec!["slice", "time_s", "leg", "x_m", "y_m", "z_m", "stance"];

@@ -12,7 +12,11 @@ static FONT: Once = Once::new();
 /// plotters' `ab_glyph` backend has no system fonts: register DejaVu Sans once.
 fn register_font() {
     FONT.call_once(|| {
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
     });
 }
 
@@ -65,7 +69,12 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
         };
         let col = usize::from(leg.side() < 0.0);
         let area = &panels[row * 2 + col];
-        let joints: Vec<usize> = plan.model.leg_chain(*leg).into_iter().filter(|&j| plan.model.is_actuated(j)).collect();
+        let joints: Vec<usize> = plan
+            .model
+            .leg_chain(*leg)
+            .into_iter()
+            .filter(|&j| plan.model.is_actuated(j))
+            .collect();
         let deg = |s: usize, j: usize| plan.q[s][j].to_degrees();
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for s in 0..plan.slices() {
@@ -82,21 +91,39 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
             .y_label_area_size(50)
             .build_cartesian_2d(0.0..plan.period_s, (lo - pad)..(hi + pad))
             .map_err(perr)?;
-        chart.configure_mesh().x_desc("time (s)").y_desc("angle (deg)").draw().map_err(perr)?;
+        chart
+            .configure_mesh()
+            .x_desc("time (s)")
+            .y_desc("angle (deg)")
+            .draw()
+            .map_err(perr)?;
         for (t0, t1) in stance_spans(plan, li) {
             chart
-                .draw_series(std::iter::once(Rectangle::new([(t0, lo - pad), (t1, hi + pad)], RGBColor(225, 225, 225).filled())))
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(t0, lo - pad), (t1, hi + pad)],
+                    RGBColor(225, 225, 225).filled(),
+                )))
                 .map_err(perr)?;
         }
         for (k, &j) in joints.iter().enumerate() {
             let c = COLOURS[k % COLOURS.len()];
             chart
-                .draw_series(LineSeries::new((0..plan.slices()).map(|s| (plan.time(s), deg(s, j))), c.stroke_width(2)))
+                .draw_series(LineSeries::new(
+                    (0..plan.slices()).map(|s| (plan.time(s), deg(s, j))),
+                    c.stroke_width(2),
+                ))
                 .map_err(perr)?
                 .label(format!("{:?}", plan.model.joints[j].kind))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
+                });
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(perr)?;
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(perr)?;
     }
     root.present().map_err(perr)
 }
@@ -133,7 +160,10 @@ pub fn plot_footfall(plan: &Plan, path: &Path) -> Result<(), ReportError> {
         let y0 = n - li as f64 - 0.85;
         for (t0, t1) in stance_spans(plan, li) {
             chart
-                .draw_series(std::iter::once(Rectangle::new([(t0, y0), (t1, y0 + 0.7)], BLACK.filled())))
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(t0, y0), (t1, y0 + 0.7)],
+                    BLACK.filled(),
+                )))
                 .map_err(perr)?;
         }
     }
@@ -147,34 +177,52 @@ pub fn plot_feet(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     root.fill(&WHITE).map_err(perr)?;
     let (left, right) = root.split_horizontally(700);
     let all = plan.feet.iter().flatten();
-    let (mut min, mut max) = (nalgebra::Vector3::repeat(f64::INFINITY), nalgebra::Vector3::repeat(f64::NEG_INFINITY));
+    let (mut min, mut max) = (
+        nalgebra::Vector3::repeat(f64::INFINITY),
+        nalgebra::Vector3::repeat(f64::NEG_INFINITY),
+    );
     for p in all {
         min = min.inf(p);
         max = max.sup(p);
     }
     let pad = (max - min).max() * 0.05 + 1e-9;
-    for (area, (a, b), title) in [(&left, (0usize, 1usize), "top view: y (m) vs x (m)"), (&right, (0, 2), "side view: z (m) vs x (m)")] {
+    for (area, (a, b), title) in [
+        (&left, (0usize, 1usize), "top view: y (m) vs x (m)"),
+        (&right, (0, 2), "side view: z (m) vs x (m)"),
+    ] {
         let mut chart = ChartBuilder::on(area)
             .caption(format!("Foot trajectories, {title}"), ("sans-serif", 18))
             .margin(10)
             .x_label_area_size(35)
             .y_label_area_size(60)
-            .build_cartesian_2d((min[a] - pad)..(max[a] + pad), (min[b] - pad)..(max[b] + pad))
+            .build_cartesian_2d(
+                (min[a] - pad)..(max[a] + pad),
+                (min[b] - pad)..(max[b] + pad),
+            )
             .map_err(perr)?;
         chart.configure_mesh().draw().map_err(perr)?;
         for (li, leg) in plan.legs.iter().enumerate() {
             let c = COLOURS[li % COLOURS.len()];
-            let pts: Vec<(f64, f64)> = (0..=plan.slices()).map(|s| {
-                let p = plan.feet[s % plan.slices()][li];
-                (p[a], p[b])
-            }).collect();
+            let pts: Vec<(f64, f64)> = (0..=plan.slices())
+                .map(|s| {
+                    let p = plan.feet[s % plan.slices()][li];
+                    (p[a], p[b])
+                })
+                .collect();
             chart
                 .draw_series(LineSeries::new(pts, c.stroke_width(2)))
                 .map_err(perr)?
                 .label(leg.name())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
+                });
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(perr)?;
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(perr)?;
     }
     root.present().map_err(perr)
 }

@@ -39,8 +39,11 @@ pub fn load_model(spec: &str) -> Result<Model> {
     let path = Path::new(spec);
     match path.extension().and_then(|e| e.to_str()) {
         Some("toml") => model::load(path).with_context(|| format!("loading model file {spec}")),
-        Some("aproj") => model::import_aproj_file(path, &ImportOptions::default()).with_context(|| format!("importing {spec}")),
-        _ => model::builtin(spec).context("--model takes a built-in name, a .toml or an .aproj file"),
+        Some("aproj") => model::import_aproj_file(path, &ImportOptions::default())
+            .with_context(|| format!("importing {spec}")),
+        _ => {
+            model::builtin(spec).context("--model takes a built-in name, a .toml or an .aproj file")
+        }
     }
 }
 
@@ -53,7 +56,8 @@ impl Args {
                     anyhow::bail!("nothing to do: give --urdf FILE and/or --toml FILE");
                 }
                 if let Some(p) = urdf {
-                    std::fs::write(&p, model::to_urdf(&m)).with_context(|| format!("writing {}", p.display()))?;
+                    std::fs::write(&p, model::to_urdf(&m))
+                        .with_context(|| format!("writing {}", p.display()))?;
                 }
                 if let Some(p) = toml {
                     let notes = format!("Exported by dbot from `{model}`.");
@@ -64,7 +68,15 @@ impl Args {
             }
             ModelCmd::Show { model } => {
                 let m = load_model(&model)?;
-                println!("{}: {} bodies, {} joints ({} actuated), {} feet, {:.6} kg", m.name, m.bodies.len(), m.joints.len(), m.actuated_joints().len(), m.feet.len(), m.total_mass());
+                println!(
+                    "{}: {} bodies, {} joints ({} actuated), {} feet, {:.6} kg",
+                    m.name,
+                    m.bodies.len(),
+                    m.joints.len(),
+                    m.actuated_joints().len(),
+                    m.feet.len(),
+                    m.total_mass()
+                );
                 for j in &m.joints {
                     println!(
                         "  {:10} {:>8} -> {:16} limits [{:7.1}, {:7.1}] deg  {:?}",

@@ -32,7 +32,8 @@ pub struct Args {
     #[arg(long)]
     backward: bool,
     /// TOML file with stepping parameters (any subset of: swing_s, duty, step_height_m,
-    /// translation_m, rotation_rad, body_height_m, gait, slices, terrain, ball_radius_m).
+    /// translation_m, rotation_rad, body_height_m, gait, slices, terrain, ball_radius_m,
+    /// ball_offset_m).
     #[arg(long)]
     params: Option<PathBuf>,
     /// Output directory (created if missing).
@@ -45,14 +46,17 @@ impl Args {
         let model = load_model(&self.model)?;
         let mut p = StepParams::table1(&model.name);
         if let Some(f) = &self.params {
-            let text = std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;
+            let text =
+                std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;
             ParamsFile::from_toml(&text, &f.display().to_string())?.apply(&mut p);
         }
         if let Some(t) = self.terrain {
             p.terrain = t;
         }
         if let Some(g) = &self.gait {
-            p.gait = Gait::parse(g).with_context(|| format!("--gait `{g}`: expected tripod, tetrapod, wave or PHI_I:PHI_C"))?;
+            p.gait = Gait::parse(g).with_context(|| {
+                format!("--gait `{g}`: expected tripod, tetrapod, wave or PHI_I:PHI_C")
+            })?;
         }
         if let Some(s) = self.swing {
             p.swing_s = s;
@@ -65,7 +69,8 @@ impl Args {
         }
         let bar = ProgressBar::new(6);
         bar.set_message("planning");
-        let plan = host::plan::plan(&model, &p).with_context(|| format!("planning a step of {}", model.name))?;
+        let plan = host::plan::plan(&model, &p)
+            .with_context(|| format!("planning a step of {}", model.name))?;
         bar.inc(1);
         let out = &self.out;
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
