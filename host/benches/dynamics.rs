@@ -13,21 +13,44 @@ fn cycle(c: &mut Criterion) {
     let inputs = plan_inputs(&plan);
     assert_eq!(inputs.len(), 100);
     let cases = [
-        ("step cycle 100 slices, no contact constraints", DynamicsOptions::default()),
+        (
+            "step cycle 100 slices, no contact constraints",
+            DynamicsOptions::default(),
+        ),
         (
             "step cycle 100 slices, friction cones + push-only",
-            DynamicsOptions { friction_cone: true, push_only: true, ..Default::default() },
+            DynamicsOptions {
+                friction_cone: true,
+                push_only: true,
+                ..Default::default()
+            },
         ),
         (
             "step cycle 100 slices, no contact constraints, Clarabel",
-            DynamicsOptions { always_clarabel: true, ..Default::default() },
+            DynamicsOptions {
+                always_clarabel: true,
+                ..Default::default()
+            },
         ),
-        ("step cycle 100 slices, no contact constraints, rayon", DynamicsOptions { parallel: true, ..Default::default() }),
+        (
+            "step cycle 100 slices, no contact constraints, rayon",
+            DynamicsOptions {
+                parallel: true,
+                ..Default::default()
+            },
+        ),
     ];
     for (name, opts) in cases {
-        c.bench_function(name, |b| b.iter(|| solve_cycle(black_box(&model), black_box(&inputs), &opts).expect("solve")));
+        c.bench_function(name, |b| {
+            b.iter(|| solve_cycle(black_box(&model), black_box(&inputs), &opts).expect("solve"))
+        });
     }
 }
 
-criterion_group!(benches, cycle);
+criterion_group! {
+    name = benches;
+    // No HTML plots: plotters is built with `ab_glyph` and no registered font here.
+    config = Criterion::default().without_plots();
+    targets = cycle
+}
 criterion_main!(benches);

@@ -3,9 +3,12 @@
 //! organism moves several joints in one plane, and the torque scaling of a speed sweep.
 
 mod compare;
+mod plan_plots;
+pub mod plots;
 mod regression;
 mod sweep;
 
 pub use compare::{ComparisonRow, DofTrace, compare};
+pub use plan_plots::{plot_grf, plot_torques};
 pub use regression::{r_squared, resample_periodic};
 pub use sweep::{SweepPoint, SweepRegime, classify_sweep};

@@ -10,17 +10,27 @@ use crate::plan::Plan;
 /// One [`SliceInput`] per slice of `plan`, feet in `plan.model.feet` order.
 pub fn plan_inputs(plan: &Plan) -> Vec<SliceInput> {
     let model = &plan.model;
-    let leg_index: Vec<Option<usize>> =
-        model.feet.iter().map(|f| plan.legs.iter().position(|l| *l == f.leg)).collect();
+    let leg_index: Vec<Option<usize>> = model
+        .feet
+        .iter()
+        .map(|f| plan.legs.iter().position(|l| *l == f.leg))
+        .collect();
     (0..plan.slices())
         .map(|s| {
-            let stance = leg_index.iter().map(|li| li.is_some_and(|li| plan.stance[s][li])).collect();
+            let stance = leg_index
+                .iter()
+                .map(|li| li.is_some_and(|li| plan.stance[s][li]))
+                .collect();
             let normals = leg_index
                 .iter()
                 .map(|li| match (plan.ball_centre, li) {
                     (Some(c), Some(li)) => {
                         let d = plan.feet[s][*li] - c;
-                        if d.norm() > 0.0 { d.normalize() } else { Vector3::z() }
+                        if d.norm() > 0.0 {
+                            d.normalize()
+                        } else {
+                            Vector3::z()
+                        }
                     }
                     _ => Vector3::z(),
                 })

@@ -24,6 +24,7 @@ mod error;
 mod from_plan;
 mod input;
 pub mod motion;
+pub mod output;
 pub mod problem;
 mod report;
 mod solve;

@@ -5,15 +5,24 @@ use nalgebra::DMatrix;
 
 use super::{QpProblem, QpSolution, ReducedEqualities};
 
-/// Smallest over largest eigenvalue of a symmetric matrix (1 for an empty one, <= 0 if indefinite).
+/// Cheap condition estimate of a symmetric matrix from its Cholesky factor,
+/// (min L_ii / max L_ii)^2: an estimate of the smallest-to-largest eigenvalue ratio (not a bound),
+/// 0 when the factorisation fails (not positive definite), 1 for an empty matrix. A singular
+/// positive semidefinite matrix gives pivots at rounding level, far below the tolerance.
 pub fn positive_definite_condition(h: &DMatrix<f64>) -> f64 {
     if h.is_empty() {
         return 1.0;
     }
-    let eig = h.clone().symmetric_eigen();
-    let max = eig.eigenvalues.max();
-    let min = eig.eigenvalues.min();
-    if max <= 0.0 { 0.0 } else { min / max }
+    match h.clone().cholesky() {
+        None => 0.0,
+        Some(c) => {
+            let d = c.l_dirty().diagonal();
+            let (lo, hi) = d.iter().fold((f64::INFINITY, 0.0f64), |(l, u), x| {
+                (l.min(x.abs()), u.max(x.abs()))
+            });
+            if hi > 0.0 { (lo / hi).powi(2) } else { 0.0 }
+        }
+    }
 }
 
 /// Minimise over x = x_p + Z w. `reduced_hessian` is `Z' P Z`, already known positive definite.

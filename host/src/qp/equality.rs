@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector};
 use super::QpError;
 
 /// Relative singular-value cut below which an equality row direction counts as dependent.
-const RANK_TOLERANCE: f64 = 1e-10;
+const RANK_TOLERANCE: f64 = 1e-7;
 /// Relative least-squares residual above which equalities count as inconsistent.
 const CONSISTENCY_TOLERANCE: f64 = 1e-9;
 
@@ -37,21 +37,24 @@ impl ReducedEqualities {
                 DMatrix::zeros(m, 0),
             )
         } else {
-            let svd = a.clone().svd(true, true);
-            let (u, vt) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
-            let s_max = svd.singular_values.max();
-            let keep: Vec<usize> = (0..svd.singular_values.len())
-                .filter(|&i| svd.singular_values[i] > RANK_TOLERANCE * s_max.max(f64::MIN_POSITIVE))
+            // Row space from the eigen decomposition of the small Gram matrix A A' = U S^2 U'
+            // (m <= 6 here): V = A' U / S. Much cheaper than an SVD of A, and accurate enough
+            // because the scaled equality rows are well conditioned or exactly dependent.
+            let eig = (a * a.transpose()).symmetric_eigen();
+            let sigma: Vec<f64> = eig.eigenvalues.iter().map(|l| l.max(0.0).sqrt()).collect();
+            let s_max = sigma.iter().copied().fold(0.0, f64::max);
+            let keep: Vec<usize> = (0..m)
+                .filter(|&i| sigma[i] > RANK_TOLERANCE * s_max && sigma[i] > 0.0)
                 .collect();
             let r = keep.len();
             let mut v = DMatrix::zeros(n, r);
             let mut b_hat = DVector::zeros(r);
             let mut map = DMatrix::zeros(m, r);
             for (k, &i) in keep.iter().enumerate() {
-                let sigma = svd.singular_values[i];
-                v.set_column(k, &vt.row(i).transpose());
-                b_hat[k] = u.column(i).dot(b) / sigma;
-                map.set_column(k, &(u.column(i) / sigma));
+                let u = eig.eigenvectors.column(i);
+                v.set_column(k, &(a.transpose() * u / sigma[i]));
+                b_hat[k] = u.dot(b) / sigma[i];
+                map.set_column(k, &(u / sigma[i]));
             }
             (v, b_hat, map)
         };
@@ -82,33 +85,39 @@ impl ReducedEqualities {
     }
 }
 
-/// An orthonormal basis of the complement of the orthonormal columns of `v` (modified Gram-Schmidt
-/// over the unit vectors, twice for stability).
+/// An orthonormal basis of the complement of the orthonormal columns of `v`: the last n - r
+/// columns of the full Q of a Householder QR of `v`.
 fn orthogonal_complement(v: &DMatrix<f64>) -> DMatrix<f64> {
-    let n = v.nrows();
-    let mut basis: Vec<DVector<f64>> = v.column_iter().map(|c| c.into_owned()).collect();
-    let first_new = basis.len();
-    for k in 0..n {
-        if basis.len() == n {
-            break;
+    let (n, r) = v.shape();
+    let mut work = v.clone();
+    let mut reflectors: Vec<DVector<f64>> = Vec::with_capacity(r);
+    for k in 0..r {
+        let mut h = DVector::zeros(n);
+        let x = work.view((k, k), (n - k, 1));
+        let norm = x.norm();
+        let alpha = if x[0] >= 0.0 { -norm } else { norm };
+        h.rows_mut(k, n - k).copy_from(&x);
+        h[k] -= alpha;
+        let hn = h.norm();
+        if hn > 0.0 {
+            h /= hn;
         }
-        let mut e = DVector::zeros(n);
-        e[k] = 1.0;
-        for _ in 0..2 {
-            for b in &basis {
-                let d = b.dot(&e);
-                e.axpy(-d, b, 1.0);
-            }
+        // Apply I - 2 h h' to the remaining columns.
+        for c in k..r {
+            let d = 2.0 * h.dot(&work.column(c));
+            work.column_mut(c).axpy(-d, &h, 1.0);
         }
-        let norm = e.norm();
-        if norm > 0.3 {
-            basis.push(e / norm);
-        }
+        reflectors.push(h);
     }
-    let cols = &basis[first_new..];
-    let mut z = DMatrix::zeros(n, cols.len());
-    for (k, c) in cols.iter().enumerate() {
-        z.set_column(k, c);
+    let mut z = DMatrix::zeros(n, n - r);
+    for (c, j) in (r..n).enumerate() {
+        let mut e = DVector::zeros(n);
+        e[j] = 1.0;
+        for h in reflectors.iter().rev() {
+            let d = 2.0 * h.dot(&e);
+            e.axpy(-d, h, 1.0);
+        }
+        z.set_column(c, &e);
     }
     z
 }

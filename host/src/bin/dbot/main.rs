@@ -5,6 +5,8 @@
 
 use clap::{Parser, Subcommand};
 
+mod compare;
+mod dynamics_args;
 mod model;
 mod plan;
 
@@ -24,6 +26,8 @@ enum Cmd {
     Plan(plan::Args),
     /// Export, import or inspect organism models.
     Model(model::Args),
+    /// Compare two plans DoF by DoF (R-squared of angles and torques), or sweep swing durations.
+    Compare(compare::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -31,5 +35,6 @@ fn main() -> anyhow::Result<()> {
     match cli.cmd {
         Cmd::Plan(a) => a.run(),
         Cmd::Model(a) => a.run(),
+        Cmd::Compare(a) => a.run(),
     }
 }
