@@ -6,9 +6,13 @@
 use clap::{Parser, Subcommand};
 
 mod board_args;
+mod compare;
 mod devices;
+mod dynamics_args;
 mod estop;
 mod gaits;
+mod model;
+mod plan;
 mod record;
 mod run;
 mod servos;
@@ -29,6 +33,12 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Cmd {
+    /// Plan a step cycle (posture, footpaths, inverse kinematics) and write CSV, JSON, URDF, plots.
+    Plan(plan::Args),
+    /// Export, import or inspect organism models.
+    Model(model::Args),
+    /// Compare two plans DoF by DoF (R-squared of angles and torques), or sweep swing durations.
+    Compare(compare::Args),
     /// List the boards plugged in over USB.
     Devices(devices::Args),
     /// Upload a step table into a gait slot.
@@ -54,6 +64,9 @@ enum Cmd {
 fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.cmd {
+        Cmd::Plan(a) => a.run(),
+        Cmd::Model(a) => a.run(),
+        Cmd::Compare(a) => a.run(),
         Cmd::Devices(a) => a.run(),
         Cmd::Upload(a) => a.run(),
         Cmd::Gaits(a) => a.run(),
