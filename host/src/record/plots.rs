@@ -41,10 +41,14 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
     let root = BitMapBackend::new(path, (420 * c as u32, 260 * r as u32 + 60)).into_drawing_area();
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(60);
-    title.titled(
-        "Joint torque per phase of the step: modelled (black) vs measured (blue: mean, shaded +-1 SD over steps)\n\
-         measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
+    let (l1, l2) = title.split_vertically(30);
+    l1.titled(
+        "Joint torque per phase of the step: modelled (black) vs measured (blue: mean, shaded +-1 SD over steps)",
         ("sans-serif", 18),
+    )?;
+    l2.titled(
+        "measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
+        ("sans-serif", 16),
     )?;
     for (panel, (j, meta)) in body
         .split_evenly((r, c))

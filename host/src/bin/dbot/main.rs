@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod board_args;
 mod compare;
+mod demo;
 mod devices;
 mod dynamics_args;
 mod estop;
@@ -59,6 +60,8 @@ enum Cmd {
     Set(set::Args),
     /// Record telemetry to CSV and plot it.
     Record(record::Args),
+    /// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
+    Demo(demo::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -77,5 +80,6 @@ fn main() -> anyhow::Result<()> {
         Cmd::Servos(a) => a.run(),
         Cmd::Set(a) => a.run(),
         Cmd::Record(a) => a.run(),
+        Cmd::Demo(a) => a.run(),
     }
 }
