@@ -140,7 +140,7 @@ impl Args {
         );
         for (label, _, rec, wall) in &walks {
             println!(
-                "tracking error {label} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s)",
+                "tracking error {label} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s of wall time)",
                 rec.cycles(),
                 rec.duration_s(),
                 wall.as_secs_f64()
