@@ -8,7 +8,7 @@ use firmware::testkit::SyntheticGait;
 
 fn dbot(dir: &Path, args: &[&str]) -> Output {
     let image = dir.join("robot.flash");
-    let out = Command::new(env!("CARGO_BIN_EXE_dbot"))
+    Command::new(env!("CARGO_BIN_EXE_dbot"))
         .args(args)
         .arg("--port")
         .arg(format!("virtual:{}", image.display()))
@@ -16,8 +16,7 @@ fn dbot(dir: &Path, args: &[&str]) -> Output {
         .env_remove("DBOT_CONFIG")
         .env("XDG_CONFIG_HOME", dir)
         .output()
-        .unwrap();
-    out
+        .unwrap()
 }
 
 fn stdout(o: &Output) -> String {

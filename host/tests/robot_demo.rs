@@ -4,13 +4,17 @@
 use std::process::Command;
 
 fn number_after(text: &str, marker: &str) -> f64 {
-    let rest = &text[text.find(marker).unwrap_or_else(|| panic!("no `{marker}` in:\n{text}")) + marker.len()..];
+    let rest = &text[text
+        .find(marker)
+        .unwrap_or_else(|| panic!("no `{marker}` in:\n{text}"))
+        + marker.len()..];
     let tok: String = rest
         .trim_start()
         .chars()
         .take_while(|c| c.is_ascii_digit() || *c == '.')
         .collect();
-    tok.parse().unwrap_or_else(|_| panic!("no number after `{marker}`"))
+    tok.parse()
+        .unwrap_or_else(|_| panic!("no number after `{marker}`"))
 }
 
 #[test]
@@ -22,7 +26,11 @@ fn the_demo_walks_both_ways_and_its_summary_matches_its_files() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{stdout}{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     for f in [
         "plan/joints.csv",
         "plan/feet.csv",
@@ -41,14 +49,25 @@ fn the_demo_walks_both_ways_and_its_summary_matches_its_files() {
     let table = std::fs::read(out.join("drosophibot2-tripod.dbgt")).unwrap();
     let t = protocol::GaitTable::parse(&table).unwrap();
     assert_eq!(t.joint_count(), 22);
-    assert_eq!(number_after(&stdout, "drosophibot2-tripod.dbgt (") as usize, table.len());
+    assert_eq!(
+        number_after(&stdout, "drosophibot2-tripod.dbgt (") as usize,
+        table.len()
+    );
     // Recorded cycles in the summary = data rows / 22 joints in each CSV.
     for label in ["forward", "backward"] {
-        let csv = std::fs::read_to_string(out.join("record").join(label).join("telemetry.csv")).unwrap();
+        let csv =
+            std::fs::read_to_string(out.join("record").join(label).join("telemetry.csv")).unwrap();
         let rows = csv.lines().count() - 1;
         assert_eq!(rows % 22, 0);
-        let line = stdout.lines().find(|l| l.starts_with(&format!("tracking error {label}"))).unwrap();
-        assert_eq!(number_after(line, "joints and cycles;") as usize, rows / 22, "{line}");
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("tracking error {label}")))
+            .unwrap();
+        assert_eq!(
+            number_after(line, "joints and cycles;") as usize,
+            rows / 22,
+            "{line}"
+        );
     }
     // Two steps of the planned period (1.25 s, table 1: T_sw 0.5 s / (1 - 0.6)) plus the ramp.
     let period = number_after(&stdout, "step period");
@@ -58,5 +77,8 @@ fn the_demo_walks_both_ways_and_its_summary_matches_its_files() {
         assert_eq!(stdout.matches(&format!("  {leg}: RMS")).count(), 2, "{leg}");
     }
     // The bus ran at the firmware's default 100 Hz on the simulated clock.
-    assert!((number_after(&stdout, "s:") - 100.0).abs() < 0.5, "{stdout}");
+    assert!(
+        (number_after(&stdout, "s:") - 100.0).abs() < 0.5,
+        "{stdout}"
+    );
 }

@@ -300,17 +300,17 @@ fn step_table(plan: &Plan, d: &PlanDynamics) -> anyhow::Result<(Vec<u8>, Vec<Str
     let names: Vec<String> = specs.iter().map(|s| s.name.clone()).collect();
     let mut b = GaitTableBuilder::new("dbII tripod", plan.period_s, plan.params.duty, specs);
     let torques = host::dynamics::output::torque_rows(&d.cycle);
-    for s in 0..plan.slices() {
+    for ((q, stance_of), tau_row) in plan.q.iter().zip(&plan.stance).zip(&torques) {
         let mut stance = 0u8;
         for (bit, leg) in Leg::ALL.iter().enumerate() {
             if let Some(li) = plan.legs.iter().position(|l| l == leg)
-                && plan.stance[s][li]
+                && stance_of[li]
             {
                 stance |= 1 << bit;
             }
         }
-        let angles: Vec<f64> = index.iter().map(|&j| plan.q[s][j]).collect();
-        let tau: Vec<f64> = index.iter().map(|&j| torques[s][j]).collect();
+        let angles: Vec<f64> = index.iter().map(|&j| q[j]).collect();
+        let tau: Vec<f64> = index.iter().map(|&j| tau_row[j]).collect();
         b.slice(stance, &angles, &tau);
     }
     Ok((b.build().context("building the step table")?, names))

@@ -154,7 +154,7 @@ pub fn record_to<T: Transport>(
 
 /// Whether to refresh the progress line (every tenth of a second of board time).
 fn rec_tick(t: f64) -> bool {
-    (t * 100.0).round() as u64 % 10 == 0
+    ((t * 100.0).round() as u64).is_multiple_of(10)
 }
 
 fn draw(dir: &Path, rec: &Recorder, slices: usize) -> anyhow::Result<()> {
