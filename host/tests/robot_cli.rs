@@ -132,3 +132,42 @@ fn bad_requests_name_the_problem() {
     let o = dbot(dir.path(), &["run", "--steps", "1", "--period", "50"]);
     assert!(stderr(&o).contains("--period 50 s"), "{}", stderr(&o));
 }
+
+#[test]
+fn the_setup_file_names_port_and_slot_and_flags_override_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = table(dir.path(), "a.dbgt", 100, 0.5);
+    std::fs::write(
+        dir.path().join("dbot.toml"),
+        "port = \"virtual:setup.flash\"\nslot = 2\n",
+    )
+    .unwrap();
+    let plain = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_dbot"))
+            .args(args)
+            .current_dir(dir.path())
+            .env_remove("DBOT_CONFIG")
+            .env("XDG_CONFIG_HOME", dir.path())
+            .output()
+            .unwrap()
+    };
+    let o = plain(&["upload", "--table", &t]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("slot 2:"), "{}", stdout(&o));
+    assert!(dir.path().join("setup.flash").is_file());
+    // Daily use: `dbot run --steps K` plays the setup's slot on the setup's port.
+    let o = plain(&["run", "--steps", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A flag wins over the file: another flash image has nothing in slot 2.
+    let o = plain(&["gaits", "--port", "virtual:other.flash"]);
+    assert!(stdout(&o).contains("slot 2: empty"), "{}", stdout(&o));
+    // A bad setup file is named with the problem.
+    std::fs::write(dir.path().join("dbot.toml"), "rate = 5\n").unwrap();
+    let o = plain(&["gaits"]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("dbot.toml: rate = 5 is out of range"),
+        "{}",
+        stderr(&o)
+    );
+}

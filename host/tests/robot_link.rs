@@ -164,3 +164,123 @@ fn estop_drops_torque_on_every_servo_at_once() {
     b.clear_fault().unwrap();
     assert_eq!(b.status().unwrap().state, RunState::Idle);
 }
+
+/// A board that answers every request with `answer(seq)` (or never, with `None`), on a clock that
+/// moves by the timeout each time the client waits in vain.
+#[derive(Debug)]
+struct Scripted {
+    answer: fn(u16) -> Option<protocol::DeviceMessage>,
+    acc: protocol::FrameAccumulator,
+    out: Vec<u8>,
+    now: Duration,
+}
+
+impl host::link::Transport for Scripted {
+    fn send(&mut self, bytes: &[u8]) -> Result<(), host::link::TransportError> {
+        for m in self.acc.messages::<protocol::HostMessage>(bytes) {
+            if let Ok(protocol::HostMessage::Request { seq, .. }) = m
+                && let Some(reply) = (self.answer)(seq)
+            {
+                self.out
+                    .extend(protocol::frame::encode_frame_vec(&reply).unwrap());
+            }
+        }
+        Ok(())
+    }
+    fn recv(
+        &mut self,
+        buf: &mut [u8],
+        timeout: Duration,
+    ) -> Result<usize, host::link::TransportError> {
+        if self.out.is_empty() {
+            self.now += timeout;
+            return Ok(0);
+        }
+        let n = buf.len().min(self.out.len());
+        buf[..n].copy_from_slice(&self.out[..n]);
+        self.out.drain(..n);
+        Ok(n)
+    }
+    fn name(&self) -> &str {
+        "scripted"
+    }
+    fn now(&self) -> Duration {
+        self.now
+    }
+}
+
+fn scripted(answer: fn(u16) -> Option<protocol::DeviceMessage>) -> Scripted {
+    Scripted {
+        answer,
+        acc: protocol::FrameAccumulator::new(),
+        out: Vec::new(),
+        now: Duration::ZERO,
+    }
+}
+
+fn info(protocol_version: u16) -> protocol::DeviceInfo {
+    protocol::DeviceInfo {
+        firmware: protocol::FirmwareVersion {
+            major: 9,
+            minor: 0,
+            patch: 0,
+        },
+        protocol_version,
+        table_format_version: protocol::gait::FORMAT_VERSION,
+        build_id: 0,
+        capabilities: protocol::Capabilities::empty(),
+        slot_capacity: 0,
+        max_chunk_len: 512,
+        slots: heapless::Vec::new(),
+    }
+}
+
+#[test]
+fn a_board_of_another_protocol_version_is_refused_by_name() {
+    let t = scripted(|seq| {
+        Some(protocol::DeviceMessage::Reply {
+            seq,
+            response: protocol::Response::DeviceInfo(info(protocol::PROTOCOL_VERSION + 1)),
+        })
+    });
+    let e = Board::connect(t).unwrap_err();
+    assert!(matches!(e, LinkError::ProtocolVersion { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("scripted") && text.contains("update dbot"),
+        "{text}"
+    );
+}
+
+#[test]
+fn silence_is_no_reply_after_the_timeout() {
+    let e = Board::connect(scripted(|_| None)).unwrap_err();
+    let LinkError::NoReply {
+        request,
+        timeout_ms,
+        ..
+    } = &e
+    else {
+        panic!("{e}");
+    };
+    assert_eq!(*request, "GetDeviceInfo");
+    assert_eq!(
+        *timeout_ms,
+        host::link::DEFAULT_REPLY_TIMEOUT.as_millis() as u64
+    );
+}
+
+#[test]
+fn a_reply_to_another_request_is_not_taken_for_ours() {
+    // Answers with the wrong sequence number: the client must keep waiting, then time out.
+    let t = scripted(|seq| {
+        Some(protocol::DeviceMessage::Reply {
+            seq: seq.wrapping_add(7),
+            response: protocol::Response::DeviceInfo(info(protocol::PROTOCOL_VERSION)),
+        })
+    });
+    assert!(matches!(
+        Board::connect(t).unwrap_err(),
+        LinkError::NoReply { .. }
+    ));
+}
