@@ -171,3 +171,19 @@ fn the_setup_file_names_port_and_slot_and_flags_override_it() {
         stderr(&o)
     );
 }
+
+#[test]
+fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(["plan", "--out", "p", "--slices", "50"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = ok(dir.path(), &["upload", "--plan", "p", "--slot", "3"]);
+    // 22 servos of Drosophibot II, the 50 slices asked for, table 1's 1.25 s step period.
+    assert!(out.contains("slot 3: \"dbII tripod\" 22 joints x 50 slices, step 1.250 s, duty 0.60"), "{out}");
+    let o = dbot(dir.path(), &["upload", "--plan", "nowhere"]);
+    assert!(stderr(&o).contains("nowhere/plan.json"), "{}", stderr(&o));
+}

@@ -256,7 +256,7 @@ fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
 /// The step table of a solved plan: every joint with a servo, its planned angle and torque per slice,
 /// stance bits per leg. STAND-IN: the dynamics helper's `dbot table` is to own this conversion; the
 /// demo builds it here until that lands (only through the protocol's checked builder).
-fn step_table(plan: &Plan, d: &PlanDynamics) -> anyhow::Result<(Vec<u8>, Vec<String>)> {
+pub fn step_table(plan: &Plan, d: &PlanDynamics) -> anyhow::Result<(Vec<u8>, Vec<String>)> {
     let model: &Model = &plan.model;
     let mut specs = Vec::new();
     let mut index = Vec::new();
