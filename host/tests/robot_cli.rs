@@ -190,3 +190,30 @@ fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
     let o = dbot(dir.path(), &["upload", "--plan", "nowhere"]);
     assert!(stderr(&o).contains("nowhere/plan.json"), "{}", stderr(&o));
 }
+
+#[test]
+fn devices_lists_no_board_here_and_says_how_to_go_virtual() {
+    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .arg("devices")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    // CI machines have no board: the one line says which VID:PID was looked for.
+    if out.starts_with("no board found") {
+        assert!(out.contains("1209:0001"), "{out}");
+    }
+}
+
+#[test]
+fn a_flash_image_of_the_wrong_size_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("robot.flash"), [0u8; 100]).unwrap();
+    let o = dbot(dir.path(), &["gaits"]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("robot.flash") && e.contains("100 bytes is not a flash image"),
+        "{e}"
+    );
+}
