@@ -116,7 +116,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         bar.set_message(format!("{:?}", st.state));
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
-            RunState::Standing if started => break,
+            RunState::Standing | RunState::Idle if started => break,
             RunState::Fault => {
                 bar.abandon();
                 bail!("the board stopped with a fault: {:?}", st.fault);
