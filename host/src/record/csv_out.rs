@@ -103,8 +103,11 @@ impl Recorder {
             let meta = self.joints.get(j);
             let commanded_rad = angle_to_rad(f.commanded);
             let modelled_nm = meta.and_then(|m| m.modelled_nm.get(usize::from(t.slice)).copied());
+            // With torque off the goal is not driven (the firmware reports whatever it holds), so it
+            // says nothing about the plan: fall back to the table's angle at the slice.
+            let driven = f.flags & protocol::feedback_flags::TORQUE_OFF == 0;
             let planned_rad = match (meta.and_then(|m| m.stiffness_nm_per_rad), modelled_nm) {
-                (Some(k), Some(tau)) if k > 0.0 => Some(commanded_rad - tau / k),
+                (Some(k), Some(tau)) if k > 0.0 && driven => Some(commanded_rad - tau / k),
                 _ => meta.and_then(|m| m.planned_rad.get(usize::from(t.slice)).copied()),
             };
             let row = Row {

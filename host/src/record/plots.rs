@@ -110,7 +110,7 @@ pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResul
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(40);
     title.titled(
-        "Joint angles: commanded goal incl. torque bias (red) vs present (blue)",
+        "Joint angles: commanded goal incl. torque bias (red, while torque is on) vs present (blue)",
         ("sans-serif", 18),
     )?;
     let t_end = rows.last().map_or(1.0, |r| r.time_s.max(1e-3));
@@ -120,10 +120,16 @@ pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResul
         .zip(joints.iter().enumerate())
     {
         let mine: Vec<&Row> = rows.iter().filter(|r| r.joint == j).collect();
+        // A goal is only meaningful while torque is on.
+        let driven = |r: &&&Row| r.flags & protocol::feedback_flags::TORQUE_OFF == 0;
         let (mut lo, mut hi) = (f64::MAX, f64::MIN);
         for r in &mine {
-            lo = lo.min(r.commanded_rad.min(r.present_rad));
-            hi = hi.max(r.commanded_rad.max(r.present_rad));
+            lo = lo.min(r.present_rad);
+            hi = hi.max(r.present_rad);
+        }
+        for r in mine.iter().filter(driven) {
+            lo = lo.min(r.commanded_rad);
+            hi = hi.max(r.commanded_rad);
         }
         if lo > hi {
             (lo, hi) = (-1.0, 1.0);
