@@ -208,9 +208,9 @@ fn servo_command_bias_is_torque_over_servo_stiffness() {
     };
     let s = solve_slice(&model, &input, &options, 0).unwrap();
     let cmd = host::dynamics::output::biased_commands(&model, &input.q, &s.torque);
-    for j in 0..3 {
-        // Servo stiffness of every joint of the arm is 2.0 N m/rad.
-        assert!((cmd[j] - (input.q[j] + s.torque[j] / 2.0)).abs() < 1e-15);
+    // Servo stiffness of every joint of the arm is 2.0 N m/rad.
+    for ((c, q), t) in cmd.iter().zip(&input.q).zip(&s.torque) {
+        assert!((c - (q + t / 2.0)).abs() < 1e-15);
     }
     // Hip holds the straight leg: the bias lowers the command by |T| / k in the direction of the torque.
     assert!(s.torque[1] < 0.0 && cmd[1] < input.q[1]);
