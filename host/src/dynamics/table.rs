@@ -80,7 +80,7 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
                 ticks,
             });
         }
-        if !(stiffness > 0.0) {
+        if stiffness.is_nan() || stiffness <= 0.0 {
             return Err(TableError::NoStiffness { joint: name });
         }
         specs.push(JointSpec {

@@ -26,8 +26,8 @@ pub fn solve(
         return determined(problem, eq, n_eq);
     }
     let a_c = problem.a.rows(n_eq, m_rest);
-    let b_c = problem.b.rows(n_eq, m_rest) - &a_c * &eq.x_particular;
-    let a_w = &a_c * &eq.z;
+    let b_c = problem.b.rows(n_eq, m_rest) - a_c * &eq.x_particular;
+    let a_w = a_c * &eq.z;
     let q_w = eq.z.transpose() * (&problem.p * &eq.x_particular + &problem.q);
 
     let cones: Vec<SupportedConeT<f64>> = problem
