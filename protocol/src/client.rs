@@ -147,8 +147,8 @@ pub fn reply<R: Reply>(seq: u16, message: DeviceMessage) -> Result<R, ReplyError
             R::from_response(response).ok_or(ReplyError::Unexpected)
         }
         DeviceMessage::Rejected(e) => Err(ReplyError::Rejected(e)),
-        DeviceMessage::Telemetry(_) | DeviceMessage::Proprioception(_) => {
-            Err(ReplyError::NotAReply)
-        }
+        DeviceMessage::Telemetry(_)
+        | DeviceMessage::Proprioception(_)
+        | DeviceMessage::SetpointRejected { .. } => Err(ReplyError::NotAReply),
     }
 }

@@ -85,7 +85,9 @@
 //!
 //! Angles are in the joint frame (the planner's angle); a servo's goal is
 //! `zero_offset + sign * angle * 4096 / 2 pi` ticks ([`JointMap::angle_to_ticks`]). The torque bias of
-//! the firmware is `angle + torque / stiffness` (mN m over mN m/rad gives rad).
+//! the firmware is `angle + torque / stiffness` (mN m over mN m/rad gives rad), in these units
+//! `angle + torque * 10_000 / stiffness` 1e-4 rad, computed in `i32` (|torque| * 10 000 < 2^31)
+//! and clamped to the joint limits before the tick conversion.
 //!
 //! # Versioning
 //!

@@ -175,7 +175,8 @@ impl<T: Transport> Board<T> {
                     });
                 }
                 DeviceMessage::Telemetry(t) => self.keep_telemetry(t),
-                DeviceMessage::Proprioception(_) => {}
+                // Streaming traffic is not ours to answer.
+                _ => {}
             }
         }
     }

@@ -17,6 +17,20 @@ pub struct GaitTable<'a> {
     slices: usize,
 }
 
+#[cfg(feature = "defmt")]
+impl defmt::Format for GaitTable<'_> {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(
+            f,
+            "GaitTable {{ {} joints, {} slices, {} bytes, crc {=u32:#010x} }}",
+            self.joints,
+            self.slices,
+            self.bytes.len(),
+            self.crc()
+        )
+    }
+}
+
 /// Planned angle (1e-4 rad) and torque (mN m) of one joint in one slice.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -48,6 +48,8 @@ pub enum DeviceMessage {
     Proprioception(Proprioception),
     /// A frame that could not be decoded (so its `seq` is unknown) and was dropped.
     Rejected(crate::FrameError),
+    /// A streaming setpoint that was not applied (not streaming, wrong joint count, ...).
+    SetpointRejected { seq: u32, error: ProtocolError },
 }
 
 // Messages live in fixed-size buffers on a board without a heap: boxing the large variant is not

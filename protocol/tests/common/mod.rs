@@ -439,6 +439,8 @@ pub fn device_message() -> impl Strategy<Value = DeviceMessage> {
         telemetry,
         proprio,
         frame_error().prop_map(DeviceMessage::Rejected),
+        (any::<u32>(), protocol_error())
+            .prop_map(|(seq, error)| DeviceMessage::SetpointRejected { seq, error }),
     ]
 }
 

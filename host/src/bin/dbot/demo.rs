@@ -8,15 +8,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
+use host::dynamics::table::{gait_table, joint_specs, stance_bits};
 use host::gait::StepParams;
 use host::link::Board;
-use host::model::{ActuatorKind, Leg, Model};
+use host::model::Leg;
 use host::plan::Plan;
 use host::record::{
     JointMeta, Recorder, Until, capture, joints_of_table, plot_angles, plot_torques, tracking,
 };
 use host::robot::{VirtualRobot, VirtualTransport};
-use protocol::gait::{GaitTableBuilder, JointSpec, ServoModel, Sign};
 use protocol::{Direction, PlayCommand, Steps};
 
 use crate::dynamics_args::{DynamicsArgs, PlanDynamics};
@@ -253,65 +253,29 @@ fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The step table of a solved plan: every joint with a servo, its planned angle and torque per slice,
-/// stance bits per leg. STAND-IN: the dynamics helper's `dbot table` is to own this conversion; the
-/// demo builds it here until that lands (only through the protocol's checked builder).
+/// The step table of a solved plan (the dynamics module's builder): every joint with a servo, its
+/// planned angle and modelled torque per slice, stance bits per leg; and the servos' joint names.
 pub fn step_table(plan: &Plan, d: &PlanDynamics) -> anyhow::Result<(Vec<u8>, Vec<String>)> {
-    let model: &Model = &plan.model;
-    let mut specs = Vec::new();
-    let mut index = Vec::new();
-    for (j, joint) in model.joints.iter().enumerate() {
-        let Some(servo) = joint.servo else { continue };
-        let servo_model = match servo.model {
-            ActuatorKind::Mx64 => ServoModel::Mx64,
-            _ => ServoModel::Mx28,
-        };
-        let k = d
-            .cycle
-            .stiffness
-            .get(j)
-            .copied()
-            .flatten()
-            .with_context(|| {
-                format!(
-                    "joint {}: no servo stiffness in the dynamics solution",
-                    joint.name
-                )
-            })?;
-        // angle = sign (ticks - 2048) 2 pi / 4096 + zero  =>  ticks at angle 0:
-        let zero_ticks =
-            2048.0 - f64::from(servo.sign) * servo.zero_offset * 4096.0 / std::f64::consts::TAU;
-        specs.push(JointSpec {
-            name: joint.name.clone(),
-            servo_id: servo.id,
-            model: servo_model,
-            sign: if servo.sign < 0 {
-                Sign::Negative
-            } else {
-                Sign::Positive
-            },
-            zero_offset: zero_ticks.round().clamp(0.0, 4095.0) as u16,
-            min_rad: joint.limits.0,
-            max_rad: joint.limits.1,
-            stiffness_nm_per_rad: k,
-        });
-        index.push(j);
-    }
-    let names: Vec<String> = specs.iter().map(|s| s.name.clone()).collect();
-    let mut b = GaitTableBuilder::new("dbII tripod", plan.period_s, plan.params.duty, specs);
+    let (index, _) = joint_specs(&plan.model)?;
+    let names = index
+        .iter()
+        .map(|&j| plan.model.joints[j].name.clone())
+        .collect();
     let torques = host::dynamics::output::torque_rows(&d.cycle);
-    for ((q, stance_of), tau_row) in plan.q.iter().zip(&plan.stance).zip(&torques) {
-        let mut stance = 0u8;
-        for (bit, leg) in Leg::ALL.iter().enumerate() {
-            if let Some(li) = plan.legs.iter().position(|l| l == leg)
-                && stance_of[li]
-            {
-                stance |= 1 << bit;
-            }
-        }
-        let angles: Vec<f64> = index.iter().map(|&j| q[j]).collect();
-        let tau: Vec<f64> = index.iter().map(|&j| tau_row[j]).collect();
-        b.slice(stance, &angles, &tau);
-    }
-    Ok((b.build().context("building the step table")?, names))
+    let stance: Vec<u8> = plan
+        .stance
+        .iter()
+        .map(|s| stance_bits(&plan.legs, s))
+        .collect();
+    let table = gait_table(
+        &plan.model,
+        "dbII tripod",
+        plan.period_s,
+        plan.params.duty,
+        &plan.q,
+        &torques,
+        &stance,
+    )
+    .context("building the step table")?;
+    Ok((table, names))
 }

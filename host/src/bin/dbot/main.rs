@@ -20,6 +20,7 @@ mod servos;
 mod set;
 mod status;
 mod stop;
+mod table;
 mod upload;
 
 /// Plan, run and record gaits of the Drosophibot II hexapod.
@@ -62,6 +63,8 @@ enum Cmd {
     Record(record::Args),
     /// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
     Demo(demo::Args),
+    /// Build the board's step table from a plan directory.
+    Table(table::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -81,5 +84,6 @@ fn main() -> anyhow::Result<()> {
         Cmd::Set(a) => a.run(),
         Cmd::Record(a) => a.run(),
         Cmd::Demo(a) => a.run(),
+        Cmd::Table(a) => a.run(),
     }
 }
