@@ -14,16 +14,40 @@ pub struct Field {
 }
 
 const fn ee(name: &'static str, addr: u16, size: u8) -> Field {
-    Field { name, addr, size, eeprom: true, writable: true }
+    Field {
+        name,
+        addr,
+        size,
+        eeprom: true,
+        writable: true,
+    }
 }
 const fn ee_ro(name: &'static str, addr: u16, size: u8) -> Field {
-    Field { name, addr, size, eeprom: true, writable: false }
+    Field {
+        name,
+        addr,
+        size,
+        eeprom: true,
+        writable: false,
+    }
 }
 const fn ram(name: &'static str, addr: u16, size: u8) -> Field {
-    Field { name, addr, size, eeprom: false, writable: true }
+    Field {
+        name,
+        addr,
+        size,
+        eeprom: false,
+        writable: true,
+    }
 }
 const fn ram_ro(name: &'static str, addr: u16, size: u8) -> Field {
-    Field { name, addr, size, eeprom: false, writable: false }
+    Field {
+        name,
+        addr,
+        size,
+        eeprom: false,
+        writable: false,
+    }
 }
 
 pub const MODEL_NUMBER: Field = ee_ro("Model Number", 0, 2);
@@ -82,16 +106,56 @@ pub const PRESENT_TEMPERATURE: Field = ram_ro("Present Temperature", 146, 1);
 
 /// Every field above, in address order (for `dbot dxl read` by name and the virtual servo).
 pub const FIELDS: &[Field] = &[
-    MODEL_NUMBER, MODEL_INFORMATION, FIRMWARE_VERSION, ID, BAUD_RATE, RETURN_DELAY_TIME,
-    DRIVE_MODE, OPERATING_MODE, SECONDARY_ID, PROTOCOL_TYPE, HOMING_OFFSET, MOVING_THRESHOLD,
-    TEMPERATURE_LIMIT, MAX_VOLTAGE_LIMIT, MIN_VOLTAGE_LIMIT, PWM_LIMIT, CURRENT_LIMIT,
-    ACCELERATION_LIMIT, VELOCITY_LIMIT, MAX_POSITION_LIMIT, MIN_POSITION_LIMIT, SHUTDOWN,
-    TORQUE_ENABLE, LED, STATUS_RETURN_LEVEL, REGISTERED_INSTRUCTION, HARDWARE_ERROR_STATUS,
-    VELOCITY_I_GAIN, VELOCITY_P_GAIN, POSITION_D_GAIN, POSITION_I_GAIN, POSITION_P_GAIN,
-    BUS_WATCHDOG, GOAL_PWM, GOAL_CURRENT, GOAL_VELOCITY, PROFILE_ACCELERATION, PROFILE_VELOCITY,
-    GOAL_POSITION, REALTIME_TICK, MOVING, MOVING_STATUS, PRESENT_PWM, PRESENT_LOAD_OR_CURRENT,
-    PRESENT_VELOCITY, PRESENT_POSITION, VELOCITY_TRAJECTORY, POSITION_TRAJECTORY,
-    PRESENT_INPUT_VOLTAGE, PRESENT_TEMPERATURE,
+    MODEL_NUMBER,
+    MODEL_INFORMATION,
+    FIRMWARE_VERSION,
+    ID,
+    BAUD_RATE,
+    RETURN_DELAY_TIME,
+    DRIVE_MODE,
+    OPERATING_MODE,
+    SECONDARY_ID,
+    PROTOCOL_TYPE,
+    HOMING_OFFSET,
+    MOVING_THRESHOLD,
+    TEMPERATURE_LIMIT,
+    MAX_VOLTAGE_LIMIT,
+    MIN_VOLTAGE_LIMIT,
+    PWM_LIMIT,
+    CURRENT_LIMIT,
+    ACCELERATION_LIMIT,
+    VELOCITY_LIMIT,
+    MAX_POSITION_LIMIT,
+    MIN_POSITION_LIMIT,
+    SHUTDOWN,
+    TORQUE_ENABLE,
+    LED,
+    STATUS_RETURN_LEVEL,
+    REGISTERED_INSTRUCTION,
+    HARDWARE_ERROR_STATUS,
+    VELOCITY_I_GAIN,
+    VELOCITY_P_GAIN,
+    POSITION_D_GAIN,
+    POSITION_I_GAIN,
+    POSITION_P_GAIN,
+    BUS_WATCHDOG,
+    GOAL_PWM,
+    GOAL_CURRENT,
+    GOAL_VELOCITY,
+    PROFILE_ACCELERATION,
+    PROFILE_VELOCITY,
+    GOAL_POSITION,
+    REALTIME_TICK,
+    MOVING,
+    MOVING_STATUS,
+    PRESENT_PWM,
+    PRESENT_LOAD_OR_CURRENT,
+    PRESENT_VELOCITY,
+    PRESENT_POSITION,
+    VELOCITY_TRAJECTORY,
+    POSITION_TRAJECTORY,
+    PRESENT_INPUT_VOLTAGE,
+    PRESENT_TEMPERATURE,
 ];
 
 /// A field by its e-manual name, case-insensitive, spaces or underscores.

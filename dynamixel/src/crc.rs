@@ -12,7 +12,11 @@ const fn build_table() -> [u16; 256] {
         let mut crc = (i as u16) << 8;
         let mut bit = 0;
         while bit < 8 {
-            crc = if crc & 0x8000 != 0 { (crc << 1) ^ POLY } else { crc << 1 };
+            crc = if crc & 0x8000 != 0 {
+                (crc << 1) ^ POLY
+            } else {
+                crc << 1
+            };
             bit += 1;
         }
         table[i] = crc;
@@ -50,6 +54,9 @@ mod tests {
     #[test]
     fn ping_vector_crc() {
         // e-manual: Ping ID 1 ends in CRC bytes 19 4E (little endian 0x4E19).
-        assert_eq!(crc16(&[0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x03, 0x00, 0x01]), 0x4E19);
+        assert_eq!(
+            crc16(&[0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x03, 0x00, 0x01]),
+            0x4E19
+        );
     }
 }

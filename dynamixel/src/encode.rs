@@ -37,11 +37,18 @@ impl<'a> PacketWriter<'a> {
     /// Starts a packet to `id` with instruction byte `inst`.
     pub fn new(buf: &'a mut [u8], id: u8, inst: u8) -> Result<Self, EncodeError> {
         if buf.len() < PRE_INST + 3 {
-            return Err(EncodeError::BufferTooSmall { capacity: buf.len() });
+            return Err(EncodeError::BufferTooSmall {
+                capacity: buf.len(),
+            });
         }
         buf[..4].copy_from_slice(&HEADER);
         buf[4] = id;
-        let mut w = Self { buf, len: PRE_INST, prev: [0, 0], overflow: false };
+        let mut w = Self {
+            buf,
+            len: PRE_INST,
+            prev: [0, 0],
+            overflow: false,
+        };
         w.push(inst);
         Ok(w)
     }
@@ -77,7 +84,9 @@ impl<'a> PacketWriter<'a> {
     /// Writes LEN and CRC; returns the packet length in bytes.
     pub fn finish(self) -> Result<usize, EncodeError> {
         if self.overflow || self.len + 2 > self.buf.len() {
-            return Err(EncodeError::BufferTooSmall { capacity: self.buf.len() });
+            return Err(EncodeError::BufferTooSmall {
+                capacity: self.buf.len(),
+            });
         }
         let field = (self.len - PRE_INST + 2) as u16;
         self.buf[5..7].copy_from_slice(&field.to_le_bytes());
@@ -152,7 +161,11 @@ pub fn sync_write<'d>(
     for (id, data) in entries {
         servo_id(id)?;
         if data.len() != len as usize {
-            return Err(EncodeError::DataLength { id, expected: len as usize, got: data.len() });
+            return Err(EncodeError::DataLength {
+                id,
+                expected: len as usize,
+                got: data.len(),
+            });
         }
         w.push(id);
         w.extend(data);
@@ -219,3 +232,22 @@ fn servo_id(id: u8) -> Result<(), EncodeError> {
     }
     Ok(())
 }
+
+impl core::fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            EncodeError::BufferTooSmall { capacity } => {
+                write!(f, "packet does not fit in {capacity} bytes")
+            }
+            EncodeError::DataLength { id, expected, got } => {
+                write!(
+                    f,
+                    "entry for ID {id} has {got} data bytes, the packet declares {expected}"
+                )
+            }
+            EncodeError::BadId { id } => write!(f, "ID {id} is not a servo ID (0..=252)"),
+        }
+    }
+}
+
+impl core::error::Error for EncodeError {}

@@ -1,7 +1,7 @@
 //! Streaming packet parser: takes bytes in any chunking, finds the header, checks LEN and CRC,
 //! unstuffs, and resynchronises on the next header after garbage or a bad packet.
 //!
-//! Usage: `feed` bytes, then call `next` until it returns `None`; feed the rest, repeat. A frame
+//! Usage: `feed` bytes, then call `next_frame` until it returns `None`; feed the rest, repeat. A frame
 //! borrows the parser's buffer until the next call. Instruction packets (the master's own echo
 //! on a shared wire, or the requests a virtual servo hears) and status packets are both
 //! returned; the bus master skips the ones that are not status packets.
@@ -39,7 +39,11 @@ impl<'a> Frame<'a> {
             return None;
         }
         let (&error, data) = self.params.split_first()?;
-        Some(Status { id: self.id, error: StatusError(error), data })
+        Some(Status {
+            id: self.id,
+            error: StatusError(error),
+            data,
+        })
     }
 }
 
@@ -49,9 +53,17 @@ impl<'a> Frame<'a> {
 #[non_exhaustive]
 pub enum FrameError {
     /// The CRC does not match: `id` is as received and may itself be corrupt.
-    Crc { id: u8, received: u16, computed: u16 },
+    Crc {
+        id: u8,
+        received: u16,
+        computed: u16,
+    },
     /// LEN is below the minimum of 3 or the packet would not fit the parser's buffer.
-    Length { id: u8, length: u16, capacity: usize },
+    Length {
+        id: u8,
+        length: u16,
+        capacity: usize,
+    },
 }
 
 impl FrameError {
@@ -81,7 +93,12 @@ impl<const N: usize> Default for Parser<N> {
 
 impl<const N: usize> Parser<N> {
     pub const fn new() -> Self {
-        Self { buf: [0; N], len: 0, consumed: 0, skipped: 0 }
+        Self {
+            buf: [0; N],
+            len: 0,
+            consumed: 0,
+            skipped: 0,
+        }
     }
 
     /// Forgets everything buffered.
@@ -100,7 +117,7 @@ impl<const N: usize> Parser<N> {
         self.len - self.consumed
     }
 
-    /// Copies as many of `data` as fit; returns how many were taken. Call `next` until `None`
+    /// Copies as many of `data` as fit; returns how many were taken. Call `next_frame` until `None`
     /// before feeding again when not everything was taken.
     pub fn feed(&mut self, data: &[u8]) -> usize {
         self.compact();
@@ -111,7 +128,7 @@ impl<const N: usize> Parser<N> {
     }
 
     /// Gives up on an incomplete packet at the front (after a timeout): drops its first byte so
-    /// that packets hidden behind a false header are found by the next `next`.
+    /// that packets hidden behind a false header are found by the next `next_frame`.
     pub fn abandon_partial(&mut self) {
         self.compact();
         if self.len > 0 {
@@ -120,7 +137,7 @@ impl<const N: usize> Parser<N> {
     }
 
     /// The next complete frame or rejected packet in the buffer, `None` when more bytes are needed.
-    pub fn next(&mut self) -> Option<Result<Frame<'_>, FrameError>> {
+    pub fn next_frame(&mut self) -> Option<Result<Frame<'_>, FrameError>> {
         self.compact();
         self.sync();
         if self.len < PRE_INST {
@@ -131,7 +148,11 @@ impl<const N: usize> Parser<N> {
         let total = PRE_INST + length as usize;
         if length < 3 || total > N {
             self.drop_front(1);
-            return Some(Err(FrameError::Length { id, length, capacity: N }));
+            return Some(Err(FrameError::Length {
+                id,
+                length,
+                capacity: N,
+            }));
         }
         if self.len < total {
             return None;
@@ -140,7 +161,11 @@ impl<const N: usize> Parser<N> {
         let computed = crc::crc16(&self.buf[..total - 2]);
         if received != computed {
             self.drop_front(1);
-            return Some(Err(FrameError::Crc { id, received, computed }));
+            return Some(Err(FrameError::Crc {
+                id,
+                received,
+                computed,
+            }));
         }
         let end = unstuff(&mut self.buf[PRE_INST..total - 2]) + PRE_INST;
         self.consumed = total;

@@ -21,7 +21,11 @@ pub const PWM_FULL_SCALE: f32 = 885.0;
 
 /// Rounds half away from zero without `std` (saturating at the i32 range).
 fn round_i32(x: f32) -> i32 {
-    if x >= 0.0 { (x + 0.5) as i32 } else { (x - 0.5) as i32 }
+    if x >= 0.0 {
+        (x + 0.5) as i32
+    } else {
+        (x - 0.5) as i32
+    }
 }
 
 /// Where a joint's zero is on the servo and which way is positive.
@@ -37,7 +41,10 @@ pub struct JointCalibration {
 impl Default for JointCalibration {
     /// Zero at the middle of the range (2048), same direction.
     fn default() -> Self {
-        Self { zero_ticks: TICKS_PER_REV / 2, reversed: false }
+        Self {
+            zero_ticks: TICKS_PER_REV / 2,
+            reversed: false,
+        }
     }
 }
 
@@ -96,7 +103,9 @@ pub fn load_to_torque_mnm(model: Model, raw: i16) -> i32 {
 /// [`load_to_torque_nm`], same ESTIMATE; clamped to +-1000 for the MX-28's load).
 pub fn torque_to_load(model: Model, torque_nm: f32) -> i16 {
     match model {
-        Model::Mx28V2 => round_i32(torque_nm / model.stall_torque_nm() * 1000.0).clamp(-1000, 1000) as i16,
+        Model::Mx28V2 => {
+            round_i32(torque_nm / model.stall_torque_nm() * 1000.0).clamp(-1000, 1000) as i16
+        }
         Model::Mx64V2 => {
             let ma = torque_nm * model.stall_current_a() / model.stall_torque_nm() * 1000.0;
             round_i32(ma / CURRENT_UNIT_MA).clamp(i16::MIN as i32, i16::MAX as i32) as i16

@@ -14,7 +14,11 @@ fn byte() -> impl Strategy<Value = u8> {
 }
 
 fn packet() -> impl Strategy<Value = Packet> {
-    (0u8..=252, prop_oneof![Just(0x55u8), Just(0x03u8), Just(0x83u8)], prop::collection::vec(byte(), 1..40))
+    (
+        0u8..=252,
+        prop_oneof![Just(0x55u8), Just(0x03u8), Just(0x83u8)],
+        prop::collection::vec(byte(), 1..40),
+    )
 }
 
 fn encode_packet(p: &Packet) -> Vec<u8> {
@@ -31,7 +35,7 @@ fn parse_chunks<'a>(chunks: impl IntoIterator<Item = &'a [u8]>) -> Vec<Packet> {
     let mut p: Parser = Parser::new();
     let mut out = Vec::new();
     let take = |p: &mut Parser, out: &mut Vec<Packet>| {
-        while let Some(ev) = p.next() {
+        while let Some(ev) = p.next_frame() {
             if let Ok(f) = ev {
                 out.push((f.id, f.instruction, f.params.to_vec()));
             }

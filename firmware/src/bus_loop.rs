@@ -147,9 +147,13 @@ where
             Outcome::Done(r)
         }
         BusAction::TorqueOff => Outcome::Done(torque(bus, ids, 0).await),
-        BusAction::Reboot => {
+        BusAction::Reboot { joints } => {
             let mut result = Ok(());
-            for &id in ids {
+            let chosen = ids
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j < 32 && joints & (1 << j) != 0);
+            for (_, &id) in chosen {
                 if let Err(e) = bus.reboot(id).await {
                     result = Err(e);
                 }

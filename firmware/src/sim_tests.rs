@@ -270,3 +270,84 @@ fn bus_rate_and_jitter_at_1_and_4_mbps() {
         assert!(1e6 / f64::from(busy) >= 0.9 * wire_limited);
     }
 }
+
+#[test]
+fn a_rate_above_the_wire_limit_counts_every_missed_start() {
+    // 200 Hz asks for 5 ms cycles; a walking cycle takes 6.23 ms of wire at 1 Mbit/s. Each cycle
+    // therefore misses the next start: the loop runs on every second grid point (100 Hz) and counts
+    // one overrun per cycle instead of drifting.
+    let (rate, busy, late, overruns) = measure(1_000_000, 200);
+    assert!(busy > 5_000);
+    assert_eq!(late, 0);
+    assert!((rate - 100.0).abs() < 0.5, "{rate} Hz");
+    assert_eq!(overruns, 400, "one per cycle over 400 cycles");
+}
+
+#[test]
+fn an_overloaded_servo_stops_the_walk_naming_it_and_a_reboot_of_that_servo_recovers() {
+    let (mut board, wire) = rig(1_000_000, 100);
+    let mut client = Client::new();
+    run_until(&mut board, &wire, 5, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
+    upload(
+        &mut board,
+        &mut client,
+        0,
+        &SyntheticGait::new(100, 1.0).build(),
+    );
+    run_until(&mut board, &wire, 5, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
+    play(&mut board, &mut client, protocol::Steps::Continuous);
+    run_until(&mut board, &wire, 500, |b| {
+        b.controller.borrow().state() == State::Walking
+    });
+    for _ in 0..30 {
+        wire.block_on(board.run_cycle());
+    }
+    // Servo 5 (joint 4) overloads: it drops its torque and flags Alert in every status.
+    wire.with_chain(|c| c.trigger_overload(5)).unwrap();
+    run_until(&mut board, &wire, 5, |b| {
+        matches!(b.controller.borrow().state(), State::Safe(_))
+    });
+    // One more cycle reads its Hardware Error Status (bit 5 = overload).
+    wire.block_on(board.run_cycle());
+    let Response::Status(s) = ask(&mut board, &mut client, Request::GetStatus) else {
+        panic!()
+    };
+    assert_eq!(s.state, protocol::RunState::Fault);
+    assert_eq!(
+        s.fault,
+        Some(protocol::Fault {
+            kind: protocol::FaultKind::ServoError { bits: 0x20 },
+            joint: Some(4)
+        })
+    );
+    // The others still hold (torque on), the overloaded one does not.
+    wire.with_chain(|c| {
+        for s in c.servos() {
+            assert_eq!(s.torque_enabled(), s.id() != 5, "servo {}", s.id());
+        }
+    });
+    // Reboot just that servo: the board looks for all servos again and comes up Idle, torque off.
+    let r = ask(
+        &mut board,
+        &mut client,
+        Request::RebootServos {
+            servos: protocol::ServoSelect::Joint(4),
+        },
+    );
+    assert_eq!(r, Response::Ack);
+    run_until(&mut board, &wire, 10, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
+    for _ in 0..3 {
+        wire.block_on(board.run_cycle());
+    }
+    assert_eq!(board.controller.borrow().state(), State::Idle);
+    wire.with_chain(|c| {
+        assert_eq!(c.servo(5).unwrap().hardware_error(), 0);
+        assert!(c.servos().iter().all(|s| !s.torque_enabled()));
+    });
+}

@@ -2,6 +2,7 @@
 //! reports and the link to the board. The `dbot` CLI is a thin layer over it.
 
 pub mod analysis;
+pub mod bus;
 pub mod config;
 pub mod dynamics;
 pub mod gait;

@@ -48,7 +48,11 @@ impl<C: Clock> Clock for &C {
 
 /// Runs `fut` until it completes (`Some`) or the clock reaches `deadline_us` (`None`).
 /// The future is polled first, so data that is already there wins over an expired deadline.
-pub async fn with_deadline<C: Clock, F: Future>(clock: &C, deadline_us: u64, fut: F) -> Option<F::Output> {
+pub async fn with_deadline<C: Clock, F: Future>(
+    clock: &C,
+    deadline_us: u64,
+    fut: F,
+) -> Option<F::Output> {
     let mut fut = pin!(fut);
     let mut timer = pin!(clock.wait_until(deadline_us));
     core::future::poll_fn(|cx| {

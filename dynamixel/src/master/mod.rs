@@ -47,7 +47,15 @@ enum Step {
 
 impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
     pub fn new(io: IO, dir: D, clock: C, config: MasterConfig) -> Self {
-        Self { io, dir, clock, config, parser: Parser::new(), tx: [0; TX_CAPACITY], stale_bytes: 0 }
+        Self {
+            io,
+            dir,
+            clock,
+            config,
+            parser: Parser::new(),
+            tx: [0; TX_CAPACITY],
+            stale_bytes: 0,
+        }
     }
 
     pub fn config(&self) -> &MasterConfig {
@@ -70,9 +78,16 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
 
     /// One bus cycle: Sync Write of each goal to Goal Position (116), then Sync Read of 126..=135
     /// of the same servos. `replies[i]` receives servo `goals[i]`'s feedback or fault.
-    pub async fn cycle(&mut self, goals: &[Goal], replies: &mut [Reply]) -> Result<CycleStats, BusError> {
+    pub async fn cycle(
+        &mut self,
+        goals: &[Goal],
+        replies: &mut [Reply],
+    ) -> Result<CycleStats, BusError> {
         if replies.len() < goals.len() || goals.len() > MAX_SERVOS {
-            return Err(BusError::ResultsTooShort { servos: goals.len(), results: replies.len() });
+            return Err(BusError::ResultsTooShort {
+                servos: goals.len(),
+                results: replies.len(),
+            });
         }
         let mut ids = [0u8; MAX_SERVOS];
         for (slot, g) in ids.iter_mut().zip(goals) {
@@ -85,37 +100,58 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
             goals.iter().map(|g| (g.id, g.position as u32)),
         )?;
         let m = encode::sync_read(&mut self.tx[n..], FEEDBACK_ADDR, FEEDBACK_LEN, ids)?;
-        let mut stats = CycleStats { start_us: self.clock.now_us(), ..Default::default() };
+        let mut stats = CycleStats {
+            start_us: self.clock.now_us(),
+            ..Default::default()
+        };
         let skipped_before = self.parser.skipped_bytes();
         let stale_before = self.stale_bytes;
         self.send(n + m).await?;
         stats.stale_bytes = self.stale_bytes.wrapping_sub(stale_before);
         stats.tx_end_us = self.clock.now_us();
-        self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats).await?;
+        self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats)
+            .await?;
         stats.end_us = self.clock.now_us();
         stats.garbage_bytes = self.parser.skipped_bytes().wrapping_sub(skipped_before);
         Ok(stats)
     }
 
     /// Sync Read of 126..=135 only (no goals), e.g. to read the pose before torque-on.
-    pub async fn read_feedback(&mut self, ids: &[u8], replies: &mut [Reply]) -> Result<CycleStats, BusError> {
+    pub async fn read_feedback(
+        &mut self,
+        ids: &[u8],
+        replies: &mut [Reply],
+    ) -> Result<CycleStats, BusError> {
         if replies.len() < ids.len() {
-            return Err(BusError::ResultsTooShort { servos: ids.len(), results: replies.len() });
+            return Err(BusError::ResultsTooShort {
+                servos: ids.len(),
+                results: replies.len(),
+            });
         }
         let n = encode::sync_read(&mut self.tx, FEEDBACK_ADDR, FEEDBACK_LEN, ids)?;
-        let mut stats = CycleStats { start_us: self.clock.now_us(), ..Default::default() };
+        let mut stats = CycleStats {
+            start_us: self.clock.now_us(),
+            ..Default::default()
+        };
         self.send(n).await?;
         stats.tx_end_us = self.clock.now_us();
-        self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats).await?;
+        self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats)
+            .await?;
         stats.end_us = self.clock.now_us();
         Ok(stats)
     }
 
-    async fn collect_feedback(&mut self, ids: &[u8], replies: &mut [Reply], stats: &mut CycleStats) -> Result<(), BusError> {
+    async fn collect_feedback(
+        &mut self,
+        ids: &[u8],
+        replies: &mut [Reply],
+        stats: &mut CycleStats,
+    ) -> Result<(), BusError> {
         replies.fill(Err(ReplyFault::Timeout));
         let mut settled = [false; MAX_SERVOS];
         let mut remaining = ids.len();
-        let budget = self.config.reply_slack_us + self.config.wire_time_us(11 + FEEDBACK_LEN as usize);
+        let budget =
+            self.config.reply_slack_us + self.config.wire_time_us(11 + FEEDBACK_LEN as usize);
         let mut on_frame = |ev: Result<Frame<'_>, FrameError>| -> Step {
             let (id, outcome) = match ev {
                 Ok(frame) => match frame.status() {
@@ -129,14 +165,22 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                 Err(FrameError::Crc { id, .. }) => (id, Err(ReplyFault::Crc)),
                 Err(e) => (e.id(), Err(ReplyFault::Malformed)),
             };
-            let Some(i) = ids.iter().zip(&settled).position(|(&x, &done)| x == id && !done) else {
+            let Some(i) = ids
+                .iter()
+                .zip(&settled)
+                .position(|(&x, &done)| x == id && !done)
+            else {
                 stats.stray_frames = stats.stray_frames.saturating_add(1);
                 return Step::Ignore;
             };
             settled[i] = true;
             replies[i] = outcome;
             remaining -= 1;
-            if remaining == 0 { Step::Done } else { Step::Progress }
+            if remaining == 0 {
+                Step::Done
+            } else {
+                Step::Progress
+            }
         };
         if !ids.is_empty() {
             self.receive(budget, &mut on_frame).await?;
@@ -163,7 +207,11 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         self.parser.reset();
         let mut scratch = [0u8; 32];
         while self.io.read_ready().map_err(|e| BusError::Io(e.kind()))? {
-            let n = self.io.read(&mut scratch).await.map_err(|e| BusError::Io(e.kind()))?;
+            let n = self
+                .io
+                .read(&mut scratch)
+                .await
+                .map_err(|e| BusError::Io(e.kind()))?;
             self.stale_bytes = self.stale_bytes.wrapping_add(n as u32);
         }
         self.dir.drive();
@@ -179,7 +227,11 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
     /// Feeds received bytes to `on_frame` until it says `Done` or `budget_us` passes without
     /// progress. Returns `true` when done. After a timeout, a half-received packet at the front is
     /// abandoned so that complete packets behind a false header still count.
-    async fn receive(&mut self, budget_us: u32, on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step) -> Result<bool, BusError> {
+    async fn receive(
+        &mut self,
+        budget_us: u32,
+        on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step,
+    ) -> Result<bool, BusError> {
         let mut deadline = self.clock.now_us() + budget_us as u64;
         let mut chunk = [0u8; 32];
         loop {
@@ -213,9 +265,12 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
 }
 
 /// Hands every complete frame to `on_frame`; returns (done, progress).
-fn drain(parser: &mut Parser, on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step) -> (bool, bool) {
+fn drain(
+    parser: &mut Parser,
+    on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step,
+) -> (bool, bool) {
     let mut progress = false;
-    while let Some(ev) = parser.next() {
+    while let Some(ev) = parser.next_frame() {
         match on_frame(ev) {
             Step::Ignore => {}
             Step::Progress => progress = true,

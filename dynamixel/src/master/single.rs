@@ -1,6 +1,6 @@
 //! Setup helpers of the bus master: Ping, Read, Write, Reboot, generic Sync/Bulk Read and Write.
 
-use super::{BusMaster, BusError, Clock, DirectionPin, PingReply, ReplyFault, Step, MAX_SERVOS};
+use super::{BusError, BusMaster, Clock, DirectionPin, MAX_SERVOS, PingReply, ReplyFault, Step};
 use crate::encode;
 use crate::instruction::{BROADCAST_ID, STATUS, StatusError};
 use crate::parser::{Frame, FrameError};
@@ -12,7 +12,12 @@ pub type ReadOutcome = Result<StatusError, ReplyFault>;
 impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
     /// Sends the request in the buffer and waits for `id`'s status; copies its data into `out`.
     /// Returns the error byte (Alert allowed) and the data length.
-    async fn transact(&mut self, len: usize, id: u8, out: &mut [u8]) -> Result<(StatusError, usize), BusError> {
+    async fn transact(
+        &mut self,
+        len: usize,
+        id: u8,
+        out: &mut [u8],
+    ) -> Result<(StatusError, usize), BusError> {
         self.send(len).await?;
         let budget = self.config.reply_slack_us + self.config.wire_time_us(11 + out.len());
         let mut result: Option<Result<(StatusError, usize), ReplyFault>> = None;
@@ -42,7 +47,10 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         match result {
             Some(Ok(r)) => Ok(r),
             Some(Err(fault)) => Err(BusError::Reply { id, fault }),
-            None => Err(BusError::Reply { id, fault: ReplyFault::Timeout }),
+            None => Err(BusError::Reply {
+                id,
+                fault: ReplyFault::Timeout,
+            }),
         }
     }
 
@@ -52,18 +60,36 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         let mut data = [0u8; 3];
         let (error, len) = self.transact(n, id, &mut data).await?;
         if len != 3 {
-            return Err(BusError::DataLength { id, expected: 3, got: len });
+            return Err(BusError::DataLength {
+                id,
+                expected: 3,
+                got: len,
+            });
         }
-        Ok(PingReply { id, model_number: u16::from_le_bytes([data[0], data[1]]), firmware: data[2], error })
+        Ok(PingReply {
+            id,
+            model_number: u16::from_le_bytes([data[0], data[1]]),
+            firmware: data[2],
+            error,
+        })
     }
 
     /// Reads `out.len()` bytes at `addr` of servo `id`.
-    pub async fn read(&mut self, id: u8, addr: u16, out: &mut [u8]) -> Result<StatusError, BusError> {
+    pub async fn read(
+        &mut self,
+        id: u8,
+        addr: u16,
+        out: &mut [u8],
+    ) -> Result<StatusError, BusError> {
         let n = encode::read(&mut self.tx, id, addr, out.len() as u16)?;
         let expected = out.len();
         let (error, len) = self.transact(n, id, out).await?;
         if len != expected {
-            return Err(BusError::DataLength { id, expected, got: len });
+            return Err(BusError::DataLength {
+                id,
+                expected,
+                got: len,
+            });
         }
         Ok(error)
     }
@@ -85,20 +111,35 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
     }
 
     /// Sync Write `len` bytes at `addr` to each `(id, data)`; no replies.
-    pub async fn sync_write<'d>(&mut self, addr: u16, len: u16, entries: impl IntoIterator<Item = (u8, &'d [u8])>) -> Result<(), BusError> {
+    pub async fn sync_write<'d>(
+        &mut self,
+        addr: u16,
+        len: u16,
+        entries: impl IntoIterator<Item = (u8, &'d [u8])>,
+    ) -> Result<(), BusError> {
         let n = encode::sync_write(&mut self.tx, addr, len, entries)?;
         self.send(n).await
     }
 
     /// Bulk Write `(id, addr, data)` entries; no replies.
-    pub async fn bulk_write<'d>(&mut self, entries: impl IntoIterator<Item = (u8, u16, &'d [u8])>) -> Result<(), BusError> {
+    pub async fn bulk_write<'d>(
+        &mut self,
+        entries: impl IntoIterator<Item = (u8, u16, &'d [u8])>,
+    ) -> Result<(), BusError> {
         let n = encode::bulk_write(&mut self.tx, entries)?;
         self.send(n).await
     }
 
     /// Sync Read `len` bytes at `addr` of each of `ids`: servo `ids[i]`'s data lands in
     /// `data[i*len..(i+1)*len]`, its outcome in `outcomes[i]`.
-    pub async fn sync_read(&mut self, addr: u16, len: u16, ids: &[u8], data: &mut [u8], outcomes: &mut [ReadOutcome]) -> Result<(), BusError> {
+    pub async fn sync_read(
+        &mut self,
+        addr: u16,
+        len: u16,
+        ids: &[u8],
+        data: &mut [u8],
+        outcomes: &mut [ReadOutcome],
+    ) -> Result<(), BusError> {
         let n = encode::sync_read(&mut self.tx, addr, len, ids)?;
         let mut lens = [0u16; MAX_SERVOS];
         lens[..ids.len().min(MAX_SERVOS)].fill(len);
@@ -106,7 +147,12 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
     }
 
     /// Bulk Read `(id, addr, len)` entries: data of entry i follows that of entry i-1 in `data`.
-    pub async fn bulk_read(&mut self, entries: &[(u8, u16, u16)], data: &mut [u8], outcomes: &mut [ReadOutcome]) -> Result<(), BusError> {
+    pub async fn bulk_read(
+        &mut self,
+        entries: &[(u8, u16, u16)],
+        data: &mut [u8],
+        outcomes: &mut [ReadOutcome],
+    ) -> Result<(), BusError> {
         let n = encode::bulk_read(&mut self.tx, entries)?;
         let mut ids = [0u8; MAX_SERVOS];
         let mut lens = [0u16; MAX_SERVOS];
@@ -115,13 +161,24 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
             lens[i] = len;
         }
         let k = entries.len().min(MAX_SERVOS);
-        self.collect_reads(n, &ids[..k], &lens[..k], data, outcomes).await
+        self.collect_reads(n, &ids[..k], &lens[..k], data, outcomes)
+            .await
     }
 
-    async fn collect_reads(&mut self, n: usize, ids: &[u8], lens: &[u16], data: &mut [u8], outcomes: &mut [ReadOutcome]) -> Result<(), BusError> {
+    async fn collect_reads(
+        &mut self,
+        n: usize,
+        ids: &[u8],
+        lens: &[u16],
+        data: &mut [u8],
+        outcomes: &mut [ReadOutcome],
+    ) -> Result<(), BusError> {
         let total: usize = lens[..ids.len()].iter().map(|&l| l as usize).sum();
         if ids.len() > MAX_SERVOS || outcomes.len() < ids.len() || data.len() < total {
-            return Err(BusError::ResultsTooShort { servos: ids.len(), results: outcomes.len().min(data.len()) });
+            return Err(BusError::ResultsTooShort {
+                servos: ids.len(),
+                results: outcomes.len().min(data.len()),
+            });
         }
         self.send(n).await?;
         outcomes[..ids.len()].fill(Err(ReplyFault::Timeout));
@@ -136,7 +193,11 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                 Err(FrameError::Crc { id, .. }) => (id, Err(ReplyFault::Crc)),
                 Err(e) => (e.id(), Err(ReplyFault::Malformed)),
             };
-            let Some(i) = ids.iter().zip(&settled).position(|(&x, &done)| x == id && !done) else {
+            let Some(i) = ids
+                .iter()
+                .zip(&settled)
+                .position(|(&x, &done)| x == id && !done)
+            else {
                 return Step::Ignore;
             };
             settled[i] = true;
@@ -152,7 +213,11 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                 }
             });
             remaining -= 1;
-            if remaining == 0 { Step::Done } else { Step::Progress }
+            if remaining == 0 {
+                Step::Done
+            } else {
+                Step::Progress
+            }
         };
         if !ids.is_empty() {
             self.receive(budget, &mut on_frame).await?;

@@ -135,7 +135,10 @@ pub struct MasterConfig {
 impl MasterConfig {
     /// 1 Mbit/s with slack for the default Return Delay Time (500 us) plus 500 us.
     pub const fn new(baud: u32) -> Self {
-        Self { baud, reply_slack_us: 1_000 }
+        Self {
+            baud,
+            reply_slack_us: 1_000,
+        }
     }
 
     /// Wire time of `bytes` bytes in microseconds (rounded up).
@@ -143,3 +146,41 @@ impl MasterConfig {
         ((bytes as u64 * 10 * 1_000_000).div_ceil(self.baud as u64)) as u32
     }
 }
+
+impl core::fmt::Display for ReplyFault {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ReplyFault::Timeout => f.write_str("no reply before the deadline"),
+            ReplyFault::Crc => f.write_str("reply failed the CRC check"),
+            ReplyFault::Malformed => f.write_str("reply has a wrong length"),
+            ReplyFault::Status(e) => match e.number() {
+                Some(n) => write!(f, "servo reports {n:?} error (status byte 0x{:02X})", e.0),
+                None => write!(f, "servo status 0x{:02X}", e.0),
+            },
+        }
+    }
+}
+
+impl core::fmt::Display for BusError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            BusError::Io(kind) => write!(f, "UART error: {kind:?}"),
+            BusError::Encode(e) => write!(f, "cannot encode the request: {e}"),
+            BusError::ResultsTooShort { servos, results } => {
+                write!(
+                    f,
+                    "{servos} servos asked but room for only {results} results (max 64 servos)"
+                )
+            }
+            BusError::Reply { id, fault } => write!(f, "servo ID {id}: {fault}"),
+            BusError::DataLength { id, expected, got } => {
+                write!(
+                    f,
+                    "servo ID {id}: returned {got} data bytes, expected {expected}"
+                )
+            }
+        }
+    }
+}
+
+impl core::error::Error for BusError {}

@@ -62,7 +62,16 @@ impl VirtualChain {
     /// `n` servos with IDs 1..=n; IDs in [`DROSOPHIBOT_CTR_IDS`] are MX-64(2.0), others MX-28(2.0).
     pub fn drosophibot(n: u8, baud: u32) -> Result<Self, ChainError> {
         let list: Vec<(u8, Model)> = (1..=n)
-            .map(|id| (id, if DROSOPHIBOT_CTR_IDS.contains(&id) { Model::Mx64V2 } else { Model::Mx28V2 }))
+            .map(|id| {
+                (
+                    id,
+                    if DROSOPHIBOT_CTR_IDS.contains(&id) {
+                        Model::Mx64V2
+                    } else {
+                        Model::Mx28V2
+                    },
+                )
+            })
             .collect();
         Self::new(&list, baud)
     }
@@ -80,7 +89,10 @@ impl VirtualChain {
     }
 
     pub fn servo_mut(&mut self, id: u8) -> Result<&mut VirtualServo, ChainError> {
-        self.servos.iter_mut().find(|s| s.id() == id).ok_or(ChainError::UnknownId { id })
+        self.servos
+            .iter_mut()
+            .find(|s| s.id() == id)
+            .ok_or(ChainError::UnknownId { id })
     }
 
     /// Sets the Return Delay Time register (2 us units) of every servo.
@@ -142,7 +154,9 @@ impl VirtualChain {
                     out.push(self.planned(s, 0, &data, false));
                 }
             }
-            Instruction::Read if p.len() != 4 => self.reply_one(req.id, baud, 1, StatusError::DATA_LENGTH, &[], &mut out),
+            Instruction::Read if p.len() != 4 => {
+                self.reply_one(req.id, baud, 1, StatusError::DATA_LENGTH, &[], &mut out)
+            }
             Instruction::Read => {
                 let (addr, len) = (u16le(&p[0..2]), u16le(&p[2..4]));
                 if let Some(s) = self.listening(baud).find(|s| s.id() == req.id) {
@@ -153,18 +167,17 @@ impl VirtualChain {
                     out.extend(r);
                 }
             }
-            Instruction::Write if p.len() < 3 => self.reply_one(req.id, baud, 2, StatusError::DATA_LENGTH, &[], &mut out),
+            Instruction::Write if p.len() < 3 => {
+                self.reply_one(req.id, baud, 2, StatusError::DATA_LENGTH, &[], &mut out)
+            }
             Instruction::Write => {
                 let addr = u16le(&p[0..2]);
                 for s in self.listening_mut(baud, req.id) {
                     let e = s.write(addr, &p[2..]).err().unwrap_or(0);
-                    if req.id != BROADCAST_ID {
-                        out.extend(Self::planned_static(s, 2, e, &[], false));
+                    // The reply goes out under the ID the request used, even after an ID change.
+                    if req.id != BROADCAST_ID && s.get(ct::STATUS_RETURN_LEVEL) >= 2 {
+                        out.push(Self::status_as(s, req.id, e, &[], false));
                     }
-                }
-                // The reply goes out under the ID the request used, even after an ID change.
-                for r in &mut out {
-                    r.id = req.id;
                 }
             }
             Instruction::Reboot => {
@@ -186,8 +199,11 @@ impl VirtualChain {
             Instruction::BulkWrite => {
                 let mut rest = p;
                 while rest.len() >= 5 {
-                    let (id, addr, len) = (rest[0], u16le(&rest[1..3]), u16le(&rest[3..5]) as usize);
-                    let Some(data) = rest.get(5..5 + len) else { break };
+                    let (id, addr, len) =
+                        (rest[0], u16le(&rest[1..3]), u16le(&rest[3..5]) as usize);
+                    let Some(data) = rest.get(5..5 + len) else {
+                        break;
+                    };
                     if let Some(s) = self.listening_mut(baud, id).next() {
                         let _ = s.write(addr, data);
                     }
@@ -206,7 +222,10 @@ impl VirtualChain {
                 }
             }
             // Fast Sync/Bulk Read are X-series only: MX(2.0) firmware ignores them (broadcast).
-            Instruction::FastSyncRead | Instruction::FastBulkRead | Instruction::SyncRead | Instruction::SyncWrite => {}
+            Instruction::FastSyncRead
+            | Instruction::FastBulkRead
+            | Instruction::SyncRead
+            | Instruction::SyncWrite => {}
             // Not modelled: answered as an unknown instruction.
             _ => {
                 if req.id != BROADCAST_ID {
@@ -232,10 +251,20 @@ impl VirtualChain {
     }
 
     fn listening_mut(&mut self, baud: u32, id: u8) -> impl Iterator<Item = &mut VirtualServo> {
-        self.servos.iter_mut().filter(move |s| s.baud() == Some(baud) && (id == BROADCAST_ID || s.id() == id))
+        self.servos
+            .iter_mut()
+            .filter(move |s| s.baud() == Some(baud) && (id == BROADCAST_ID || s.id() == id))
     }
 
-    fn reply_one(&self, id: u8, baud: u32, level: u32, error: u8, data: &[u8], out: &mut Vec<PlannedReply>) {
+    fn reply_one(
+        &self,
+        id: u8,
+        baud: u32,
+        level: u32,
+        error: u8,
+        data: &[u8],
+        out: &mut Vec<PlannedReply>,
+    ) {
         if let Some(s) = self.listening(baud).find(|s| s.id() == id) {
             out.extend(self.planned_if(s, level, error, data, false));
         }
@@ -243,11 +272,24 @@ impl VirtualChain {
 
     /// A reply if the servo's Status Return Level allows one for an instruction of `level`
     /// (0: only Ping, 1: also reads, 2: everything).
-    fn planned_if(&self, s: &VirtualServo, level: u32, error: u8, data: &[u8], chained: bool) -> Option<PlannedReply> {
+    fn planned_if(
+        &self,
+        s: &VirtualServo,
+        level: u32,
+        error: u8,
+        data: &[u8],
+        chained: bool,
+    ) -> Option<PlannedReply> {
         Self::planned_static(s, level, error, data, chained)
     }
 
-    fn planned_static(s: &VirtualServo, level: u32, error: u8, data: &[u8], chained: bool) -> Option<PlannedReply> {
+    fn planned_static(
+        s: &VirtualServo,
+        level: u32,
+        error: u8,
+        data: &[u8],
+        chained: bool,
+    ) -> Option<PlannedReply> {
         if s.get(ct::STATUS_RETURN_LEVEL) < level {
             return None;
         }
@@ -259,15 +301,19 @@ impl VirtualChain {
     }
 
     fn status(s: &VirtualServo, error: u8, data: &[u8], chained: bool) -> PlannedReply {
+        Self::status_as(s, s.id(), error, data, chained)
+    }
+
+    fn status_as(s: &VirtualServo, id: u8, error: u8, data: &[u8], chained: bool) -> PlannedReply {
         let mut buf = vec![0u8; 16 + data.len() * 2];
         // Cannot fail: the buffer has room for the worst-case stuffing.
-        let n = encode::status(&mut buf, s.id(), error | s.alert(), data).unwrap_or(0);
+        let n = encode::status(&mut buf, id, error | s.alert(), data).unwrap_or(0);
         buf.truncate(n);
         if s.faults.corrupt_crc && n > 0 {
             buf[n - 2] ^= 0xFF;
         }
         PlannedReply {
-            id: s.id(),
+            id,
             delay_us: s.reply_delay_us(),
             bytes: (!s.faults.no_reply).then_some(buf),
             chained,

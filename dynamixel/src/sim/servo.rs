@@ -43,7 +43,10 @@ impl VirtualServo {
         let mut s = Self {
             model,
             mem: [0; TABLE_SIZE],
-            motor: MotorState { angle_rad: position as f64 * RAD_PER_TICK as f64, ..Default::default() },
+            motor: MotorState {
+                angle_rad: position as f64 * RAD_PER_TICK as f64,
+                ..Default::default()
+            },
             external_torque_nm: 0.0,
             faults: Faults::default(),
         };
@@ -104,7 +107,10 @@ impl VirtualServo {
     /// A field's value (little endian, zero-extended).
     pub fn get(&self, f: Field) -> u32 {
         let a = f.addr as usize;
-        self.mem[a..a + f.size as usize].iter().rev().fold(0, |acc, &b| (acc << 8) | b as u32)
+        self.mem[a..a + f.size as usize]
+            .iter()
+            .rev()
+            .fold(0, |acc, &b| (acc << 8) | b as u32)
     }
 
     /// Sets a field directly, bypassing the access rules (test setup).
@@ -141,7 +147,11 @@ impl VirtualServo {
 
     /// The status error byte's Alert bit: set while a hardware error is latched.
     pub fn alert(&self) -> u8 {
-        if self.hardware_error() != 0 { StatusError::ALERT } else { 0 }
+        if self.hardware_error() != 0 {
+            StatusError::ALERT
+        } else {
+            0
+        }
     }
 
     /// Latches an overload: torque off, Hardware Error Status bit 5, Alert until Reboot.
@@ -178,8 +188,12 @@ impl VirtualServo {
         self.put(ct::PRESENT_VELOCITY, vel as u32);
         let load = units::torque_to_load(self.model, m.torque_nm as f32);
         self.put(ct::PRESENT_LOAD_OR_CURRENT, load as u16 as u32);
-        self.put(ct::PRESENT_PWM, ((m.duty * 885.0).round() as i16) as u16 as u32);
-        let moving = (m.velocity_rad_s.abs() / RAD_S_PER_VELOCITY_UNIT as f64) > self.get(ct::MOVING_THRESHOLD) as f64;
+        self.put(
+            ct::PRESENT_PWM,
+            ((m.duty * 885.0).round() as i16) as u16 as u32,
+        );
+        let moving = (m.velocity_rad_s.abs() / RAD_S_PER_VELOCITY_UNIT as f64)
+            > self.get(ct::MOVING_THRESHOLD) as f64;
         self.put(ct::MOVING, moving as u32);
     }
 
@@ -202,14 +216,20 @@ impl VirtualServo {
         }
         let mut next = self.mem;
         next[a..a + l].copy_from_slice(data);
-        for f in ct::FIELDS.iter().filter(|f| (f.addr as usize) < a + l && a < (f.addr + f.size as u16) as usize) {
+        for f in ct::FIELDS
+            .iter()
+            .filter(|f| (f.addr as usize) < a + l && a < (f.addr + f.size as u16) as usize)
+        {
             if !f.writable || (f.eeprom && self.torque_enabled()) {
                 return Err(StatusError::ACCESS);
             }
         }
         let val = |f: Field| {
             let s = f.addr as usize;
-            next[s..s + f.size as usize].iter().rev().fold(0u32, |acc, &b| (acc << 8) | b as u32)
+            next[s..s + f.size as usize]
+                .iter()
+                .rev()
+                .fold(0u32, |acc, &b| (acc << 8) | b as u32)
         };
         let touches = |f: Field| (f.addr as usize) < a + l && a < (f.addr + f.size as u16) as usize;
         if touches(ct::ID) && val(ct::ID) > crate::instruction::MAX_ID as u32 {
@@ -227,7 +247,10 @@ impl VirtualServo {
         }
         if touches(ct::GOAL_POSITION) {
             let g = val(ct::GOAL_POSITION) as i32;
-            let (min, max) = (val(ct::MIN_POSITION_LIMIT) as i32, val(ct::MAX_POSITION_LIMIT) as i32);
+            let (min, max) = (
+                val(ct::MIN_POSITION_LIMIT) as i32,
+                val(ct::MAX_POSITION_LIMIT) as i32,
+            );
             if g < min || g > max {
                 return Err(StatusError::DATA_LIMIT);
             }

@@ -84,7 +84,9 @@ impl SimWire {
             bytes_to_servos: 0,
             bytes_to_master: 0,
         };
-        Self { state: Rc::new(RefCell::new(state)) }
+        Self {
+            state: Rc::new(RefCell::new(state)),
+        }
     }
 
     /// Simulated time in microseconds.
@@ -142,7 +144,9 @@ impl SimWire {
                 .min();
             match next {
                 Some(t) => s.run_until(t),
-                None => panic!("simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"),
+                None => panic!(
+                    "simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"
+                ),
             }
         }
     }
@@ -182,7 +186,7 @@ impl State {
         let baud = self.config.baud;
         // Borrow dance: the parser's frame borrows `self.servo_parser`, the chain is separate.
         let mut planned = Vec::new();
-        while let Some(ev) = self.servo_parser.next() {
+        while let Some(ev) = self.servo_parser.next_frame() {
             if let Ok(frame) = ev {
                 if frame.instruction == crate::instruction::STATUS {
                     continue;
@@ -197,11 +201,16 @@ impl State {
         let byte_ns = self.byte_ns();
         let mut prev_end = at;
         for r in planned {
-            let base = if r.chained { prev_end.max(self.reply_end_ns).max(at) } else { at };
+            let base = if r.chained {
+                prev_end.max(self.reply_end_ns).max(at)
+            } else {
+                at
+            };
             let start = base + r.delay_us as u64 * 1_000;
             if let Some(bytes) = r.bytes {
                 for (i, &b) in bytes.iter().enumerate() {
-                    self.to_master.push_back((start + (i as u64 + 1) * byte_ns, b));
+                    self.to_master
+                        .push_back((start + (i as u64 + 1) * byte_ns, b));
                 }
                 prev_end = start + bytes.len() as u64 * byte_ns;
                 self.reply_end_ns = prev_end;
@@ -236,7 +245,11 @@ impl embedded_io_async::Read for SimWire {
                     _ => break,
                 }
             }
-            if n > 0 { Poll::Ready(Ok(n)) } else { Poll::Pending }
+            if n > 0 {
+                Poll::Ready(Ok(n))
+            } else {
+                Poll::Pending
+            }
         })
         .await
     }
@@ -269,7 +282,7 @@ impl embedded_io_async::Write for SimWire {
 
     async fn flush(&mut self) -> Result<(), Self::Error> {
         let end = self.state.borrow().master_tx_end_ns;
-        self.wait_until(end / 1_000 + u64::from(end % 1_000 != 0)).await;
+        self.wait_until(end.div_ceil(1_000)).await;
         Ok(())
     }
 }

@@ -189,10 +189,14 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.apply(Event::ClearFault)
     }
 
-    /// Reboots all servos (clears latched hardware errors), then looks for them again.
-    pub fn reboot_servos(&mut self) -> Result<(), CommandError> {
+    /// Reboots all servos (`joint` None) or the servo of one joint (clears its latched hardware
+    /// error), then looks for all of them again (Boot, then Idle with torque off).
+    pub fn reboot_servos(&mut self, joint: Option<u8>) -> Result<(), CommandError> {
+        if let Some(j) = joint {
+            self.check_joint(j)?;
+        }
         self.apply(Event::Reboot)?;
-        self.reboot_pending = true;
+        self.reboot_pending = Some(joint.map_or(u32::MAX, |j| 1 << j));
         Ok(())
     }
 

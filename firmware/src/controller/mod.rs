@@ -6,6 +6,7 @@
 
 mod commands;
 mod cycle;
+mod feedback;
 #[cfg(test)]
 mod tests;
 
@@ -100,13 +101,16 @@ pub struct Controller<F> {
     /// Goals of the last cycle (what standing holds).
     goals: [i32; MAX_JOINTS],
     clamped: [bool; MAX_JOINTS],
+    /// Telemetry flags of each joint's last reply (no reply, CRC error).
+    reply_flags: [u8; MAX_JOINTS],
     /// Last good feedback per joint, and whether every joint has answered since the map changed.
     present: [Feedback; MAX_JOINTS],
     known: [bool; MAX_JOINTS],
     /// Torque as last sent to the servos.
     torque_sent: bool,
     misses: MissCounter<MAX_JOINTS>,
-    reboot_pending: bool,
+    /// Joints whose servos are to be rebooted (bit j), if a reboot is pending.
+    reboot_pending: Option<u32>,
     hw_error_pending: Option<u8>,
     last_plan_us: Option<u64>,
     stream: cycle::Stream,
@@ -131,11 +135,12 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             ramp: None,
             goals: [0; MAX_JOINTS],
             clamped: [false; MAX_JOINTS],
+            reply_flags: [0; MAX_JOINTS],
             present: [Feedback::default(); MAX_JOINTS],
             known: [false; MAX_JOINTS],
             torque_sent: false,
             misses: MissCounter::new(config.miss_limit),
-            reboot_pending: false,
+            reboot_pending: None,
             hw_error_pending: None,
             last_plan_us: None,
             stream: cycle::Stream::default(),

@@ -82,10 +82,12 @@ impl IdealServos {
                 self.torque_writes.push(false);
                 Outcome::Done(Ok(()))
             }
-            BusAction::Reboot => {
+            BusAction::Reboot { joints } => {
                 self.torque = false;
-                self.alert = None;
-                self.reboots += 1;
+                if self.alert.is_some_and(|j| joints & (1 << j) != 0) {
+                    self.alert = None;
+                }
+                self.reboots += joints.count_ones().min(JOINTS as u32) as usize;
                 Outcome::Done(Ok(()))
             }
             BusAction::ReadHardwareError { .. } => Outcome::HardwareError(Ok(0x20)),
@@ -322,8 +324,16 @@ fn a_silent_servo_puts_the_robot_in_the_safe_state_naming_it() {
         })
     );
     // No more goals: only reads.
+    while r.c.pop_telemetry().is_some() {}
     assert_eq!(r.cycle(), BusAction::ReadOnly);
     assert_eq!(r.c.counters().timeouts, 4);
+    // Telemetry names the silent servo.
+    let last = core::iter::from_fn(|| r.c.pop_telemetry()).last().unwrap();
+    assert_eq!(
+        last.joints[7].flags & crate::telemetry::flags::NO_REPLY,
+        crate::telemetry::flags::NO_REPLY
+    );
+    assert_eq!(last.joints[6].flags & crate::telemetry::flags::NO_REPLY, 0);
 }
 
 #[test]
@@ -351,8 +361,12 @@ fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
             error: 0x20
         })
     );
-    r.c.reboot_servos().unwrap();
-    assert_eq!(r.cycle(), BusAction::Reboot);
+    assert!(matches!(
+        r.c.reboot_servos(Some(22)),
+        Err(CommandError::NoSuchJoint { joint: 22, .. })
+    ));
+    r.c.reboot_servos(Some(3)).unwrap();
+    assert_eq!(r.cycle(), BusAction::Reboot { joints: 1 << 3 });
     assert_eq!(r.servos.reboots, 1);
     assert_eq!(r.c.state(), State::Boot);
     r.cycle();

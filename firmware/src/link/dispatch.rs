@@ -254,13 +254,15 @@ pub fn handle<F: NorFlash + FlashWindow>(
             servos: ServoSelect::All,
             enable,
         } => ack(c.set_torque(enable), command_error),
-        Request::RebootServos {
-            servos: ServoSelect::All,
-        } => ack(c.reboot_servos(), command_error),
-        // Torque and reboot act on the whole bus: the state machine has no per-servo torque.
-        Request::SetTorque { .. } | Request::RebootServos { .. } => {
-            Response::Error(ProtocolError::Unsupported)
-        }
+        Request::RebootServos { servos } => ack(
+            c.reboot_servos(match servos {
+                ServoSelect::All => None,
+                ServoSelect::Joint(j) => Some(j),
+            }),
+            command_error,
+        ),
+        // Torque acts on the whole robot: the state machine has no per-servo torque.
+        Request::SetTorque { .. } => Response::Error(ProtocolError::Unsupported),
         Request::EmergencyStop => {
             c.emergency_stop();
             Response::Ack

@@ -3,6 +3,9 @@
 //! One file per subcommand; each holds a clap `Args` struct whose doc comments are the help text,
 //! and a `run(self)` that does the work.
 
+mod dxl;
+mod sim_bus;
+
 use clap::{Parser, Subcommand};
 
 mod board_args;
@@ -65,6 +68,10 @@ enum Cmd {
     Demo(demo::Args),
     /// Build the board's step table from a plan directory.
     Table(table::Args),
+    /// Serve virtual Dynamixel servos on a pseudo-terminal
+    SimBus(sim_bus::Args),
+    /// Set up and inspect Dynamixel servos through a USB serial adapter
+    Dxl(dxl::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -85,5 +92,7 @@ fn main() -> anyhow::Result<()> {
         Cmd::Record(a) => a.run(),
         Cmd::Demo(a) => a.run(),
         Cmd::Table(a) => a.run(),
+        Cmd::SimBus(a) => a.run(),
+        Cmd::Dxl(a) => a.run(),
     }
 }

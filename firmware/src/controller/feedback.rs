@@ -1,0 +1,179 @@
+//! What the controller makes of a finished bus action: feedback per joint, missed replies, servo
+//! errors (with a read of the Hardware Error Status to name them), torque bookkeeping, telemetry.
+
+use dynamixel::master::{CycleStats, Reply, ReplyFault};
+use embedded_storage::nor_flash::NorFlash;
+
+use super::{BusAction, Controller, CyclePlan, Outcome};
+use crate::playback::MAX_JOINTS;
+use crate::safety::{Event, SafeReason, State};
+use crate::store::FlashWindow;
+use crate::telemetry::{JointSample, Record, flags};
+
+impl<F: NorFlash + FlashWindow> Controller<F> {
+    /// Takes in what the bus action of `plan` gave: replies (one per joint, for Cycle and ReadOnly),
+    /// statistics, and `late_us` = how late the cycle started. Updates feedback, counts misses and
+    /// errors, moves the state machine, and queues telemetry.
+    pub fn complete(
+        &mut self,
+        plan: &CyclePlan,
+        outcome: Outcome,
+        replies: &[Reply],
+        late_us: u32,
+    ) {
+        self.counters.cycles = self.counters.cycles.wrapping_add(1);
+        self.counters.jitter_us = late_us;
+        self.counters.max_jitter_us = self.counters.max_jitter_us.max(late_us);
+        match (plan.action, outcome) {
+            (BusAction::TorqueOn, Outcome::Done(Ok(()))) => self.torque_sent = true,
+            (BusAction::TorqueOff, Outcome::Done(Ok(()))) => self.torque_sent = false,
+            (BusAction::Reboot { joints }, Outcome::Done(r)) => {
+                // Rebooted servos come back with torque off; Boot then looks for all of them. If
+                // only some were rebooted the others may still hold torque: Idle turns it off.
+                self.reboot_pending = None;
+                let n = self.joints.len();
+                if n == 0 || joints.count_ones() as usize >= n {
+                    self.torque_sent = false;
+                }
+                if r.is_err() {
+                    self.counters.bus_errors = self.counters.bus_errors.wrapping_add(1);
+                }
+            }
+            (BusAction::ReadHardwareError { joint }, Outcome::HardwareError(r)) => {
+                self.hw_error_pending = None;
+                if let (Ok(bits), State::Safe(SafeReason::ServoError { joint: j, id, .. })) =
+                    (r, self.state)
+                    && j == joint
+                {
+                    self.state = State::Safe(SafeReason::ServoError {
+                        joint,
+                        id,
+                        error: bits,
+                    });
+                }
+            }
+            // No servos: the record still tells the host the board is alive and in which state.
+            (BusAction::Nothing, _) => self.queue_telemetry(plan, &CycleStats::default()),
+            (BusAction::Cycle | BusAction::ReadOnly, Outcome::Feedback(Ok(stats))) => {
+                self.take_replies(plan, replies);
+                self.queue_telemetry(plan, &stats);
+            }
+            (_, Outcome::Done(Err(_)) | Outcome::Feedback(Err(_))) => {
+                self.counters.bus_errors = self.counters.bus_errors.wrapping_add(1);
+            }
+            _ => {}
+        }
+    }
+
+    fn take_replies(&mut self, plan: &CyclePlan, replies: &[Reply]) {
+        let n = self.joints.len().min(plan.n).min(replies.len());
+        for (j, reply) in replies.iter().enumerate().take(n) {
+            let id = self.joints[j].id;
+            self.reply_flags[j] = match reply {
+                Ok(_) | Err(ReplyFault::Status(_)) => 0,
+                Err(ReplyFault::Crc) => flags::NO_REPLY | flags::CRC_ERROR,
+                Err(_) => flags::NO_REPLY,
+            };
+            let usable = match reply {
+                Ok(fb) => {
+                    self.present[j] = *fb;
+                    self.known[j] = true;
+                    if fb.alert {
+                        self.fault_servo(j, id, 0);
+                    }
+                    true
+                }
+                Err(ReplyFault::Status(e)) => {
+                    // A servo that answers with an error number is there, but its data is not.
+                    self.fault_servo(j, id, e.0);
+                    true
+                }
+                Err(ReplyFault::Timeout) => {
+                    self.counters.timeouts = self.counters.timeouts.wrapping_add(1);
+                    false
+                }
+                Err(ReplyFault::Crc) => {
+                    self.counters.crc_errors = self.counters.crc_errors.wrapping_add(1);
+                    false
+                }
+                Err(_) => false,
+            };
+            if let Some(reason) = self.misses.record(j, id, usable) {
+                self.event(Event::Fault(reason));
+            }
+        }
+        if self.state == State::Boot && self.all_known() {
+            self.event(Event::BootDone);
+        }
+    }
+
+    fn fault_servo(&mut self, joint: usize, id: u8, error: u8) {
+        let reason = SafeReason::ServoError {
+            joint: joint as u8,
+            id,
+            error,
+        };
+        let before = self.state;
+        self.event(Event::Fault(reason));
+        if before != self.state && error == 0 {
+            // The alert says "a hardware error is latched"; which one is in register 70.
+            self.hw_error_pending = Some(joint as u8);
+        }
+    }
+
+    fn queue_telemetry(&mut self, plan: &CyclePlan, stats: &CycleStats) {
+        if self.config.telemetry_every == 0 {
+            return;
+        }
+        if self.telemetry_countdown > 1 {
+            self.telemetry_countdown -= 1;
+            return;
+        }
+        self.telemetry_countdown = self.config.telemetry_every;
+        let n = self.joints.len();
+        let mut joints = [JointSample::default(); MAX_JOINTS];
+        for (j, s) in joints.iter_mut().enumerate().take(n) {
+            let fb = self.present[j];
+            let mut f = self.reply_flags[j];
+            if self.clamped[j] {
+                f |= flags::CLAMPED;
+            }
+            if !self.torque_sent {
+                f |= flags::TORQUE_OFF;
+            }
+            if fb.alert {
+                f |= flags::ALERT;
+            }
+            *s = JointSample {
+                commanded: self.goals[j],
+                present: fb.position,
+                velocity: fb.velocity,
+                load: fb.load,
+                error: match self.state {
+                    State::Safe(SafeReason::ServoError { joint, error, .. })
+                        if usize::from(joint) == j =>
+                    {
+                        error
+                    }
+                    _ => 0,
+                },
+                flags: f,
+            };
+        }
+        let (step, slice) = self.playback().unwrap_or((0, 0));
+        let record = Record {
+            time_us: plan.start_us,
+            cycle: self.counters.cycles,
+            state: self.state,
+            step,
+            slice,
+            joint_count: n as u8,
+            joints,
+            cycle_us: stats.duration_us().min(u32::MAX as u64) as u32,
+            timeouts: self.counters.timeouts,
+            crc_errors: self.counters.crc_errors,
+            overruns: self.counters.overruns,
+        };
+        self.telemetry.push(record);
+    }
+}
