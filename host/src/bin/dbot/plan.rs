@@ -40,6 +40,8 @@ pub struct Args {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
+    #[command(flatten)]
+    dynamics: crate::dynamics_args::DynamicsArgs,
 }
 
 impl Args {
@@ -73,16 +75,20 @@ impl Args {
         let plan = host::plan::plan(&model, &p)
             .with_context(|| format!("planning a step of {}", model.name))?;
         bar.inc(1);
+        let dynamics = self.dynamics.solve(&plan)?;
         let out = &self.out;
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
         let create = |name: &str| {
             let path = out.join(name);
             std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
         };
-        report::write_joints_csv(create("joints.csv")?, &plan, &[])?;
-        report::write_feet_csv(create("feet.csv")?, &plan, &[])?;
+        let (joint_cols, feet_cols) = dynamics
+            .as_ref()
+            .map_or((vec![], vec![]), |d| (d.joint_columns(), d.feet_columns()));
+        report::write_joints_csv(create("joints.csv")?, &plan, &joint_cols)?;
+        report::write_feet_csv(create("feet.csv")?, &plan, &feet_cols)?;
         bar.inc(1);
-        let json = serde_json::json!({
+        let mut json = serde_json::json!({
             "model": model.name,
             "model_source": self.model,
             "parameters": plan.params,
@@ -99,6 +105,9 @@ impl Args {
             "resting_posture_rad": model.joints.iter().zip(&plan.posture.q).map(|(j, q)| (j.name.clone(), *q)).collect::<std::collections::BTreeMap<_, _>>(),
             "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
         });
+        if let Some(d) = &dynamics {
+            json["dynamics"] = d.json(&plan);
+        }
         std::fs::write(out.join("plan.json"), serde_json::to_string_pretty(&json)?)?;
         std::fs::write(out.join("model.urdf"), host::model::to_urdf(&model))?;
         bar.inc(1);
@@ -107,6 +116,10 @@ impl Args {
         report::plot_footfall(&plan, &out.join("footfall.png"))?;
         bar.inc(1);
         report::plot_feet(&plan, &out.join("feet.png"))?;
+        if let Some(d) = &dynamics {
+            let files = d.write_files(&plan, out)?;
+            println!("{}; wrote {}", d.summary(), files.join(" "));
+        }
         bar.finish_and_clear();
         println!(
             "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png to {}",

@@ -1,0 +1,219 @@
+//! Every board command of `dbot` run as a process against the virtual robot whose flash lives in
+//! a file (`--port virtual:PATH`), checking what each command reports and what the board then holds.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use firmware::testkit::SyntheticGait;
+
+fn dbot(dir: &Path, args: &[&str]) -> Output {
+    let image = dir.join("robot.flash");
+    Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(args)
+        .arg("--port")
+        .arg(format!("virtual:{}", image.display()))
+        .current_dir(dir)
+        .env_remove("DBOT_CONFIG")
+        .env("XDG_CONFIG_HOME", dir)
+        .output()
+        .unwrap()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let o = dbot(dir, args);
+    assert!(
+        o.status.success(),
+        "dbot {args:?} failed:\n{}{}",
+        stdout(&o),
+        stderr(&o)
+    );
+    stdout(&o)
+}
+
+fn table(dir: &Path, name: &str, slices: usize, period: f64) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, SyntheticGait::new(slices, period).build()).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn upload_then_gaits_in_another_process_sees_the_gait() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = table(dir.path(), "a.dbgt", 100, 1.0);
+    let out = ok(dir.path(), &["upload", "--table", &t, "--slot", "1"]);
+    assert!(
+        out.contains("slot 1: \"synthetic\" 22 joints x 100 slices, step 1.000 s"),
+        "{out}"
+    );
+    assert!(out.contains("the slot was empty"), "{out}");
+    let out = ok(dir.path(), &["gaits"]);
+    assert!(out.contains("slot 0: empty"), "{out}");
+    assert!(
+        out.contains("slot 1: \"synthetic\" 22 joints x 100 slices"),
+        "{out}"
+    );
+    let t2 = table(dir.path(), "b.dbgt", 50, 0.5);
+    let out = ok(dir.path(), &["upload", "--table", &t2, "--slot", "1"]);
+    assert!(
+        out.contains("replaced: \"synthetic\" 22 joints x 100 slices"),
+        "{out}"
+    );
+}
+
+#[test]
+fn run_walks_the_steps_and_status_estop_set_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = table(dir.path(), "a.dbgt", 100, 0.5);
+    ok(dir.path(), &["upload", "--table", &t, "--slot", "0"]);
+    let out = ok(dir.path(), &["run", "--slot", "0", "--steps", "4"]);
+    // 4 steps of 0.5 s after a ramp of at least 0.5 s: the board clock shows at least 2.5 s.
+    let t_end: f64 = out
+        .split("board clock ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(t_end >= 2.5, "{out}");
+    let out = ok(
+        dir.path(),
+        &[
+            "run",
+            "--slot",
+            "0",
+            "--steps",
+            "1",
+            "--backward",
+            "--period",
+            "1.0",
+        ],
+    );
+    assert!(out.contains("the robot stands"), "{out}");
+    let out = ok(dir.path(), &["status"]);
+    assert!(out.contains("state     Idle"), "{out}");
+    let out = ok(dir.path(), &["estop"]);
+    assert!(
+        out.contains("Fault") && out.contains("EmergencyStop"),
+        "{out}"
+    );
+    let out = ok(dir.path(), &["stop"]);
+    assert!(out.contains("nothing to stop"), "{out}");
+    let out = ok(dir.path(), &["set", "--rate", "200", "--baud", "2000000"]);
+    assert!(out.contains("bus 2000000 bit/s at 200 Hz"), "{out}");
+    let out = ok(dir.path(), &["servos", "--table", &t]);
+    assert!(out.contains("    0      1   Mx28"), "{out}");
+}
+
+#[test]
+fn bad_requests_name_the_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dbot(dir.path(), &["run", "--slot", "2", "--steps", "1"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("slot 2 is empty"), "{}", stderr(&o));
+    let bad = dir.path().join("bad.dbgt");
+    std::fs::write(&bad, b"not a table").unwrap();
+    let o = dbot(dir.path(), &["upload", "--table", bad.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("bad.dbgt is not a valid step table"),
+        "{}",
+        stderr(&o)
+    );
+    let t = table(dir.path(), "a.dbgt", 100, 1.0);
+    ok(dir.path(), &["upload", "--table", &t]);
+    let o = dbot(dir.path(), &["run", "--steps", "1", "--period", "50"]);
+    assert!(stderr(&o).contains("--period 50 s"), "{}", stderr(&o));
+}
+
+#[test]
+fn the_setup_file_names_port_and_slot_and_flags_override_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = table(dir.path(), "a.dbgt", 100, 0.5);
+    std::fs::write(
+        dir.path().join("dbot.toml"),
+        "port = \"virtual:setup.flash\"\nslot = 2\n",
+    )
+    .unwrap();
+    let plain = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_dbot"))
+            .args(args)
+            .current_dir(dir.path())
+            .env_remove("DBOT_CONFIG")
+            .env("XDG_CONFIG_HOME", dir.path())
+            .output()
+            .unwrap()
+    };
+    let o = plain(&["upload", "--table", &t]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("slot 2:"), "{}", stdout(&o));
+    assert!(dir.path().join("setup.flash").is_file());
+    // Daily use: `dbot run --steps K` plays the setup's slot on the setup's port.
+    let o = plain(&["run", "--steps", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A flag wins over the file: another flash image has nothing in slot 2.
+    let o = plain(&["gaits", "--port", "virtual:other.flash"]);
+    assert!(stdout(&o).contains("slot 2: empty"), "{}", stdout(&o));
+    // A bad setup file is named with the problem.
+    std::fs::write(dir.path().join("dbot.toml"), "rate = 5\n").unwrap();
+    let o = plain(&["gaits"]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("dbot.toml: rate = 5 is out of range"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(["plan", "--out", "p", "--slices", "50"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = ok(dir.path(), &["upload", "--plan", "p", "--slot", "3"]);
+    // 22 servos of Drosophibot II, the 50 slices asked for, table 1's 1.25 s step period.
+    assert!(
+        out.contains("slot 3: \"dbII tripod\" 22 joints x 50 slices, step 1.250 s, duty 0.60"),
+        "{out}"
+    );
+    let o = dbot(dir.path(), &["upload", "--plan", "nowhere"]);
+    assert!(stderr(&o).contains("nowhere/plan.json"), "{}", stderr(&o));
+}
+
+#[test]
+fn devices_lists_no_board_here_and_says_how_to_go_virtual() {
+    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .arg("devices")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    // CI machines have no board: the one line says which VID:PID was looked for.
+    if out.starts_with("no board found") {
+        assert!(out.contains("1209:0001"), "{out}");
+    }
+}
+
+#[test]
+fn a_flash_image_of_the_wrong_size_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("robot.flash"), [0u8; 100]).unwrap();
+    let o = dbot(dir.path(), &["gaits"]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("robot.flash") && e.contains("100 bytes is not a flash image"),
+        "{e}"
+    );
+}
