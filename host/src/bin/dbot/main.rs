@@ -5,6 +5,9 @@
 
 use clap::{Parser, Subcommand};
 
+mod model;
+mod plan;
+
 /// Plan, run and record gaits of the Drosophibot II hexapod.
 ///
 /// Units on the command line are SI (m, s, rad, N m) unless a flag says otherwise.
@@ -16,9 +19,17 @@ struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
-enum Cmd {}
+enum Cmd {
+    /// Plan a step cycle (posture, footpaths, inverse kinematics) and write CSV, JSON, URDF, plots.
+    Plan(plan::Args),
+    /// Export, import or inspect organism models.
+    Model(model::Args),
+}
 
 fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
-    match cli.cmd {}
+    match cli.cmd {
+        Cmd::Plan(a) => a.run(),
+        Cmd::Model(a) => a.run(),
+    }
 }

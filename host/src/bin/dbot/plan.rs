@@ -1,0 +1,114 @@
+//! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf and plots.
+
+use crate::model::load_model;
+use anyhow::{Context, Result};
+use host::gait::{Gait, ParamsFile, StepParams};
+use host::report;
+use indicatif::ProgressBar;
+use std::path::PathBuf;
+
+/// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
+///
+/// Stepping parameters default to table 1 of the paper for the model; a --params TOML file
+/// overrides any of them, and the flags below override the file.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Built-in model name (drosophibot2, scale-drosophila), a .toml model or an .aproj file.
+    #[arg(long, default_value = "drosophibot2")]
+    model: String,
+    /// flat, ball[:RADIUS_M[:OFFSET_M]] or incline:DEG.
+    #[arg(long)]
+    terrain: Option<String>,
+    /// tripod, tetrapod, wave or PHI_I:PHI_C (fractions of the cycle).
+    #[arg(long)]
+    gait: Option<String>,
+    /// Swing duration, s.
+    #[arg(long)]
+    swing: Option<f64>,
+    /// Time slices per step cycle.
+    #[arg(long)]
+    slices: Option<usize>,
+    /// Walk backward (negates the body translation per step).
+    #[arg(long)]
+    backward: bool,
+    /// TOML file with stepping parameters (any subset of: swing_s, duty, step_height_m,
+    /// translation_m, rotation_rad, body_height_m, gait, slices, terrain, ball_radius_m).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+impl Args {
+    pub fn run(self) -> Result<()> {
+        let model = load_model(&self.model)?;
+        let mut p = StepParams::table1(&model.name);
+        if let Some(f) = &self.params {
+            let text = std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;
+            ParamsFile::from_toml(&text, &f.display().to_string())?.apply(&mut p);
+        }
+        if let Some(t) = self.terrain {
+            p.terrain = t;
+        }
+        if let Some(g) = &self.gait {
+            p.gait = Gait::parse(g).with_context(|| format!("--gait `{g}`: expected tripod, tetrapod, wave or PHI_I:PHI_C"))?;
+        }
+        if let Some(s) = self.swing {
+            p.swing_s = s;
+        }
+        if let Some(n) = self.slices {
+            p.slices = n;
+        }
+        if self.backward {
+            p.translation_m = -p.translation_m.abs();
+        }
+        let bar = ProgressBar::new(6);
+        bar.set_message("planning");
+        let plan = host::plan::plan(&model, &p).with_context(|| format!("planning a step of {}", model.name))?;
+        bar.inc(1);
+        let out = &self.out;
+        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+        let create = |name: &str| {
+            let path = out.join(name);
+            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
+        };
+        report::write_joints_csv(create("joints.csv")?, &plan, &[])?;
+        report::write_feet_csv(create("feet.csv")?, &plan, &[])?;
+        bar.inc(1);
+        let json = serde_json::json!({
+            "model": model.name,
+            "model_source": self.model,
+            "parameters": plan.params,
+            "terrain": plan.terrain,
+            "gravity_m_s2": plan.gravity,
+            "ball_centre_m": plan.ball_centre,
+            "period_s": plan.period_s,
+            "dt_s": plan.dt,
+            "slices": plan.slices(),
+            "legs": plan.legs,
+            "leg_phases": plan.phases,
+            "thorax_velocity_m_s": plan.thorax_velocity,
+            "thorax_angular_velocity_rad_s": plan.thorax_angular_velocity,
+            "resting_posture_rad": model.joints.iter().zip(&plan.posture.q).map(|(j, q)| (j.name.clone(), *q)).collect::<std::collections::BTreeMap<_, _>>(),
+            "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
+        });
+        std::fs::write(out.join("plan.json"), serde_json::to_string_pretty(&json)?)?;
+        std::fs::write(out.join("model.urdf"), host::model::to_urdf(&model))?;
+        bar.inc(1);
+        report::plot_joint_angles(&plan, &out.join("joint_angles.png"))?;
+        bar.inc(1);
+        report::plot_footfall(&plan, &out.join("footfall.png"))?;
+        bar.inc(1);
+        report::plot_feet(&plan, &out.join("feet.png"))?;
+        bar.finish_and_clear();
+        println!(
+            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png to {}",
+            model.name,
+            plan.slices(),
+            plan.period_s,
+            out.display()
+        );
+        Ok(())
+    }
+}

@@ -1,0 +1,12 @@
+//! Stepping: parameters (table 1 of the paper), gaits as phase offsets, and footpaths (stance
+//! lines moved by the ground's motion, quintic swing).
+
+mod footpath;
+mod params;
+mod phase;
+mod quintic;
+
+pub use footpath::{Footpath, GroundMotion};
+pub use params::{ParamError, ParamsFile, PerPair, StepParams};
+pub use phase::Gait;
+pub use quintic::Quintic;

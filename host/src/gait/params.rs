@@ -1,0 +1,186 @@
+//! Stepping parameters (table 1 of the paper) with their defaults and checks.
+
+use super::Gait;
+use crate::model::Leg;
+use serde::{Deserialize, Serialize};
+
+/// A value per leg pair (hind, middle, front), as table 1 gives them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PerPair {
+    pub hind: f64,
+    pub middle: f64,
+    pub front: f64,
+}
+
+impl PerPair {
+    pub const fn all(v: f64) -> PerPair {
+        PerPair {
+            hind: v,
+            middle: v,
+            front: v,
+        }
+    }
+    pub fn get(&self, leg: Leg) -> f64 {
+        match leg {
+            Leg::LH | Leg::RH => self.hind,
+            Leg::LM | Leg::RM => self.middle,
+            Leg::LF | Leg::RF => self.front,
+        }
+    }
+}
+
+/// Everything that shapes one step cycle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepParams {
+    /// Swing duration T_sw, s.
+    pub swing_s: f64,
+    /// Stance duty cycle DS_st, in (0, 1): stance lasts `swing_s * duty / (1 - duty)`.
+    pub duty: f64,
+    /// Swing apex above the line joining lift-off and touch-down (table 1's h_st), m.
+    pub step_height_m: PerPair,
+    /// Body translation per step Tr_body: distance the thorax moves during one stance, m
+    /// (negative walks backward).
+    pub translation_m: f64,
+    /// Body yaw per step (during one stance), rad; positive turns left.
+    pub rotation_rad: f64,
+    /// Body height h_body: foot height below the thorax origin in the resting posture, m.
+    pub body_height_m: PerPair,
+    pub gait: Gait,
+    /// Time slices per step cycle.
+    pub slices: usize,
+    /// `flat`, `ball[:R[:OFFSET]]` or `incline:DEG` (see [`crate::terrain::Terrain::parse`]).
+    pub terrain: String,
+    /// Ball radius used for a bare `ball`, m.
+    pub ball_radius_m: f64,
+}
+
+/// A stepping parameter that cannot be right.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    #[error("parameter `{field}` = {value}: {problem}")]
+    Invalid { field: &'static str, value: String, problem: &'static str },
+    #[error("{file}: {message}")]
+    File { file: String, message: String },
+}
+
+impl StepParams {
+    /// Table 1 of the paper for a built-in model (Drosophibot II with T_sw = 0.5 s, the MATLAB
+    /// solver's default inside table 1's 0.4-1.6 s; Scale-Drosophila as listed). Other models get
+    /// Drosophibot II's values.
+    pub fn table1(model: &str) -> StepParams {
+        match model {
+            "scale-drosophila" => StepParams {
+                swing_s: 0.1,
+                duty: 0.6,
+                step_height_m: PerPair::all(0.5e-3),
+                translation_m: 0.6e-3,
+                rotation_rad: 0.0,
+                body_height_m: PerPair::all(1.3e-3),
+                gait: Gait::TRIPOD,
+                slices: 100,
+                terrain: "flat".into(),
+                // A 9 mm ball, common in tethered-fly rigs (estimate, not from the paper).
+                ball_radius_m: 4.5e-3,
+            },
+            _ => StepParams {
+                swing_s: 0.5,
+                duty: 0.6,
+                step_height_m: PerPair {
+                    hind: 0.07,
+                    middle: 0.05,
+                    front: 0.09,
+                },
+                translation_m: 0.085,
+                rotation_rad: 0.0,
+                body_height_m: PerPair::all(0.175),
+                gait: Gait::TRIPOD,
+                slices: 100,
+                terrain: "flat".into(),
+                // The fly's 4.5 mm ball scaled by body height 175 / 1.3 (estimate).
+                ball_radius_m: 4.5e-3 * 0.175 / 1.3e-3,
+            },
+        }
+    }
+
+    /// Full step period T = T_sw / (1 - duty), s.
+    pub fn period_s(&self) -> f64 {
+        self.swing_s / (1.0 - self.duty)
+    }
+
+    /// Stance duration, s.
+    pub fn stance_s(&self) -> f64 {
+        self.period_s() * self.duty
+    }
+
+    /// Checks every field; the error names the field.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let bad = |field, value: f64, problem| ParamError::Invalid {
+            field,
+            value: value.to_string(),
+            problem,
+        };
+        if !(self.swing_s.is_finite() && self.swing_s > 0.0) {
+            return Err(bad("swing_s", self.swing_s, "swing duration (and so the period) must be > 0"));
+        }
+        if !(self.duty > 0.0 && self.duty < 1.0) {
+            return Err(bad("duty", self.duty, "duty cycle must lie in (0, 1)"));
+        }
+        for (f, p) in [("step_height_m", &self.step_height_m), ("body_height_m", &self.body_height_m)] {
+            for v in [p.hind, p.middle, p.front] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(bad(f, v, "must be > 0"));
+                }
+            }
+        }
+        if !self.translation_m.is_finite() {
+            return Err(bad("translation_m", self.translation_m, "not finite"));
+        }
+        if !(self.rotation_rad.is_finite() && self.rotation_rad.abs() < std::f64::consts::PI) {
+            return Err(bad("rotation_rad", self.rotation_rad, "must be finite and below pi per step"));
+        }
+        if self.slices < 4 {
+            return Err(bad("slices", self.slices as f64, "need at least 4 slices per step"));
+        }
+        if !(self.gait.phi_i.is_finite() && self.gait.phi_c.is_finite()) {
+            return Err(bad("gait", self.gait.phi_i, "phase offsets must be finite"));
+        }
+        if !(self.ball_radius_m.is_finite() && self.ball_radius_m > 0.0) {
+            return Err(bad("ball_radius_m", self.ball_radius_m, "must be > 0"));
+        }
+        Ok(())
+    }
+}
+
+/// A parameter file: any subset of [`StepParams`] fields, the rest from table 1.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamsFile {
+    pub swing_s: Option<f64>,
+    pub duty: Option<f64>,
+    pub step_height_m: Option<PerPair>,
+    pub translation_m: Option<f64>,
+    pub rotation_rad: Option<f64>,
+    pub body_height_m: Option<PerPair>,
+    pub gait: Option<Gait>,
+    pub slices: Option<usize>,
+    pub terrain: Option<String>,
+    pub ball_radius_m: Option<f64>,
+}
+
+impl ParamsFile {
+    /// Parses TOML text; `file` names it in errors.
+    pub fn from_toml(text: &str, file: &str) -> Result<ParamsFile, ParamError> {
+        toml::from_str(text).map_err(|e| ParamError::File {
+            file: file.to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Overrides `base` with every field given here.
+    pub fn apply(&self, base: &mut StepParams) {
+        macro_rules! set {
+            ($($f:ident),*) => { $( if let Some(v) = self.$f.clone() { base.$f = v; } )* };
+        }
+        set!(swing_s, duty, step_height_m, translation_m, rotation_rad, body_height_m, gait, slices, terrain, ball_radius_m);
+    }
+}

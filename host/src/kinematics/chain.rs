@@ -1,0 +1,194 @@
+//! One leg as a fixed-size serial chain, and its inverse kinematics: Newton / damped least squares
+//! on the foot position, with the spare degrees of freedom of redundant legs pulled to a rest
+//! posture in the null space (so the answer depends on the target, not on the path, and a periodic
+//! footpath gives periodic angles), joint limits enforced by clamping.
+
+use super::{KinematicsError, MAX_CHAIN};
+use crate::model::{Actuation, Leg, Model};
+use nalgebra::{Isometry3, Matrix3, Point3, Unit, UnitQuaternion, Vector3};
+
+/// Tolerances of the leg IK.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IkOptions {
+    /// Foot position tolerance as a fraction of the leg length.
+    pub tol_rel: f64,
+    /// Tolerance on the null-space (rest-posture) step, rad.
+    pub tol_null: f64,
+    pub max_iter: usize,
+}
+
+impl Default for IkOptions {
+    fn default() -> Self {
+        IkOptions {
+            tol_rel: 1e-10,
+            tol_null: 1e-10,
+            max_iter: 100,
+        }
+    }
+}
+
+/// A leg from the thorax to its foot, with its actuated joints as the unknowns.
+#[derive(Debug, Clone)]
+pub struct LegChain {
+    pub leg: Leg,
+    n: usize,
+    origins: [Isometry3<f64>; MAX_CHAIN],
+    axes: [Unit<Vector3<f64>>; MAX_CHAIN],
+    /// Fixed angle, or NaN for an actuated joint.
+    fixed: [f64; MAX_CHAIN],
+    /// Model joint index of each actuated joint, proximal first.
+    pub actuated: Vec<usize>,
+    lo: [f64; MAX_CHAIN],
+    hi: [f64; MAX_CHAIN],
+    foot: Vector3<f64>,
+    /// Leg length (m), the scale of the tolerances.
+    pub length: f64,
+}
+
+impl LegChain {
+    pub fn new(model: &Model, leg: Leg) -> Result<Self, KinematicsError> {
+        let foot = model.foot(leg).ok_or(KinematicsError::NoFoot { leg: leg.name() })?;
+        let chain = model.leg_chain(leg);
+        if chain.len() > MAX_CHAIN {
+            return Err(KinematicsError::ChainTooLong {
+                leg: leg.name(),
+                len: chain.len(),
+                max: MAX_CHAIN,
+            });
+        }
+        let mut c = LegChain {
+            leg,
+            n: chain.len(),
+            origins: [Isometry3::identity(); MAX_CHAIN],
+            axes: [Vector3::x_axis(); MAX_CHAIN],
+            fixed: [f64::NAN; MAX_CHAIN],
+            actuated: Vec::new(),
+            lo: [0.0; MAX_CHAIN],
+            hi: [0.0; MAX_CHAIN],
+            foot: foot.point,
+            length: model.leg_length(leg),
+        };
+        for (k, &j) in chain.iter().enumerate() {
+            let joint = &model.joints[j];
+            c.origins[k] = joint.origin;
+            c.axes[k] = joint.axis;
+            match joint.actuation {
+                Actuation::Fixed { angle } => c.fixed[k] = angle,
+                Actuation::Actuated { .. } => {
+                    let a = c.actuated.len();
+                    c.lo[a] = joint.limits.0;
+                    c.hi[a] = joint.limits.1;
+                    c.actuated.push(j);
+                }
+            }
+        }
+        Ok(c)
+    }
+
+    /// Number of unknowns (actuated joints).
+    pub fn dof(&self) -> usize {
+        self.actuated.len()
+    }
+
+    /// Joint limits of actuated joint `a`.
+    pub fn limits(&self, a: usize) -> (f64, f64) {
+        (self.lo[a], self.hi[a])
+    }
+
+    /// Foot position and, per actuated joint, its world position and axis.
+    fn fk(&self, qa: &[f64]) -> (Vector3<f64>, [Vector3<f64>; MAX_CHAIN], [Vector3<f64>; MAX_CHAIN]) {
+        let mut pose = Isometry3::identity();
+        let mut o = [Vector3::zeros(); MAX_CHAIN];
+        let mut a = [Vector3::zeros(); MAX_CHAIN];
+        let mut k_act = 0;
+        for k in 0..self.n {
+            pose *= self.origins[k];
+            let angle = if self.fixed[k].is_nan() {
+                o[k_act] = pose.translation.vector;
+                a[k_act] = pose.rotation * self.axes[k].into_inner();
+                k_act += 1;
+                qa[k_act - 1]
+            } else {
+                self.fixed[k]
+            };
+            pose *= UnitQuaternion::from_axis_angle(&self.axes[k], angle);
+        }
+        ((pose * Point3::from(self.foot)).coords, o, a)
+    }
+
+    /// Foot position for the actuated angles `qa` (thorax frame).
+    pub fn foot_position(&self, qa: &[f64]) -> Vector3<f64> {
+        self.fk(qa).0
+    }
+
+    /// Position Jacobian (3 x dof) columns and the foot position.
+    pub fn jacobian(&self, qa: &[f64]) -> (Vector3<f64>, [Vector3<f64>; MAX_CHAIN]) {
+        let (p, o, a) = self.fk(qa);
+        let mut jac = [Vector3::zeros(); MAX_CHAIN];
+        for k in 0..self.dof() {
+            jac[k] = a[k].cross(&(p - o[k]));
+        }
+        (p, jac)
+    }
+
+    /// Moves `qa` (warm start, updated in place) until the foot is at `target` within tolerance,
+    /// pulling spare degrees of freedom towards `rest`. Returns the iterations used, or the
+    /// remaining distance (m) if the target was not reached.
+    pub fn solve(&self, target: &Vector3<f64>, qa: &mut [f64], rest: &[f64], opts: &IkOptions) -> Result<usize, f64> {
+        let m = self.dof();
+        let tol = opts.tol_rel * self.length;
+        let damping = (1e-6 * self.length).powi(2);
+        let mut dist = f64::INFINITY;
+        for it in 0..opts.max_iter {
+            let (p, jac) = self.jacobian(qa);
+            let e = target - p;
+            dist = e.norm();
+            let mut a = Matrix3::zeros();
+            for col in jac.iter().take(m) {
+                a += col * col.transpose();
+            }
+            let Some(ainv) = (a + Matrix3::identity() * damping).try_inverse() else {
+                return Err(dist);
+            };
+            let y = ainv * e;
+            let mut dq = [0.0; MAX_CHAIN];
+            for k in 0..m {
+                dq[k] = jac[k].dot(&y);
+            }
+            let mut null_norm = 0.0;
+            if m > 3 {
+                // Null-space pull towards rest: g - J^T (J J^T)^-1 J g.
+                let mut jg = Vector3::zeros();
+                for k in 0..m {
+                    jg += jac[k] * (rest[k] - qa[k]);
+                }
+                let h = ainv * jg;
+                for k in 0..m {
+                    let n = (rest[k] - qa[k]) - jac[k].dot(&h);
+                    null_norm += n * n;
+                    dq[k] += n;
+                }
+                null_norm = null_norm.sqrt();
+            }
+            if dist < tol && null_norm < opts.tol_null {
+                return Ok(it);
+            }
+            for k in 0..m {
+                qa[k] = (qa[k] + dq[k]).clamp(self.lo[k], self.hi[k]);
+            }
+        }
+        if dist < tol { Ok(opts.max_iter) } else { Err(dist) }
+    }
+
+    /// Solves a whole footpath, slice by slice from `start`; returns actuated angles per slice.
+    pub fn solve_path(&self, targets: &[Vector3<f64>], start: &[f64], rest: &[f64], opts: &IkOptions) -> Result<Vec<Vec<f64>>, KinematicsError> {
+        let mut q = start.to_vec();
+        let mut out = Vec::with_capacity(targets.len());
+        for (slice, t) in targets.iter().enumerate() {
+            self.solve(t, &mut q, rest, opts)
+                .map_err(|d| KinematicsError::unreachable(self.leg, slice, d))?;
+            out.push(q.clone());
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,404 @@
+//! The TOML model file format (documented in docs/models.md): reading it into a [`Model`] with
+//! validation that names the file, the body or joint and the field, and writing a model back out.
+
+use super::error::{ModelError, field};
+use super::*;
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// A model file as written on disk. Names link joints to bodies; every number is SI.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    pub name: String,
+    /// Free text: where the numbers come from, conventions, caveats.
+    #[serde(default)]
+    pub notes: String,
+    #[serde(rename = "body")]
+    pub bodies: Vec<BodyEntry>,
+    #[serde(rename = "joint")]
+    pub joints: Vec<JointEntry>,
+    #[serde(rename = "foot")]
+    pub feet: Vec<FootEntry>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyEntry {
+    pub name: String,
+    pub mass_kg: f64,
+    /// Centre of mass in the body frame.
+    pub com_m: [f64; 3],
+    /// About the centre of mass, body axes: `[ixx, iyy, izz, ixy, ixz, iyz]`.
+    pub inertia_kg_m2: [f64; 6],
+    #[serde(default)]
+    pub source: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointEntry {
+    pub leg: Leg,
+    pub kind: JointKind,
+    pub parent: String,
+    pub child: String,
+    /// Joint frame origin in the parent frame at angle zero.
+    pub origin_xyz_m: [f64; 3],
+    /// Joint frame orientation in the parent frame, URDF roll-pitch-yaw: `Rz(y) Ry(p) Rx(r)`.
+    pub origin_rpy_rad: [f64; 3],
+    /// Rotation axis in the joint frame (normalised on load).
+    pub axis: [f64; 3],
+    pub limits_rad: [f64; 2],
+    /// `mx28`, `mx64`, `generic` or `fixed`.
+    pub actuation: ActuationEntry,
+    /// Proportional stiffness of the actuator (N m / rad); required unless fixed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_nm_per_rad: Option<f64>,
+    /// Angle of a fixed joint (rad); defaults to 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fixed_angle_rad: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring: Option<SpringEntry>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub servo: Option<ServoEntry>,
+    #[serde(default)]
+    pub source: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ActuationEntry {
+    Mx28,
+    Mx64,
+    Generic,
+    Fixed,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringEntry {
+    pub stiffness_nm_per_rad: f64,
+    pub equilibrium_rad: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ServoEntry {
+    pub id: u8,
+    pub zero_offset_rad: f64,
+    pub sign: i8,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FootEntry {
+    pub leg: Leg,
+    pub body: String,
+    pub point_m: [f64; 3],
+    #[serde(default)]
+    pub source: String,
+}
+
+/// Parses and validates a model from TOML text; `file` names it in errors.
+pub fn from_toml_str(text: &str, file: &str) -> Result<Model, ModelError> {
+    let mf: ModelFile = toml::from_str(text).map_err(|e| ModelError::Toml {
+        file: file.to_string(),
+        message: e.to_string(),
+    })?;
+    mf.to_model(file)
+}
+
+/// Reads and validates a model file.
+pub fn load(path: &std::path::Path) -> Result<Model, ModelError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+        file: path.to_path_buf(),
+        source,
+    })?;
+    from_toml_str(&text, &path.display().to_string())
+}
+
+/// Writes a model as TOML (sources left empty unless given per body / joint name).
+pub fn to_toml_string(model: &Model, notes: &str, source: &dyn Fn(&str) -> String) -> String {
+    let mf = ModelFile::from_model(model, notes, source);
+    toml::to_string(&mf).expect("a ModelFile always serialises")
+}
+
+fn finite3(v: &[f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+impl ModelFile {
+    /// Converts to a [`Model`], checking every field.
+    pub fn to_model(&self, file: &str) -> Result<Model, ModelError> {
+        let mut bodies = Vec::with_capacity(self.bodies.len());
+        let mut index = std::collections::HashMap::new();
+        for b in &self.bodies {
+            let place = format!("body {}", b.name);
+            if index.insert(b.name.clone(), bodies.len()).is_some() {
+                return Err(field(file, place, "name", "defined twice"));
+            }
+            if !(b.mass_kg.is_finite() && b.mass_kg >= 0.0) {
+                return Err(field(file, place, "mass_kg", format!("{} is not a mass >= 0", b.mass_kg)));
+            }
+            if !finite3(&b.com_m) {
+                return Err(field(file, place, "com_m", "not finite"));
+            }
+            let [ixx, iyy, izz, ixy, ixz, iyz] = b.inertia_kg_m2;
+            let inertia = Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+            let eig = inertia.symmetric_eigenvalues();
+            let tol = 1e-12 * inertia.abs().max();
+            if !inertia.iter().all(|x| x.is_finite()) || eig.iter().any(|&e| e < -tol) {
+                return Err(field(file, place, "inertia_kg_m2", "not a positive semi-definite tensor"));
+            }
+            bodies.push(Body {
+                name: b.name.clone(),
+                mass: b.mass_kg,
+                com: Vector3::from(b.com_m),
+                inertia,
+            });
+        }
+        if bodies.first().map(|b| b.name.as_str()) != Some("thorax") {
+            return Err(field(file, "body list", "body[0].name", "the first body must be `thorax`"));
+        }
+        let mut joints = Vec::with_capacity(self.joints.len());
+        let mut has_parent = vec![false; bodies.len()];
+        has_parent[0] = true;
+        for j in &self.joints {
+            let name = format!("{}_{:?}", j.leg.name(), j.kind);
+            let place = format!("joint {name}");
+            let lookup = |n: &str, what: &'static str| {
+                index.get(n).copied().ok_or_else(|| ModelError::Unknown {
+                    file: file.to_string(),
+                    place: place.clone(),
+                    what,
+                    name: n.to_string(),
+                })
+            };
+            let parent = lookup(&j.parent, "parent body")?;
+            let child = lookup(&j.child, "child body")?;
+            if joints.iter().any(|o: &Joint| o.name == name) {
+                return Err(field(file, &place, "kind", "this leg already has a joint of this kind"));
+            }
+            if !has_parent[parent] {
+                return Err(field(file, &place, "parent", "must be the thorax or the child of an earlier joint"));
+            }
+            if child == 0 || has_parent[child] {
+                return Err(field(file, &place, "child", "body already has a parent joint (or is the thorax)"));
+            }
+            has_parent[child] = true;
+            if !finite3(&j.origin_xyz_m) {
+                return Err(field(file, &place, "origin_xyz_m", "not finite"));
+            }
+            if !finite3(&j.origin_rpy_rad) {
+                return Err(field(file, &place, "origin_rpy_rad", "not finite"));
+            }
+            let axis = Vector3::from(j.axis);
+            if !finite3(&j.axis) || axis.norm() < 1e-9 {
+                return Err(field(file, &place, "axis", "must be a finite non-zero vector"));
+            }
+            let [lo, hi] = j.limits_rad;
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return Err(field(file, &place, "limits_rad", format!("[{lo}, {hi}] is not an interval")));
+            }
+            let actuation = match j.actuation {
+                ActuationEntry::Fixed => {
+                    let angle = j.fixed_angle_rad.unwrap_or(0.0);
+                    if !(lo..=hi).contains(&angle) {
+                        return Err(field(file, &place, "fixed_angle_rad", format!("{angle} outside limits [{lo}, {hi}]")));
+                    }
+                    Actuation::Fixed { angle }
+                }
+                a => {
+                    let stiffness = j
+                        .stiffness_nm_per_rad
+                        .ok_or_else(|| field(file, &place, "stiffness_nm_per_rad", "required for an actuated joint"))?;
+                    if !(stiffness.is_finite() && stiffness > 0.0) {
+                        return Err(field(file, &place, "stiffness_nm_per_rad", "must be > 0"));
+                    }
+                    let actuator = match a {
+                        ActuationEntry::Mx28 => ActuatorKind::Mx28,
+                        ActuationEntry::Mx64 => ActuatorKind::Mx64,
+                        _ => ActuatorKind::Generic,
+                    };
+                    Actuation::Actuated { actuator, stiffness }
+                }
+            };
+            let spring = match j.spring {
+                Some(s) if !(s.stiffness_nm_per_rad.is_finite() && s.stiffness_nm_per_rad >= 0.0) => {
+                    return Err(field(file, &place, "spring.stiffness_nm_per_rad", "must be >= 0"));
+                }
+                Some(s) if !s.equilibrium_rad.is_finite() => {
+                    return Err(field(file, &place, "spring.equilibrium_rad", "not finite"));
+                }
+                Some(s) => Some(ParallelSpring {
+                    stiffness: s.stiffness_nm_per_rad,
+                    equilibrium: s.equilibrium_rad,
+                }),
+                None => None,
+            };
+            let servo = match (j.servo, &actuation) {
+                (None, _) => None,
+                (Some(_), Actuation::Fixed { .. }) => {
+                    return Err(field(file, &place, "servo", "a fixed joint has no servo"));
+                }
+                (Some(s), Actuation::Actuated { actuator, .. }) => {
+                    if s.id > 252 {
+                        return Err(field(file, &place, "servo.id", format!("{} > 252", s.id)));
+                    }
+                    if s.sign != 1 && s.sign != -1 {
+                        return Err(field(file, &place, "servo.sign", "must be 1 or -1"));
+                    }
+                    if joints.iter().any(|o: &Joint| o.servo.map(|x| x.id) == Some(s.id)) {
+                        return Err(field(file, &place, "servo.id", format!("ID {} used twice", s.id)));
+                    }
+                    Some(ServoMap {
+                        id: s.id,
+                        model: *actuator,
+                        zero_offset: s.zero_offset_rad,
+                        sign: s.sign,
+                    })
+                }
+            };
+            let [r, p, y] = j.origin_rpy_rad;
+            joints.push(Joint {
+                name,
+                leg: j.leg,
+                kind: j.kind,
+                parent,
+                child,
+                origin: Isometry3::from_parts(
+                    Translation3::from(Vector3::from(j.origin_xyz_m)),
+                    UnitQuaternion::from_rotation_matrix(&Rotation3::from_euler_angles(r, p, y)),
+                ),
+                axis: Unit::new_normalize(axis),
+                limits: (lo, hi),
+                actuation,
+                spring,
+                servo,
+            });
+        }
+        if let Some(orphan) = has_parent.iter().position(|&p| !p) {
+            return Err(field(file, format!("body {}", bodies[orphan].name), "name", "no joint has this body as child"));
+        }
+        let mut feet = Vec::new();
+        for f in &self.feet {
+            let place = format!("foot {}", f.leg.name());
+            let body = *index.get(&f.body).ok_or_else(|| ModelError::Unknown {
+                file: file.to_string(),
+                place: place.clone(),
+                what: "body",
+                name: f.body.clone(),
+            })?;
+            if feet.iter().any(|o: &Foot| o.leg == f.leg) {
+                return Err(field(file, place, "leg", "two feet on one leg"));
+            }
+            if !finite3(&f.point_m) {
+                return Err(field(file, place, "point_m", "not finite"));
+            }
+            feet.push(Foot {
+                leg: f.leg,
+                body,
+                point: Vector3::from(f.point_m),
+            });
+        }
+        let model = Model {
+            name: self.name.clone(),
+            bodies,
+            joints,
+            feet,
+        };
+        model.check_legs(file)?;
+        Ok(model)
+    }
+
+    /// The file form of a model. `source` gives the source note of a body or joint by name.
+    pub fn from_model(model: &Model, notes: &str, source: &dyn Fn(&str) -> String) -> ModelFile {
+        let bodies = model
+            .bodies
+            .iter()
+            .map(|b| {
+                let i = b.inertia;
+                BodyEntry {
+                    name: b.name.clone(),
+                    mass_kg: b.mass,
+                    com_m: b.com.into(),
+                    inertia_kg_m2: [i[(0, 0)], i[(1, 1)], i[(2, 2)], i[(0, 1)], i[(0, 2)], i[(1, 2)]],
+                    source: source(&b.name),
+                }
+            })
+            .collect();
+        let joints = model
+            .joints
+            .iter()
+            .map(|j| {
+                let [r, p, y] = rpy_of(&j.origin.rotation);
+                let (actuation, stiffness, fixed) = match &j.actuation {
+                    Actuation::Fixed { angle } => (ActuationEntry::Fixed, None, Some(*angle)),
+                    Actuation::Actuated { actuator, stiffness } => (
+                        match actuator {
+                            ActuatorKind::Mx28 => ActuationEntry::Mx28,
+                            ActuatorKind::Mx64 => ActuationEntry::Mx64,
+                            ActuatorKind::Generic => ActuationEntry::Generic,
+                        },
+                        Some(*stiffness),
+                        None,
+                    ),
+                };
+                JointEntry {
+                    leg: j.leg,
+                    kind: j.kind,
+                    parent: model.bodies[j.parent].name.clone(),
+                    child: model.bodies[j.child].name.clone(),
+                    origin_xyz_m: j.origin.translation.vector.into(),
+                    origin_rpy_rad: [r, p, y],
+                    axis: j.axis.into_inner().into(),
+                    limits_rad: [j.limits.0, j.limits.1],
+                    actuation,
+                    stiffness_nm_per_rad: stiffness,
+                    fixed_angle_rad: fixed,
+                    spring: j.spring.map(|s| SpringEntry {
+                        stiffness_nm_per_rad: s.stiffness,
+                        equilibrium_rad: s.equilibrium,
+                    }),
+                    servo: j.servo.map(|s| ServoEntry {
+                        id: s.id,
+                        zero_offset_rad: s.zero_offset,
+                        sign: s.sign,
+                    }),
+                    source: source(&j.name),
+                }
+            })
+            .collect();
+        let feet = model
+            .feet
+            .iter()
+            .map(|f| FootEntry {
+                leg: f.leg,
+                body: model.bodies[f.body].name.clone(),
+                point_m: f.point.into(),
+                source: source(&format!("{}_foot", f.leg.name())),
+            })
+            .collect();
+        ModelFile {
+            name: model.name.clone(),
+            notes: notes.to_string(),
+            bodies,
+            joints,
+            feet,
+        }
+    }
+}
+
+/// Roll, pitch, yaw (URDF convention, `R = Rz(y) Ry(p) Rx(r)`) of a rotation, well conditioned at
+/// pitch = +-90 degrees (where nalgebra's `euler_angles` loses about 1e-8 rad through `asin`, and
+/// where roll and yaw are only defined together: yaw is then set to 0).
+pub fn rpy_of(rot: &nalgebra::UnitQuaternion<f64>) -> [f64; 3] {
+    let m = rot.to_rotation_matrix().into_inner();
+    let cp = m[(0, 0)].hypot(m[(1, 0)]);
+    let pitch = (-m[(2, 0)]).atan2(cp);
+    if cp < 1e-10 {
+        [(-m[(1, 2)]).atan2(m[(1, 1)]), pitch, 0.0]
+    } else {
+        [m[(2, 1)].atan2(m[(2, 2)]), pitch, m[(1, 0)].atan2(m[(0, 0)])]
+    }
+}
