@@ -85,7 +85,7 @@ fn check_layout(regions: &[Region]) {
         "memory.x: the gait store must follow the firmware image in flash"
     );
     assert!(
-        gaits.origin % 4096 == 0 && gaits.length % 4096 == 0,
+        gaits.origin.is_multiple_of(4096) && gaits.length.is_multiple_of(4096),
         "memory.x: the gait store must be aligned to 4 KB flash sectors"
     );
     assert!(

@@ -14,11 +14,13 @@ mod tests {
 
     #[test]
     fn gait_store_lies_after_the_image_and_inside_the_flash() {
-        assert_eq!(FLASH_BASE, 0x1000_0000);
-        assert!(IMAGE_CAPACITY <= GAIT_STORE_OFFSET);
-        assert!(GAIT_STORE_OFFSET + GAIT_STORE_SIZE <= FLASH_SIZE);
-        assert_eq!(GAIT_STORE_OFFSET % FLASH_SECTOR, 0);
-        assert_eq!(GAIT_STORE_SIZE % FLASH_SECTOR, 0);
+        const {
+            assert!(FLASH_BASE == 0x1000_0000);
+            assert!(IMAGE_CAPACITY <= GAIT_STORE_OFFSET);
+            assert!(GAIT_STORE_OFFSET + GAIT_STORE_SIZE <= FLASH_SIZE);
+            assert!(GAIT_STORE_OFFSET.is_multiple_of(FLASH_SECTOR));
+            assert!(GAIT_STORE_SIZE.is_multiple_of(FLASH_SECTOR));
+        }
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 pub mod analysis;
 pub mod dynamics;
+pub mod link;
 pub mod model;
 pub mod kinematics;
 pub mod terrain;

@@ -1,0 +1,227 @@
+//! Async bus master over `embedded_io_async::{Read, Write}`, a [`DirectionPin`] and a [`Clock`].
+//!
+//! One bus cycle ([`BusMaster::cycle`]) sends a Sync Write of goal positions and a Sync Read of
+//! 126..=135 back to back, then collects one status per servo. Each reply has its own deadline
+//! counted from the previous event, so a missing, late or corrupt reply is reported for that
+//! servo and the others are still collected. Instruction packets on the wire (the master's own
+//! echo when TX and RX share it) are skipped.
+
+mod hal;
+mod single;
+mod types;
+
+pub use hal::{AutoDirection, Clock, DirectionPin, with_deadline};
+pub use types::*;
+
+use crate::control_table::{FEEDBACK_ADDR, FEEDBACK_LEN, GOAL_POSITION};
+use crate::encode;
+use crate::parser::{Frame, FrameError, Parser};
+use embedded_io_async::{Error as _, Read, Write};
+
+/// Request buffer size: a 22-servo cycle needs 160 bytes (more if stuffed).
+pub const TX_CAPACITY: usize = 512;
+/// Maximum number of servos in one cycle.
+pub const MAX_SERVOS: usize = 64;
+
+/// The bus master. `IO` is the UART (or [`crate::sim::SimWire`]), `D` the direction pin, `C` the clock.
+#[derive(Debug)]
+pub struct BusMaster<IO, D, C> {
+    io: IO,
+    dir: D,
+    clock: C,
+    config: MasterConfig,
+    parser: Parser,
+    tx: [u8; TX_CAPACITY],
+}
+
+/// What the receive loop's handler says about a frame.
+enum Step {
+    /// Not ours (echo, stray): keep the current deadline.
+    Ignore,
+    /// One expected reply settled: restart the per-reply deadline.
+    Progress,
+    /// Everything expected has arrived.
+    Done,
+}
+
+impl<IO: Read + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
+    pub fn new(io: IO, dir: D, clock: C, config: MasterConfig) -> Self {
+        Self { io, dir, clock, config, parser: Parser::new(), tx: [0; TX_CAPACITY] }
+    }
+
+    pub fn config(&self) -> &MasterConfig {
+        &self.config
+    }
+
+    /// Changes the timing (e.g. after switching the servos' and the UART's baud).
+    pub fn set_config(&mut self, config: MasterConfig) {
+        self.config = config;
+    }
+
+    pub fn clock(&self) -> &C {
+        &self.clock
+    }
+
+    /// Gives back the parts.
+    pub fn into_parts(self) -> (IO, D, C) {
+        (self.io, self.dir, self.clock)
+    }
+
+    /// One bus cycle: Sync Write of each goal to Goal Position (116), then Sync Read of 126..=135
+    /// of the same servos. `replies[i]` receives servo `goals[i]`'s feedback or fault.
+    pub async fn cycle(&mut self, goals: &[Goal], replies: &mut [Reply]) -> Result<CycleStats, BusError> {
+        if replies.len() < goals.len() || goals.len() > MAX_SERVOS {
+            return Err(BusError::ResultsTooShort { servos: goals.len(), results: replies.len() });
+        }
+        let mut ids = [0u8; MAX_SERVOS];
+        for (slot, g) in ids.iter_mut().zip(goals) {
+            *slot = g.id;
+        }
+        let ids = &ids[..goals.len()];
+        let n = encode::sync_write_u32(
+            &mut self.tx,
+            GOAL_POSITION.addr,
+            goals.iter().map(|g| (g.id, g.position as u32)),
+        )?;
+        let m = encode::sync_read(&mut self.tx[n..], FEEDBACK_ADDR, FEEDBACK_LEN, ids)?;
+        let mut stats = CycleStats { start_us: self.clock.now_us(), ..Default::default() };
+        let skipped_before = self.parser.skipped_bytes();
+        self.send(n + m).await?;
+        stats.tx_end_us = self.clock.now_us();
+        self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats).await?;
+        stats.end_us = self.clock.now_us();
+        stats.garbage_bytes = self.parser.skipped_bytes().wrapping_sub(skipped_before);
+        Ok(stats)
+    }
+
+    /// Sync Read of 126..=135 only (no goals), e.g. to read the pose before torque-on.
+    pub async fn read_feedback(&mut self, ids: &[u8], replies: &mut [Reply]) -> Result<CycleStats, BusError> {
+        if replies.len() < ids.len() {
+            return Err(BusError::ResultsTooShort { servos: ids.len(), results: replies.len() });
+        }
+        let n = encode::sync_read(&mut self.tx, FEEDBACK_ADDR, FEEDBACK_LEN, ids)?;
+        let mut stats = CycleStats { start_us: self.clock.now_us(), ..Default::default() };
+        self.send(n).await?;
+        stats.tx_end_us = self.clock.now_us();
+        self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats).await?;
+        stats.end_us = self.clock.now_us();
+        Ok(stats)
+    }
+
+    async fn collect_feedback(&mut self, ids: &[u8], replies: &mut [Reply], stats: &mut CycleStats) -> Result<(), BusError> {
+        replies.fill(Err(ReplyFault::Timeout));
+        let mut settled = [false; MAX_SERVOS];
+        let mut remaining = ids.len();
+        let budget = self.config.reply_slack_us + self.config.wire_time_us(11 + FEEDBACK_LEN as usize);
+        let mut on_frame = |ev: Result<Frame<'_>, FrameError>| -> Step {
+            let (id, outcome) = match ev {
+                Ok(frame) => match frame.status() {
+                    None if frame.instruction != crate::instruction::STATUS => {
+                        stats.echo_frames = stats.echo_frames.saturating_add(1);
+                        return Step::Ignore;
+                    }
+                    None => (frame.id, Err(ReplyFault::Malformed)),
+                    Some(s) => (s.id, decode_feedback(s.error, s.data)),
+                },
+                Err(FrameError::Crc { id, .. }) => (id, Err(ReplyFault::Crc)),
+                Err(e) => (e.id(), Err(ReplyFault::Malformed)),
+            };
+            let Some(i) = ids.iter().zip(&settled).position(|(&x, &done)| x == id && !done) else {
+                stats.stray_frames = stats.stray_frames.saturating_add(1);
+                return Step::Ignore;
+            };
+            settled[i] = true;
+            replies[i] = outcome;
+            remaining -= 1;
+            if remaining == 0 { Step::Done } else { Step::Progress }
+        };
+        if !ids.is_empty() {
+            self.receive(budget, &mut on_frame).await?;
+        }
+        for r in replies.iter() {
+            match r {
+                Ok(f) if f.alert => stats.alerts += 1,
+                Ok(_) => {}
+                Err(ReplyFault::Timeout) => stats.timeouts += 1,
+                Err(ReplyFault::Crc) => stats.crc_errors += 1,
+                Err(ReplyFault::Malformed) => stats.malformed += 1,
+                Err(ReplyFault::Status(_)) => stats.status_errors += 1,
+            }
+            if r.is_ok() {
+                stats.ok += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes `len` bytes of the request buffer with the direction pin driven.
+    async fn send(&mut self, len: usize) -> Result<(), BusError> {
+        // Leftovers of an earlier exchange must not be taken for this one's replies.
+        self.parser.reset();
+        self.dir.drive();
+        let res = async {
+            self.io.write_all(&self.tx[..len]).await?;
+            self.io.flush().await
+        }
+        .await;
+        self.dir.release_after_tx().await;
+        res.map_err(|e| BusError::Io(e.kind()))
+    }
+
+    /// Feeds received bytes to `on_frame` until it says `Done` or `budget_us` passes without
+    /// progress. Returns `true` when done. After a timeout, a half-received packet at the front is
+    /// abandoned so that complete packets behind a false header still count.
+    async fn receive(&mut self, budget_us: u32, on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step) -> Result<bool, BusError> {
+        let mut deadline = self.clock.now_us() + budget_us as u64;
+        let mut chunk = [0u8; 32];
+        loop {
+            let n = match with_deadline(&self.clock, deadline, self.io.read(&mut chunk)).await {
+                Some(Ok(n)) => n,
+                Some(Err(e)) => return Err(BusError::Io(e.kind())),
+                None => {
+                    while self.parser.buffered() > 0 {
+                        self.parser.abandon_partial();
+                        if drain(&mut self.parser, on_frame).0 {
+                            return Ok(true);
+                        }
+                    }
+                    return Ok(false);
+                }
+            };
+            let mut data = &chunk[..n];
+            while !data.is_empty() {
+                let taken = self.parser.feed(data);
+                data = &data[taken..];
+                let (done, progress) = drain(&mut self.parser, on_frame);
+                if done {
+                    return Ok(true);
+                }
+                if progress {
+                    deadline = self.clock.now_us() + budget_us as u64;
+                }
+            }
+        }
+    }
+}
+
+/// Hands every complete frame to `on_frame`; returns (done, progress).
+fn drain(parser: &mut Parser, on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step) -> (bool, bool) {
+    let mut progress = false;
+    while let Some(ev) = parser.next() {
+        match on_frame(ev) {
+            Step::Ignore => {}
+            Step::Progress => progress = true,
+            Step::Done => return (true, true),
+        }
+    }
+    (false, progress)
+}
+
+/// Feedback from a status packet's error byte and data, or the fault it shows.
+fn decode_feedback(error: crate::instruction::StatusError, data: &[u8]) -> Reply {
+    if error.number().is_some() {
+        return Err(ReplyFault::Status(error));
+    }
+    let bytes: &[u8; 10] = data.try_into().map_err(|_| ReplyFault::Malformed)?;
+    Ok(Feedback::from_bytes(bytes, error.alert()))
+}

@@ -1,0 +1,207 @@
+//! Streaming packet parser: takes bytes in any chunking, finds the header, checks LEN and CRC,
+//! unstuffs, and resynchronises on the next header after garbage or a bad packet.
+//!
+//! Usage: `feed` bytes, then call `next` until it returns `None`; feed the rest, repeat. A frame
+//! borrows the parser's buffer until the next call. Instruction packets (the master's own echo
+//! on a shared wire, or the requests a virtual servo hears) and status packets are both
+//! returned; the bus master skips the ones that are not status packets.
+
+use crate::crc;
+use crate::encode::{HEADER, PRE_INST};
+use crate::instruction::{STATUS, StatusError};
+
+/// Default buffer size: fits a status packet with 240 data bytes.
+pub const DEFAULT_CAPACITY: usize = 256;
+
+/// One packet with its parameters unstuffed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Frame<'a> {
+    pub id: u8,
+    pub instruction: u8,
+    /// Parameters after INST, unstuffed (for a status packet the first is the error byte).
+    pub params: &'a [u8],
+}
+
+/// A status packet: the servo's reply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Status<'a> {
+    pub id: u8,
+    pub error: StatusError,
+    pub data: &'a [u8],
+}
+
+impl<'a> Frame<'a> {
+    /// The status view of this frame, `None` for instruction packets or a status without ERR.
+    pub fn status(&self) -> Option<Status<'a>> {
+        if self.instruction != STATUS {
+            return None;
+        }
+        let (&error, data) = self.params.split_first()?;
+        Some(Status { id: self.id, error: StatusError(error), data })
+    }
+}
+
+/// A packet that was found and rejected; the parser has already moved past its first byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum FrameError {
+    /// The CRC does not match: `id` is as received and may itself be corrupt.
+    Crc { id: u8, received: u16, computed: u16 },
+    /// LEN is below the minimum of 3 or the packet would not fit the parser's buffer.
+    Length { id: u8, length: u16, capacity: usize },
+}
+
+impl FrameError {
+    /// The (unverified) ID of the rejected packet.
+    pub fn id(&self) -> u8 {
+        match *self {
+            FrameError::Crc { id, .. } | FrameError::Length { id, .. } => id,
+        }
+    }
+}
+
+/// The streaming parser, buffering at most `N` bytes (the largest packet it accepts).
+#[derive(Debug, Clone)]
+pub struct Parser<const N: usize = DEFAULT_CAPACITY> {
+    buf: [u8; N],
+    len: usize,
+    // Bytes of the last returned frame, dropped at the next call.
+    consumed: usize,
+    skipped: u32,
+}
+
+impl<const N: usize> Default for Parser<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Parser<N> {
+    pub const fn new() -> Self {
+        Self { buf: [0; N], len: 0, consumed: 0, skipped: 0 }
+    }
+
+    /// Forgets everything buffered.
+    pub fn reset(&mut self) {
+        self.len = 0;
+        self.consumed = 0;
+    }
+
+    /// Bytes dropped so far as not belonging to any packet (garbage, rejected packets' first bytes).
+    pub fn skipped_bytes(&self) -> u32 {
+        self.skipped
+    }
+
+    /// Bytes buffered and not yet returned as a frame.
+    pub fn buffered(&self) -> usize {
+        self.len - self.consumed
+    }
+
+    /// Copies as many of `data` as fit; returns how many were taken. Call `next` until `None`
+    /// before feeding again when not everything was taken.
+    pub fn feed(&mut self, data: &[u8]) -> usize {
+        self.compact();
+        let n = data.len().min(N - self.len);
+        self.buf[self.len..self.len + n].copy_from_slice(&data[..n]);
+        self.len += n;
+        n
+    }
+
+    /// Gives up on an incomplete packet at the front (after a timeout): drops its first byte so
+    /// that packets hidden behind a false header are found by the next `next`.
+    pub fn abandon_partial(&mut self) {
+        self.compact();
+        if self.len > 0 {
+            self.drop_front(1);
+        }
+    }
+
+    /// The next complete frame or rejected packet in the buffer, `None` when more bytes are needed.
+    pub fn next(&mut self) -> Option<Result<Frame<'_>, FrameError>> {
+        self.compact();
+        self.sync();
+        if self.len < PRE_INST {
+            return None;
+        }
+        let id = self.buf[4];
+        let length = u16::from_le_bytes([self.buf[5], self.buf[6]]);
+        let total = PRE_INST + length as usize;
+        if length < 3 || total > N {
+            self.drop_front(1);
+            return Some(Err(FrameError::Length { id, length, capacity: N }));
+        }
+        if self.len < total {
+            return None;
+        }
+        let received = u16::from_le_bytes([self.buf[total - 2], self.buf[total - 1]]);
+        let computed = crc::crc16(&self.buf[..total - 2]);
+        if received != computed {
+            self.drop_front(1);
+            return Some(Err(FrameError::Crc { id, received, computed }));
+        }
+        let end = unstuff(&mut self.buf[PRE_INST..total - 2]) + PRE_INST;
+        self.consumed = total;
+        Some(Ok(Frame {
+            id,
+            instruction: self.buf[PRE_INST],
+            params: &self.buf[PRE_INST + 1..end],
+        }))
+    }
+
+    fn compact(&mut self) {
+        if self.consumed > 0 {
+            let c = self.consumed;
+            self.consumed = 0;
+            self.buf.copy_within(c..self.len, 0);
+            self.len -= c;
+        }
+    }
+
+    fn drop_front(&mut self, n: usize) {
+        self.buf.copy_within(n..self.len, 0);
+        self.len -= n;
+        self.skipped += n as u32;
+    }
+
+    /// Drops bytes until the buffer starts with the header or a prefix of it.
+    fn sync(&mut self) {
+        let mut start = 0;
+        while start < self.len {
+            let rest = &self.buf[start..self.len];
+            let n = rest.len().min(HEADER.len());
+            if rest[..n] == HEADER[..n] {
+                break;
+            }
+            start += 1;
+        }
+        if start > 0 {
+            self.drop_front(start);
+        }
+    }
+}
+
+/// Removes stuffing in place (after every `FF FF FD` of the stream, a following `FD` is dropped);
+/// returns the unstuffed length. A sender that did not stuff (the Python SDK's transmit path) is
+/// accepted: `FF FF FD` followed by anything else is kept as is.
+pub fn unstuff(region: &mut [u8]) -> usize {
+    let (mut i, mut j) = (0, 0);
+    let (mut p0, mut p1) = (0u8, 0u8);
+    while i < region.len() {
+        let b = region[i];
+        region[j] = b;
+        j += 1;
+        if b == 0xFD && p0 == 0xFF && p1 == 0xFF && region.get(i + 1) == Some(&0xFD) {
+            i += 2;
+            p0 = 0xFD;
+            p1 = 0xFD;
+            continue;
+        }
+        p0 = p1;
+        p1 = b;
+        i += 1;
+    }
+    j
+}

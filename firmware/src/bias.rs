@@ -1,0 +1,189 @@
+//! Torque bias in fixed point: the goal a position-controlled servo must get so that, pushed by the
+//! planned torque, it ends at the planned angle. A servo's P controller acts as a spring of stiffness
+//! k, so goal = angle + torque / k, then into ticks with the joint's zero offset and sign, clamped to
+//! the joint's limits. Units: angles in microradians, torques in mN m, stiffness in mN m / rad.
+
+/// Servo ticks per revolution (MX-28 / MX-64 2.0).
+pub const TICKS_PER_REV: i64 = 4096;
+/// 2 pi x 1e9, rounded (relative error 5e-11): ticks = urad x 4096 x 1000 / this.
+const TWO_PI_NANO: i64 = 6_283_185_307;
+
+/// Where a joint's servo sits and how far it may go.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointCal {
+    /// Dynamixel ID.
+    pub id: u8,
+    /// Servo ticks at joint angle 0.
+    pub zero_ticks: i32,
+    /// +1 if the servo turns with the joint angle, -1 if against it.
+    pub sign: i8,
+    /// Lowest allowed goal, in ticks.
+    pub min_ticks: i32,
+    /// Highest allowed goal, in ticks.
+    pub max_ticks: i32,
+}
+
+/// Integer division rounding half away from zero.
+fn div_round(n: i64, d: i64) -> i64 {
+    let q = n / d;
+    let r = n % d;
+    if 2 * r.abs() >= d.abs() {
+        q + if (n < 0) == (d < 0) { 1 } else { -1 }
+    } else {
+        q
+    }
+}
+
+/// Bias angle torque / k in microradians; no bias when `stiffness` is 0 (bias switched off).
+pub fn bias_urad(torque_mnm: i32, stiffness_mnm_per_rad: u32) -> i64 {
+    if stiffness_mnm_per_rad == 0 {
+        return 0;
+    }
+    div_round(torque_mnm as i64 * 1_000_000, stiffness_mnm_per_rad as i64)
+}
+
+/// A joint angle (microradians) in servo ticks relative to the joint's zero, unclamped.
+pub fn urad_to_ticks(urad: i64) -> i64 {
+    // ticks = urad * 4096 / (2 pi 1e6) = urad * 4096 * 1000 / (2 pi 1e9).
+    div_round(
+        urad.clamp(-1 << 40, 1 << 40) * TICKS_PER_REV * 1000,
+        TWO_PI_NANO,
+    )
+}
+
+/// Servo ticks back to a joint angle in microradians (inverse of the above, for telemetry).
+pub fn ticks_to_urad(ticks: i64) -> i64 {
+    div_round(ticks * TWO_PI_NANO, TICKS_PER_REV * 1000)
+}
+
+/// Goal position in ticks for the planned `angle_urad` and `torque_mnm` at `stiffness`, clamped to
+/// the joint's limits. Returns the goal and whether the clamp cut it.
+pub fn goal_ticks(
+    cal: &JointCal,
+    angle_urad: i32,
+    torque_mnm: i32,
+    stiffness_mnm_per_rad: u32,
+) -> (i32, bool) {
+    let joint = angle_urad as i64 + bias_urad(torque_mnm, stiffness_mnm_per_rad);
+    let ticks = cal.zero_ticks as i64 + cal.sign.signum() as i64 * urad_to_ticks(joint);
+    let clamped = ticks.clamp(cal.min_ticks as i64, cal.max_ticks as i64);
+    (clamped as i32, clamped != ticks)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The same formula in f64, written from the physics: theta + tau / k, in revolutions x 4096.
+    /// Unclamped goal in ticks.
+    fn reference(cal: &JointCal, angle_urad: i32, torque_mnm: i32, k: u32) -> f64 {
+        let theta = angle_urad as f64 * 1e-6;
+        let bias = if k == 0 {
+            0.0
+        } else {
+            (torque_mnm as f64 * 1e-3) / (k as f64 * 1e-3)
+        };
+        cal.zero_ticks as f64
+            + cal.sign as f64 * (theta + bias) * 4096.0 / (2.0 * std::f64::consts::PI)
+    }
+
+    /// xorshift64*: deterministic random inputs without a dependency.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+        fn range(&mut self, lo: i64, hi: i64) -> i64 {
+            lo + (self.next() % (hi - lo + 1) as u64) as i64
+        }
+    }
+
+    #[test]
+    fn hand_calculated_cases() {
+        let cal = JointCal {
+            id: 1,
+            zero_ticks: 2048,
+            sign: 1,
+            min_ticks: 0,
+            max_ticks: 4095,
+        };
+        // pi/2 rad is a quarter turn: 1024 ticks.
+        assert_eq!(goal_ticks(&cal, 1_570_796, 0, 8400), (2048 + 1024, false));
+        // 0.84 N m on an 8.4 N m/rad spring deflects 0.1 rad = 65.19 ticks -> 65.
+        assert_eq!(goal_ticks(&cal, 0, 840, 8400), (2048 + 65, false));
+        // Reversed servo, negative torque: -(-0.1 rad) = +65 ticks.
+        let rev = JointCal { sign: -1, ..cal };
+        assert_eq!(goal_ticks(&rev, 0, -840, 8400), (2048 + 65, false));
+        // Stiffness 0 switches the bias off.
+        assert_eq!(goal_ticks(&cal, 0, 840, 0), (2048, false));
+        // A full turn past the limit is clamped, and says so.
+        assert_eq!(goal_ticks(&cal, 6_283_185, 0, 8400), (4095, true));
+        assert_eq!(goal_ticks(&rev, 6_283_185, 0, 8400), (0, true));
+    }
+
+    #[test]
+    fn fixed_point_agrees_with_the_f64_formula_on_random_inputs() {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let mut exact = 0;
+        let n = 200_000;
+        for _ in 0..n {
+            let min = rng.range(0, 2047) as i32;
+            let cal = JointCal {
+                id: 1,
+                zero_ticks: rng.range(0, 4095) as i32,
+                sign: if rng.next() & 1 == 0 { 1 } else { -1 },
+                min_ticks: min,
+                max_ticks: min + rng.range(1, 2048) as i32,
+            };
+            let angle = rng.range(-3_141_593, 3_141_593) as i32;
+            let torque = rng.range(-6000, 6000) as i32;
+            let k = if rng.next().is_multiple_of(50) {
+                0
+            } else {
+                rng.range(500, 30_000) as u32
+            };
+            let free = reference(&cal, angle, torque, k);
+            let want = free.clamp(cal.min_ticks as f64, cal.max_ticks as f64);
+            let (got, clamped) = goal_ticks(&cal, angle, torque, k);
+            // Two roundings (bias to 1 urad, ticks to 1 tick) may move a result across a half tick:
+            // never more than one tick off.
+            assert!(
+                (got as f64 - want).abs() <= 1.0,
+                "{cal:?} angle {angle} torque {torque} k {k}: {got} vs {want}"
+            );
+            if got as f64 == want.round() {
+                exact += 1;
+            }
+            // The clamp flag is set exactly when the goal left the limits (give or take the rounding).
+            if free < cal.min_ticks as f64 - 1.0 || free > cal.max_ticks as f64 + 1.0 {
+                assert!(
+                    clamped,
+                    "{free} outside {}..{}",
+                    cal.min_ticks, cal.max_ticks
+                );
+            }
+            if free > cal.min_ticks as f64 + 1.0 && free < cal.max_ticks as f64 - 1.0 {
+                assert!(
+                    !clamped,
+                    "{free} inside {}..{}",
+                    cal.min_ticks, cal.max_ticks
+                );
+            }
+        }
+        // Off by one only within a hair of a half tick: rare.
+        assert!(exact > n * 999 / 1000, "{exact} of {n} exact");
+    }
+
+    #[test]
+    fn ticks_and_microradians_round_trip_within_half_a_tick() {
+        for t in [-4096i64, -1, 0, 1, 1024, 2048, 4095] {
+            assert_eq!(urad_to_ticks(ticks_to_urad(t)), t);
+        }
+        // 1 tick = 2 pi / 4096 rad = 1533.98 urad.
+        assert_eq!(ticks_to_urad(1), 1534);
+    }
+}

@@ -1,0 +1,398 @@
+//! Host commands: what the link handler may ask of the controller, each checked against the state.
+
+use embedded_storage::nor_flash::NorFlash;
+
+use super::{Controller, Selected};
+use crate::bias::JointCal;
+use crate::gait_view;
+use crate::playback::{Direction, MAX_JOINTS, PlayClock};
+use crate::safety::{Event, Refused, SafeReason, State};
+use crate::store::{CommitError, FlashWindow, SlotInfo, StoreError};
+
+/// Why a command was refused. Nothing changes when a command is refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum CommandError {
+    /// The state machine does not take this command now.
+    WrongState(Refused),
+    /// Flash writes are refused while the robot moves (a sector erase stalls the bus loop).
+    Moving { state: State },
+    /// The slot is empty.
+    SlotEmpty { slot: u8 },
+    /// The slot's table does not validate.
+    BadTable {
+        slot: u8,
+        error: protocol::TableError,
+    },
+    /// The slot is past the last one.
+    NoSuchSlot { slot: u8, slots: u8 },
+    /// The joint index is past the joint map.
+    NoSuchJoint { joint: u8, joints: u8 },
+    /// A setting is out of its range.
+    OutOfRange { what: Setting, value: i64 },
+    /// The gait store refused.
+    Store(StoreError),
+}
+
+/// Which setting was out of range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Setting {
+    CycleRate,
+    Baud,
+    PeriodScale,
+    Limits,
+    StepCount,
+    SetpointJoints,
+    StreamTimeout,
+}
+
+impl From<StoreError> for CommandError {
+    fn from(e: StoreError) -> Self {
+        match e {
+            StoreError::NoSuchSlot { slot, slots } => CommandError::NoSuchSlot { slot, slots },
+            e => CommandError::Store(e),
+        }
+    }
+}
+
+/// How to play a gait.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlayParams {
+    pub slot: u8,
+    pub direction: Direction,
+    /// Step period scale, 1/1000 (2000 = half speed).
+    pub period_scale: u16,
+    /// Whole steps to play, `None` until stopped.
+    pub steps: Option<u32>,
+}
+
+impl<F: NorFlash + FlashWindow> Controller<F> {
+    fn apply(&mut self, event: Event) -> Result<(), CommandError> {
+        let state = self.state;
+        if self.event(event) {
+            Ok(())
+        } else {
+            Err(CommandError::WrongState(Refused { state, event }))
+        }
+    }
+
+    fn not_moving(&self) -> Result<(), CommandError> {
+        if self.state.allows_flash_writes() {
+            Ok(())
+        } else {
+            Err(CommandError::Moving { state: self.state })
+        }
+    }
+
+    /// Validates the table of `slot` and takes its joint map. A map with other servo IDs than the
+    /// one in use makes the controller look for the servos again (Boot), so it is only allowed while
+    /// torque is off.
+    pub(crate) fn select(&mut self, slot: u8) -> Result<(), CommandError> {
+        let slots = self.store.slots();
+        if slot >= slots {
+            return Err(CommandError::NoSuchSlot { slot, slots });
+        }
+        let bytes = self
+            .store
+            .table(slot)
+            .ok_or(CommandError::SlotEmpty { slot })?;
+        let checked =
+            gait_view::check(bytes).map_err(|error| CommandError::BadTable { slot, error })?;
+        let layout = checked.layout;
+        let maps = checked.joints;
+        let same_servos = maps.len() == self.joints.len()
+            && maps.iter().zip(&self.joints).all(|(m, j)| m.id == j.id);
+        if !same_servos && self.torque_sent {
+            return Err(CommandError::WrongState(Refused {
+                state: self.state,
+                event: Event::Start,
+            }));
+        }
+        self.stiffness = checked.stiffness;
+        self.joints = maps;
+        self.selected = Some(Selected { slot, layout });
+        if !same_servos {
+            self.known = [false; MAX_JOINTS];
+            self.misses.reset();
+            if self.state == State::Idle {
+                self.state = State::Boot;
+            }
+        }
+        Ok(())
+    }
+
+    /// Plays a gait: ramps from the present posture to its first slice, then walks.
+    pub fn play(&mut self, p: PlayParams) -> Result<(), CommandError> {
+        if !matches!(self.state, State::Idle | State::Standing) {
+            return Err(CommandError::WrongState(Refused {
+                state: self.state,
+                event: Event::Start,
+            }));
+        }
+        if !(100..=10_000).contains(&p.period_scale) {
+            return Err(CommandError::OutOfRange {
+                what: Setting::PeriodScale,
+                value: p.period_scale.into(),
+            });
+        }
+        if p.steps == Some(0) {
+            return Err(CommandError::OutOfRange {
+                what: Setting::StepCount,
+                value: 0,
+            });
+        }
+        self.select(p.slot)?;
+        let Some(sel) = self.selected else {
+            return Err(CommandError::SlotEmpty { slot: p.slot });
+        };
+        if self.state == State::Boot {
+            // New servos: Boot finds them; the host plays again once the board is Idle.
+            return Err(CommandError::WrongState(Refused {
+                state: State::Boot,
+                event: Event::Start,
+            }));
+        }
+        let mut clock = PlayClock::new(sel.layout.period_us, p.direction, p.steps);
+        clock.set_scale(p.period_scale.into());
+        self.play = Some(clock);
+        self.apply(Event::Start)
+    }
+
+    /// Stops at the end of the current step.
+    pub fn stop(&mut self) -> Result<(), CommandError> {
+        self.apply(Event::Stop)
+    }
+
+    /// Torque off on every servo, from any state.
+    pub fn emergency_stop(&mut self) {
+        self.event(Event::EStop);
+    }
+
+    /// Leaves Safe or EStop for Idle (torque off).
+    pub fn clear_fault(&mut self) -> Result<(), CommandError> {
+        self.apply(Event::ClearFault)
+    }
+
+    /// Reboots all servos (clears latched hardware errors), then looks for them again.
+    pub fn reboot_servos(&mut self) -> Result<(), CommandError> {
+        self.apply(Event::Reboot)?;
+        self.reboot_pending = true;
+        self.torque_sent = true; // unknown until the reboot is done; makes Idle send torque off
+        Ok(())
+    }
+
+    /// Torque on (hold the present posture) or off.
+    pub fn set_torque(&mut self, on: bool) -> Result<(), CommandError> {
+        self.apply(if on {
+            Event::TorqueOn
+        } else {
+            Event::TorqueOff
+        })
+    }
+
+    /// The board came up from a watchdog reset: it stays safe until the host clears the fault.
+    pub fn watchdog_reset(&mut self) {
+        self.event(Event::Fault(SafeReason::Watchdog));
+    }
+
+    /// Period scale of the playing gait, 1/1000.
+    pub fn set_period_scale(&mut self, scale: u16) -> Result<(), CommandError> {
+        if !(100..=10_000).contains(&scale) {
+            return Err(CommandError::OutOfRange {
+                what: Setting::PeriodScale,
+                value: scale.into(),
+            });
+        }
+        if let Some(p) = self.play.as_mut() {
+            p.set_scale(scale.into());
+        }
+        Ok(())
+    }
+
+    /// Stiffness of `joint` for the torque bias, mN m/rad (0 switches the bias off); takes effect
+    /// from the next cycle, also while walking.
+    pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), CommandError> {
+        self.check_joint(joint)?;
+        self.stiffness[joint as usize] = stiffness;
+        Ok(())
+    }
+
+    /// Limits of `joint` in ticks.
+    pub fn set_limits(
+        &mut self,
+        joint: u8,
+        min_ticks: i32,
+        max_ticks: i32,
+    ) -> Result<(), CommandError> {
+        self.check_joint(joint)?;
+        if !(0..=4095).contains(&min_ticks) || !(min_ticks..=4095).contains(&max_ticks) {
+            return Err(CommandError::OutOfRange {
+                what: Setting::Limits,
+                value: min_ticks.into(),
+            });
+        }
+        let j = &mut self.joints[joint as usize];
+        *j = JointCal {
+            min_ticks,
+            max_ticks,
+            ..*j
+        };
+        Ok(())
+    }
+
+    /// Bus cycle rate (Hz) and baud; only while nothing moves.
+    pub fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), CommandError> {
+        self.not_moving()?;
+        if !(50..=1000).contains(&cycle_hz) {
+            return Err(CommandError::OutOfRange {
+                what: Setting::CycleRate,
+                value: cycle_hz.into(),
+            });
+        }
+        if !(9600..=4_500_000).contains(&baud) {
+            return Err(CommandError::OutOfRange {
+                what: Setting::Baud,
+                value: baud.into(),
+            });
+        }
+        self.config.cycle_hz = cycle_hz;
+        self.config.baud = baud;
+        Ok(())
+    }
+
+    /// A telemetry record every `every` cycles (0 = off).
+    pub fn set_telemetry(&mut self, every: u16) {
+        self.config.telemetry_every = every;
+        self.telemetry_countdown = 0;
+    }
+
+    /// Follows streamed setpoints; no setpoint for `timeout_cycles` cycles is a fault.
+    pub fn enter_streaming(
+        &mut self,
+        timeout_cycles: u16,
+        feedback_every: u16,
+    ) -> Result<(), CommandError> {
+        if timeout_cycles == 0 {
+            return Err(CommandError::OutOfRange {
+                what: Setting::StreamTimeout,
+                value: 0,
+            });
+        }
+        self.apply(Event::EnterStreaming)?;
+        self.stream.timeout_cycles = timeout_cycles;
+        self.stream.feedback_every = feedback_every.max(1);
+        self.stream.age = 0;
+        Ok(())
+    }
+
+    pub fn leave_streaming(&mut self) -> Result<(), CommandError> {
+        self.apply(Event::LeaveStreaming)
+    }
+
+    /// A streamed setpoint: per joint the angle (microradians) and optionally a torque (mN m) for the
+    /// bias. Ignored outside streaming.
+    pub fn setpoint(
+        &mut self,
+        seq: u32,
+        joints: &[(i32, Option<i32>)],
+    ) -> Result<(), CommandError> {
+        if self.state != State::Streaming {
+            return Err(CommandError::WrongState(Refused {
+                state: self.state,
+                event: Event::EnterStreaming,
+            }));
+        }
+        if joints.len() != self.joints.len() {
+            return Err(CommandError::OutOfRange {
+                what: Setting::SetpointJoints,
+                value: joints.len() as i64,
+            });
+        }
+        for (j, &(angle, torque)) in joints.iter().enumerate() {
+            let (g, c) = crate::bias::goal_ticks(
+                &self.joints[j],
+                angle,
+                torque.unwrap_or(0),
+                self.stiffness[j],
+            );
+            self.goals[j] = g;
+            self.clamped[j] = c;
+        }
+        self.stream.seq = seq;
+        self.stream.age = 0;
+        Ok(())
+    }
+
+    /// Sequence number and age (cycles) of the last setpoint.
+    pub fn stream_status(&self) -> (u32, u16) {
+        (self.stream.seq, self.stream.age)
+    }
+
+    fn check_joint(&self, joint: u8) -> Result<(), CommandError> {
+        if (joint as usize) < self.joints.len() {
+            Ok(())
+        } else {
+            Err(CommandError::NoSuchJoint {
+                joint,
+                joints: self.joints.len() as u8,
+            })
+        }
+    }
+
+    /// Starts an upload into `slot`; refused while moving and for the slot being played.
+    pub fn upload_begin(&mut self, slot: u8, total_len: u32) -> Result<(), CommandError> {
+        self.not_moving()?;
+        Ok(self.store.begin(slot, total_len)?)
+    }
+
+    pub fn upload_chunk(&mut self, offset: u32, data: &[u8]) -> Result<(), CommandError> {
+        self.not_moving()?;
+        Ok(self.store.write(offset, data)?)
+    }
+
+    /// Commits the upload once its CRC-32 verifies; the slot's old table is replaced only then.
+    pub fn upload_commit(&mut self, crc: u32) -> Result<SlotInfo, CommandError> {
+        self.upload_commit_verified(crc, |_| Ok::<(), core::convert::Infallible>(()))
+            .map_err(|e| match e {
+                CommitError::Store(e) => e.into(),
+                CommitError::Rejected(never) => match never {},
+            })
+    }
+
+    /// As [`Controller::upload_commit`], with `verify` checking the table bytes in flash first.
+    pub fn upload_commit_verified<E>(
+        &mut self,
+        crc: u32,
+        verify: impl FnOnce(&[u8]) -> Result<(), E>,
+    ) -> Result<SlotInfo, CommitError<E>> {
+        if !self.state.allows_flash_writes() {
+            // Only reachable if the caller skipped its own state check; nothing was written.
+            self.store.abort();
+            return Err(CommitError::Store(StoreError::NoUpload));
+        }
+        let info = self.store.commit_verified(crc, verify)?;
+        if self.selected.is_some_and(|s| s.slot == info.slot) || self.selected.is_none() {
+            // The selected table changed under us: take the new one (or its error) now.
+            let _ = self.select(info.slot);
+        }
+        Ok(info)
+    }
+
+    pub fn upload_abort(&mut self) {
+        self.store.abort();
+    }
+
+    /// Empties a slot; refused while moving.
+    pub fn delete_gait(&mut self, slot: u8) -> Result<(), CommandError> {
+        self.not_moving()?;
+        self.store.delete(slot)?;
+        if self.selected.is_some_and(|s| s.slot == slot) {
+            self.selected = None;
+            self.play = None;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,242 @@
+//! The controller: everything the board does between the seams, with no I/O of its own. The bus
+//! loop asks it for the next bus action ([`Controller::plan`]), performs it on the Dynamixel bus and
+//! hands back what came of it ([`Controller::complete`]); the link handler calls the command
+//! methods. The board keeps it behind a blocking mutex shared by the bus and link tasks; the host's
+//! virtual robot keeps it in a `RefCell`.
+
+mod commands;
+mod cycle;
+#[cfg(test)]
+mod tests;
+
+use dynamixel::master::{Feedback, Goal};
+use embedded_storage::nor_flash::NorFlash;
+
+use crate::bias::JointCal;
+use crate::playback::{MAX_JOINTS, PlayClock, Ramp};
+use crate::safety::{MissCounter, State};
+use crate::store::{FlashWindow, GaitStore};
+use crate::telemetry::{DropQueue, Record};
+
+pub use commands::{CommandError, PlayParams, Setting};
+pub use cycle::{BusAction, CyclePlan, Outcome};
+
+/// Telemetry records the queue holds before it drops (about 400 B each).
+pub const TELEMETRY_QUEUE: usize = 8;
+
+/// Run-time settings of the controller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// Bus cycles per second (50 to 1000).
+    pub cycle_hz: u16,
+    /// Bus baud rate, bit/s.
+    pub baud: u32,
+    /// A telemetry record every this many cycles (0 = none).
+    pub telemetry_every: u16,
+    /// Consecutive cycles without a usable reply after which a servo counts as missing.
+    pub miss_limit: u8,
+    /// Speed of the start ramp for the joint with the longest way, ticks per second.
+    pub ramp_ticks_per_s: u32,
+    /// Shortest start ramp, microseconds.
+    pub ramp_min_us: u32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            cycle_hz: 100,
+            baud: 1_000_000,
+            telemetry_every: 1,
+            miss_limit: 3,
+            // About 35 deg/s: slow enough to be harmless from any posture.
+            ramp_ticks_per_s: 400,
+            ramp_min_us: 500_000,
+        }
+    }
+}
+
+/// Counters since boot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Counters {
+    /// Bus actions performed.
+    pub cycles: u32,
+    /// Cycle starts missed because the previous cycle ran past its deadline.
+    pub overruns: u32,
+    /// Replies that did not come in time.
+    pub timeouts: u32,
+    /// Replies that failed their CRC.
+    pub crc_errors: u32,
+    /// Whole bus operations that failed (UART errors).
+    pub bus_errors: u32,
+    /// Goals clamped to a joint limit.
+    pub clamped: u32,
+    /// Latest cycle start lateness and the largest one seen, microseconds.
+    pub jitter_us: u32,
+    pub max_jitter_us: u32,
+}
+
+/// The gait being played: its slot and how its bytes are laid out (checked once at selection).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Selected {
+    pub slot: u8,
+    pub layout: crate::gait_view::Layout,
+}
+
+/// The controller over the gait store's flash `F`.
+#[derive(Debug)]
+pub struct Controller<F> {
+    store: GaitStore<F>,
+    config: Config,
+    state: State,
+    joints: heapless::Vec<JointCal, MAX_JOINTS>,
+    stiffness: [u32; MAX_JOINTS],
+    selected: Option<Selected>,
+    play: Option<PlayClock>,
+    ramp: Option<Ramp>,
+    /// Goals of the last cycle (what standing holds).
+    goals: [i32; MAX_JOINTS],
+    clamped: [bool; MAX_JOINTS],
+    /// Last good feedback per joint, and whether every joint has answered since the map changed.
+    present: [Feedback; MAX_JOINTS],
+    known: [bool; MAX_JOINTS],
+    /// Torque as last sent to the servos.
+    torque_sent: bool,
+    misses: MissCounter<MAX_JOINTS>,
+    reboot_pending: bool,
+    hw_error_pending: Option<u8>,
+    last_plan_us: Option<u64>,
+    stream: cycle::Stream,
+    counters: Counters,
+    telemetry: DropQueue<Record, TELEMETRY_QUEUE>,
+    telemetry_countdown: u16,
+}
+
+impl<F: NorFlash + FlashWindow> Controller<F> {
+    /// Mounts the gait store on `flash` and starts in `Boot`. The joint map is the one of the gait in
+    /// the lowest filled slot (none: no servos until a gait is played).
+    pub fn new(flash: F, slots: u8, config: Config) -> Self {
+        let store = GaitStore::mount(flash, slots);
+        let mut c = Self {
+            store,
+            config,
+            state: State::Boot,
+            joints: heapless::Vec::new(),
+            stiffness: [0; MAX_JOINTS],
+            selected: None,
+            play: None,
+            ramp: None,
+            goals: [0; MAX_JOINTS],
+            clamped: [false; MAX_JOINTS],
+            present: [Feedback::default(); MAX_JOINTS],
+            known: [false; MAX_JOINTS],
+            torque_sent: false,
+            misses: MissCounter::new(config.miss_limit),
+            reboot_pending: false,
+            hw_error_pending: None,
+            last_plan_us: None,
+            stream: cycle::Stream::default(),
+            counters: Counters::default(),
+            telemetry: DropQueue::new(),
+            telemetry_countdown: 0,
+        };
+        if let Some(slot) = (0..c.store.slots()).find(|&s| c.store.table(s).is_some()) {
+            // A table that fails validation just leaves the map empty; the host sees it in `list`.
+            let _ = c.select(slot);
+        }
+        c
+    }
+
+    pub fn state(&self) -> State {
+        self.state
+    }
+
+    pub fn config(&self) -> Config {
+        self.config
+    }
+
+    pub fn counters(&self) -> Counters {
+        self.counters
+    }
+
+    pub fn store(&self) -> &GaitStore<F> {
+        &self.store
+    }
+
+    /// The joint map in use.
+    pub fn joints(&self) -> &[JointCal] {
+        &self.joints
+    }
+
+    /// Stiffness per joint used for the torque bias, mN m/rad.
+    pub fn stiffness(&self) -> &[u32] {
+        &self.stiffness[..self.joints.len()]
+    }
+
+    /// Goals of the last cycle, ticks.
+    pub fn goals(&self) -> &[i32] {
+        &self.goals[..self.joints.len()]
+    }
+
+    /// Last good feedback per joint.
+    pub fn feedback(&self) -> &[Feedback] {
+        &self.present[..self.joints.len()]
+    }
+
+    /// Whether torque is on as far as the controller knows.
+    pub fn torque_on(&self) -> bool {
+        self.torque_sent
+    }
+
+    /// The slot being played or last selected.
+    pub fn selected_slot(&self) -> Option<u8> {
+        self.selected.map(|s| s.slot)
+    }
+
+    /// Playback position: steps done and the slice the goals came from.
+    pub fn playback(&self) -> Option<(u32, u16)> {
+        let s = self.selected?;
+        let p = self.play.as_ref()?;
+        Some((p.steps_done(), p.sample(s.layout.slices).slice as u16))
+    }
+
+    pub fn play_clock(&self) -> Option<&PlayClock> {
+        self.play.as_ref()
+    }
+
+    /// Bus cycle period from the configured rate.
+    pub fn period_us(&self) -> u32 {
+        1_000_000 / u32::from(self.config.cycle_hz.max(1))
+    }
+
+    /// Next telemetry record for the host, if any.
+    pub fn pop_telemetry(&mut self) -> Option<Record> {
+        self.telemetry.pop()
+    }
+
+    /// Telemetry records dropped because the host did not take them in time.
+    pub fn telemetry_dropped(&self) -> u32 {
+        self.telemetry.dropped()
+    }
+
+    /// Gives the flash back (tests cut the power with it).
+    pub fn into_flash(self) -> F {
+        self.store.into_flash()
+    }
+
+    fn all_known(&self) -> bool {
+        self.known[..self.joints.len()].iter().all(|&k| k)
+    }
+
+    fn goal_list(&self) -> ([Goal; MAX_JOINTS], usize) {
+        let mut g = [Goal { id: 0, position: 0 }; MAX_JOINTS];
+        for (i, j) in self.joints.iter().enumerate() {
+            g[i] = Goal {
+                id: j.id,
+                position: self.goals[i],
+            };
+        }
+        (g, self.joints.len())
+    }
+}

@@ -1,0 +1,441 @@
+//! The controller driven cycle by cycle against ideal servos (they reach every goal at once), on a
+//! NOR double and a hand-advanced clock: boot, ramp, walk, stop at the step end, faults, uploads.
+
+use dynamixel::instruction::StatusError;
+use dynamixel::master::{CycleStats, Feedback, Reply, ReplyFault};
+
+use super::*;
+use crate::playback::Direction;
+use crate::safety::SafeReason;
+use crate::store::nor_double::NorDouble;
+use crate::store::record::CRC32;
+use crate::testkit::{JOINTS, STIFFNESS, SyntheticGait};
+
+type Flash = NorDouble<4>;
+
+/// 22 servos that are wherever their goal is once torque is on.
+struct IdealServos {
+    pos: [i32; 32],
+    torque: bool,
+    /// Joints that do not answer.
+    silent: Vec<usize>,
+    /// Joint whose status carries the Alert bit.
+    alert: Option<usize>,
+    torque_writes: Vec<bool>,
+    reboots: usize,
+}
+
+impl IdealServos {
+    fn new() -> Self {
+        let mut pos = [0; 32];
+        for (j, p) in pos.iter_mut().enumerate() {
+            *p = 1800 + 23 * j as i32;
+        }
+        Self {
+            pos,
+            torque: false,
+            silent: vec![],
+            alert: None,
+            torque_writes: vec![],
+            reboots: 0,
+        }
+    }
+
+    fn serve(&mut self, plan: &CyclePlan, replies: &mut [Reply]) -> Outcome {
+        let feedback = |s: &Self, replies: &mut [Reply]| {
+            for (j, r) in replies.iter_mut().enumerate().take(plan.n) {
+                *r = if s.silent.contains(&j) {
+                    Err(ReplyFault::Timeout)
+                } else {
+                    Ok(Feedback {
+                        load: 0,
+                        velocity: 0,
+                        position: s.pos[j],
+                        alert: s.alert == Some(j),
+                    })
+                };
+            }
+            Outcome::Feedback(Ok(CycleStats::default()))
+        };
+        match plan.action {
+            BusAction::Nothing => Outcome::Done(Ok(())),
+            BusAction::Cycle => {
+                if self.torque {
+                    for (j, g) in plan.goals().iter().enumerate() {
+                        self.pos[j] = g.position;
+                    }
+                }
+                feedback(self, replies)
+            }
+            BusAction::ReadOnly => feedback(self, replies),
+            BusAction::TorqueOn => {
+                // The goals written before torque-on are the present posture: nothing moves.
+                for (j, g) in plan.goals().iter().enumerate() {
+                    assert_eq!(g.position, self.pos[j], "joint {j} would jump at torque-on");
+                }
+                self.torque = true;
+                self.torque_writes.push(true);
+                Outcome::Done(Ok(()))
+            }
+            BusAction::TorqueOff => {
+                self.torque = false;
+                self.torque_writes.push(false);
+                Outcome::Done(Ok(()))
+            }
+            BusAction::Reboot => {
+                self.torque = false;
+                self.alert = None;
+                self.reboots += 1;
+                Outcome::Done(Ok(()))
+            }
+            BusAction::ReadHardwareError { .. } => Outcome::HardwareError(Ok(0x20)),
+        }
+    }
+}
+
+struct Rig {
+    c: Controller<Flash>,
+    servos: IdealServos,
+    now: u64,
+    gait: SyntheticGait,
+}
+
+impl Rig {
+    /// A board whose slot 0 holds the synthetic gait (100 slices, 1 s), booted at 100 Hz.
+    fn new() -> Self {
+        let gait = SyntheticGait::new(100, 1.0);
+        let table = gait.build();
+        let mut c = Controller::new(Flash::new(64), 4, Config::default());
+        c.upload_begin(0, table.len() as u32).unwrap();
+        c.upload_chunk(0, &table).unwrap();
+        c.upload_commit(CRC32.checksum(&table)).unwrap();
+        // Power cycle: the joint map comes from the stored table.
+        let c = Controller::new(c.into_flash(), 4, Config::default());
+        assert_eq!(c.joints().len(), JOINTS);
+        Self {
+            c,
+            servos: IdealServos::new(),
+            now: 1_000_000,
+            gait,
+        }
+    }
+
+    fn cycle(&mut self) -> BusAction {
+        let plan = self.c.plan(self.now);
+        let mut replies = [Err(ReplyFault::Timeout); 32];
+        let outcome = self.servos.serve(&plan, &mut replies);
+        self.c.complete(&plan, outcome, &replies[..plan.n], 0);
+        self.now += u64::from(self.c.period_us());
+        plan.action
+    }
+
+    fn cycles_until(&mut self, max: usize, done: impl Fn(&Self) -> bool) -> usize {
+        for i in 0..max {
+            if done(self) {
+                return i;
+            }
+            self.cycle();
+        }
+        panic!("not done after {max} cycles, state {:?}", self.c.state());
+    }
+
+    fn play(&mut self, steps: Option<u32>) {
+        self.c
+            .play(PlayParams {
+                slot: 0,
+                direction: Direction::Forward,
+                period_scale: 1000,
+                steps,
+            })
+            .unwrap();
+    }
+}
+
+#[test]
+fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
+    let mut r = Rig::new();
+    assert_eq!(r.c.state(), State::Boot);
+    assert_eq!(r.cycle(), BusAction::ReadOnly);
+    assert_eq!(r.c.state(), State::Idle);
+    r.play(Some(2));
+    assert_eq!(r.c.state(), State::Ramping);
+    assert_eq!(r.cycle(), BusAction::TorqueOn);
+    // Ramp: straight to slice 0 at 400 ticks/s for the joint with the longest way.
+    let start: Vec<i32> = r.servos.pos[..JOINTS].to_vec();
+    let target: Vec<f64> = (0..JOINTS)
+        .map(|j| r.gait.goal(0.0, j, STIFFNESS))
+        .collect();
+    let longest = (0..JOINTS)
+        .map(|j| (target[j] - start[j] as f64).abs())
+        .fold(0.0, f64::max);
+    let ramp_cycles = r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let expected = (longest / 400.0 / 0.01).max(50.0);
+    assert!(
+        (ramp_cycles as f64 - expected).abs() <= 2.0,
+        "ramp took {ramp_cycles} cycles, expected about {expected:.1}"
+    );
+    for (j, t) in target.iter().enumerate() {
+        assert!(
+            (r.servos.pos[j] as f64 - t).abs() <= 1.0,
+            "joint {j} after the ramp"
+        );
+    }
+    // Walking: every cycle's goals are the table interpolated at the gait clock, biased.
+    let mut cycles = 0;
+    while r.c.state() == State::Walking {
+        let t_before = r.c.play_clock().unwrap().phase_us();
+        r.cycle();
+        cycles += 1;
+        if r.c.state() != State::Walking {
+            break;
+        }
+        let t = (t_before + 10_000) % 1_000_000;
+        let pos = t as f64 / 1e6 * 100.0;
+        for j in 0..JOINTS {
+            let want = r.gait.goal(pos, j, STIFFNESS);
+            assert!(
+                (r.servos.pos[j] as f64 - want).abs() <= 1.0,
+                "cycle {cycles} joint {j}: {} vs {want:.2}",
+                r.servos.pos[j]
+            );
+        }
+    }
+    // Two steps of 1 s at 100 Hz: the 200th cycle of the walk ends the second step.
+    assert_eq!(cycles, 200);
+    assert_eq!(r.c.state(), State::Standing);
+    assert_eq!(r.c.playback().unwrap().0, 2);
+    for (j, t) in target.iter().enumerate() {
+        assert!(
+            (r.servos.pos[j] as f64 - t).abs() <= 1.0,
+            "joint {j} at rest"
+        );
+    }
+    // Standing holds.
+    let held: Vec<i32> = r.servos.pos[..JOINTS].to_vec();
+    r.cycle();
+    assert_eq!(&r.servos.pos[..JOINTS], &held[..]);
+}
+
+#[test]
+fn stop_mid_step_finishes_the_step_first() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    for _ in 0..30 {
+        r.cycle();
+    }
+    r.c.stop().unwrap();
+    assert_eq!(r.c.state(), State::Stopping);
+    let n = r.cycles_until(200, |r| r.c.state() == State::Standing);
+    // 30 cycles were played, so the step ends 70 cycles later.
+    assert_eq!(n, 70);
+    assert_eq!(r.c.play_clock().unwrap().phase_us(), 0);
+}
+
+#[test]
+fn backward_play_runs_the_slices_in_reverse() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.c.play(PlayParams {
+        slot: 0,
+        direction: Direction::Backward,
+        period_scale: 2000,
+        steps: Some(1),
+    })
+    .unwrap();
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.cycle();
+    // One cycle of 10 ms at half speed is 5 ms of the table backward: slice position 99.5.
+    for j in 0..JOINTS {
+        let want = r.gait.goal(99.5, j, STIFFNESS);
+        assert!((r.servos.pos[j] as f64 - want).abs() <= 1.0, "joint {j}");
+    }
+    // A whole step at half speed takes 200 cycles.
+    let n = r.cycles_until(400, |r| r.c.state() == State::Standing);
+    assert_eq!(n + 1, 200);
+}
+
+#[test]
+fn stiffness_changed_while_walking_applies_from_the_next_cycle() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.c.set_stiffness(4, 0).unwrap();
+    let t = r.c.play_clock().unwrap().phase_us() + 10_000;
+    r.cycle();
+    let pos = t as f64 / 1e6 * 100.0;
+    assert!((r.servos.pos[4] as f64 - r.gait.goal(pos, 4, 0.0)).abs() <= 1.0);
+    assert!((r.servos.pos[5] as f64 - r.gait.goal(pos, 5, STIFFNESS)).abs() <= 1.0);
+    assert_eq!(
+        r.c.set_stiffness(22, 1),
+        Err(CommandError::NoSuchJoint {
+            joint: 22,
+            joints: 22
+        })
+    );
+}
+
+#[test]
+fn emergency_stop_turns_torque_off_and_needs_a_clear() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.c.emergency_stop();
+    assert_eq!(r.c.state(), State::EStop);
+    assert_eq!(r.cycle(), BusAction::TorqueOff);
+    assert!(!r.servos.torque);
+    assert_eq!(r.cycle(), BusAction::ReadOnly);
+    assert!(matches!(
+        r.c.play(PlayParams {
+            slot: 0,
+            direction: Direction::Forward,
+            period_scale: 1000,
+            steps: None
+        }),
+        Err(CommandError::WrongState(_))
+    ));
+    r.c.clear_fault().unwrap();
+    assert_eq!(r.c.state(), State::Idle);
+    assert_eq!(r.servos.torque_writes, [true, false]);
+}
+
+#[test]
+fn a_silent_servo_puts_the_robot_in_the_safe_state_naming_it() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.servos.silent = vec![7];
+    r.cycle();
+    r.cycle();
+    assert_eq!(r.c.state(), State::Walking, "two misses are tolerated");
+    r.cycle();
+    assert_eq!(
+        r.c.state(),
+        State::Safe(SafeReason::ServoMissing {
+            joint: 7,
+            id: 8,
+            cycles: 3
+        })
+    );
+    // No more goals: only reads.
+    assert_eq!(r.cycle(), BusAction::ReadOnly);
+    assert_eq!(r.c.counters().timeouts, 4);
+}
+
+#[test]
+fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.servos.alert = Some(3);
+    r.cycle();
+    assert!(matches!(
+        r.c.state(),
+        State::Safe(SafeReason::ServoError {
+            joint: 3,
+            id: 4,
+            ..
+        })
+    ));
+    assert_eq!(r.cycle(), BusAction::ReadHardwareError { joint: 3 });
+    assert_eq!(
+        r.c.state(),
+        State::Safe(SafeReason::ServoError {
+            joint: 3,
+            id: 4,
+            error: 0x20
+        })
+    );
+    r.c.reboot_servos().unwrap();
+    assert_eq!(r.cycle(), BusAction::Reboot);
+    assert_eq!(r.servos.reboots, 1);
+    assert_eq!(r.c.state(), State::Boot);
+    r.cycle();
+    assert_eq!(r.c.state(), State::Idle);
+}
+
+#[test]
+fn a_status_error_number_is_a_servo_error() {
+    let mut r = Rig::new();
+    r.cycle();
+    let plan = r.c.plan(r.now);
+    let mut replies = [Ok(Feedback::default()); 22];
+    replies[5] = Err(ReplyFault::Status(StatusError(0x04)));
+    r.c.complete(
+        &plan,
+        Outcome::Feedback(Ok(CycleStats::default())),
+        &replies,
+        0,
+    );
+    assert_eq!(
+        r.c.state(),
+        State::Safe(SafeReason::ServoError {
+            joint: 5,
+            id: 6,
+            error: 0x04
+        })
+    );
+}
+
+#[test]
+fn uploads_are_refused_while_walking_and_the_table_stays() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycle();
+    assert_eq!(r.c.state(), State::Ramping);
+    assert_eq!(
+        r.c.upload_begin(1, 1000),
+        Err(CommandError::Moving {
+            state: State::Ramping
+        })
+    );
+    assert!(matches!(
+        r.c.delete_gait(0),
+        Err(CommandError::Moving { .. })
+    ));
+    assert!(r.c.store().table(0).is_some());
+}
+
+#[test]
+fn telemetry_every_nth_cycle_and_drops_counted_when_nobody_reads() {
+    let mut r = Rig::new();
+    r.c.set_telemetry(3);
+    for _ in 0..9 {
+        r.cycle();
+    }
+    let cycles: Vec<u32> = core::iter::from_fn(|| r.c.pop_telemetry())
+        .map(|t| t.cycle)
+        .collect();
+    assert_eq!(cycles, [1, 4, 7]);
+    r.c.set_telemetry(1);
+    for _ in 0..20 {
+        r.cycle();
+    }
+    assert_eq!(r.c.telemetry_dropped(), 20 - TELEMETRY_QUEUE as u32);
+}
+
+#[test]
+fn a_watchdog_reset_stays_safe_until_cleared() {
+    let mut r = Rig::new();
+    r.c.watchdog_reset();
+    assert_eq!(r.c.state(), State::Safe(SafeReason::Watchdog));
+    r.cycle();
+    assert_eq!(r.c.state(), State::Safe(SafeReason::Watchdog));
+    assert!(
+        r.c.play(PlayParams {
+            slot: 0,
+            direction: Direction::Forward,
+            period_scale: 1000,
+            steps: None
+        })
+        .is_err()
+    );
+    r.c.clear_fault().unwrap();
+    assert_eq!(r.c.state(), State::Idle);
+}

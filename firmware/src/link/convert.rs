@@ -1,0 +1,195 @@
+//! Between the controller's units (ticks, microradians, firmware enums) and the protocol's (1e-4 rad,
+//! `RunState`, `ProtocolError`).
+
+use embedded_storage::nor_flash::NorFlash;
+use protocol::{
+    BusStats, DeviceMessage, Fault, FaultKind, JointFeedback, Proprioception, ProtocolError,
+    RunState, Setting as PSetting, Telemetry, UploadError, feedback_flags,
+};
+
+use crate::bias::{JointCal, ticks_to_urad, urad_to_ticks};
+use crate::controller::{CommandError, Controller, Setting};
+use crate::gait_view::URAD_PER_ANGLE_UNIT;
+use crate::safety::{SafeReason, State};
+use crate::store::StoreError;
+use crate::telemetry::{Record, flags};
+
+/// The protocol's view of a state.
+pub fn run_state(s: State) -> RunState {
+    match s {
+        State::Boot | State::Idle => RunState::Idle,
+        State::Standing => RunState::Standing,
+        State::Ramping => RunState::Ramping,
+        State::Walking => RunState::Walking,
+        State::Stopping => RunState::Stopping,
+        State::Streaming => RunState::Streaming,
+        State::Safe(_) | State::EStop => RunState::Fault,
+    }
+}
+
+/// The fault behind a state, if any.
+pub fn fault(s: State) -> Option<Fault> {
+    let (kind, joint) = match s {
+        State::EStop => (FaultKind::EmergencyStop, None),
+        State::Safe(SafeReason::ServoError { joint, error, .. }) => {
+            (FaultKind::ServoError { bits: error }, Some(joint))
+        }
+        State::Safe(SafeReason::ServoMissing { joint, cycles, .. }) => {
+            (FaultKind::ServoMissing { cycles }, Some(joint))
+        }
+        State::Safe(SafeReason::SetpointTimeout) => (FaultKind::SetpointTimeout, None),
+        State::Safe(SafeReason::Watchdog) => (FaultKind::Watchdog, None),
+        _ => return None,
+    };
+    Some(Fault { kind, joint })
+}
+
+/// Joint angle (1e-4 rad) of a servo position, wrapped to +-pi around the zero offset.
+pub fn ticks_to_angle(cal: &JointCal, ticks: i32) -> i16 {
+    let delta = (ticks.wrapping_sub(cal.zero_ticks) + 2048).rem_euclid(4096) - 2048;
+    let urad = ticks_to_urad(i64::from(cal.sign.signum()) * i64::from(delta));
+    (urad / i64::from(URAD_PER_ANGLE_UNIT)) as i16
+}
+
+/// Servo ticks of a joint angle (1e-4 rad), not clamped.
+pub fn angle_to_ticks(cal: &JointCal, angle: i16) -> i32 {
+    let t = urad_to_ticks(i64::from(angle) * i64::from(URAD_PER_ANGLE_UNIT));
+    cal.zero_ticks + i32::from(cal.sign.signum()) * t as i32
+}
+
+/// Present Velocity (0.229 rev/min) in 1e-3 rad/s: x 0.229 x 2 pi / 60 x 1000 = x 23.981.
+fn velocity(raw: i32) -> i16 {
+    (i64::from(raw) * 23_981 / 1000).clamp(i16::MIN.into(), i16::MAX.into()) as i16
+}
+
+/// A telemetry record as the protocol message for the current mode.
+pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
+    c: &Controller<F>,
+    r: &Record,
+) -> DeviceMessage {
+    let mut joints = heapless::Vec::new();
+    for (s, cal) in r.joints.iter().zip(c.joints()).take(r.joint_count.into()) {
+        let mut f = 0;
+        if s.flags & flags::NO_REPLY != 0 {
+            f |= feedback_flags::NO_REPLY;
+        }
+        if s.flags & flags::CRC_ERROR != 0 {
+            f |= feedback_flags::CRC_ERROR;
+        }
+        if s.flags & flags::CLAMPED != 0 {
+            f |= feedback_flags::CLAMPED;
+        }
+        if s.flags & flags::TORQUE_OFF != 0 {
+            f |= feedback_flags::TORQUE_OFF;
+        }
+        let _ = joints.push(JointFeedback {
+            commanded: ticks_to_angle(cal, s.commanded),
+            present: ticks_to_angle(cal, s.present),
+            velocity: velocity(s.velocity) * cal.sign.signum() as i16,
+            load: s.load,
+            error: s.error,
+            flags: f,
+        });
+    }
+    let bus = BusStats {
+        cycle_us: r.cycle_us,
+        timeouts: r.timeouts,
+        crc_errors: r.crc_errors,
+        missed_deadlines: r.overruns,
+    };
+    if r.state == State::Streaming {
+        let (setpoint_seq, setpoint_age) = c.stream_status();
+        DeviceMessage::Proprioception(Proprioception {
+            time_us: r.time_us,
+            cycle: r.cycle,
+            setpoint_seq,
+            setpoint_age,
+            joints,
+            bus,
+        })
+    } else {
+        DeviceMessage::Telemetry(Telemetry {
+            time_us: r.time_us,
+            cycle: r.cycle,
+            step: r.step,
+            slice: r.slice,
+            joints,
+            bus,
+        })
+    }
+}
+
+/// A refused command as the protocol's error.
+pub fn command_error(e: CommandError) -> ProtocolError {
+    match e {
+        CommandError::WrongState(r) => ProtocolError::WrongState {
+            state: run_state(r.state),
+        },
+        CommandError::Moving { state } => ProtocolError::WrongState {
+            state: run_state(state),
+        },
+        CommandError::SlotEmpty { slot } => ProtocolError::SlotEmpty { slot },
+        CommandError::BadTable { error, .. } => ProtocolError::Table(error),
+        CommandError::NoSuchSlot { slot, slots } => ProtocolError::NoSuchSlot { slot, slots },
+        CommandError::NoSuchJoint { joint, joints } => ProtocolError::NoSuchJoint { joint, joints },
+        CommandError::OutOfRange { what, value } => ProtocolError::InvalidSetting {
+            setting: match what {
+                Setting::CycleRate => PSetting::CycleRate,
+                Setting::Baud => PSetting::Baud,
+                Setting::PeriodScale => PSetting::PeriodScale,
+                Setting::Limits => PSetting::Limits,
+                Setting::StepCount => PSetting::StepCount,
+                Setting::SetpointJoints => PSetting::SetpointJoints,
+                Setting::StreamTimeout => PSetting::StreamTimeout,
+            },
+            value: value.clamp(i32::MIN.into(), i32::MAX.into()) as i32,
+        },
+        CommandError::Store(e) => store_error(e),
+        // CommandError is non_exhaustive for its users, not for this crate.
+    }
+}
+
+/// A gait store error as the protocol's error.
+pub fn store_error(e: StoreError) -> ProtocolError {
+    match e {
+        StoreError::NoSuchSlot { slot, slots } => ProtocolError::NoSuchSlot { slot, slots },
+        StoreError::BadSize { len, max } => ProtocolError::Upload(UploadError::TooLarge {
+            total_len: len,
+            capacity: max,
+        }),
+        StoreError::NoUpload => ProtocolError::Upload(UploadError::NotStarted),
+        StoreError::OutOfOrder { expected, got } if got < expected => {
+            ProtocolError::Upload(UploadError::Duplicate {
+                offset: got,
+                received: expected,
+            })
+        }
+        StoreError::OutOfOrder { expected, got } => {
+            ProtocolError::Upload(UploadError::OutOfOrder {
+                offset: got,
+                expected,
+            })
+        }
+        StoreError::Overflow { offset, len, total } => {
+            ProtocolError::Upload(UploadError::PastEnd {
+                offset,
+                len,
+                total_len: total,
+            })
+        }
+        StoreError::Incomplete { received, total } => {
+            ProtocolError::Upload(UploadError::Truncated {
+                received,
+                total_len: total,
+            })
+        }
+        StoreError::ChecksumMismatch { expected, actual } => {
+            ProtocolError::Upload(UploadError::ChecksumMismatch {
+                expected,
+                computed: actual,
+            })
+        }
+        StoreError::Verify { offset } => ProtocolError::Flash { offset },
+        StoreError::Flash(_) => ProtocolError::Flash { offset: 0 },
+    }
+}

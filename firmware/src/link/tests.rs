@@ -1,0 +1,436 @@
+//! The link dispatcher with real protocol frames: device info, uploads through the protocol's rules
+//! into the gait store (every bad chunk sequence refused with its own error, old table intact),
+//! garbage, telemetry, and a link that drops mid-frame and comes back.
+
+use core::cell::RefCell;
+use core::future::Future;
+use core::pin::pin;
+use core::task::{Context, Poll, Waker};
+use std::cell::Cell;
+use std::collections::VecDeque;
+
+use dynamixel::master::Clock;
+use protocol::{
+    Client, DeviceMessage, FrameAccumulator, ProtocolError, Request, Response, UploadError,
+};
+
+use super::*;
+use crate::controller::Config;
+use crate::store::nor_double::NorDouble;
+use crate::testkit::SyntheticGait;
+
+type Ctl = Controller<NorDouble<4>>;
+
+fn board() -> RefCell<Ctl> {
+    RefCell::new(Controller::new(NorDouble::new(128), 4, Config::default()))
+}
+
+/// Sends `request` through a fresh frame and returns the device's answers, decoded.
+fn ask(link: &mut Link, c: &RefCell<Ctl>, client: &mut Client, request: Request) -> Response {
+    let (seq, frame) = client.request_frame(&request).unwrap();
+    let answers = feed(link, c, &frame);
+    assert_eq!(answers.len(), 1);
+    match &answers[0] {
+        DeviceMessage::Reply { seq: s, response } => {
+            assert_eq!(*s, seq);
+            response.clone()
+        }
+        other => panic!("not a reply: {other:?}"),
+    }
+}
+
+fn feed(link: &mut Link, c: &RefCell<Ctl>, bytes: &[u8]) -> Vec<DeviceMessage> {
+    let mut out = Vec::new();
+    link.receive(c, bytes, &mut |f| out.extend_from_slice(f));
+    decode_all(&out)
+}
+
+fn decode_all(bytes: &[u8]) -> Vec<DeviceMessage> {
+    let mut acc = FrameAccumulator::new();
+    bytes
+        .iter()
+        .filter_map(|&b| acc.push_message::<DeviceMessage>(b))
+        .map(|m| m.unwrap())
+        .collect()
+}
+
+fn upload(
+    link: &mut Link,
+    c: &RefCell<Ctl>,
+    client: &mut Client,
+    slot: u8,
+    table: &[u8],
+) -> Response {
+    let header = protocol::GaitTable::parse(table).unwrap().header();
+    let r = ask(
+        link,
+        c,
+        client,
+        Request::UploadBegin {
+            slot,
+            header,
+            total_len: table.len() as u32,
+        },
+    );
+    assert_eq!(r, Response::Ack);
+    for (i, chunk) in table.chunks(protocol::MAX_CHUNK_LEN).enumerate() {
+        let r = ask(
+            link,
+            c,
+            client,
+            Request::UploadChunk {
+                offset: (i * protocol::MAX_CHUNK_LEN) as u32,
+                data: heapless::Vec::from_slice(chunk).unwrap(),
+            },
+        );
+        assert!(matches!(r, Response::ChunkAccepted { .. }), "{r:?}");
+    }
+    ask(
+        link,
+        c,
+        client,
+        Request::UploadCommit {
+            crc: protocol::crc32::checksum(table),
+        },
+    )
+}
+
+#[test]
+fn device_info_upload_and_list() {
+    let c = board();
+    let mut link = Link::new();
+    let mut client = Client::new();
+    let Response::DeviceInfo(info) = ask(&mut link, &c, &mut client, Request::GetDeviceInfo) else {
+        panic!()
+    };
+    assert_eq!(info.protocol_version, protocol::PROTOCOL_VERSION);
+    assert_eq!(info.slots.len(), 4);
+    assert!(info.slots.iter().all(|s| s.gait.is_none()));
+    let table = SyntheticGait::new(50, 1.0).build();
+    let crc = protocol::crc32::checksum(&table);
+    assert_eq!(
+        upload(&mut link, &c, &mut client, 2, &table),
+        Response::Committed { slot: 2, crc }
+    );
+    let Response::Slots(slots) = ask(&mut link, &c, &mut client, Request::ListGaits) else {
+        panic!()
+    };
+    assert_eq!(slots[2].gait.unwrap().header.slice_count, 50);
+    assert!(slots[0].gait.is_none());
+    assert_eq!(c.borrow().store().table(2), Some(&table[..]));
+}
+
+#[test]
+fn every_bad_upload_is_refused_with_its_own_error_and_the_old_table_stays() {
+    let c = board();
+    let mut link = Link::new();
+    let mut client = Client::new();
+    let old = SyntheticGait::new(40, 1.0).build();
+    upload(&mut link, &c, &mut client, 1, &old);
+    let new = SyntheticGait::new(60, 2.0).build();
+    let header = protocol::GaitTable::parse(&new).unwrap().header();
+    let total_len = new.len() as u32;
+    let chunk = |offset: usize, len: usize| Request::UploadChunk {
+        offset: offset as u32,
+        data: heapless::Vec::from_slice(&new[offset..offset + len]).unwrap(),
+    };
+    let begin = Request::UploadBegin {
+        slot: 1,
+        header,
+        total_len,
+    };
+    let err = |r: Response| match r {
+        Response::Error(ProtocolError::Upload(e)) => e,
+        other => panic!("expected an upload error, got {other:?}"),
+    };
+    let check_old = |c: &RefCell<Ctl>| {
+        assert_eq!(c.borrow().store().table(1), Some(&old[..]));
+    };
+
+    // Reordered: the second chunk first.
+    assert_eq!(
+        ask(&mut link, &c, &mut client, begin.clone()),
+        Response::Ack
+    );
+    assert_eq!(
+        err(ask(&mut link, &c, &mut client, chunk(512, 512))),
+        UploadError::OutOfOrder {
+            offset: 512,
+            expected: 0
+        }
+    );
+    // Duplicated: the first chunk twice.
+    ask(&mut link, &c, &mut client, chunk(0, 512));
+    assert_eq!(
+        err(ask(&mut link, &c, &mut client, chunk(0, 512))),
+        UploadError::Duplicate {
+            offset: 0,
+            received: 512
+        }
+    );
+    // Oversized: a chunk longer than MAX_CHUNK_LEN cannot even be encoded (heapless::Vec); a chunk
+    // reaching past the announced end:
+    let mut past = 512;
+    while past + 512 < new.len() {
+        ask(&mut link, &c, &mut client, chunk(past, 512));
+        past += 512;
+    }
+    let r = ask(
+        &mut link,
+        &c,
+        &mut client,
+        Request::UploadChunk {
+            offset: past as u32,
+            data: heapless::Vec::from_slice(&[0u8; 512]).unwrap(),
+        },
+    );
+    assert_eq!(
+        err(r),
+        UploadError::PastEnd {
+            offset: past as u32,
+            len: 512,
+            total_len
+        }
+    );
+    // Truncated: commit before the last chunk.
+    assert_eq!(
+        err(ask(
+            &mut link,
+            &c,
+            &mut client,
+            Request::UploadCommit {
+                crc: protocol::crc32::checksum(&new)
+            }
+        )),
+        UploadError::Truncated {
+            received: past as u32,
+            total_len
+        }
+    );
+    check_old(&c);
+    // Wrong checksum: all bytes, a CRC that is not theirs.
+    ask(&mut link, &c, &mut client, chunk(past, new.len() - past));
+    let good = protocol::crc32::checksum(&new);
+    assert_eq!(
+        err(ask(
+            &mut link,
+            &c,
+            &mut client,
+            Request::UploadCommit { crc: good ^ 0x10 }
+        )),
+        UploadError::ChecksumMismatch {
+            expected: good ^ 0x10,
+            computed: good
+        }
+    );
+    check_old(&c);
+    // Too large for a slot.
+    let mut big = header;
+    big.slice_count = 10_000;
+    let r = ask(
+        &mut link,
+        &c,
+        &mut client,
+        Request::UploadBegin {
+            slot: 1,
+            header: big,
+            total_len: big.table_len(),
+        },
+    );
+    assert!(matches!(err(r), UploadError::TooLarge { .. }));
+    check_old(&c);
+    // And a good upload still goes through afterwards.
+    assert_eq!(
+        upload(&mut link, &c, &mut client, 1, &new),
+        Response::Committed { slot: 1, crc: good }
+    );
+    assert_eq!(c.borrow().store().table(1), Some(&new[..]));
+}
+
+#[test]
+fn garbage_is_rejected_and_the_next_request_answered() {
+    let c = board();
+    let mut link = Link::new();
+    let mut client = Client::new();
+    let answers = feed(&mut link, &c, &[1, 2, 3, 0xFF, 7, 0]);
+    assert!(matches!(answers[..], [DeviceMessage::Rejected(_)]));
+    assert_eq!(link.rejected, 1);
+    assert!(matches!(
+        ask(&mut link, &c, &mut client, Request::GetStatus),
+        Response::Status(_)
+    ));
+}
+
+#[test]
+fn commands_reach_the_controller_and_errors_come_back_as_data() {
+    let c = board();
+    let mut link = Link::new();
+    let mut client = Client::new();
+    // One bus cycle: no servos known, so Boot is over at once.
+    {
+        let mut ctl = c.borrow_mut();
+        let plan = ctl.plan(0);
+        ctl.complete(&plan, crate::controller::Outcome::Done(Ok(())), &[], 0);
+    }
+    // No gait: playing slot 0 is refused with the slot named.
+    let play = Request::Play(protocol::PlayCommand {
+        slot: 0,
+        direction: protocol::Direction::Forward,
+        period_scale: 1000,
+        steps: protocol::Steps::Count(1),
+    });
+    assert_eq!(
+        ask(&mut link, &c, &mut client, play),
+        Response::Error(ProtocolError::SlotEmpty { slot: 0 })
+    );
+    assert_eq!(
+        ask(&mut link, &c, &mut client, Request::EmergencyStop),
+        Response::Ack
+    );
+    let Response::Status(s) = ask(&mut link, &c, &mut client, Request::GetStatus) else {
+        panic!()
+    };
+    assert_eq!(s.state, protocol::RunState::Fault);
+    assert_eq!(s.fault.unwrap().kind, protocol::FaultKind::EmergencyStop);
+    assert_eq!(
+        ask(&mut link, &c, &mut client, Request::ClearFault),
+        Response::Ack
+    );
+    assert_eq!(
+        ask(
+            &mut link,
+            &c,
+            &mut client,
+            Request::SetBus {
+                baud: 1_000_000,
+                cycle_hz: 20
+            }
+        ),
+        Response::Error(ProtocolError::InvalidSetting {
+            setting: protocol::Setting::CycleRate,
+            value: 20
+        })
+    );
+}
+
+/// A clock whose waits end at once (the link tests need no wall time).
+struct InstantClock(Cell<u64>);
+impl Clock for InstantClock {
+    fn now_us(&self) -> u64 {
+        self.0.get()
+    }
+    async fn wait_until(&self, deadline_us: u64) {
+        self.0.set(self.0.get().max(deadline_us));
+    }
+}
+
+/// Host side of an in-memory link: chunks to deliver, then either silence or a drop.
+struct Pipe {
+    input: VecDeque<Vec<u8>>,
+    output: Vec<u8>,
+    drop_when_empty: bool,
+    reads_left: usize,
+}
+
+#[derive(Debug)]
+struct Gone;
+impl core::fmt::Display for Gone {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("gone")
+    }
+}
+impl core::error::Error for Gone {}
+impl embedded_io_async::Error for Gone {
+    fn kind(&self) -> embedded_io_async::ErrorKind {
+        embedded_io_async::ErrorKind::NotConnected
+    }
+}
+impl embedded_io_async::ErrorType for Pipe {
+    type Error = Gone;
+}
+impl embedded_io_async::Read for Pipe {
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, Gone> {
+        match self.input.pop_front() {
+            Some(chunk) => {
+                buf[..chunk.len()].copy_from_slice(&chunk);
+                Ok(chunk.len())
+            }
+            None if self.drop_when_empty || self.reads_left == 0 => Err(Gone),
+            None => {
+                self.reads_left -= 1;
+                core::future::pending().await
+            }
+        }
+    }
+}
+impl embedded_io_async::Write for Pipe {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, Gone> {
+        self.output.extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    async fn flush(&mut self) -> Result<(), Gone> {
+        Ok(())
+    }
+}
+
+fn block_on<F: Future>(f: F) -> F::Output {
+    let mut f = pin!(f);
+    let mut cx = Context::from_waker(Waker::noop());
+    loop {
+        if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
+            return v;
+        }
+    }
+}
+
+#[test]
+fn a_link_that_drops_mid_frame_comes_back_and_telemetry_flows() {
+    let c = board();
+    c.borrow_mut().set_telemetry(1);
+    let mut link = Link::new();
+    let mut client = Client::new();
+    let clock = InstantClock(Cell::new(0));
+    let (_, frame) = client.request_frame(&Request::GetStatus).unwrap();
+    // First connection: half a frame, then the cable is pulled.
+    let mut pipe = Pipe {
+        input: VecDeque::from([frame[..frame.len() / 2].to_vec()]),
+        output: vec![],
+        drop_when_empty: true,
+        reads_left: 0,
+    };
+    assert_eq!(
+        block_on(serve(&mut link, &c, &mut pipe, &clock)),
+        LinkEnd::Dropped
+    );
+    assert!(pipe.output.is_empty());
+    // The robot carries on meanwhile: a few bus cycles queue telemetry.
+    for t in 0..3 {
+        let mut ctl = c.borrow_mut();
+        let plan = ctl.plan(t * 10_000);
+        ctl.complete(&plan, crate::controller::Outcome::Done(Ok(())), &[], 0);
+    }
+    // Second connection: a whole frame is answered (the stale half was forgotten), telemetry follows.
+    let (seq, frame) = client.request_frame(&Request::GetStatus).unwrap();
+    let mut pipe = Pipe {
+        input: VecDeque::from([frame]),
+        output: vec![],
+        drop_when_empty: false,
+        reads_left: 2,
+    };
+    assert_eq!(
+        block_on(serve(&mut link, &c, &mut pipe, &clock)),
+        LinkEnd::Dropped
+    );
+    let got = decode_all(&pipe.output);
+    assert!(
+        matches!(&got[0], DeviceMessage::Reply { seq: s, response: Response::Status(_) } if *s == seq)
+    );
+    let telemetry: Vec<u32> = got[1..]
+        .iter()
+        .map(|m| match m {
+            DeviceMessage::Telemetry(t) => t.cycle,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(telemetry, [1, 2, 3]);
+}

@@ -1,0 +1,247 @@
+//! Playback of a step table: the gait clock (period scaling, forward or backward, a number of steps
+//! or continuous), interpolation of the slices around the clock, and the torque-biased goals. The
+//! slices of a table are one full step cycle, evenly spaced: slice i sits at i x period / slices and
+//! the slice after the last is the first again.
+
+use crate::bias::{JointCal, goal_ticks};
+
+/// Most joints a table may have (Drosophibot II has 22).
+pub const MAX_JOINTS: usize = protocol::MAX_JOINTS;
+
+/// A step table as playback reads it (implemented by [`crate::gait_view::View`] over the protocol's
+/// format and by test tables). Angles in microradians, torques in mN m.
+pub trait Gait {
+    fn joints(&self) -> usize;
+    fn slices(&self) -> usize;
+    /// Step period as planned, in microseconds.
+    fn period_us(&self) -> u32;
+    fn angle_urad(&self, slice: usize, joint: usize) -> i32;
+    fn torque_mnm(&self, slice: usize, joint: usize) -> i32;
+}
+
+/// Which way through the step the clock runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Direction {
+    Forward,
+    Backward,
+}
+
+/// Where the clock is: slice index and the fraction (1/65536) towards the next slice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Sample {
+    pub slice: usize,
+    pub next: usize,
+    pub frac: u32,
+}
+
+/// What one advance of the clock crossed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Advance {
+    /// Step ends crossed (0, or 1 unless the cycle is longer than a step).
+    pub steps_ended: u32,
+    /// The requested number of steps is complete; the clock now rests at the step boundary.
+    pub finished: bool,
+}
+
+/// The gait clock. Time inside a step is kept in table time (unscaled), so changing the scaling
+/// mid-step keeps the phase.
+#[derive(Debug, Clone)]
+pub struct PlayClock {
+    period_us: u32,
+    /// Period multiplier in 1/1000: 1000 = as planned, 2000 = twice as slow.
+    scale_permille: u32,
+    /// Progress through the step in table microseconds, 0..period_us.
+    progress_us: u32,
+    /// Remainder of the scaling division, so scaling never drifts.
+    rem: u64,
+    direction: Direction,
+    steps: Option<u32>,
+    done: u32,
+}
+
+impl PlayClock {
+    /// A clock at the start of a step of `period_us` (table time). `steps` = None plays on until stopped.
+    pub fn new(period_us: u32, direction: Direction, steps: Option<u32>) -> Self {
+        Self {
+            period_us: period_us.max(1),
+            scale_permille: 1000,
+            progress_us: 0,
+            rem: 0,
+            direction,
+            steps,
+            done: 0,
+        }
+    }
+
+    /// Sets the period scaling (1000 = as planned); takes effect from the next advance.
+    pub fn set_scale(&mut self, permille: u32) {
+        self.scale_permille = permille.max(1);
+        self.rem = 0;
+    }
+
+    pub fn scale(&self) -> u32 {
+        self.scale_permille
+    }
+
+    pub fn direction(&self) -> Direction {
+        self.direction
+    }
+
+    /// Steps completed since start.
+    pub fn steps_done(&self) -> u32 {
+        self.done
+    }
+
+    /// Moves the clock on by `dt_us` of wall time.
+    pub fn advance(&mut self, dt_us: u32) -> Advance {
+        let mut adv = Advance::default();
+        if self.steps.is_some_and(|s| self.done >= s) {
+            adv.finished = true;
+            return adv;
+        }
+        let num = dt_us as u64 * 1000 + self.rem;
+        let dt_table = num / self.scale_permille as u64;
+        self.rem = num % self.scale_permille as u64;
+        let total = self.progress_us as u64 + dt_table;
+        adv.steps_ended = (total / self.period_us as u64) as u32;
+        self.progress_us = (total % self.period_us as u64) as u32;
+        self.done = self.done.saturating_add(adv.steps_ended);
+        if let Some(s) = self.steps
+            && self.done >= s
+        {
+            self.done = s;
+            self.rest_at_boundary();
+            adv.finished = true;
+        }
+        adv
+    }
+
+    /// Puts the clock on the step boundary (slice 0): where a stopping gait ends.
+    pub fn rest_at_boundary(&mut self) {
+        self.progress_us = 0;
+        self.rem = 0;
+    }
+
+    /// Time inside the step in table microseconds, in the direction of play (backward runs from the
+    /// end of the step to its start).
+    pub fn phase_us(&self) -> u32 {
+        match self.direction {
+            Direction::Forward => self.progress_us,
+            Direction::Backward => (self.period_us - self.progress_us) % self.period_us,
+        }
+    }
+
+    /// The slices around the clock for a table of `slices` slices.
+    pub fn sample(&self, slices: usize) -> Sample {
+        let slices = slices.max(1);
+        let pos = self.phase_us() as u64 * slices as u64;
+        let p = self.period_us as u64;
+        let slice = (pos / p) as usize;
+        Sample {
+            slice,
+            next: (slice + 1) % slices,
+            frac: ((pos % p) * 65536 / p) as u32,
+        }
+    }
+}
+
+/// Linear interpolation between `a` and `b` at `frac`/65536, rounded to nearest.
+pub fn lerp(a: i32, b: i32, frac: u32) -> i32 {
+    let d = (b as i64 - a as i64) * frac as i64;
+    (a as i64 + (d + if d >= 0 { 32768 } else { -32768 }) / 65536) as i32
+}
+
+/// Goals in ticks for the joints of `cals` at `s`, torque-biased with `stiffness` (per joint) and
+/// clamped to each joint's limits; `clamped[j]` says whether joint j was cut. Returns how many were.
+pub fn goals<G: Gait + ?Sized>(
+    gait: &G,
+    s: Sample,
+    cals: &[JointCal],
+    stiffness: &[u32],
+    out: &mut [i32],
+    clamped: &mut [bool],
+) -> usize {
+    let mut count = 0;
+    let n = gait
+        .joints()
+        .min(cals.len())
+        .min(out.len())
+        .min(clamped.len());
+    for j in 0..n {
+        let angle = lerp(
+            gait.angle_urad(s.slice, j),
+            gait.angle_urad(s.next, j),
+            s.frac,
+        );
+        let torque = lerp(
+            gait.torque_mnm(s.slice, j),
+            gait.torque_mnm(s.next, j),
+            s.frac,
+        );
+        let k = stiffness.get(j).copied().unwrap_or(0);
+        let (g, c) = goal_ticks(&cals[j], angle, torque, k);
+        out[j] = g;
+        clamped[j] = c;
+        count += c as usize;
+    }
+    count
+}
+
+/// A straight move of every joint from where it is to where the gait starts, at a bounded speed.
+#[derive(Debug, Clone)]
+pub struct Ramp {
+    from: [i32; MAX_JOINTS],
+    to: [i32; MAX_JOINTS],
+    n: usize,
+    duration_us: u32,
+    elapsed_us: u32,
+}
+
+impl Ramp {
+    /// Plans the ramp: the joint with the longest way moves at `speed` ticks per second, the others
+    /// proportionally slower; it lasts at least `min_us`.
+    pub fn new(from: &[i32], to: &[i32], speed_ticks_per_s: u32, min_us: u32) -> Self {
+        let n = from.len().min(to.len()).min(MAX_JOINTS);
+        let mut r = Self {
+            from: [0; MAX_JOINTS],
+            to: [0; MAX_JOINTS],
+            n,
+            duration_us: min_us,
+            elapsed_us: 0,
+        };
+        r.from[..n].copy_from_slice(&from[..n]);
+        r.to[..n].copy_from_slice(&to[..n]);
+        let longest = (0..n)
+            .map(|j| (to[j] as i64 - from[j] as i64).unsigned_abs())
+            .max();
+        let speed = speed_ticks_per_s.max(1) as u64;
+        let needed = longest.unwrap_or(0) * 1_000_000 / speed;
+        r.duration_us = r.duration_us.max(needed.min(u32::MAX as u64) as u32);
+        r
+    }
+
+    pub fn duration_us(&self) -> u32 {
+        self.duration_us
+    }
+
+    /// Moves on by `dt_us`; true once the ramp has arrived.
+    pub fn advance(&mut self, dt_us: u32) -> bool {
+        self.elapsed_us = self.elapsed_us.saturating_add(dt_us).min(self.duration_us);
+        self.elapsed_us >= self.duration_us
+    }
+
+    /// Goals of the ramp now.
+    pub fn goals(&self, out: &mut [i32]) {
+        let d = self.duration_us.max(1) as u64;
+        let frac = (self.elapsed_us as u64 * 65536 / d) as u32;
+        for (j, g) in out.iter_mut().enumerate().take(self.n) {
+            *g = lerp(self.from[j], self.to[j], frac);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

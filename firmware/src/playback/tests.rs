@@ -1,0 +1,204 @@
+//! Gait clock, interpolation, direction, scaling, step counting and the ramp, against hand-computed
+//! values.
+
+use super::*;
+
+/// Joint 0's angle at slice i is i x 1000 urad, its torque i x 10 mN m; 10 slices over 1 s.
+struct Line;
+impl Gait for Line {
+    fn joints(&self) -> usize {
+        1
+    }
+    fn slices(&self) -> usize {
+        10
+    }
+    fn period_us(&self) -> u32 {
+        1_000_000
+    }
+    fn angle_urad(&self, slice: usize, _: usize) -> i32 {
+        slice as i32 * 1000
+    }
+    fn torque_mnm(&self, slice: usize, _: usize) -> i32 {
+        slice as i32 * 10
+    }
+}
+
+fn angle_at(clock: &PlayClock) -> i32 {
+    let s = clock.sample(10);
+    lerp(
+        Line.angle_urad(s.slice, 0),
+        Line.angle_urad(s.next, 0),
+        s.frac,
+    )
+}
+
+#[test]
+fn forward_interpolates_between_slices_and_wraps_to_the_first() {
+    let mut c = PlayClock::new(1_000_000, Direction::Forward, None);
+    assert_eq!(angle_at(&c), 0);
+    c.advance(250_000);
+    // 0.25 s = 2.5 slices: halfway between 2000 and 3000.
+    assert_eq!(
+        c.sample(10),
+        Sample {
+            slice: 2,
+            next: 3,
+            frac: 32768
+        }
+    );
+    assert_eq!(angle_at(&c), 2500);
+    c.advance(700_000);
+    // 0.95 s: halfway from slice 9 (9000) back to slice 0 (0).
+    assert_eq!(
+        c.sample(10),
+        Sample {
+            slice: 9,
+            next: 0,
+            frac: 32768
+        }
+    );
+    assert_eq!(angle_at(&c), 4500);
+    let a = c.advance(100_000);
+    assert_eq!(
+        a,
+        Advance {
+            steps_ended: 1,
+            finished: false
+        }
+    );
+    assert_eq!(c.phase_us(), 50_000);
+    assert_eq!(angle_at(&c), 500);
+}
+
+#[test]
+fn backward_runs_from_the_end_of_the_step_to_its_start() {
+    let mut c = PlayClock::new(1_000_000, Direction::Backward, None);
+    assert_eq!(angle_at(&c), 0);
+    c.advance(250_000);
+    assert_eq!(c.phase_us(), 750_000);
+    assert_eq!(angle_at(&c), 7500);
+    c.advance(500_000);
+    assert_eq!(angle_at(&c), 2500);
+    // Each sample is earlier in the step than the one before.
+    let mut last = c.phase_us();
+    for _ in 0..20 {
+        c.advance(10_000);
+        assert!(c.phase_us() < last);
+        last = c.phase_us();
+    }
+    assert_eq!(c.advance(50_000).steps_ended, 1);
+}
+
+#[test]
+fn scaling_stretches_the_period_and_keeps_the_phase_when_changed() {
+    let mut c = PlayClock::new(1_000_000, Direction::Forward, None);
+    c.set_scale(2000);
+    c.advance(500_000);
+    // Twice as slow: 0.5 s of wall time is 0.25 s of the table.
+    assert_eq!(c.phase_us(), 250_000);
+    c.set_scale(500);
+    c.advance(100_000);
+    assert_eq!(c.phase_us(), 450_000);
+    // Thirds do not drift: 3000 advances of 1 us at 3x slower make exactly 1000 table us.
+    let mut c = PlayClock::new(1_000_000, Direction::Forward, None);
+    c.set_scale(3000);
+    for _ in 0..3000 {
+        c.advance(1);
+    }
+    assert_eq!(c.phase_us(), 1000);
+}
+
+#[test]
+fn a_number_of_steps_ends_exactly_at_the_step_boundary() {
+    let mut c = PlayClock::new(1_000_000, Direction::Forward, Some(3));
+    let mut ended = 0;
+    let mut finished_at = None;
+    for i in 1..=40 {
+        let a = c.advance(90_000);
+        ended += a.steps_ended;
+        if a.finished && finished_at.is_none() {
+            finished_at = Some(i);
+        }
+    }
+    // 3 s / 90 ms: the 34th advance (3.06 s) crosses the third step end.
+    assert_eq!(finished_at, Some(34));
+    assert_eq!(ended, 3);
+    assert_eq!(c.steps_done(), 3);
+    // Resting at slice 0, and staying there.
+    assert_eq!(c.phase_us(), 0);
+    assert_eq!(
+        c.advance(90_000),
+        Advance {
+            steps_ended: 0,
+            finished: true
+        }
+    );
+    assert_eq!(c.phase_us(), 0);
+}
+
+#[test]
+fn goals_bias_and_clamp_every_joint() {
+    struct Two;
+    impl Gait for Two {
+        fn joints(&self) -> usize {
+            2
+        }
+        fn slices(&self) -> usize {
+            2
+        }
+        fn period_us(&self) -> u32 {
+            1000
+        }
+        fn angle_urad(&self, slice: usize, joint: usize) -> i32 {
+            // Joint 0: 0 then pi/2; joint 1: 3 rad at both slices (past its limit).
+            [[0, 3_000_000], [1_570_796, 3_000_000]][slice][joint]
+        }
+        fn torque_mnm(&self, slice: usize, _: usize) -> i32 {
+            [0, 1680][slice]
+        }
+    }
+    let cal = |joint: usize| JointCal {
+        id: joint as u8 + 1,
+        zero_ticks: 2048,
+        sign: if joint == 0 { 1 } else { -1 },
+        min_ticks: 1000,
+        max_ticks: 3500,
+    };
+    let cals = [cal(0), cal(1)];
+    let mut out = [0; 2];
+    let mut cut = [false; 2];
+    let s = Sample {
+        slice: 0,
+        next: 1,
+        frac: 32768,
+    };
+    let clamped = goals(&Two, s, &cals, &[8400, 8400], &mut out, &mut cut);
+    // Joint 0 halfway: pi/4 + 0.84 N m / 8.4 N m/rad = 0.785398 + 0.1 rad = 0.885398 rad
+    // x 4096 / 2 pi = 577.19 ticks -> 577.
+    assert_eq!(out[0], 2048 + 577);
+    // Joint 1: 2048 - (3 + 0.1) x 651.9 = 27 ticks, below the 1000 limit.
+    assert_eq!(out[1], 1000);
+    assert_eq!(clamped, 1);
+    assert_eq!(cut, [false, true]);
+    // Stiffness set to 0 at run time switches the bias off: pi/4 = 512 ticks.
+    goals(&Two, s, &cals, &[0, 0], &mut out, &mut cut);
+    assert_eq!(out[0], 2048 + 512);
+}
+
+#[test]
+fn the_ramp_moves_every_joint_in_a_straight_line_at_the_speed_limit() {
+    let mut r = Ramp::new(&[0, 100, 500], &[1000, 100, 0], 1000, 200_000);
+    // The longest way is 1000 ticks at 1000 ticks/s.
+    assert_eq!(r.duration_us(), 1_000_000);
+    let mut out = [0; 3];
+    r.goals(&mut out);
+    assert_eq!(out, [0, 100, 500]);
+    assert!(!r.advance(500_000));
+    r.goals(&mut out);
+    assert_eq!(out, [500, 100, 250]);
+    assert!(r.advance(600_000));
+    r.goals(&mut out);
+    assert_eq!(out, [1000, 100, 0]);
+    // Short ways still take the minimum time.
+    assert_eq!(Ramp::new(&[0], &[10], 1000, 200_000).duration_us(), 200_000);
+}

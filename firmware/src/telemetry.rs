@@ -1,0 +1,128 @@
+//! Telemetry records of the bus loop and the bounded queue that carries them to the link: when the
+//! host is slow or absent the queue drops the newest record and counts it, so the bus loop never
+//! waits for the host.
+
+use heapless::Deque;
+
+use crate::playback::MAX_JOINTS;
+use crate::safety::State;
+
+/// Per-joint flags of a record.
+pub mod flags {
+    /// No usable reply this cycle (timeout, CRC, malformed).
+    pub const NO_REPLY: u8 = 1 << 0;
+    /// The reply failed its CRC.
+    pub const CRC_ERROR: u8 = 1 << 1;
+    /// The goal was clamped to the joint's limits.
+    pub const CLAMPED: u8 = 1 << 2;
+    /// Torque is off.
+    pub const TORQUE_OFF: u8 = 1 << 3;
+    /// The servo's status carried the Alert bit (hardware error latched).
+    pub const ALERT: u8 = 1 << 4;
+}
+
+/// One joint in a record. Positions in servo ticks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointSample {
+    pub commanded: i32,
+    pub present: i32,
+    /// Present Velocity, 0.229 rev/min.
+    pub velocity: i32,
+    /// Present Load (MX-28, 0.1 %) or Present Current (MX-64).
+    pub load: i16,
+    /// Status error byte of the reply (0 when none).
+    pub error: u8,
+    pub flags: u8,
+}
+
+/// What one bus cycle saw.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Record {
+    /// Start of the cycle, microseconds on the controller's clock.
+    pub time_us: u64,
+    pub cycle: u32,
+    pub state: State,
+    /// Steps completed by playback.
+    pub step: u32,
+    /// Slice the goals were interpolated from.
+    pub slice: u16,
+    pub joint_count: u8,
+    pub joints: [JointSample; MAX_JOINTS],
+    /// Duration of the bus transaction.
+    pub cycle_us: u32,
+    /// Counters since boot.
+    pub timeouts: u32,
+    pub crc_errors: u32,
+    pub overruns: u32,
+}
+
+/// A bounded queue that drops instead of blocking.
+#[derive(Debug)]
+pub struct DropQueue<T, const N: usize> {
+    items: Deque<T, N>,
+    dropped: u32,
+}
+
+impl<T, const N: usize> Default for DropQueue<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T, const N: usize> DropQueue<T, N> {
+    pub const fn new() -> Self {
+        Self {
+            items: Deque::new(),
+            dropped: 0,
+        }
+    }
+
+    /// Queues `item`, or drops it (and counts) when the queue is full. True if queued.
+    pub fn push(&mut self, item: T) -> bool {
+        match self.items.push_back(item) {
+            Ok(()) => true,
+            Err(_) => {
+                self.dropped = self.dropped.wrapping_add(1);
+                false
+            }
+        }
+    }
+
+    pub fn pop(&mut self) -> Option<T> {
+        self.items.pop_front()
+    }
+
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// Items dropped since creation.
+    pub fn dropped(&self) -> u32 {
+        self.dropped
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_full_queue_drops_the_newest_and_counts_it() {
+        let mut q = DropQueue::<u32, 3>::new();
+        for i in 0..5 {
+            assert_eq!(q.push(i), i < 3);
+        }
+        assert_eq!(q.dropped(), 2);
+        assert_eq!(q.pop(), Some(0));
+        assert!(q.push(9));
+        let rest: Vec<u32> = core::iter::from_fn(|| q.pop()).collect();
+        assert_eq!(rest, [1, 2, 9]);
+        assert_eq!(q.dropped(), 2);
+    }
+}

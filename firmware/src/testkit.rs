@@ -1,0 +1,97 @@
+//! Synthetic gaits for tests and demos (feature `std`): a 22-joint table built with the protocol's
+//! builder, and its expected goals computed in f64 straight from the physics, independent of the
+//! firmware's fixed-point path.
+
+use std::f64::consts::PI;
+use std::vec::Vec;
+
+use protocol::gait::{GaitTableBuilder, JointSpec, ServoModel, Sign};
+
+/// Joints of Drosophibot II.
+pub const JOINTS: usize = 22;
+/// Stiffness of every joint's servo in the synthetic gait, N m/rad (the MX-28 of the original
+/// solver's actuator file).
+pub const STIFFNESS: f64 = 8.4;
+
+/// The synthetic gait: joint j has servo ID j + 1, zero at 2048 (+-100 ticks), every other servo
+/// mounted reversed; angle(s) = 0.4 sin(2 pi s / slices + 0.5 j) rad, torque = 0.3 cos(same) N m.
+#[derive(Debug, Clone)]
+pub struct SyntheticGait {
+    pub slices: usize,
+    pub period_s: f64,
+    pub joints: Vec<JointSpec>,
+}
+
+impl SyntheticGait {
+    pub fn new(slices: usize, period_s: f64) -> Self {
+        let joints = (0..JOINTS)
+            .map(|j| JointSpec {
+                name: std::format!("J{j}"),
+                servo_id: j as u8 + 1,
+                model: if j % 7 == 3 {
+                    ServoModel::Mx64
+                } else {
+                    ServoModel::Mx28
+                },
+                sign: if j % 2 == 0 {
+                    Sign::Positive
+                } else {
+                    Sign::Negative
+                },
+                zero_offset: (2048 + (j as i32 * 37 % 201) - 100) as u16,
+                min_rad: -1.5,
+                max_rad: 1.5,
+                stiffness_nm_per_rad: STIFFNESS,
+            })
+            .collect();
+        Self {
+            slices,
+            period_s,
+            joints,
+        }
+    }
+
+    pub fn angle(&self, slice: usize, joint: usize) -> f64 {
+        0.4 * (2.0 * PI * slice as f64 / self.slices as f64 + 0.5 * joint as f64).sin()
+    }
+
+    pub fn torque(&self, slice: usize, joint: usize) -> f64 {
+        0.3 * (2.0 * PI * slice as f64 / self.slices as f64 + 0.5 * joint as f64).cos()
+    }
+
+    /// The table bytes.
+    pub fn build(&self) -> Vec<u8> {
+        let mut b = GaitTableBuilder::new("synthetic", self.period_s, 0.5, self.joints.clone());
+        for s in 0..self.slices {
+            let angles: Vec<f64> = (0..JOINTS).map(|j| self.angle(s, j)).collect();
+            let torques: Vec<f64> = (0..JOINTS).map(|j| self.torque(s, j)).collect();
+            // Tripod: LF, LH, RM in stance for the first half, the others for the second.
+            let stance = if s < self.slices / 2 {
+                0b010_101
+            } else {
+                0b101_010
+            };
+            b.slice(stance, &angles, &torques);
+        }
+        b.build().expect("the synthetic gait is valid")
+    }
+
+    /// Expected goal of `joint` at fractional slice position `pos` (0..slices), in ticks before
+    /// rounding: zero + sign (angle + torque / k) 4096 / 2 pi, angle and torque linearly interpolated
+    /// between the table's values, which are rounded to 1e-4 rad and 1 mN m.
+    pub fn goal(&self, pos: f64, joint: usize, stiffness: f64) -> f64 {
+        let i = pos.floor() as usize % self.slices;
+        let next = (i + 1) % self.slices;
+        let f = pos - pos.floor();
+        let q = |x: f64, scale: f64| (x * scale).round() / scale;
+        let a = q(self.angle(i, joint), 1e4) * (1.0 - f) + q(self.angle(next, joint), 1e4) * f;
+        let t = q(self.torque(i, joint), 1e3) * (1.0 - f) + q(self.torque(next, joint), 1e3) * f;
+        let spec = &self.joints[joint];
+        let sign = match spec.sign {
+            Sign::Positive => 1.0,
+            Sign::Negative => -1.0,
+        };
+        let bias = if stiffness > 0.0 { t / stiffness } else { 0.0 };
+        spec.zero_offset as f64 + sign * (a + bias) * 4096.0 / (2.0 * PI)
+    }
+}

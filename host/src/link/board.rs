@@ -1,0 +1,338 @@
+//! [`Board`]: the typed client. Numbers requests, waits for the matching reply on the transport's
+//! clock, sets telemetry aside for [`Board::telemetry`], and turns every failure into a
+//! [`LinkError`] that names the port and the request.
+
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use protocol::client::Reply;
+use protocol::{
+    Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Request, Response,
+    ServoSelect, Settings, SlotInfo, Status, Telemetry,
+};
+
+use super::error::LinkError;
+use super::transport::{Transport, TransportError};
+
+/// How long a request waits for its reply by default. Flash work on the board (a sector erase
+/// per chunk) stays well below it.
+pub const DEFAULT_REPLY_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// Telemetry records kept while nobody reads them; older ones are dropped (and counted).
+const TELEMETRY_BACKLOG: usize = 100_000;
+
+/// A connected board whose protocol and table format versions match this host's.
+#[derive(Debug)]
+pub struct Board<T: Transport> {
+    transport: T,
+    client: Client,
+    acc: FrameAccumulator,
+    inbox: VecDeque<DeviceMessage>,
+    telemetry: VecDeque<Telemetry>,
+    info: DeviceInfo,
+    reply_timeout: Duration,
+    /// Frames from the board that failed to decode.
+    bad_frames: u64,
+    /// Telemetry records dropped from the backlog.
+    telemetry_dropped: u64,
+}
+
+impl<T: Transport> Board<T> {
+    /// Asks the board who it is and refuses a board of another protocol or table format version.
+    pub fn connect(transport: T) -> Result<Self, LinkError> {
+        let mut board = Self {
+            transport,
+            client: Client::new(),
+            acc: FrameAccumulator::new(),
+            inbox: VecDeque::new(),
+            telemetry: VecDeque::new(),
+            info: placeholder_info(),
+            reply_timeout: DEFAULT_REPLY_TIMEOUT,
+            bad_frames: 0,
+            telemetry_dropped: 0,
+        };
+        // A lone delimiter ends whatever partial frame an earlier session left in the board's
+        // receiver, so our first request is not glued to garbage.
+        board.send_raw(&[0])?;
+        let info: DeviceInfo = board.request(&Request::GetDeviceInfo)?;
+        let port = board.port().to_owned();
+        if info.protocol_version != protocol::PROTOCOL_VERSION {
+            return Err(LinkError::ProtocolVersion {
+                port,
+                board: info.protocol_version,
+                host: protocol::PROTOCOL_VERSION,
+            });
+        }
+        if info.table_format_version != protocol::gait::FORMAT_VERSION {
+            return Err(LinkError::TableFormat {
+                port,
+                board: info.table_format_version,
+                host: protocol::gait::FORMAT_VERSION,
+            });
+        }
+        board.info = info;
+        Ok(board)
+    }
+
+    /// The board's answer to `GetDeviceInfo` at connection.
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+
+    /// The port's name.
+    pub fn port(&self) -> &str {
+        self.transport.name()
+    }
+
+    /// The transport (e.g. to reach the virtual robot behind it).
+    pub fn transport(&self) -> &T {
+        &self.transport
+    }
+
+    pub fn transport_mut(&mut self) -> &mut T {
+        &mut self.transport
+    }
+
+    /// Gives the transport back.
+    pub fn into_transport(self) -> T {
+        self.transport
+    }
+
+    /// The transport's clock (simulated time on the virtual robot).
+    pub fn now(&self) -> Duration {
+        self.transport.now()
+    }
+
+    /// Changes how long requests wait for their reply.
+    pub fn set_reply_timeout(&mut self, timeout: Duration) {
+        self.reply_timeout = timeout;
+    }
+
+    /// Frames from the board that could not be decoded (garbage on the line), since connecting.
+    pub fn bad_frames(&self) -> u64 {
+        self.bad_frames
+    }
+
+    /// Telemetry records dropped because nobody read them, since connecting.
+    pub fn telemetry_dropped(&self) -> u64 {
+        self.telemetry_dropped
+    }
+
+    /// Sends `request` and returns the reply's value of type `R`.
+    pub fn request<R: Reply>(&mut self, request: &Request) -> Result<R, LinkError> {
+        let name = request_name(request);
+        let response = self.request_response(request)?;
+        let got = format!("{response:?}");
+        R::from_response(response).ok_or_else(|| LinkError::Unexpected {
+            port: self.port().to_owned(),
+            request: name,
+            got,
+        })
+    }
+
+    /// Sends `request` and returns its [`Response`] (an error response becomes
+    /// [`LinkError::Device`]).
+    pub fn request_response(&mut self, request: &Request) -> Result<Response, LinkError> {
+        let name = request_name(request);
+        let (seq, frame) =
+            self.client
+                .request_frame(request)
+                .map_err(|error| LinkError::Encode {
+                    request: name,
+                    error,
+                })?;
+        self.send_raw(&frame)?;
+        let deadline = self.transport.now() + self.reply_timeout;
+        loop {
+            let Some(message) = self.next_message(deadline)? else {
+                return Err(LinkError::NoReply {
+                    port: self.port().to_owned(),
+                    request: name,
+                    timeout_ms: self.reply_timeout.as_millis() as u64,
+                });
+            };
+            match message {
+                DeviceMessage::Reply { seq: got, response } if got == seq => {
+                    return match response {
+                        Response::Error(error) => Err(LinkError::Device {
+                            port: self.port().to_owned(),
+                            request: name,
+                            error,
+                        }),
+                        r => Ok(r),
+                    };
+                }
+                // A late reply to an earlier request that timed out: not ours.
+                DeviceMessage::Reply { .. } => {}
+                DeviceMessage::Rejected(error) => {
+                    return Err(LinkError::Rejected {
+                        port: self.port().to_owned(),
+                        request: name,
+                        error,
+                    });
+                }
+                DeviceMessage::Telemetry(t) => self.keep_telemetry(t),
+                DeviceMessage::Proprioception(_) => {}
+            }
+        }
+    }
+
+    /// The next telemetry record, waiting up to `timeout` on the transport's clock.
+    pub fn telemetry(&mut self, timeout: Duration) -> Result<Option<Telemetry>, LinkError> {
+        if let Some(t) = self.telemetry.pop_front() {
+            return Ok(Some(t));
+        }
+        let deadline = self.transport.now() + timeout;
+        while let Some(message) = self.next_message(deadline)? {
+            if let DeviceMessage::Telemetry(t) = message {
+                return Ok(Some(t));
+            }
+        }
+        Ok(None)
+    }
+
+    /// Drops telemetry received so far (e.g. before a recording starts).
+    pub fn discard_telemetry(&mut self) {
+        self.telemetry.clear();
+    }
+
+    pub fn status(&mut self) -> Result<Status, LinkError> {
+        self.request(&Request::GetStatus)
+    }
+
+    pub fn settings(&mut self) -> Result<Settings, LinkError> {
+        self.request(&Request::GetSettings)
+    }
+
+    pub fn gaits(&mut self) -> Result<Vec<SlotInfo>, LinkError> {
+        let slots: heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }> =
+            self.request(&Request::ListGaits)?;
+        Ok(slots.into_iter().collect())
+    }
+
+    pub fn play(&mut self, command: PlayCommand) -> Result<(), LinkError> {
+        self.request(&Request::Play(command))
+    }
+
+    pub fn stop(&mut self) -> Result<(), LinkError> {
+        self.request(&Request::Stop)
+    }
+
+    pub fn emergency_stop(&mut self) -> Result<(), LinkError> {
+        self.request(&Request::EmergencyStop)
+    }
+
+    pub fn clear_fault(&mut self) -> Result<(), LinkError> {
+        self.request(&Request::ClearFault)
+    }
+
+    pub fn set_torque(&mut self, servos: ServoSelect, enable: bool) -> Result<(), LinkError> {
+        self.request(&Request::SetTorque { servos, enable })
+    }
+
+    pub fn set_telemetry(&mut self, every: u16) -> Result<(), LinkError> {
+        self.request(&Request::SetTelemetry { every })
+    }
+
+    /// Bus baud (bit/s) and cycle rate (Hz).
+    pub fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), LinkError> {
+        self.request(&Request::SetBus { baud, cycle_hz })
+    }
+
+    /// Stiffness of `joint` for the torque bias, mN m/rad.
+    pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), LinkError> {
+        self.request(&Request::SetStiffness { joint, stiffness })
+    }
+
+    pub(super) fn send_raw(&mut self, bytes: &[u8]) -> Result<(), LinkError> {
+        self.transport
+            .send(bytes)
+            .map_err(|source| vanished(self.transport.name(), source))
+    }
+
+    /// The next decoded message, reading until `deadline` on the transport's clock.
+    fn next_message(&mut self, deadline: Duration) -> Result<Option<DeviceMessage>, LinkError> {
+        let mut buf = [0u8; 4096];
+        loop {
+            if let Some(m) = self.inbox.pop_front() {
+                return Ok(Some(m));
+            }
+            let now = self.transport.now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            let n = self
+                .transport
+                .recv(&mut buf, deadline - now)
+                .map_err(|source| vanished(self.transport.name(), source))?;
+            for m in self.acc.messages::<DeviceMessage>(&buf[..n]) {
+                match m {
+                    Ok(m) => self.inbox.push_back(m),
+                    Err(_) => self.bad_frames += 1,
+                }
+            }
+        }
+    }
+
+    fn keep_telemetry(&mut self, t: Telemetry) {
+        if self.telemetry.len() >= TELEMETRY_BACKLOG {
+            self.telemetry.pop_front();
+            self.telemetry_dropped += 1;
+        }
+        self.telemetry.push_back(t);
+    }
+}
+
+fn vanished(port: &str, source: TransportError) -> LinkError {
+    LinkError::Vanished {
+        port: port.to_owned(),
+        source,
+    }
+}
+
+/// Stands in until the board has answered `GetDeviceInfo`.
+fn placeholder_info() -> DeviceInfo {
+    DeviceInfo {
+        firmware: protocol::FirmwareVersion {
+            major: 0,
+            minor: 0,
+            patch: 0,
+        },
+        protocol_version: 0,
+        table_format_version: 0,
+        build_id: 0,
+        capabilities: protocol::Capabilities::empty(),
+        slot_capacity: 0,
+        max_chunk_len: 0,
+        slots: heapless::Vec::new(),
+    }
+}
+
+/// A short name of a request for messages.
+pub fn request_name(request: &Request) -> &'static str {
+    match request {
+        Request::GetDeviceInfo => "GetDeviceInfo",
+        Request::GetStatus => "GetStatus",
+        Request::ListGaits => "ListGaits",
+        Request::UploadBegin { .. } => "UploadBegin",
+        Request::UploadChunk { .. } => "UploadChunk",
+        Request::UploadCommit { .. } => "UploadCommit",
+        Request::UploadAbort => "UploadAbort",
+        Request::DeleteGait { .. } => "DeleteGait",
+        Request::Play(_) => "Play",
+        Request::Stop => "Stop",
+        Request::SetPeriodScale { .. } => "SetPeriodScale",
+        Request::GetSettings => "GetSettings",
+        Request::SetBus { .. } => "SetBus",
+        Request::SetStiffness { .. } => "SetStiffness",
+        Request::SetLimits { .. } => "SetLimits",
+        Request::SetTorque { .. } => "SetTorque",
+        Request::RebootServos { .. } => "RebootServos",
+        Request::EmergencyStop => "EmergencyStop",
+        Request::ClearFault => "ClearFault",
+        Request::SetTelemetry { .. } => "SetTelemetry",
+        Request::EnterStreaming(_) => "EnterStreaming",
+        Request::LeaveStreaming => "LeaveStreaming",
+        _ => "request",
+    }
+}
