@@ -181,3 +181,105 @@ where
     )
     .await
 }
+
+#[cfg(test)]
+mod tests {
+    use core::future::Future;
+    use core::pin::pin;
+    use core::task::{Context, Poll, Waker};
+    use std::cell::Cell;
+
+    use dynamixel::master::{AutoDirection, MasterConfig};
+
+    use super::*;
+    use crate::controller::Config;
+    use crate::store::nor_double::NorDouble;
+    use crate::store::record::CRC32;
+    use crate::testkit::SyntheticGait;
+
+    /// A clock whose waits end at once by moving time to the deadline.
+    struct JumpClock(Cell<u64>);
+    impl Clock for JumpClock {
+        fn now_us(&self) -> u64 {
+            self.0.get()
+        }
+        async fn wait_until(&self, deadline_us: u64) {
+            self.0.set(self.0.get().max(deadline_us));
+        }
+    }
+
+    /// A bus on which nobody answers.
+    struct Silent;
+    impl embedded_io_async::ErrorType for Silent {
+        type Error = core::convert::Infallible;
+    }
+    impl Read for Silent {
+        async fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> {
+            core::future::pending().await
+        }
+    }
+    impl Write for Silent {
+        async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+            Ok(buf.len())
+        }
+        async fn flush(&mut self) -> Result<(), Self::Error> {
+            Ok(())
+        }
+    }
+
+    fn block_on<F: Future>(f: F) -> F::Output {
+        let mut f = pin!(f);
+        let mut cx = Context::from_waker(Waker::noop());
+        loop {
+            if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
+                return v;
+            }
+        }
+    }
+
+    #[test]
+    fn cycles_start_on_the_grid_and_every_skipped_start_is_an_overrun() {
+        let table = SyntheticGait::new(10, 1.0).build();
+        let mut c = Controller::new(NorDouble::<4>::new(64), 4, Config::default());
+        c.upload_begin(0, table.len() as u32).unwrap();
+        c.upload_chunk(0, &table).unwrap();
+        c.upload_commit(CRC32.checksum(&table)).unwrap();
+        let shared = RefCell::new(c);
+        // 100 Hz, and a reply budget of 25 ms: each silent cycle takes about 2.5 periods.
+        let config = MasterConfig {
+            baud: 1_000_000,
+            reply_slack_us: 25_000,
+        };
+        let mut bus = BusMaster::new(Silent, AutoDirection, JumpClock(Cell::new(0)), config);
+        let mut l = BusLoop::new();
+        let mut starts = vec![];
+        let mut overruns = vec![];
+        for _ in 0..6 {
+            block_on(l.run_cycle(&shared, &mut bus));
+            starts.push(l.timing.last_start_us);
+            overruns.push(l.timing.overruns);
+        }
+        for s in &starts {
+            assert_eq!(s % 10_000, 0, "start {s} off the 10 ms grid");
+        }
+        // The grid points skipped between two starts are the overruns the first of them counted.
+        for k in 0..5 {
+            let skipped = (starts[k + 1] - starts[k]) / 10_000 - 1;
+            let counted = overruns[k] - if k == 0 { 0 } else { overruns[k - 1] };
+            assert!(skipped >= 1, "cycle {k} overran: {starts:?}");
+            assert_eq!(counted, skipped, "cycle {k}: {starts:?}");
+        }
+        assert_eq!(u64::from(shared.borrow().counters().overruns), overruns[5]);
+        // Starts were never late: the loop skips to the next grid point instead of starting late.
+        assert_eq!(l.timing.max_late_us, 0);
+        // Three silent cycles in Boot make every servo missing: the first one is named.
+        assert!(matches!(
+            shared.borrow().state(),
+            crate::safety::State::Safe(crate::safety::SafeReason::ServoMissing {
+                joint: 0,
+                id: 1,
+                cycles: 3
+            })
+        ));
+    }
+}

@@ -28,7 +28,8 @@ impl SyntheticGait {
             .map(|j| JointSpec {
                 name: std::format!("J{j}"),
                 servo_id: j as u8 + 1,
-                model: if j % 7 == 3 {
+                // The chain's layout: MX-64 on the six CTr joints (IDs 3, 6, 9, 14, 17, 20).
+                model: if [3, 6, 9, 14, 17, 20].contains(&(j + 1)) {
                     ServoModel::Mx64
                 } else {
                     ServoModel::Mx28

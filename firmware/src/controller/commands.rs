@@ -180,7 +180,6 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     pub fn reboot_servos(&mut self) -> Result<(), CommandError> {
         self.apply(Event::Reboot)?;
         self.reboot_pending = true;
-        self.torque_sent = true; // unknown until the reboot is done; makes Idle send torque off
         Ok(())
     }
 

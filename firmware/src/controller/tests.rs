@@ -439,3 +439,29 @@ fn a_watchdog_reset_stays_safe_until_cleared() {
     r.c.clear_fault().unwrap();
     assert_eq!(r.c.state(), State::Idle);
 }
+
+#[test]
+fn streaming_follows_setpoints_and_faults_when_they_stop() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.c.set_torque(true).unwrap();
+    assert_eq!(r.cycle(), BusAction::TorqueOn);
+    assert_eq!(r.c.state(), State::Standing);
+    r.c.enter_streaming(3, 1).unwrap();
+    assert_eq!(r.c.state(), State::Streaming);
+    // Joint 0: +0.1 rad with no torque; zero 2048 - 100 + 0 = 1948 (testkit), sign +1:
+    // 0.1 rad x 4096 / 2 pi = 65.19 -> 65 ticks.
+    let mut sp = vec![(0, None); JOINTS];
+    sp[0] = (100_000, None);
+    r.c.setpoint(7, &sp).unwrap();
+    r.cycle();
+    assert_eq!(r.servos.pos[0], 1948 + 65);
+    assert_eq!(r.c.stream_status(), (7, 1));
+    // Wrong number of joints is refused and changes nothing.
+    assert!(r.c.setpoint(8, &sp[..3]).is_err());
+    r.cycle();
+    r.cycle();
+    assert_eq!(r.c.state(), State::Streaming);
+    r.cycle();
+    assert_eq!(r.c.state(), State::Safe(SafeReason::SetpointTimeout));
+}

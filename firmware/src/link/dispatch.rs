@@ -62,10 +62,12 @@ fn slots<F: NorFlash + FlashWindow>(
 }
 
 /// Answers `request`.
+/// `rejected` is the link's count of undecodable frames (for the status counters).
 pub fn handle<F: NorFlash + FlashWindow>(
     upload: &mut UploadTracker,
     c: &mut Controller<F>,
     request: Request,
+    rejected: u32,
 ) -> Response {
     let limits = UploadLimits {
         slots: c.store().slots(),
@@ -115,7 +117,7 @@ pub fn handle<F: NorFlash + FlashWindow>(
                     missed_deadlines: k.overruns,
                     bus_timeouts: k.timeouts,
                     crc_errors: k.crc_errors,
-                    rejected_frames: 0,
+                    rejected_frames: rejected,
                     telemetry_dropped: c.telemetry_dropped(),
                 },
             })

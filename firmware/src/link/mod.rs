@@ -20,6 +20,9 @@ use crate::store::FlashWindow;
 
 /// How long [`serve`] waits for host bytes before it looks for telemetry to send, microseconds.
 pub const POLL_US: u64 = 2_000;
+/// How long a frame may take to leave before the host counts as not reading: the frame is given up
+/// (the host's accumulator drops the cut frame at the next delimiter) and serving goes on.
+pub const WRITE_TIMEOUT_US: u64 = 50_000;
 
 /// The protocol dispatcher: frame reassembly, the upload rules, requests to the controller.
 #[derive(Debug)]
@@ -67,8 +70,9 @@ impl Link {
             };
             let answer = match message {
                 Ok(HostMessage::Request { seq, request }) => {
-                    let response =
-                        shared.with(|c| self::dispatch::handle(&mut self.upload, c, request));
+                    let rejected = self.rejected;
+                    let response = shared
+                        .with(|c| self::dispatch::handle(&mut self.upload, c, request, rejected));
                     Some(DeviceMessage::Reply { seq, response })
                 }
                 Ok(HostMessage::Setpoint(sp)) => {
@@ -133,7 +137,7 @@ where
                 let mut out = OutQueue::new();
                 link.receive(shared, &rx[..n], &mut |frame| out.push(frame));
                 for frame in out.frames() {
-                    if io.write_all(frame).await.is_err() {
+                    if send(io, clock, frame).await.is_err() {
                         link.reset();
                         return LinkEnd::Dropped;
                     }
@@ -142,15 +146,31 @@ where
             None => {}
         }
         while let Some(frame) = link.telemetry(shared) {
-            if io.write_all(frame).await.is_err() {
-                link.reset();
-                return LinkEnd::Dropped;
+            match send(io, clock, frame).await {
+                Ok(true) => {}
+                // Host not reading: leave the rest queued (and dropped by the controller).
+                Ok(false) => break,
+                Err(()) => {
+                    link.reset();
+                    return LinkEnd::Dropped;
+                }
             }
         }
-        if io.flush().await.is_err() {
+        let deadline = clock.now_us() + WRITE_TIMEOUT_US;
+        if let Some(Err(_)) = with_deadline(clock, deadline, io.flush()).await {
             link.reset();
             return LinkEnd::Dropped;
         }
+    }
+}
+
+/// Writes one frame: `Ok(true)` sent, `Ok(false)` timed out (host not reading), `Err` link down.
+async fn send<IO: Write, C: Clock>(io: &mut IO, clock: &C, frame: &[u8]) -> Result<bool, ()> {
+    let deadline = clock.now_us() + WRITE_TIMEOUT_US;
+    match with_deadline(clock, deadline, io.write_all(frame)).await {
+        Some(Ok(())) => Ok(true),
+        Some(Err(_)) => Err(()),
+        None => Ok(false),
     }
 }
 

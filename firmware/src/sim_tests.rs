@@ -1,0 +1,228 @@
+//! The whole firmware (link, controller, bus loop, bus master) against the dynamixel crate's
+//! virtual servo chain on its simulated half-duplex wire, on simulated time: a 10-step walk with all
+//! 22 servos following, and the bus cycle rate and start jitter at 1 and 4 Mbit/s.
+
+use dynamixel::master::AutoDirection;
+use dynamixel::sim::{SimWire, VirtualChain, WireConfig};
+use protocol::{Client, DeviceMessage, FrameAccumulator, Request, Response};
+
+use crate::board::Board;
+use crate::controller::Config;
+use crate::safety::State;
+use crate::store::nor_double::NorDouble;
+use crate::testkit::{JOINTS, SyntheticGait};
+
+type SimBoard = Board<NorDouble<4>, SimWire, AutoDirection, SimWire>;
+
+/// A board on a fresh NOR double, wired to 22 virtual servos at `baud` with Return Delay Time 0.
+fn rig(baud: u32, cycle_hz: u16) -> (SimBoard, SimWire) {
+    let chain = VirtualChain::drosophibot(JOINTS as u8, baud).unwrap();
+    let wire = SimWire::new(chain, WireConfig { baud, echo: true });
+    wire.with_chain(|c| c.set_return_delay_all(0));
+    let config = Config {
+        cycle_hz,
+        baud,
+        ..Config::default()
+    };
+    // Replies come back to back at return delay 0; 100 us of slack covers the parser's chunking.
+    let board = Board::new(
+        NorDouble::new(128),
+        4,
+        config,
+        wire.clone(),
+        AutoDirection,
+        wire.clone(),
+        100,
+    );
+    (board, wire)
+}
+
+/// Sends one request through the link and returns its response.
+fn ask(board: &mut SimBoard, client: &mut Client, request: Request) -> Response {
+    let (seq, frame) = client.request_frame(&request).unwrap();
+    let mut out = Vec::new();
+    board.receive(&frame, |f| out.extend_from_slice(f));
+    let mut acc = FrameAccumulator::new();
+    for &b in &out {
+        if let Some(m) = acc.push_message::<DeviceMessage>(b) {
+            if let Ok(DeviceMessage::Reply { seq: s, response }) = m {
+                assert_eq!(s, seq);
+                return response;
+            }
+        }
+    }
+    panic!("no reply to {request:?}");
+}
+
+/// Uploads `table` into `slot` through the link, in protocol-sized chunks.
+fn upload(board: &mut SimBoard, client: &mut Client, slot: u8, table: &[u8]) {
+    let header = protocol::GaitTable::parse(table).unwrap().header();
+    let begin = Request::UploadBegin {
+        slot,
+        header,
+        total_len: table.len() as u32,
+    };
+    assert_eq!(ask(board, client, begin), Response::Ack);
+    for (i, c) in table.chunks(protocol::MAX_CHUNK_LEN).enumerate() {
+        let r = ask(
+            board,
+            client,
+            Request::UploadChunk {
+                offset: (i * protocol::MAX_CHUNK_LEN) as u32,
+                data: heapless::Vec::from_slice(c).unwrap(),
+            },
+        );
+        assert!(matches!(r, Response::ChunkAccepted { .. }), "{r:?}");
+    }
+    let crc = protocol::crc32::checksum(table);
+    assert_eq!(
+        ask(board, client, Request::UploadCommit { crc }),
+        Response::Committed { slot, crc }
+    );
+}
+
+fn play(board: &mut SimBoard, client: &mut Client, steps: protocol::Steps) {
+    let r = ask(
+        board,
+        client,
+        Request::Play(protocol::PlayCommand {
+            slot: 0,
+            direction: protocol::Direction::Forward,
+            period_scale: 1000,
+            steps,
+        }),
+    );
+    assert_eq!(r, Response::Ack);
+}
+
+/// Runs bus cycles until `done` or `max` cycles; returns how many ran.
+fn run_until(board: &mut SimBoard, wire: &SimWire, max: usize, done: impl Fn(&SimBoard) -> bool) -> usize {
+    for i in 0..max {
+        if done(board) {
+            return i;
+        }
+        wire.block_on(board.run_cycle());
+    }
+    panic!("not done after {max} cycles: {:?}", board.controller.borrow().state());
+}
+
+#[test]
+fn ten_steps_with_all_22_virtual_servos_following() {
+    let (mut board, wire) = rig(1_000_000, 100);
+    let mut client = Client::new();
+    let gait = SyntheticGait::new(100, 1.0);
+    // Boot finds no map (empty store), then the upload brings one: Boot again finds all 22.
+    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    upload(&mut board, &mut client, 0, &gait.build());
+    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    assert_eq!(board.controller.borrow().joints().len(), JOINTS);
+
+    play(&mut board, &mut client, protocol::Steps::Count(10));
+    run_until(&mut board, &wire, 500, |b| b.controller.borrow().state() == State::Walking);
+    wire.with_chain(|c| assert!(c.servos().iter().all(|s| s.torque_enabled())));
+
+    // Walk: after each cycle, compare every servo with the goal it was sent that cycle.
+    let mut worst = vec![0i32; JOINTS];
+    let mut lo = vec![i32::MAX; JOINTS];
+    let mut hi = vec![i32::MIN; JOINTS];
+    let mut goal_lo = vec![i32::MAX; JOINTS];
+    let mut goal_hi = vec![i32::MIN; JOINTS];
+    let mut cycles = 0;
+    while board.controller.borrow().state() == State::Walking {
+        wire.block_on(board.run_cycle());
+        board.drain_telemetry(|_| {});
+        cycles += 1;
+        let goals = board.controller.borrow().goals().to_vec();
+        wire.with_chain(|c| {
+            for (j, s) in c.servos().iter().enumerate() {
+                let p = s.position_ticks();
+                // Skip the first step: the servos are still catching up with the gait's speed.
+                if cycles > 100 {
+                    worst[j] = worst[j].max((p - goals[j]).abs());
+                }
+                lo[j] = lo[j].min(p);
+                hi[j] = hi[j].max(p);
+                goal_lo[j] = goal_lo[j].min(goals[j]);
+                goal_hi[j] = goal_hi[j].max(goals[j]);
+            }
+        });
+        assert!(cycles < 2000);
+    }
+    let c = board.controller.borrow();
+    assert_eq!(c.state(), State::Standing);
+    assert_eq!(c.playback().unwrap().0, 10, "steps played");
+    // 10 steps of 1 s at 100 Hz.
+    assert_eq!(cycles, 1000);
+    assert_eq!(c.counters().overruns, 0);
+    assert_eq!(c.counters().timeouts, 0);
+    eprintln!("worst tracking error per servo (ticks): {worst:?}");
+    for j in 0..JOINTS {
+        let swing = (hi[j] - lo[j]) as f64;
+        let planned = (goal_hi[j] - goal_lo[j]) as f64;
+        // Each servo swings through the commanded range (within 10 %) ...
+        assert!(
+            (swing - planned).abs() <= 0.1 * planned,
+            "servo {}: swing {swing} vs commanded {planned}",
+            j + 1
+        );
+        // ... and stays close to its goal: within 3 degrees (34 ticks).
+        assert!(worst[j] <= 34, "servo {} lagged {} ticks", j + 1, worst[j]);
+    }
+    drop(c);
+    // Standing: every servo settles on the goal of slice 0.
+    for _ in 0..50 {
+        wire.block_on(board.run_cycle());
+    }
+    let goals = board.controller.borrow().goals().to_vec();
+    for j in 0..JOINTS {
+        let want = gait.goal(0.0, j, crate::testkit::STIFFNESS);
+        assert!((goals[j] as f64 - want).abs() <= 1.0);
+    }
+    wire.with_chain(|ch| {
+        for (j, s) in ch.servos().iter().enumerate() {
+            assert!((s.position_ticks() - goals[j]).abs() <= 2, "servo {} at rest", j + 1);
+        }
+    });
+}
+
+/// Walks continuously at `cycle_hz` and `baud` for 2 s of simulated time; returns the measured rate,
+/// longest cycle and worst start lateness.
+fn measure(baud: u32, cycle_hz: u16) -> (f64, u32, u32, u64) {
+    let (mut board, wire) = rig(baud, cycle_hz);
+    let mut client = Client::new();
+    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    upload(&mut board, &mut client, 0, &SyntheticGait::new(100, 1.0).build());
+    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    play(&mut board, &mut client, protocol::Steps::Continuous);
+    run_until(&mut board, &wire, 5000, |b| b.controller.borrow().state() == State::Walking);
+    // Measure walking cycles only: every one a Sync Write of 22 goals + Sync Read of 22 x 10 bytes.
+    board.schedule.timing = Default::default();
+    let cycles = 2 * usize::from(cycle_hz);
+    for _ in 0..cycles {
+        wire.block_on(board.run_cycle());
+        board.drain_telemetry(|_| {});
+    }
+    assert_eq!(board.controller.borrow().state(), State::Walking);
+    assert_eq!(board.controller.borrow().counters().timeouts, 0);
+    let t = board.timing();
+    (t.rate_hz(), t.max_busy_us, t.max_late_us, t.overruns)
+}
+
+#[test]
+fn bus_rate_and_jitter_at_1_and_4_mbps() {
+    // Wire-limited rates with Return Delay Time 0 (shared reference): 161 Hz and 643 Hz.
+    for (baud, wire_limited, hz) in [(1_000_000, 161.0, 150u16), (4_000_000, 643.0, 600u16)] {
+        let (rate, busy, late, overruns) = measure(baud, hz);
+        eprintln!(
+            "{baud} baud at {hz} Hz: {rate:.2} Hz measured, longest cycle {busy} us \
+             (free-running limit {:.0} Hz), worst start lateness {late} us, {overruns} overruns",
+            1e6 / f64::from(busy)
+        );
+        assert_eq!(overruns, 0);
+        assert!(rate >= 0.9 * wire_limited, "{rate} Hz at {baud} baud");
+        assert!((rate - f64::from(hz)).abs() < 0.01 * f64::from(hz));
+        assert!(late < 50, "start jitter {late} us");
+        // The cycle itself is wire-bound: its longest run allows at least 90 % of the wire limit.
+        assert!(1e6 / f64::from(busy) >= 0.9 * wire_limited);
+    }
+}
