@@ -1,6 +1,6 @@
 //! The one contract between `dbot` on the host and the Drosophibot II firmware: the messages, their
 //! framing, and the step-table (gait table) format. `no_std` without alloc by default; the `std`
-//! feature adds the host-side [`GaitTableBuilder`] and `Vec`-returning helpers.
+//! feature adds the host-side `GaitTableBuilder` and `Vec`-returning helpers.
 //!
 //! # Frame layout
 //!
@@ -29,6 +29,37 @@
 //! ([`HostMessage::Setpoint`]) are not requests: at up to 400 Hz a reply each would double the
 //! traffic, so the board answers them with [`DeviceMessage::Proprioception`], which names the last
 //! setpoint it applied.
+//!
+//! The board's side in a few lines (bytes arrive from USB in any chunking):
+//!
+//! ```
+//! use protocol::*;
+//!
+//! fn handle(request: &Request) -> Response {
+//!     match request {
+//!         Request::GetStatus => Response::Error(ProtocolError::Unsupported),
+//!         _ => Response::Ack,
+//!     }
+//! }
+//!
+//! let mut acc = FrameAccumulator::new();
+//! let mut out = [0u8; MAX_FRAME_LEN];
+//! # let mut host = Client::new();
+//! # let mut buf = [0u8; MAX_FRAME_LEN];
+//! # let (_, usb_bytes) = host.encode_request(&Request::Stop, &mut buf).unwrap();
+//! for message in acc.messages::<HostMessage>(usb_bytes) {
+//!     let reply = match message {
+//!         Ok(HostMessage::Request { seq, request }) => {
+//!             DeviceMessage::Reply { seq, response: handle(&request) }
+//!         }
+//!         Ok(HostMessage::Setpoint(_)) => continue,
+//!         Err(e) => DeviceMessage::Rejected(e),
+//!     };
+//!     let frame = encode_frame(&reply, &mut out).unwrap();
+//!     // write `frame` to the CDC-ACM endpoint
+//! #   assert_eq!(frame.last(), Some(&0));
+//! }
+//! ```
 //!
 //! # Why a plain dispatcher and not postcard-rpc
 //!

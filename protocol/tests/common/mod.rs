@@ -1,6 +1,8 @@
 //! Proptest strategies for every message type and for gait tables of random shape.
 #![allow(dead_code)]
 
+pub mod golden_table;
+
 use proptest::collection::vec;
 use proptest::prelude::*;
 use protocol::gait::{JointField, MAX_SLICES, NAME_LEN, TableError};
