@@ -8,7 +8,7 @@ use std::time::Duration;
 use protocol::client::Reply;
 use protocol::{
     Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Request, Response,
-    ServoSelect, Settings, SlotInfo, Status, Telemetry,
+    Proprioception, ServoSelect, Settings, SlotInfo, Status, Telemetry,
 };
 
 use super::error::LinkError;
@@ -29,6 +29,8 @@ pub struct Board<T: Transport> {
     acc: FrameAccumulator,
     inbox: VecDeque<DeviceMessage>,
     telemetry: VecDeque<Telemetry>,
+    /// Streaming feedback set aside for [`Board::proprioception`] (see `stream.rs`).
+    pub(super) proprioception: VecDeque<Proprioception>,
     info: DeviceInfo,
     reply_timeout: Duration,
     /// Frames from the board that failed to decode.
@@ -46,6 +48,7 @@ impl<T: Transport> Board<T> {
             acc: FrameAccumulator::new(),
             inbox: VecDeque::new(),
             telemetry: VecDeque::new(),
+            proprioception: VecDeque::new(),
             info: placeholder_info(),
             reply_timeout: DEFAULT_REPLY_TIMEOUT,
             bad_frames: 0,
@@ -172,7 +175,7 @@ impl<T: Transport> Board<T> {
                     });
                 }
                 DeviceMessage::Telemetry(t) => self.keep_telemetry(t),
-                DeviceMessage::Proprioception(_) => {}
+                DeviceMessage::Proprioception(p) => self.keep_proprioception(p),
             }
         }
     }
@@ -184,8 +187,10 @@ impl<T: Transport> Board<T> {
         }
         let deadline = self.transport.now() + timeout;
         while let Some(message) = self.next_message(deadline)? {
-            if let DeviceMessage::Telemetry(t) = message {
-                return Ok(Some(t));
+            match message {
+                DeviceMessage::Telemetry(t) => return Ok(Some(t)),
+                DeviceMessage::Proprioception(p) => self.keep_proprioception(p),
+                _ => {}
             }
         }
         Ok(None)
@@ -251,7 +256,7 @@ impl<T: Transport> Board<T> {
     }
 
     /// The next decoded message, reading until `deadline` on the transport's clock.
-    fn next_message(&mut self, deadline: Duration) -> Result<Option<DeviceMessage>, LinkError> {
+    pub(super) fn next_message(&mut self, deadline: Duration) -> Result<Option<DeviceMessage>, LinkError> {
         let mut buf = [0u8; 4096];
         loop {
             if let Some(m) = self.inbox.pop_front() {
@@ -274,7 +279,7 @@ impl<T: Transport> Board<T> {
         }
     }
 
-    fn keep_telemetry(&mut self, t: Telemetry) {
+    pub(super) fn keep_telemetry(&mut self, t: Telemetry) {
         if self.telemetry.len() >= TELEMETRY_BACKLOG {
             self.telemetry.pop_front();
             self.telemetry_dropped += 1;

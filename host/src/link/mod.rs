@@ -8,6 +8,7 @@ mod board;
 mod devices;
 mod error;
 mod serial;
+mod stream;
 mod transport;
 mod upload;
 
@@ -15,5 +16,6 @@ pub use board::{Board, DEFAULT_REPLY_TIMEOUT, request_name};
 pub use devices::{BoardPort, list_boards};
 pub use error::LinkError;
 pub use serial::SerialTransport;
+pub use stream::{SetpointError, setpoint_from_si};
 pub use transport::{Transport, TransportError};
 pub use upload::{UploadReport, Uploaded};
