@@ -11,3 +11,6 @@ pub mod gait;
 pub mod plan;
 pub mod report;
 pub mod qp;
+pub mod config;
+pub mod record;
+pub mod robot;

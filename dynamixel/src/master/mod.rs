@@ -16,7 +16,7 @@ pub use types::*;
 use crate::control_table::{FEEDBACK_ADDR, FEEDBACK_LEN, GOAL_POSITION};
 use crate::encode;
 use crate::parser::{Frame, FrameError, Parser};
-use embedded_io_async::{Error as _, Read, Write};
+use embedded_io_async::{Error as _, Read, ReadReady, Write};
 
 /// Request buffer size: a 22-servo cycle needs 160 bytes (more if stuffed).
 pub const TX_CAPACITY: usize = 512;
@@ -32,6 +32,7 @@ pub struct BusMaster<IO, D, C> {
     config: MasterConfig,
     parser: Parser,
     tx: [u8; TX_CAPACITY],
+    stale_bytes: u32,
 }
 
 /// What the receive loop's handler says about a frame.
@@ -44,9 +45,9 @@ enum Step {
     Done,
 }
 
-impl<IO: Read + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
+impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
     pub fn new(io: IO, dir: D, clock: C, config: MasterConfig) -> Self {
-        Self { io, dir, clock, config, parser: Parser::new(), tx: [0; TX_CAPACITY] }
+        Self { io, dir, clock, config, parser: Parser::new(), tx: [0; TX_CAPACITY], stale_bytes: 0 }
     }
 
     pub fn config(&self) -> &MasterConfig {
@@ -86,7 +87,9 @@ impl<IO: Read + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
         let m = encode::sync_read(&mut self.tx[n..], FEEDBACK_ADDR, FEEDBACK_LEN, ids)?;
         let mut stats = CycleStats { start_us: self.clock.now_us(), ..Default::default() };
         let skipped_before = self.parser.skipped_bytes();
+        let stale_before = self.stale_bytes;
         self.send(n + m).await?;
+        stats.stale_bytes = self.stale_bytes.wrapping_sub(stale_before);
         stats.tx_end_us = self.clock.now_us();
         self.collect_feedback(ids, &mut replies[..ids.len()], &mut stats).await?;
         stats.end_us = self.clock.now_us();
@@ -156,8 +159,13 @@ impl<IO: Read + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
 
     /// Writes `len` bytes of the request buffer with the direction pin driven.
     async fn send(&mut self, len: usize) -> Result<(), BusError> {
-        // Leftovers of an earlier exchange must not be taken for this one's replies.
+        // Leftovers of an earlier exchange (a late reply) must not be taken for this one's replies.
         self.parser.reset();
+        let mut scratch = [0u8; 32];
+        while self.io.read_ready().map_err(|e| BusError::Io(e.kind()))? {
+            let n = self.io.read(&mut scratch).await.map_err(|e| BusError::Io(e.kind()))?;
+            self.stale_bytes = self.stale_bytes.wrapping_add(n as u32);
+        }
         self.dir.drive();
         let res = async {
             self.io.write_all(&self.tx[..len]).await?;

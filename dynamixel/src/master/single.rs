@@ -4,12 +4,12 @@ use super::{BusMaster, BusError, Clock, DirectionPin, PingReply, ReplyFault, Ste
 use crate::encode;
 use crate::instruction::{BROADCAST_ID, STATUS, StatusError};
 use crate::parser::{Frame, FrameError};
-use embedded_io_async::{Read, Write};
+use embedded_io_async::{Read, ReadReady, Write};
 
 /// Per-servo outcome of a generic Sync/Bulk Read: the status error byte (maybe with Alert) or a fault.
 pub type ReadOutcome = Result<StatusError, ReplyFault>;
 
-impl<IO: Read + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
+impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
     /// Sends the request in the buffer and waits for `id`'s status; copies its data into `out`.
     /// Returns the error byte (Alert allowed) and the data length.
     async fn transact(&mut self, len: usize, id: u8, out: &mut [u8]) -> Result<(StatusError, usize), BusError> {

@@ -77,6 +77,9 @@ pub struct CycleStats {
     pub stray_frames: u8,
     /// Bytes the parser dropped as garbage during the cycle.
     pub garbage_bytes: u32,
+    /// Bytes already waiting before the request was sent (a late reply of an earlier exchange),
+    /// discarded.
+    pub stale_bytes: u32,
 }
 
 impl CycleStats {

@@ -1,1 +1,12 @@
-//! placeholder
+//! The virtual servo chain (feature `std`): servos with control tables and a motor model
+//! ([`VirtualServo`], [`physics`]), a bus of them ([`VirtualChain`]), and a simulated wire on
+//! simulated time for the master side ([`SimWire`]).
+
+mod chain;
+pub mod physics;
+mod servo;
+mod wire;
+
+pub use chain::{ChainError, DROSOPHIBOT_CTR_IDS, PlannedReply, VirtualChain};
+pub use servo::{Faults, TABLE_SIZE, VirtualServo};
+pub use wire::{SimIoError, SimWire, WireConfig};

@@ -7,8 +7,8 @@ use std::time::Duration;
 
 use protocol::client::Reply;
 use protocol::{
-    Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Request, Response,
-    Proprioception, ServoSelect, Settings, SlotInfo, Status, Telemetry,
+    Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Proprioception, ProtocolError, Request,
+    Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
 };
 
 use super::error::LinkError;
@@ -17,6 +17,9 @@ use super::transport::{Transport, TransportError};
 /// How long a request waits for its reply by default. Flash work on the board (a sector erase
 /// per chunk) stays well below it.
 pub const DEFAULT_REPLY_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// How long [`Board::play`] waits for a board that is still looking for its servos.
+pub const BOOT_WAIT: Duration = Duration::from_secs(1);
 
 /// Telemetry records kept while nobody reads them; older ones are dropped (and counted).
 const TELEMETRY_BACKLOG: usize = 100_000;
@@ -215,8 +218,34 @@ impl<T: Transport> Board<T> {
         Ok(slots.into_iter().collect())
     }
 
+    /// Starts playback. A board that has just taken a gait with other servos first looks for
+    /// them (it reports `Idle` meanwhile and refuses `Play`): this retries for up to
+    /// [`BOOT_WAIT`] on the transport's clock before giving up with the board's refusal.
     pub fn play(&mut self, command: PlayCommand) -> Result<(), LinkError> {
-        self.request(&Request::Play(command))
+        let give_up = self.transport.now() + BOOT_WAIT;
+        loop {
+            match self.request(&Request::Play(command)) {
+                Err(LinkError::Device {
+                    error:
+                        ProtocolError::WrongState {
+                            state: RunState::Idle,
+                        },
+                    ..
+                }) if self.transport.now() < give_up => self.wait(Duration::from_millis(50))?,
+                r => return r,
+            }
+        }
+    }
+
+    /// Lets `duration` pass on the transport's clock, keeping telemetry that arrives.
+    pub fn wait(&mut self, duration: Duration) -> Result<(), LinkError> {
+        let deadline = self.transport.now() + duration;
+        while let Some(m) = self.next_message(deadline)? {
+            if let DeviceMessage::Telemetry(t) = m {
+                self.keep_telemetry(t);
+            }
+        }
+        Ok(())
     }
 
     pub fn stop(&mut self) -> Result<(), LinkError> {

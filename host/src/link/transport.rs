@@ -30,6 +30,10 @@ pub trait Transport: Debug + Send {
     /// The transport's clock since it opened: wall time for a port, simulated time for the
     /// virtual robot. Reply timeouts are measured on it.
     fn now(&self) -> Duration;
+    /// Ends the session cleanly (the virtual robot writes its flash image). Nothing for a port.
+    fn shutdown(&mut self) -> Result<(), TransportError> {
+        Ok(())
+    }
 }
 
 impl<T: Transport + ?Sized> Transport for Box<T> {
@@ -44,5 +48,8 @@ impl<T: Transport + ?Sized> Transport for Box<T> {
     }
     fn now(&self) -> Duration {
         (**self).now()
+    }
+    fn shutdown(&mut self) -> Result<(), TransportError> {
+        (**self).shutdown()
     }
 }

@@ -7,6 +7,17 @@ use clap::{Parser, Subcommand};
 
 mod model;
 mod plan;
+mod board_args;
+mod devices;
+mod estop;
+mod gaits;
+mod record;
+mod run;
+mod servos;
+mod set;
+mod status;
+mod stop;
+mod upload;
 
 /// Plan, run and record gaits of the Drosophibot II hexapod.
 ///
@@ -24,6 +35,26 @@ enum Cmd {
     Plan(plan::Args),
     /// Export, import or inspect organism models.
     Model(model::Args),
+    /// List the boards plugged in over USB.
+    Devices(devices::Args),
+    /// Upload a step table into a gait slot.
+    Upload(upload::Args),
+    /// List the board's gait slots.
+    Gaits(gaits::Args),
+    /// Play a gait.
+    Run(run::Args),
+    /// Stop walking at the end of the step.
+    Stop(stop::Args),
+    /// Emergency stop: torque off everywhere.
+    Estop(estop::Args),
+    /// Show the board's state and counters.
+    Status(status::Args),
+    /// Show the joints and their servos.
+    Servos(servos::Args),
+    /// Change run-time settings (stiffness, rate, baud).
+    Set(set::Args),
+    /// Record telemetry to CSV and plot it.
+    Record(record::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -31,5 +62,15 @@ fn main() -> anyhow::Result<()> {
     match cli.cmd {
         Cmd::Plan(a) => a.run(),
         Cmd::Model(a) => a.run(),
+        Cmd::Devices(a) => a.run(),
+        Cmd::Upload(a) => a.run(),
+        Cmd::Gaits(a) => a.run(),
+        Cmd::Run(a) => a.run(),
+        Cmd::Stop(a) => a.run(),
+        Cmd::Estop(a) => a.run(),
+        Cmd::Status(a) => a.run(),
+        Cmd::Servos(a) => a.run(),
+        Cmd::Set(a) => a.run(),
+        Cmd::Record(a) => a.run(),
     }
 }

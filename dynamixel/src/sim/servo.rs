@@ -1,0 +1,238 @@
+//! One virtual MX(2.0) servo: control table memory with the e-manual's access rules, the motor
+//! model of [`super::physics`], and the faults a test can switch on.
+
+use super::physics::{self, MotorInput, MotorState};
+use crate::control_table::{self as ct, Field, Model, hardware_error};
+use crate::instruction::StatusError;
+use crate::units::{self, RAD_PER_TICK, RAD_S_PER_VELOCITY_UNIT};
+
+/// Size of the modelled control table (through Present Temperature at 146; indirect addressing
+/// is not modelled).
+pub const TABLE_SIZE: usize = 147;
+/// Start of the RAM area; below it is EEPROM, writable only with torque off.
+const RAM_START: u16 = 64;
+
+/// Faults a test can inject into one servo.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Faults {
+    /// Executes instructions but never replies.
+    pub no_reply: bool,
+    /// Replies with the CRC's low byte inverted.
+    pub corrupt_crc: bool,
+    /// Replies this many microseconds later than its Return Delay Time says.
+    pub late_reply_us: u32,
+    /// The output does not move (jammed gear): position stays, the motor stalls.
+    pub stuck: bool,
+}
+
+/// A virtual servo.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VirtualServo {
+    model: Model,
+    mem: [u8; TABLE_SIZE],
+    motor: MotorState,
+    /// External load torque at the output in N m (positive toward increasing ticks), e.g. the
+    /// planner's modelled joint torque with its sign flipped.
+    pub external_torque_nm: f64,
+    pub faults: Faults,
+}
+
+impl VirtualServo {
+    /// A servo with factory defaults except `id` and `baud_code`, resting at `position` ticks.
+    pub fn new(id: u8, model: Model, baud_code: u8, position: i32) -> Self {
+        let mut s = Self {
+            model,
+            mem: [0; TABLE_SIZE],
+            motor: MotorState { angle_rad: position as f64 * RAD_PER_TICK as f64, ..Default::default() },
+            external_torque_nm: 0.0,
+            faults: Faults::default(),
+        };
+        s.factory_defaults();
+        s.put(ct::ID, id as u32);
+        s.put(ct::BAUD_RATE, baud_code as u32);
+        s.reset_ram();
+        s.refresh_present();
+        s
+    }
+
+    fn factory_defaults(&mut self) {
+        self.mem = [0; TABLE_SIZE];
+        self.put(ct::MODEL_NUMBER, self.model.number() as u32);
+        // An arbitrary firmware version for the simulation.
+        self.put(ct::FIRMWARE_VERSION, 41);
+        self.put(ct::ID, 1);
+        self.put(ct::BAUD_RATE, 1);
+        self.put(ct::RETURN_DELAY_TIME, 250);
+        self.put(ct::OPERATING_MODE, 3);
+        self.put(ct::PROTOCOL_TYPE, 2);
+        self.put(ct::MOVING_THRESHOLD, 10);
+        self.put(ct::TEMPERATURE_LIMIT, 80);
+        self.put(ct::MAX_VOLTAGE_LIMIT, 160);
+        self.put(ct::MIN_VOLTAGE_LIMIT, 95);
+        self.put(ct::PWM_LIMIT, 885);
+        if self.model == Model::Mx64V2 {
+            self.put(ct::CURRENT_LIMIT, 1941);
+        }
+        self.put(ct::ACCELERATION_LIMIT, 32767);
+        self.put(ct::VELOCITY_LIMIT, 1023);
+        self.put(ct::MAX_POSITION_LIMIT, 4095);
+        self.put(ct::MIN_POSITION_LIMIT, 0);
+        self.put(ct::SHUTDOWN, 0x34);
+    }
+
+    /// RAM at power-on / after Reboot: torque off, gains default, goal = present position.
+    fn reset_ram(&mut self) {
+        self.mem[RAM_START as usize..].fill(0);
+        self.put(ct::STATUS_RETURN_LEVEL, 2);
+        self.put(ct::VELOCITY_I_GAIN, 1920);
+        self.put(ct::VELOCITY_P_GAIN, 100);
+        self.put(ct::POSITION_P_GAIN, 850);
+        self.put(ct::GOAL_PWM, 885);
+        self.put(ct::GOAL_POSITION, self.position_ticks() as u32);
+        self.put(ct::PRESENT_INPUT_VOLTAGE, 120);
+        self.put(ct::PRESENT_TEMPERATURE, 36);
+    }
+
+    pub fn model(&self) -> Model {
+        self.model
+    }
+
+    pub fn id(&self) -> u8 {
+        self.mem[ct::ID.addr as usize]
+    }
+
+    /// A field's value (little endian, zero-extended).
+    pub fn get(&self, f: Field) -> u32 {
+        let a = f.addr as usize;
+        self.mem[a..a + f.size as usize].iter().rev().fold(0, |acc, &b| (acc << 8) | b as u32)
+    }
+
+    /// Sets a field directly, bypassing the access rules (test setup).
+    pub fn put(&mut self, f: Field, value: u32) {
+        let a = f.addr as usize;
+        self.mem[a..a + f.size as usize].copy_from_slice(&value.to_le_bytes()[..f.size as usize]);
+    }
+
+    pub fn torque_enabled(&self) -> bool {
+        self.get(ct::TORQUE_ENABLE) != 0
+    }
+
+    pub fn hardware_error(&self) -> u8 {
+        self.get(ct::HARDWARE_ERROR_STATUS) as u8
+    }
+
+    /// Return Delay Time in microseconds (register x 2 us) plus an injected lateness.
+    pub fn reply_delay_us(&self) -> u32 {
+        self.get(ct::RETURN_DELAY_TIME) * ct::RETURN_DELAY_UNIT_US + self.faults.late_reply_us
+    }
+
+    pub fn baud(&self) -> Option<u32> {
+        ct::baud_from_code(self.get(ct::BAUD_RATE) as u8)
+    }
+
+    /// Present position in ticks (nearest).
+    pub fn position_ticks(&self) -> i32 {
+        (self.motor.angle_rad / RAD_PER_TICK as f64).round() as i32
+    }
+
+    pub fn motor(&self) -> &MotorState {
+        &self.motor
+    }
+
+    /// The status error byte's Alert bit: set while a hardware error is latched.
+    pub fn alert(&self) -> u8 {
+        if self.hardware_error() != 0 { StatusError::ALERT } else { 0 }
+    }
+
+    /// Latches an overload: torque off, Hardware Error Status bit 5, Alert until Reboot.
+    pub fn trigger_overload(&mut self) {
+        let e = self.hardware_error() | hardware_error::OVERLOAD;
+        self.put(ct::HARDWARE_ERROR_STATUS, e as u32);
+        self.put(ct::TORQUE_ENABLE, 0);
+    }
+
+    /// Reboot: RAM back to power-on values, which clears the hardware error and the torque.
+    pub fn reboot(&mut self) {
+        self.reset_ram();
+        self.refresh_present();
+    }
+
+    /// Advances the motor by `dt_s` seconds and updates the Present registers.
+    pub fn step(&mut self, dt_s: f64) {
+        let input = MotorInput {
+            model: self.model,
+            torque_on: self.torque_enabled(),
+            goal_ticks: self.get(ct::GOAL_POSITION) as i32,
+            p_gain: self.get(ct::POSITION_P_GAIN) as u16,
+            external_nm: self.external_torque_nm,
+            stuck: self.faults.stuck,
+        };
+        physics::step(&mut self.motor, &input, dt_s);
+        self.refresh_present();
+    }
+
+    fn refresh_present(&mut self) {
+        let m = self.motor;
+        self.put(ct::PRESENT_POSITION, self.position_ticks() as u32);
+        let vel = (m.velocity_rad_s / RAD_S_PER_VELOCITY_UNIT as f64).round() as i32;
+        self.put(ct::PRESENT_VELOCITY, vel as u32);
+        let load = units::torque_to_load(self.model, m.torque_nm as f32);
+        self.put(ct::PRESENT_LOAD_OR_CURRENT, load as u16 as u32);
+        self.put(ct::PRESENT_PWM, ((m.duty * 885.0).round() as i16) as u16 as u32);
+        let moving = (m.velocity_rad_s.abs() / RAD_S_PER_VELOCITY_UNIT as f64) > self.get(ct::MOVING_THRESHOLD) as f64;
+        self.put(ct::MOVING, moving as u32);
+    }
+
+    /// Reads `len` bytes at `addr`, or the error number the servo would answer.
+    pub fn read(&self, addr: u16, len: u16) -> Result<&[u8], u8> {
+        let (a, l) = (addr as usize, len as usize);
+        if l == 0 || a + l > TABLE_SIZE {
+            return Err(StatusError::DATA_RANGE);
+        }
+        Ok(&self.mem[a..a + l])
+    }
+
+    /// Writes `data` at `addr` with the e-manual's rules: read-only fields and EEPROM with torque
+    /// on are Access errors, out-of-range values Data Range, goals outside the position limits
+    /// Data Limit. Nothing is written on error.
+    pub fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), u8> {
+        let (a, l) = (addr as usize, data.len());
+        if l == 0 || a + l > TABLE_SIZE {
+            return Err(StatusError::DATA_RANGE);
+        }
+        let mut next = self.mem;
+        next[a..a + l].copy_from_slice(data);
+        for f in ct::FIELDS.iter().filter(|f| (f.addr as usize) < a + l && a < (f.addr + f.size as u16) as usize) {
+            if !f.writable || (f.eeprom && self.torque_enabled()) {
+                return Err(StatusError::ACCESS);
+            }
+        }
+        let val = |f: Field| {
+            let s = f.addr as usize;
+            next[s..s + f.size as usize].iter().rev().fold(0u32, |acc, &b| (acc << 8) | b as u32)
+        };
+        let touches = |f: Field| (f.addr as usize) < a + l && a < (f.addr + f.size as u16) as usize;
+        if touches(ct::ID) && val(ct::ID) > crate::instruction::MAX_ID as u32 {
+            return Err(StatusError::DATA_RANGE);
+        }
+        if touches(ct::BAUD_RATE) && ct::baud_from_code(val(ct::BAUD_RATE) as u8).is_none() {
+            return Err(StatusError::DATA_RANGE);
+        }
+        if touches(ct::TORQUE_ENABLE) && val(ct::TORQUE_ENABLE) > 1 {
+            return Err(StatusError::DATA_RANGE);
+        }
+        if touches(ct::TORQUE_ENABLE) && val(ct::TORQUE_ENABLE) == 1 && self.hardware_error() != 0 {
+            // A latched hardware error keeps the torque off until Reboot.
+            return Err(StatusError::RESULT_FAIL);
+        }
+        if touches(ct::GOAL_POSITION) {
+            let g = val(ct::GOAL_POSITION) as i32;
+            let (min, max) = (val(ct::MIN_POSITION_LIMIT) as i32, val(ct::MAX_POSITION_LIMIT) as i32);
+            if g < min || g > max {
+                return Err(StatusError::DATA_LIMIT);
+            }
+        }
+        self.mem = next;
+        Ok(())
+    }
+}

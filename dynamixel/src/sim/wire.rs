@@ -1,0 +1,294 @@
+//! A simulated half-duplex wire on a simulated clock, master side: [`SimWire`] implements
+//! `embedded_io_async::{Read, Write}` and [`Clock`], so a [`crate::master::BusMaster`] runs
+//! against a [`VirtualChain`] deterministically and much faster than real time.
+//!
+//! Timing: each byte takes 10 bit times at the configured baud; the master's bytes queue behind
+//! each other on the wire; a servo executes a request when its last byte has arrived, and its
+//! reply starts after its Return Delay Time (chained replies: after the previous reply's end).
+//! With `echo` the master hears its own bytes as they leave (shared TX/RX wire). `flush`
+//! resolves when the last written byte has left the wire, like `tcdrain` on a host UART.
+//!
+//! Time advances only in [`SimWire::block_on`] (a tiny executor): whenever the future is pending
+//! it jumps to the next event (a byte reaching the master or a servo, or the earliest deadline
+//! the future waits for). Physics time follows simulated time: the motors are stepped to the
+//! current time before a servo executes a request and before [`SimWire::with_chain`] hands out
+//! the chain; [`SimWire::advance_us`] moves time (and physics) on with no bus activity.
+
+use super::chain::VirtualChain;
+use crate::master::Clock;
+use crate::parser::Parser;
+use core::future::Future;
+use core::pin::pin;
+use core::task::{Context, Poll, Waker};
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+/// A servo drops a half-received packet after this much silence (e-manual: 1.5 ms).
+const INTER_BYTE_TIMEOUT_NS: u64 = 1_500_000;
+
+/// Wire settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WireConfig {
+    /// Line rate in bit/s.
+    pub baud: u32,
+    /// The master hears its own bytes (TX and RX on one wire).
+    pub echo: bool,
+}
+
+#[derive(Debug)]
+struct State {
+    now_ns: u64,
+    physics_ns: u64,
+    chain: VirtualChain,
+    config: WireConfig,
+    /// Master -> servos bytes with the time their stop bit ends.
+    to_servos: VecDeque<(u64, u8)>,
+    /// Servos (and echo) -> master.
+    to_master: VecDeque<(u64, u8)>,
+    /// When the master's last queued byte has left.
+    master_tx_end_ns: u64,
+    /// When the last reply queued ends (for chained replies).
+    reply_end_ns: u64,
+    servo_parser: Parser<1024>,
+    last_servo_byte_ns: u64,
+    /// Earliest deadline a pending future waits for (reset before each poll).
+    timer_ns: Option<u64>,
+    bytes_to_servos: u64,
+    bytes_to_master: u64,
+}
+
+/// Master end of the simulated bus. Cheap to clone; clones share the wire, the clock and the chain.
+#[derive(Debug, Clone)]
+pub struct SimWire {
+    state: Rc<RefCell<State>>,
+}
+
+/// Simulated-time error type of the wire (it never fails).
+pub type SimIoError = core::convert::Infallible;
+
+impl SimWire {
+    pub fn new(chain: VirtualChain, config: WireConfig) -> Self {
+        let state = State {
+            now_ns: 0,
+            physics_ns: 0,
+            chain,
+            config,
+            to_servos: VecDeque::new(),
+            to_master: VecDeque::new(),
+            master_tx_end_ns: 0,
+            reply_end_ns: 0,
+            servo_parser: Parser::new(),
+            last_servo_byte_ns: 0,
+            timer_ns: None,
+            bytes_to_servos: 0,
+            bytes_to_master: 0,
+        };
+        Self { state: Rc::new(RefCell::new(state)) }
+    }
+
+    /// Simulated time in microseconds.
+    pub fn now_us(&self) -> u64 {
+        self.state.borrow().now_ns / 1_000
+    }
+
+    /// Bytes sent by the master and by the servos so far.
+    pub fn byte_counts(&self) -> (u64, u64) {
+        let s = self.state.borrow();
+        (s.bytes_to_servos, s.bytes_to_master)
+    }
+
+    /// Changes the line rate (after the servos were told to switch).
+    pub fn set_baud(&self, baud: u32) {
+        self.state.borrow_mut().config.baud = baud;
+    }
+
+    /// The chain with its motors stepped to the current time: set external torques, faults, read state.
+    pub fn with_chain<R>(&self, f: impl FnOnce(&mut VirtualChain) -> R) -> R {
+        let mut s = self.state.borrow_mut();
+        let now = s.now_ns;
+        s.step_physics(now);
+        f(&mut s.chain)
+    }
+
+    /// Moves simulated time on by `dt_us`, processing bus events on the way.
+    pub fn advance_us(&self, dt_us: u64) {
+        let mut s = self.state.borrow_mut();
+        let target = s.now_ns + dt_us * 1_000;
+        s.run_until(target);
+        s.step_physics(target);
+    }
+
+    /// Runs `fut` to completion on simulated time.
+    ///
+    /// # Panics
+    /// If the future is pending while no bus event and no deadline can ever wake it (a bug in the
+    /// test: e.g. a read without a timeout while no servo will answer).
+    pub fn block_on<F: Future>(&self, fut: F) -> F::Output {
+        let mut fut = pin!(fut);
+        let mut cx = Context::from_waker(Waker::noop());
+        loop {
+            self.state.borrow_mut().timer_ns = None;
+            if let Poll::Ready(v) = fut.as_mut().poll(&mut cx) {
+                return v;
+            }
+            let mut s = self.state.borrow_mut();
+            // Only future events: bytes already due may sit unread while the future waits on a timer.
+            let now = s.now_ns;
+            let next_to_master = s.to_master.iter().map(|b| b.0).find(|&t| t > now);
+            let next = [next_to_master, s.to_servos.front().map(|b| b.0), s.timer_ns]
+                .into_iter()
+                .flatten()
+                .min();
+            match next {
+                Some(t) => s.run_until(t),
+                None => panic!("simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"),
+            }
+        }
+    }
+}
+
+impl State {
+    fn byte_ns(&self) -> u64 {
+        10_000_000_000 / self.config.baud as u64
+    }
+
+    fn step_physics(&mut self, to_ns: u64) {
+        if to_ns > self.physics_ns {
+            self.chain.step((to_ns - self.physics_ns) as f64 * 1e-9);
+            self.physics_ns = to_ns;
+        }
+    }
+
+    /// Processes every byte arrival at the servos up to `t_ns`, then sets the clock to `t_ns`.
+    fn run_until(&mut self, t_ns: u64) {
+        while let Some(&(at, byte)) = self.to_servos.front() {
+            if at > t_ns {
+                break;
+            }
+            self.to_servos.pop_front();
+            self.now_ns = at;
+            self.servo_hears(at, byte);
+        }
+        self.now_ns = self.now_ns.max(t_ns);
+    }
+
+    fn servo_hears(&mut self, at: u64, byte: u8) {
+        if at.saturating_sub(self.last_servo_byte_ns) > INTER_BYTE_TIMEOUT_NS {
+            self.servo_parser.reset();
+        }
+        self.last_servo_byte_ns = at;
+        self.servo_parser.feed(&[byte]);
+        let baud = self.config.baud;
+        // Borrow dance: the parser's frame borrows `self.servo_parser`, the chain is separate.
+        let mut planned = Vec::new();
+        while let Some(ev) = self.servo_parser.next() {
+            if let Ok(frame) = ev {
+                if frame.instruction == crate::instruction::STATUS {
+                    continue;
+                }
+                if at > self.physics_ns {
+                    self.chain.step((at - self.physics_ns) as f64 * 1e-9);
+                    self.physics_ns = at;
+                }
+                planned.extend(self.chain.handle(&frame, baud));
+            }
+        }
+        let byte_ns = self.byte_ns();
+        let mut prev_end = at;
+        for r in planned {
+            let base = if r.chained { prev_end.max(self.reply_end_ns).max(at) } else { at };
+            let start = base + r.delay_us as u64 * 1_000;
+            if let Some(bytes) = r.bytes {
+                for (i, &b) in bytes.iter().enumerate() {
+                    self.to_master.push_back((start + (i as u64 + 1) * byte_ns, b));
+                }
+                prev_end = start + bytes.len() as u64 * byte_ns;
+                self.reply_end_ns = prev_end;
+                self.bytes_to_master += bytes.len() as u64;
+            }
+        }
+        // Keep the master's queue in time order (echo and replies may interleave).
+        self.to_master.make_contiguous().sort_by_key(|b| b.0);
+    }
+}
+
+impl embedded_io_async::ErrorType for SimWire {
+    type Error = SimIoError;
+}
+
+impl embedded_io_async::Read for SimWire {
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        core::future::poll_fn(|_| {
+            let mut s = self.state.borrow_mut();
+            let now = s.now_ns;
+            let mut n = 0;
+            while n < buf.len() {
+                match s.to_master.front() {
+                    Some(&(at, b)) if at <= now => {
+                        buf[n] = b;
+                        n += 1;
+                        s.to_master.pop_front();
+                    }
+                    _ => break,
+                }
+            }
+            if n > 0 { Poll::Ready(Ok(n)) } else { Poll::Pending }
+        })
+        .await
+    }
+}
+
+impl embedded_io_async::ReadReady for SimWire {
+    fn read_ready(&mut self) -> Result<bool, Self::Error> {
+        let s = self.state.borrow();
+        Ok(s.to_master.front().is_some_and(|b| b.0 <= s.now_ns))
+    }
+}
+
+impl embedded_io_async::Write for SimWire {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        let mut s = self.state.borrow_mut();
+        let byte_ns = s.byte_ns();
+        let mut t = s.master_tx_end_ns.max(s.now_ns);
+        for &b in buf {
+            t += byte_ns;
+            s.to_servos.push_back((t, b));
+            if s.config.echo {
+                s.to_master.push_back((t, b));
+            }
+        }
+        s.master_tx_end_ns = t;
+        s.bytes_to_servos += buf.len() as u64;
+        s.to_master.make_contiguous().sort_by_key(|b| b.0);
+        Ok(buf.len())
+    }
+
+    async fn flush(&mut self) -> Result<(), Self::Error> {
+        let end = self.state.borrow().master_tx_end_ns;
+        self.wait_until(end / 1_000 + u64::from(end % 1_000 != 0)).await;
+        Ok(())
+    }
+}
+
+impl Clock for SimWire {
+    fn now_us(&self) -> u64 {
+        SimWire::now_us(self)
+    }
+
+    async fn wait_until(&self, deadline_us: u64) {
+        let deadline_ns = deadline_us * 1_000;
+        core::future::poll_fn(|_| {
+            let mut s = self.state.borrow_mut();
+            if s.now_ns >= deadline_ns {
+                return Poll::Ready(());
+            }
+            s.timer_ns = Some(s.timer_ns.map_or(deadline_ns, |t| t.min(deadline_ns)));
+            Poll::Pending
+        })
+        .await
+    }
+}

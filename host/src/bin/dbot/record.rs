@@ -1,0 +1,171 @@
+//! `dbot record`: saves the board's telemetry as a tidy CSV (written as it arrives) and plots the
+//! measured against the modelled torque (paper fig. 5) and commanded against present angles.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, bail};
+use host::link::{Board, Transport};
+use host::record::{
+    JointMeta, Recorder, Until, capture, joints_of_table, plot_angles, plot_torques,
+};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::board_args::BoardArgs;
+
+/// Record telemetry to OUT/telemetry.csv and plot it (OUT/torque.png, OUT/angles.png).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output directory.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Seconds to record, board clock (default: until the gait started with --play ends, else 10).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+    /// Step table of the gait being played: its joint map turns load registers into torques and
+    /// gives the modelled torque (without it only raw registers are recorded).
+    #[arg(long)]
+    pub table: Option<PathBuf>,
+    /// Start this gait slot first and record it (the way to record on the virtual robot).
+    #[arg(long)]
+    pub play: Option<u8>,
+    /// With --play: whole steps to play.
+    #[arg(long, requires = "play")]
+    pub steps: Option<u32>,
+    /// With --play: walk backward.
+    #[arg(long, requires = "play")]
+    pub backward: bool,
+    /// With --play: step period, s (default: the planned one).
+    #[arg(long, requires = "play")]
+    pub period: Option<f64>,
+    /// Telemetry every this many bus cycles.
+    #[arg(long, default_value_t = 1)]
+    pub every: u16,
+    #[command(flatten)]
+    pub board: BoardArgs,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        if let Some(s) = self.seconds
+            && !(s.is_finite() && s > 0.0)
+        {
+            bail!("--seconds {s}: must be a positive number of seconds");
+        }
+        let table = match &self.table {
+            Some(p) => Some(std::fs::read(p).with_context(|| format!("reading {}", p.display()))?),
+            None => None,
+        };
+        let joints = match &table {
+            Some(b) => {
+                let t = protocol::GaitTable::parse(b)
+                    .context("the --table file is not a step table")?;
+                joints_of_table(&t, &[])
+            }
+            None => Vec::new(),
+        };
+        let mut s = self.board.connect()?;
+        if s.is_virtual() && self.play.is_none() {
+            bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
+        }
+        s.board.set_telemetry(self.every)?;
+        if let Some(slot) = self.play {
+            let cmd =
+                crate::run::play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+            s.board.discard_telemetry();
+            s.board
+                .play(cmd)
+                .with_context(|| format!("playing slot {slot}"))?;
+        }
+        let until = Until {
+            seconds: self
+                .seconds
+                .or(if self.play.is_some() && self.steps.is_some() {
+                    None
+                } else {
+                    Some(10.0)
+                }),
+            standing: self.play.is_some(),
+        };
+        let slices = table
+            .as_ref()
+            .and_then(|b| protocol::GaitTable::parse(b).ok())
+            .map_or(0, |t| t.slice_count());
+        let summary = record_to(&mut s.board, &self.out, joints, slices, until)?;
+        println!("{summary}");
+        s.close()
+    }
+}
+
+/// Records into `dir` (telemetry.csv, then the plots) and returns a short summary. If the board
+/// vanishes, the CSV so far stays on disk, the plots are drawn from it, and the error says so.
+pub fn record_to<T: Transport>(
+    board: &mut Board<T>,
+    dir: &Path,
+    joints: Vec<JointMeta>,
+    slices: usize,
+    until: Until,
+) -> anyhow::Result<String> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let csv = dir.join("telemetry.csv");
+    let mut joints = joints;
+    if joints.is_empty() {
+        joints = (0..board.settings()?.joints.len())
+            .map(|j| JointMeta {
+                name: format!("J{j}"),
+                model: None,
+                sign: 1,
+                modelled_nm: Vec::new(),
+                planned_rad: Vec::new(),
+                stiffness_nm_per_rad: None,
+            })
+            .collect();
+    }
+    let mut rec =
+        Recorder::create(&csv, joints).with_context(|| format!("creating {}", csv.display()))?;
+    let bar = ProgressBar::new_spinner().with_style(
+        ProgressStyle::with_template("recording {spinner} {msg}").expect("template is valid"),
+    );
+    let result = capture(board, &mut rec, until, |t| {
+        if rec_tick(t) {
+            bar.set_message(format!("{t:.1} s of board time"));
+            bar.tick();
+        }
+    });
+    bar.finish_and_clear();
+    let plots = draw(dir, &rec, slices);
+    if let Err(e) = result {
+        return Err(anyhow::Error::new(e)).with_context(|| {
+            format!(
+                "recording stopped: {} rows kept in {}",
+                rec.rows().len(),
+                csv.display()
+            )
+        });
+    }
+    plots?;
+    Ok(format!(
+        "recorded {} bus cycles ({:.2} s of board time) x {} joints to {}",
+        rec.cycles(),
+        rec.duration_s(),
+        rec.joints().len(),
+        csv.display()
+    ))
+}
+
+/// Whether to refresh the progress line (every tenth of a second of board time).
+fn rec_tick(t: f64) -> bool {
+    (t * 100.0).round() as u64 % 10 == 0
+}
+
+fn draw(dir: &Path, rec: &Recorder, slices: usize) -> anyhow::Result<()> {
+    if rec.rows().is_empty() {
+        return Ok(());
+    }
+    plot_angles(&dir.join("angles.png"), rec.rows(), rec.joints())
+        .map_err(|e| anyhow::anyhow!("plotting angles: {e}"))?;
+    if slices > 0 && rec.joints().iter().any(|j| j.model.is_some()) {
+        plot_torques(&dir.join("torque.png"), rec.rows(), rec.joints(), slices)
+            .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,131 @@
+//! `dbot run`: plays a stored gait, following its steps with a progress bar until the robot stands.
+
+use std::time::Duration;
+
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use protocol::{Direction, PlayCommand, RunState, Steps};
+
+use crate::board_args::{BoardArgs, Session};
+
+/// Play a gait from a slot (ramping from the present posture to its first slice first).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Gait slot (default: the setup file's slot, else 0).
+    #[arg(long)]
+    pub slot: Option<u8>,
+    /// Whole steps to play; without it the gait plays until `dbot stop`.
+    #[arg(long)]
+    pub steps: Option<u32>,
+    /// Step period, s (default: the planned one). Between 0.1 and 10 times the planned period.
+    #[arg(long)]
+    pub period: Option<f64>,
+    /// Walk backward (slices in reverse order on the same footpaths).
+    #[arg(long)]
+    pub backward: bool,
+    /// Return once the board has started instead of following the steps.
+    #[arg(long)]
+    pub detach: bool,
+    #[command(flatten)]
+    pub board: BoardArgs,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let mut s = self.board.connect()?;
+        let slot = self.slot.or(s.setup.slot).unwrap_or(0);
+        if s.is_virtual() && (self.steps.is_none() || self.detach) {
+            bail!(
+                "the virtual robot lives only while dbot runs: give --steps K (and no --detach), \
+                 or use `dbot record --play` to walk and record in one command"
+            );
+        }
+        let command = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        s.board
+            .play(command)
+            .with_context(|| format!("playing slot {slot}"))?;
+        if self.detach {
+            println!("slot {slot}: playing");
+            return s.close();
+        }
+        follow(&mut s, self.steps)?;
+        s.close()
+    }
+}
+
+/// The play command for `slot`: the period (s) becomes a scale of the slot's planned period.
+pub fn play_command(
+    s: &mut Session,
+    slot: u8,
+    steps: Option<u32>,
+    period: Option<f64>,
+    backward: bool,
+) -> anyhow::Result<PlayCommand> {
+    let gaits = s.board.gaits()?;
+    let Some(gait) = gaits.iter().find(|g| g.slot == slot).and_then(|g| g.gait) else {
+        bail!(
+            "slot {slot} is empty (the board has slots 0..{}); upload a table first",
+            gaits.len()
+        );
+    };
+    let planned = f64::from(gait.header.step_period_us) * 1e-6;
+    let period_scale = match period {
+        None => protocol::units::PERIOD_SCALE_ONE,
+        Some(p) => {
+            let scale = (p / planned * 1000.0).round();
+            if !(p.is_finite() && (100.0..=10_000.0).contains(&scale)) {
+                bail!(
+                    "--period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
+                );
+            }
+            scale as u16
+        }
+    };
+    if steps == Some(0) {
+        bail!("--steps 0: give at least one step");
+    }
+    Ok(PlayCommand {
+        slot,
+        direction: if backward {
+            Direction::Backward
+        } else {
+            Direction::Forward
+        },
+        period_scale,
+        steps: steps.map_or(Steps::Continuous, Steps::Count),
+    })
+}
+
+/// Follows playback until the robot stands again (or a fault), with a progress bar over the steps.
+pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
+    let bar = match steps {
+        Some(k) => ProgressBar::new(u64::from(k)).with_style(
+            ProgressStyle::with_template("walking {bar:40} step {pos}/{len} {msg}")
+                .expect("template is valid"),
+        ),
+        None => ProgressBar::new_spinner(),
+    };
+    let mut started = false;
+    loop {
+        s.board.wait(Duration::from_millis(100))?;
+        s.board.discard_telemetry();
+        let st = s.board.status()?;
+        if let Some(p) = st.playback {
+            bar.set_position(u64::from(p.step));
+        }
+        bar.set_message(format!("{:?}", st.state));
+        match st.state {
+            RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
+            RunState::Standing if started => break,
+            RunState::Fault => {
+                bar.abandon();
+                bail!("the board stopped with a fault: {:?}", st.fault);
+            }
+            _ => {}
+        }
+    }
+    bar.finish_and_clear();
+    let t = s.board.now().as_secs_f64();
+    println!("done: the robot stands (board clock {t:.2} s)");
+    Ok(())
+}

@@ -1,0 +1,152 @@
+//! The tidy telemetry CSV, written row by row and flushed after every bus cycle.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use protocol::Telemetry;
+use protocol::units::angle_to_rad;
+
+use super::joints::JointMeta;
+
+/// Column names of the CSV, in order.
+pub const CSV_HEADER: [&str; 15] = [
+    "time_s",
+    "cycle",
+    "step",
+    "slice",
+    "joint",
+    "planned_rad",
+    "commanded_rad",
+    "present_rad",
+    "velocity_rad_s",
+    "load_raw",
+    "torque_estimate_nm",
+    "modelled_torque_nm",
+    "servo_error",
+    "flags",
+    "bus_cycle_us",
+];
+
+/// One row: one joint in one bus cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// Seconds since the first record of the recording (board clock).
+    pub time_s: f64,
+    pub cycle: u32,
+    pub step: u32,
+    pub slice: u16,
+    pub joint: usize,
+    /// Planned angle, interpolated like the goal: the commanded goal minus the torque bias
+    /// (modelled torque / stiffness) where both are known, else the table's angle at the slice.
+    pub planned_rad: Option<f64>,
+    /// Goal sent (planned angle plus the torque bias, clamped).
+    pub commanded_rad: f64,
+    pub present_rad: f64,
+    pub velocity_rad_s: f64,
+    pub load_raw: i16,
+    /// Joint torque estimated from the load register (ESTIMATE).
+    pub torque_estimate_nm: Option<f64>,
+    /// Modelled torque of the plan at this slice.
+    pub modelled_nm: Option<f64>,
+    pub error: u8,
+    pub flags: u8,
+    pub bus_cycle_us: u32,
+}
+
+/// Writes telemetry to a CSV as it arrives and keeps the rows for the plots.
+#[derive(Debug)]
+pub struct Recorder {
+    out: BufWriter<File>,
+    joints: Vec<JointMeta>,
+    t0_us: Option<u64>,
+    rows: Vec<Row>,
+}
+
+impl Recorder {
+    /// Creates `path` and writes the header.
+    pub fn create(path: &Path, joints: Vec<JointMeta>) -> std::io::Result<Self> {
+        let mut out = BufWriter::new(File::create(path)?);
+        writeln!(out, "{}", CSV_HEADER.join(","))?;
+        out.flush()?;
+        Ok(Self {
+            out,
+            joints,
+            t0_us: None,
+            rows: Vec::new(),
+        })
+    }
+
+    pub fn joints(&self) -> &[JointMeta] {
+        &self.joints
+    }
+
+    pub fn rows(&self) -> &[Row] {
+        &self.rows
+    }
+
+    /// Bus cycles recorded.
+    pub fn cycles(&self) -> usize {
+        self.rows.len() / self.joints.len().max(1)
+    }
+
+    /// Seconds between the first and the latest record.
+    pub fn duration_s(&self) -> f64 {
+        self.rows.last().map_or(0.0, |r| r.time_s)
+    }
+
+    /// Appends one record (one row per joint) and flushes it to the file.
+    pub fn push(&mut self, t: &Telemetry) -> std::io::Result<()> {
+        let t0 = *self.t0_us.get_or_insert(t.time_us);
+        let time_s = t.time_us.saturating_sub(t0) as f64 * 1e-6;
+        for (j, f) in t.joints.iter().enumerate() {
+            let meta = self.joints.get(j);
+            let commanded_rad = angle_to_rad(f.commanded);
+            let modelled_nm = meta.and_then(|m| m.modelled_nm.get(usize::from(t.slice)).copied());
+            let planned_rad = match (meta.and_then(|m| m.stiffness_nm_per_rad), modelled_nm) {
+                (Some(k), Some(tau)) if k > 0.0 => Some(commanded_rad - tau / k),
+                _ => meta.and_then(|m| m.planned_rad.get(usize::from(t.slice)).copied()),
+            };
+            let row = Row {
+                time_s,
+                cycle: t.cycle,
+                step: t.step,
+                slice: t.slice,
+                joint: j,
+                planned_rad,
+                commanded_rad,
+                present_rad: angle_to_rad(f.present),
+                velocity_rad_s: f64::from(f.velocity) / protocol::units::VELOCITY_PER_RAD_S,
+                load_raw: f.load,
+                torque_estimate_nm: meta.and_then(|m| m.torque_estimate_nm(f.load)),
+                modelled_nm,
+                error: f.error,
+                flags: f.flags,
+                bus_cycle_us: t.bus.cycle_us,
+            };
+            let name = meta.map_or_else(|| format!("J{j}"), |m| m.name.clone());
+            let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
+            writeln!(
+                self.out,
+                "{:.6},{},{},{},{},{},{:.4},{:.4},{:.3},{},{},{},{},{},{}",
+                row.time_s,
+                row.cycle,
+                row.step,
+                row.slice,
+                name,
+                opt(row.planned_rad),
+                row.commanded_rad,
+                row.present_rad,
+                row.velocity_rad_s,
+                row.load_raw,
+                opt(row.torque_estimate_nm),
+                opt(row.modelled_nm),
+                row.error,
+                row.flags,
+                row.bus_cycle_us
+            )?;
+            self.rows.push(row);
+        }
+        self.out.flush()
+    }
+}

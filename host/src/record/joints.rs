@@ -1,0 +1,56 @@
+//! What the recorder knows about each joint: a name, and from the step table the servo model and
+//! direction (to turn load registers into joint torques) and the modelled torque per slice.
+
+use protocol::{GaitTable, ServoModel};
+
+/// One joint of a recording.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointMeta {
+    /// `LF_ThC1`, or `J<n>` when no name is known.
+    pub name: String,
+    pub model: Option<ServoModel>,
+    /// +1 or -1: joint angle direction against servo ticks.
+    pub sign: i32,
+    /// Modelled torque per slice of the step, N m (empty when the table is unknown).
+    pub modelled_nm: Vec<f64>,
+    /// Planned angle per slice of the step, rad (empty when the table is unknown).
+    pub planned_rad: Vec<f64>,
+    /// Stiffness the board's torque bias divides by, N m/rad (from the table's joint map).
+    pub stiffness_nm_per_rad: Option<f64>,
+}
+
+/// The joints of a step table, named `names[j]` where given (else `J<j>`).
+pub fn joints_of_table(table: &GaitTable<'_>, names: &[String]) -> Vec<JointMeta> {
+    (0..table.joint_count())
+        .map(|j| {
+            let map = table.joint(j);
+            JointMeta {
+                name: names.get(j).cloned().unwrap_or_else(|| format!("J{j}")),
+                model: map.map(|m| m.model),
+                sign: map.map_or(1, |m| m.sign.as_i32()),
+                modelled_nm: (0..table.slice_count())
+                    .filter_map(|s| table.torque(s, j))
+                    .map(protocol::units::torque_to_nm)
+                    .collect(),
+                stiffness_nm_per_rad: map
+                    .map(|m| f64::from(m.stiffness) / protocol::units::STIFFNESS_PER_NM_RAD),
+                planned_rad: (0..table.slice_count())
+                    .filter_map(|s| table.angle(s, j))
+                    .map(protocol::units::angle_to_rad)
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+impl JointMeta {
+    /// Joint torque in N m of a load register value (ESTIMATE, see
+    /// `dynamixel::units::load_to_torque_nm`); `None` without a known servo model.
+    pub fn torque_estimate_nm(&self, load: i16) -> Option<f64> {
+        let model = match self.model? {
+            ServoModel::Mx64 => dynamixel::control_table::Model::Mx64V2,
+            _ => dynamixel::control_table::Model::Mx28V2,
+        };
+        Some(f64::from(dynamixel::units::load_to_torque_nm(model, load)) * f64::from(self.sign))
+    }
+}

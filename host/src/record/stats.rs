@@ -1,0 +1,80 @@
+//! Statistics of a recording: measured torque per phase of the step across steps (mean and spread),
+//! and angle tracking error per joint.
+
+use super::csv_out::Row;
+
+/// Measured and modelled torque of one joint at one slice of the step, over the recorded steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseStats {
+    /// Phase in the step, 0..1 (slice / slices).
+    pub phase: f64,
+    pub modelled_nm: Option<f64>,
+    /// Mean and standard deviation of the estimated torque, N m, over `n` samples.
+    pub mean_nm: f64,
+    pub sd_nm: f64,
+    pub n: usize,
+}
+
+/// Per slice of the step, the statistics of `joint` over the rows that carry a torque estimate.
+/// Rows of the start ramp (step 0 before walking) count like any other: the caller filters.
+pub fn phase_stats(rows: &[Row], joint: usize, slices: usize) -> Vec<PhaseStats> {
+    let mut acc = vec![(0usize, 0.0f64, 0.0f64, None); slices];
+    for r in rows.iter().filter(|r| r.joint == joint) {
+        let (Some(x), Some(a)) = (r.torque_estimate_nm, acc.get_mut(usize::from(r.slice))) else {
+            continue;
+        };
+        a.0 += 1;
+        a.1 += x;
+        a.2 += x * x;
+        a.3 = r.modelled_nm.or(a.3);
+    }
+    acc.into_iter()
+        .enumerate()
+        .filter(|(_, a)| a.0 > 0)
+        .map(|(s, (n, sum, sq, modelled))| {
+            let mean = sum / n as f64;
+            let var = (sq / n as f64 - mean * mean).max(0.0);
+            PhaseStats {
+                phase: s as f64 / slices as f64,
+                modelled_nm: modelled,
+                mean_nm: mean,
+                sd_nm: var.sqrt(),
+                n,
+            }
+        })
+        .collect()
+}
+
+/// How well `joint` followed the plan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointTracking {
+    pub joint: usize,
+    /// Root mean square of present - planned angle (present - commanded where no plan is known), rad.
+    pub rms_rad: f64,
+    pub max_abs_rad: f64,
+    pub samples: usize,
+}
+
+/// Tracking error of every joint over `rows`.
+///
+/// The reference is the planned angle: the commanded goal includes the torque bias, so under load
+/// the present angle differs from it by about torque / stiffness by design.
+pub fn tracking(rows: &[Row], joints: usize) -> Vec<JointTracking> {
+    (0..joints)
+        .map(|j| {
+            let (mut n, mut sq, mut max) = (0usize, 0.0f64, 0.0f64);
+            for r in rows.iter().filter(|r| r.joint == j) {
+                let e = r.present_rad - r.planned_rad.unwrap_or(r.commanded_rad);
+                n += 1;
+                sq += e * e;
+                max = max.max(e.abs());
+            }
+            JointTracking {
+                joint: j,
+                rms_rad: if n > 0 { (sq / n as f64).sqrt() } else { 0.0 },
+                max_abs_rad: max,
+                samples: n,
+            }
+        })
+        .collect()
+}
