@@ -5,7 +5,7 @@
 use core::cell::RefCell;
 
 use dynamixel::master::{BusMaster, Clock, DirectionPin, MasterConfig};
-use embedded_io_async::{Read, Write};
+use embedded_io_async::{Read, ReadReady, Write};
 use embedded_storage::nor_flash::NorFlash;
 
 use crate::bus_loop::{BusLoop, Timing};
@@ -25,7 +25,7 @@ pub struct Board<F, IO, D, C> {
 impl<F, IO, D, C> Board<F, IO, D, C>
 where
     F: NorFlash + FlashWindow,
-    IO: Read + Write,
+    IO: Read + ReadReady + Write,
     D: DirectionPin,
     C: Clock,
 {

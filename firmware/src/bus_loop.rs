@@ -7,7 +7,7 @@ use core::cell::RefCell;
 
 use dynamixel::control_table::{GOAL_POSITION, HARDWARE_ERROR_STATUS, TORQUE_ENABLE};
 use dynamixel::master::{BusError, BusMaster, Clock, DirectionPin, Reply, ReplyFault};
-use embedded_io_async::{Read, Write};
+use embedded_io_async::{Read, ReadReady, Write};
 use embedded_storage::nor_flash::NorFlash;
 
 use crate::controller::{BusAction, Controller, CyclePlan, Outcome};
@@ -70,7 +70,7 @@ impl BusLoop {
     where
         S: Shared<Controller<F>>,
         F: NorFlash + FlashWindow,
-        IO: Read + Write,
+        IO: Read + ReadReady + Write,
         D: DirectionPin,
         C: Clock,
     {
@@ -124,7 +124,7 @@ pub async fn perform<IO, D, C>(
     replies: &mut [Reply],
 ) -> Outcome
 where
-    IO: Read + Write,
+    IO: Read + ReadReady + Write,
     D: DirectionPin,
     C: Clock,
 {
@@ -169,7 +169,7 @@ where
 
 async fn torque<IO, D, C>(bus: &mut BusMaster<IO, D, C>, ids: &[u8], on: u8) -> Result<(), BusError>
 where
-    IO: Read + Write,
+    IO: Read + ReadReady + Write,
     D: DirectionPin,
     C: Clock,
 {
@@ -216,6 +216,11 @@ mod tests {
     impl Read for Silent {
         async fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> {
             core::future::pending().await
+        }
+    }
+    impl embedded_io_async::ReadReady for Silent {
+        fn read_ready(&mut self) -> Result<bool, Self::Error> {
+            Ok(false)
         }
     }
     impl Write for Silent {

@@ -31,6 +31,8 @@ pub mod link;
 pub mod memory_map;
 pub mod playback;
 pub mod safety;
+#[cfg(test)]
+mod sim_tests;
 pub mod store;
 pub mod telemetry;
 #[cfg(any(test, feature = "std"))]

@@ -44,11 +44,11 @@ fn ask(board: &mut SimBoard, client: &mut Client, request: Request) -> Response 
     board.receive(&frame, |f| out.extend_from_slice(f));
     let mut acc = FrameAccumulator::new();
     for &b in &out {
-        if let Some(m) = acc.push_message::<DeviceMessage>(b) {
-            if let Ok(DeviceMessage::Reply { seq: s, response }) = m {
-                assert_eq!(s, seq);
-                return response;
-            }
+        if let Some(Ok(DeviceMessage::Reply { seq: s, response })) =
+            acc.push_message::<DeviceMessage>(b)
+        {
+            assert_eq!(s, seq);
+            return response;
         }
     }
     panic!("no reply to {request:?}");
@@ -96,14 +96,22 @@ fn play(board: &mut SimBoard, client: &mut Client, steps: protocol::Steps) {
 }
 
 /// Runs bus cycles until `done` or `max` cycles; returns how many ran.
-fn run_until(board: &mut SimBoard, wire: &SimWire, max: usize, done: impl Fn(&SimBoard) -> bool) -> usize {
+fn run_until(
+    board: &mut SimBoard,
+    wire: &SimWire,
+    max: usize,
+    done: impl Fn(&SimBoard) -> bool,
+) -> usize {
     for i in 0..max {
         if done(board) {
             return i;
         }
         wire.block_on(board.run_cycle());
     }
-    panic!("not done after {max} cycles: {:?}", board.controller.borrow().state());
+    panic!(
+        "not done after {max} cycles: {:?}",
+        board.controller.borrow().state()
+    );
 }
 
 #[test]
@@ -112,21 +120,24 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     let mut client = Client::new();
     let gait = SyntheticGait::new(100, 1.0);
     // Boot finds no map (empty store), then the upload brings one: Boot again finds all 22.
-    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    run_until(&mut board, &wire, 5, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
     upload(&mut board, &mut client, 0, &gait.build());
-    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    run_until(&mut board, &wire, 5, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
     assert_eq!(board.controller.borrow().joints().len(), JOINTS);
 
     play(&mut board, &mut client, protocol::Steps::Count(10));
-    run_until(&mut board, &wire, 500, |b| b.controller.borrow().state() == State::Walking);
+    run_until(&mut board, &wire, 500, |b| {
+        b.controller.borrow().state() == State::Walking
+    });
     wire.with_chain(|c| assert!(c.servos().iter().all(|s| s.torque_enabled())));
 
-    // Walk: after each cycle, compare every servo with the goal it was sent that cycle.
-    let mut worst = vec![0i32; JOINTS];
-    let mut lo = vec![i32::MAX; JOINTS];
-    let mut hi = vec![i32::MIN; JOINTS];
-    let mut goal_lo = vec![i32::MAX; JOINTS];
-    let mut goal_hi = vec![i32::MIN; JOINTS];
+    // Walk: after each cycle, record every servo's position and the goal it was sent that cycle.
+    let mut pos: Vec<Vec<i32>> = vec![vec![]; JOINTS];
+    let mut goal: Vec<Vec<i32>> = vec![vec![]; JOINTS];
     let mut cycles = 0;
     while board.controller.borrow().state() == State::Walking {
         wire.block_on(board.run_cycle());
@@ -135,15 +146,8 @@ fn ten_steps_with_all_22_virtual_servos_following() {
         let goals = board.controller.borrow().goals().to_vec();
         wire.with_chain(|c| {
             for (j, s) in c.servos().iter().enumerate() {
-                let p = s.position_ticks();
-                // Skip the first step: the servos are still catching up with the gait's speed.
-                if cycles > 100 {
-                    worst[j] = worst[j].max((p - goals[j]).abs());
-                }
-                lo[j] = lo[j].min(p);
-                hi[j] = hi[j].max(p);
-                goal_lo[j] = goal_lo[j].min(goals[j]);
-                goal_hi[j] = goal_hi[j].max(goals[j]);
+                pos[j].push(s.position_ticks());
+                goal[j].push(goals[j]);
             }
         });
         assert!(cycles < 2000);
@@ -155,18 +159,40 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     assert_eq!(cycles, 1000);
     assert_eq!(c.counters().overruns, 0);
     assert_eq!(c.counters().timeouts, 0);
-    eprintln!("worst tracking error per servo (ticks): {worst:?}");
+    // A position-controlled servo follows like a first-order lag (the chain models a time
+    // constant of about 35 ms): its position is the goal of a few cycles ago. Past the first step
+    // (catching up), find per servo the delay that fits best and what is left over.
     for j in 0..JOINTS {
-        let swing = (hi[j] - lo[j]) as f64;
-        let planned = (goal_hi[j] - goal_lo[j]) as f64;
-        // Each servo swings through the commanded range (within 10 %) ...
+        let (delay, rms) = (0..10)
+            .map(|d| {
+                let e: f64 = (100..cycles)
+                    .map(|k| f64::from(pos[j][k] - goal[j][k - d]).powi(2))
+                    .sum::<f64>()
+                    / (cycles - 100) as f64;
+                (d, e.sqrt())
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        let worst = (100..cycles)
+            .map(|k| (pos[j][k] - goal[j][k]).abs())
+            .max()
+            .unwrap();
+        let swing = pos[j].iter().max().unwrap() - pos[j].iter().min().unwrap();
+        let planned = goal[j].iter().max().unwrap() - goal[j].iter().min().unwrap();
+        eprintln!(
+            "servo {:2}: delay {delay} cycles, rms {rms:.1} ticks after it, worst lag {worst} ticks, \
+             swing {swing} of {planned} ticks",
+            j + 1
+        );
+        // Through the commanded range (within 10 %), 20 to 60 ms behind, within 1 degree of the
+        // delayed goal (11 ticks rms).
         assert!(
-            (swing - planned).abs() <= 0.1 * planned,
+            f64::from((swing - planned).abs()) <= 0.1 * f64::from(planned),
             "servo {}: swing {swing} vs commanded {planned}",
             j + 1
         );
-        // ... and stays close to its goal: within 3 degrees (34 ticks).
-        assert!(worst[j] <= 34, "servo {} lagged {} ticks", j + 1, worst[j]);
+        assert!((2..=6).contains(&delay), "servo {} delay {delay}", j + 1);
+        assert!(rms <= 11.0, "servo {} rms {rms:.1} ticks", j + 1);
     }
     drop(c);
     // Standing: every servo settles on the goal of slice 0.
@@ -180,7 +206,11 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     }
     wire.with_chain(|ch| {
         for (j, s) in ch.servos().iter().enumerate() {
-            assert!((s.position_ticks() - goals[j]).abs() <= 2, "servo {} at rest", j + 1);
+            assert!(
+                (s.position_ticks() - goals[j]).abs() <= 2,
+                "servo {} at rest",
+                j + 1
+            );
         }
     });
 }
@@ -190,11 +220,22 @@ fn ten_steps_with_all_22_virtual_servos_following() {
 fn measure(baud: u32, cycle_hz: u16) -> (f64, u32, u32, u64) {
     let (mut board, wire) = rig(baud, cycle_hz);
     let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
-    upload(&mut board, &mut client, 0, &SyntheticGait::new(100, 1.0).build());
-    run_until(&mut board, &wire, 5, |b| b.controller.borrow().state() == State::Idle);
+    run_until(&mut board, &wire, 5, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
+    upload(
+        &mut board,
+        &mut client,
+        0,
+        &SyntheticGait::new(100, 1.0).build(),
+    );
+    run_until(&mut board, &wire, 5, |b| {
+        b.controller.borrow().state() == State::Idle
+    });
     play(&mut board, &mut client, protocol::Steps::Continuous);
-    run_until(&mut board, &wire, 5000, |b| b.controller.borrow().state() == State::Walking);
+    run_until(&mut board, &wire, 5000, |b| {
+        b.controller.borrow().state() == State::Walking
+    });
     // Measure walking cycles only: every one a Sync Write of 22 goals + Sync Read of 22 x 10 bytes.
     board.schedule.timing = Default::default();
     let cycles = 2 * usize::from(cycle_hz);
