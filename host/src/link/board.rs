@@ -241,8 +241,10 @@ impl<T: Transport> Board<T> {
     pub fn wait(&mut self, duration: Duration) -> Result<(), LinkError> {
         let deadline = self.transport.now() + duration;
         while let Some(m) = self.next_message(deadline)? {
-            if let DeviceMessage::Telemetry(t) = m {
-                self.keep_telemetry(t);
+            match m {
+                DeviceMessage::Telemetry(t) => self.keep_telemetry(t),
+                DeviceMessage::Proprioception(p) => self.keep_proprioception(p),
+                _ => {}
             }
         }
         Ok(())
