@@ -1,0 +1,43 @@
+"""Shared fixtures: a virtual robot standing in the posture of a planned tripod gait.
+
+Every test here runs on the in-process virtual robot (``Board.open("virtual")``): the firmware
+library's controller and link dispatcher over simulated servos and a simulated clock, so the tests
+need no hardware and run faster than real time.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import dbot
+
+
+@pytest.fixture(scope="session")
+def model() -> dbot.Model:
+    return dbot.Model.builtin("drosophibot2")
+
+
+@pytest.fixture(scope="session")
+def tripod_plan(model: dbot.Model) -> dbot.Plan:
+    # 50 slices keep the table small; the gait is the paper's table 1 tripod.
+    return dbot.plan(model, slices=50)
+
+
+def standing_board(plan: dbot.Plan, cycle_hz: int = 100) -> dbot.Board:
+    """A virtual robot with `plan` in slot 0, played for one step so it stands in the gait's
+    posture (streaming may only start from standing), at `cycle_hz` bus cycles per second."""
+    board = dbot.Board.open("virtual")
+    board.set_bus(1_000_000, cycle_hz)
+    board.upload_plan(0, plan)
+    board.play(0, steps=1)
+    for _ in range(100):
+        board.wait(0.1)
+        if board.status()["state"] == "Standing":
+            return board
+    raise AssertionError(f"the virtual robot never stood: {board.status()}")
+
+
+def servo_rest(plan: dbot.Plan, model: dbot.Model) -> np.ndarray:
+    """The gait's first slice at the servo joints (joint-map order), rad."""
+    return plan.angles[0, model.servo_joints]
