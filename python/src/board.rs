@@ -268,7 +268,8 @@ impl Board {
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
         let d = seconds(timeout_s, "timeout_s")?;
         let rec = self.with(py, move |l| l.proprioception(d))?;
-        rec.map(|p| records::proprioception_dict(py, &[p])).transpose()
+        rec.map(|p| records::proprioception_dict(py, &[p]))
+            .transpose()
     }
 
     /// Every proprioception record received so far, without waiting: a dict of arrays.

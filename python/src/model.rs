@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use numpy::{PyArray2, ToPyArray};
 use numpy::ndarray::Array2;
+use numpy::{PyArray2, ToPyArray};
 use pyo3::prelude::*;
 
 use crate::errors::value_error;

@@ -79,7 +79,12 @@ fn rows<'py>(py: Python<'py>, v: &[Vec<f64>]) -> Bound<'py, PyArray2<f64>> {
 
 impl Plan {
     /// The step table bytes (see the Python method `step_table`).
-    pub(crate) fn table_bytes(&self, py: Python<'_>, name: &str, torques: bool) -> PyResult<Vec<u8>> {
+    pub(crate) fn table_bytes(
+        &self,
+        py: Python<'_>,
+        name: &str,
+        torques: bool,
+    ) -> PyResult<Vec<u8>> {
         let tau = if torques {
             Some(py.detach(|| self.solved_torques().cloned())?)
         } else {
@@ -155,7 +160,12 @@ impl Plan {
 
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.inner.model.joints.iter().map(|j| j.name.clone()).collect()
+        self.inner
+            .model
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect()
     }
 
     /// Start of each leg's cycle, fraction of the period, in `legs` order.

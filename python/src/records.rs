@@ -1,8 +1,8 @@
 //! Telemetry, proprioception and status as Python values: per-cycle records become one dict of
 //! NumPy arrays ([record] and [record, joint]) in SI units; raw registers stay raw and say so.
 
-use numpy::ndarray::{Array1, Array2};
 use numpy::ToPyArray;
+use numpy::ndarray::{Array1, Array2};
 use protocol::{JointFeedback, Proprioception, Status, Telemetry};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -21,9 +21,18 @@ fn joint_columns<'py>(
     };
     let angle = protocol::units::ANGLE_PER_RAD;
     let vel = protocol::units::VELOCITY_PER_RAD_S;
-    d.set_item("commanded_rad", f(&|x| f64::from(x.commanded) / angle).to_pyarray(py))?;
-    d.set_item("present_rad", f(&|x| f64::from(x.present) / angle).to_pyarray(py))?;
-    d.set_item("velocity_rad_s", f(&|x| f64::from(x.velocity) / vel).to_pyarray(py))?;
+    d.set_item(
+        "commanded_rad",
+        f(&|x| f64::from(x.commanded) / angle).to_pyarray(py),
+    )?;
+    d.set_item(
+        "present_rad",
+        f(&|x| f64::from(x.present) / angle).to_pyarray(py),
+    )?;
+    d.set_item(
+        "velocity_rad_s",
+        f(&|x| f64::from(x.velocity) / vel).to_pyarray(py),
+    )?;
     let raw = |g: &dyn Fn(&JointFeedback) -> i32| {
         Array2::from_shape_fn((n, j), |(i, k)| get(i, k).map_or(0, |x| g(&x)))
     };
@@ -43,7 +52,10 @@ pub fn telemetry_dict<'py>(py: Python<'py>, recs: &[Telemetry]) -> PyResult<Boun
     d.set_item("cycle", icol(&|t| i64::from(t.cycle)).to_pyarray(py))?;
     d.set_item("step", icol(&|t| i64::from(t.step)).to_pyarray(py))?;
     d.set_item("slice", icol(&|t| i64::from(t.slice)).to_pyarray(py))?;
-    d.set_item("cycle_us", icol(&|t| i64::from(t.bus.cycle_us)).to_pyarray(py))?;
+    d.set_item(
+        "cycle_us",
+        icol(&|t| i64::from(t.bus.cycle_us)).to_pyarray(py),
+    )?;
     let rows: Vec<&[JointFeedback]> = recs.iter().map(|t| t.joints.as_slice()).collect();
     joint_columns(py, &d, &rows)?;
     Ok(d)
@@ -60,9 +72,18 @@ pub fn proprioception_dict<'py>(
     let icol = |g: &dyn Fn(&Proprioception) -> i64| Array1::from_iter(recs.iter().map(g));
     d.set_item("time_us", icol(&|p| p.time_us as i64).to_pyarray(py))?;
     d.set_item("cycle", icol(&|p| i64::from(p.cycle)).to_pyarray(py))?;
-    d.set_item("setpoint_seq", icol(&|p| i64::from(p.setpoint_seq)).to_pyarray(py))?;
-    d.set_item("setpoint_age", icol(&|p| i64::from(p.setpoint_age)).to_pyarray(py))?;
-    d.set_item("cycle_us", icol(&|p| i64::from(p.bus.cycle_us)).to_pyarray(py))?;
+    d.set_item(
+        "setpoint_seq",
+        icol(&|p| i64::from(p.setpoint_seq)).to_pyarray(py),
+    )?;
+    d.set_item(
+        "setpoint_age",
+        icol(&|p| i64::from(p.setpoint_age)).to_pyarray(py),
+    )?;
+    d.set_item(
+        "cycle_us",
+        icol(&|p| i64::from(p.bus.cycle_us)).to_pyarray(py),
+    )?;
     let rows: Vec<&[JointFeedback]> = recs.iter().map(|p| p.joints.as_slice()).collect();
     joint_columns(py, &d, &rows)?;
     Ok(d)
@@ -83,9 +104,6 @@ pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDi
     }
     d.set_item("torque_enabled", s.torque_enabled)?;
     d.set_item("counters", format!("{:?}", s.counters))?;
-    d.set_item(
-        "playback",
-        s.playback.map(|p| (p.slot, p.step, p.slice)),
-    )?;
+    d.set_item("playback", s.playback.map(|p| (p.slot, p.step, p.slice)))?;
     Ok(d)
 }

@@ -69,7 +69,12 @@ pub fn setpoint_from_si(
     for (j, &a) in angles_rad.iter().enumerate() {
         let angle = fixed(j, "angle (rad)", a, protocol::units::ANGLE_PER_RAD)?;
         let torque = match torques_nm {
-            Some(t) => Some(fixed(j, "torque (N m)", t[j], protocol::units::TORQUE_PER_NM)?),
+            Some(t) => Some(fixed(
+                j,
+                "torque (N m)",
+                t[j],
+                protocol::units::TORQUE_PER_NM,
+            )?),
             None => None,
         };
         // Cannot fail: the length was checked against MAX_JOINTS above.
@@ -93,12 +98,11 @@ impl<T: Transport> Board<T> {
     /// Sends one setpoint (not answered: its `seq` comes back in [`Proprioception::setpoint_seq`]).
     pub fn send_setpoint(&mut self, setpoint: &Setpoint) -> Result<(), LinkError> {
         let mut buf = [0u8; MAX_FRAME_LEN];
-        let frame = Client::encode_setpoint(setpoint, &mut buf).map_err(|error| {
-            LinkError::Encode {
+        let frame =
+            Client::encode_setpoint(setpoint, &mut buf).map_err(|error| LinkError::Encode {
                 request: "Setpoint",
                 error,
-            }
-        })?;
+            })?;
         let frame = frame.to_vec();
         self.send_raw(&frame)
     }

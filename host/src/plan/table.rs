@@ -4,7 +4,7 @@
 use protocol::gait::{GaitTableBuilder, JointSpec, ServoModel, Sign};
 
 use super::Plan;
-use crate::model::{ActuatorKind, Actuation, Leg, Model};
+use crate::model::{Actuation, ActuatorKind, Leg, Model};
 
 /// Why a plan cannot become a step table.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
