@@ -2,10 +2,13 @@
 
 Every test here runs on the in-process virtual robot (``Board.open("virtual")``): the firmware
 library's controller and link dispatcher over simulated servos and a simulated clock, so the tests
-need no hardware and run faster than real time.
+need no hardware and run faster than real time. The closed-loop tests also run against the port in
+``DBOT_TEST_PORT`` when it is set (a board's ``/dev/ttyACM0`` or the RP2040 emulator's pty).
 """
 
 from __future__ import annotations
+
+import os
 
 import numpy as np
 import pytest
@@ -24,10 +27,19 @@ def tripod_plan(model: dbot.Model) -> dbot.Plan:
     return dbot.plan(model, slices=50)
 
 
-def standing_board(plan: dbot.Plan, cycle_hz: int = 100) -> dbot.Board:
-    """A virtual robot with `plan` in slot 0, played for one step so it stands in the gait's
-    posture (streaming may only start from standing), at `cycle_hz` bus cycles per second."""
-    board = dbot.Board.open("virtual")
+#: Ports the closed-loop tests run on.
+PORTS = ["virtual"] + ([os.environ["DBOT_TEST_PORT"]] if os.environ.get("DBOT_TEST_PORT") else [])
+
+
+@pytest.fixture(params=PORTS)
+def port(request) -> str:
+    return request.param
+
+
+def standing_board(plan: dbot.Plan, cycle_hz: int = 100, port: str = "virtual") -> dbot.Board:
+    """A board with `plan` in slot 0, played for one step so it stands in the gait's posture
+    (streaming may only start from standing), at `cycle_hz` bus cycles per second."""
+    board = dbot.Board.open(port)
     board.set_bus(1_000_000, cycle_hz)
     board.upload_plan(0, plan)
     board.play(0, steps=1)
