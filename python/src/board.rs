@@ -20,7 +20,8 @@ type Link = host::link::Board<Box<dyn Transport>>;
 #[pyclass(module = "dbot._native")]
 #[derive(Debug)]
 pub struct Board {
-    link: Mutex<Link>,
+    /// None once closed.
+    link: Mutex<Option<Link>>,
     port: String,
     next_seq: Mutex<u32>,
 }
@@ -38,9 +39,10 @@ impl Board {
         f: impl FnOnce(&mut Link) -> Result<R, host::link::LinkError> + Send,
     ) -> PyResult<R> {
         py.detach(|| {
-            let mut link = self.link.lock().unwrap_or_else(|e| e.into_inner());
-            f(&mut link)
+            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+            guard.as_mut().map(f)
         })
+        .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?
         .map_err(board_error)
     }
 }
@@ -64,7 +66,7 @@ impl Board {
             })
             .map_err(board_error)?;
         Ok(Self {
-            link: Mutex::new(link),
+            link: Mutex::new(Some(link)),
             port: port.to_owned(),
             next_seq: Mutex::new(1),
         })
@@ -78,14 +80,44 @@ impl Board {
 
     /// The board's clock as the host sees it, s: wall time on a port, simulated time on the
     /// virtual robot.
-    fn now(&self) -> f64 {
-        let link = self.link.lock().unwrap_or_else(|e| e.into_inner());
-        link.now().as_secs_f64()
+    fn now(&self) -> PyResult<f64> {
+        let guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_ref()
+            .ok_or_else(|| board_error("the board was closed"))?;
+        Ok(link.now().as_secs_f64())
+    }
+
+    /// Closes the link (the port can be opened again; a virtual robot with a flash file saves
+    /// it). Further calls raise `BoardError`.
+    fn close(&self, py: Python<'_>) -> PyResult<()> {
+        let link = self.link.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let Some(link) = link {
+            py.detach(|| {
+                let mut t = link.into_transport();
+                t.shutdown()
+            })
+            .map_err(board_error)?;
+        }
+        Ok(())
+    }
+
+    fn __enter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    #[pyo3(signature = (*_args))]
+    fn __exit__(&self, py: Python<'_>, _args: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<bool> {
+        self.close(py)?;
+        Ok(false)
     }
 
     /// Firmware version, protocol and table format versions, slots.
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let link = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_ref()
+            .ok_or_else(|| board_error("the board was closed"))?;
         let i = link.info();
         let d = PyDict::new(py);
         let f = i.firmware;
