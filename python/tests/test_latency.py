@@ -80,7 +80,11 @@ def test_latency_on_a_port_within_two_cycles(tripod_plan, model, cycle_hz: int) 
     recs = board.drain_proprioception()
     for seq, t in zip(recs["setpoint_seq"], recs["time_us"]):
         applied.setdefault(int(seq), int(t))
-    lat = np.array([applied[s] - seen_before[s] for s in seen_before if s in applied]) * 1e-6
+    # A record from before our first setpoint can echo an earlier session's number: skip those.
+    lat = (
+        np.array([applied[s] - seen_before[s] for s in seen_before if applied.get(s, -1) >= seen_before[s]])
+        * 1e-6
+    )
     assert len(lat) >= 45, "setpoints lost"
     period = 1.0 / cycle_hz
     print(
@@ -88,4 +92,6 @@ def test_latency_on_a_port_within_two_cycles(tripod_plan, model, cycle_hz: int) 
         f"median {np.median(lat) * 1e3:.2f} ms, max {lat.max() * 1e3:.2f} ms "
         f"({lat.max() / period:.2f} cycles)"
     )
-    assert lat.max() <= 2 * period
+    # The bound includes the host's reaction after the record it saw, so it exceeds the true
+    # latency; 2 us of slack for the board's timer rounding.
+    assert lat.max() <= 2 * period + 2e-6
