@@ -7,8 +7,8 @@ use std::time::Duration;
 
 use protocol::client::Reply;
 use protocol::{
-    Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, ProtocolError, Request,
-    Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
+    Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Proprioception,
+    ProtocolError, Request, Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
 };
 
 use super::error::LinkError;
@@ -32,6 +32,8 @@ pub struct Board<T: Transport> {
     acc: FrameAccumulator,
     inbox: VecDeque<DeviceMessage>,
     telemetry: VecDeque<Telemetry>,
+    /// Streaming feedback set aside for [`Board::proprioception`] (see `stream.rs`).
+    pub(super) proprioception: VecDeque<Proprioception>,
     info: DeviceInfo,
     reply_timeout: Duration,
     /// Frames from the board that failed to decode.
@@ -49,6 +51,7 @@ impl<T: Transport> Board<T> {
             acc: FrameAccumulator::new(),
             inbox: VecDeque::new(),
             telemetry: VecDeque::new(),
+            proprioception: VecDeque::new(),
             info: placeholder_info(),
             reply_timeout: DEFAULT_REPLY_TIMEOUT,
             bad_frames: 0,
@@ -175,8 +178,10 @@ impl<T: Transport> Board<T> {
                     });
                 }
                 DeviceMessage::Telemetry(t) => self.keep_telemetry(t),
-                // Streaming traffic is not ours to answer.
-                _ => {}
+                DeviceMessage::Proprioception(p) => self.keep_proprioception(p),
+                // A refused streaming setpoint is not an answer to this request; the stream's
+                // proprioception shows which setpoint the board last applied.
+                DeviceMessage::SetpointRejected { .. } => {}
             }
         }
     }
@@ -188,8 +193,10 @@ impl<T: Transport> Board<T> {
         }
         let deadline = self.transport.now() + timeout;
         while let Some(message) = self.next_message(deadline)? {
-            if let DeviceMessage::Telemetry(t) = message {
-                return Ok(Some(t));
+            match message {
+                DeviceMessage::Telemetry(t) => return Ok(Some(t)),
+                DeviceMessage::Proprioception(p) => self.keep_proprioception(p),
+                _ => {}
             }
         }
         Ok(None)
@@ -237,8 +244,10 @@ impl<T: Transport> Board<T> {
     pub fn wait(&mut self, duration: Duration) -> Result<(), LinkError> {
         let deadline = self.transport.now() + duration;
         while let Some(m) = self.next_message(deadline)? {
-            if let DeviceMessage::Telemetry(t) = m {
-                self.keep_telemetry(t);
+            match m {
+                DeviceMessage::Telemetry(t) => self.keep_telemetry(t),
+                DeviceMessage::Proprioception(p) => self.keep_proprioception(p),
+                _ => {}
             }
         }
         Ok(())
@@ -281,7 +290,10 @@ impl<T: Transport> Board<T> {
     }
 
     /// The next decoded message, reading until `deadline` on the transport's clock.
-    fn next_message(&mut self, deadline: Duration) -> Result<Option<DeviceMessage>, LinkError> {
+    pub(super) fn next_message(
+        &mut self,
+        deadline: Duration,
+    ) -> Result<Option<DeviceMessage>, LinkError> {
         let mut buf = [0u8; 4096];
         loop {
             if let Some(m) = self.inbox.pop_front() {
@@ -304,7 +316,7 @@ impl<T: Transport> Board<T> {
         }
     }
 
-    fn keep_telemetry(&mut self, t: Telemetry) {
+    pub(super) fn keep_telemetry(&mut self, t: Telemetry) {
         if self.telemetry.len() >= TELEMETRY_BACKLOG {
             self.telemetry.pop_front();
             self.telemetry_dropped += 1;

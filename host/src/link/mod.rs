@@ -9,6 +9,7 @@ mod devices;
 mod error;
 mod port;
 mod serial;
+mod stream;
 mod transport;
 mod upload;
 
@@ -17,5 +18,6 @@ pub use devices::{BoardPort, list_boards};
 pub use error::LinkError;
 pub use port::PortSpec;
 pub use serial::SerialTransport;
+pub use stream::{SetpointError, setpoint_from_si};
 pub use transport::{Transport, TransportError};
 pub use upload::{UploadReport, Uploaded};

@@ -1,0 +1,34 @@
+"""Drosophibot II from Python: models, gait planning, boards, streaming setpoints.
+
+Thin typed bindings over the Rust host library (``host`` crate) built with PyO3:
+
+* :class:`Model` - an organism model (``Model.builtin("drosophibot2")``, ``Model.load(path)``).
+* :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
+* :class:`Board` - a board, the RP2040 emulator's pseudo-terminal or the virtual robot
+  (``Board.open("virtual")``), with upload, playback, telemetry and the streaming mode
+  (``enter_streaming``, ``send_setpoint``, ``next_proprioception``).
+
+Units are SI (m, rad, s, N m); arrays are indexed ``[slice, joint]`` / ``[record, joint]``.
+"""
+
+from ._native import (
+    BUILTIN_MODELS,
+    Board,
+    BoardError,
+    DbotError,
+    Model,
+    Plan,
+    __version__,
+    plan,
+)
+
+__all__ = [
+    "BUILTIN_MODELS",
+    "Board",
+    "BoardError",
+    "DbotError",
+    "Model",
+    "Plan",
+    "__version__",
+    "plan",
+]

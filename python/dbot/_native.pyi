@@ -1,0 +1,185 @@
+"""Type stubs of the native module ``dbot._native`` (PyO3). See the package docstring."""
+
+from os import PathLike
+from typing import Any, Literal, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+BUILTIN_MODELS: list[str]
+
+class DbotError(Exception):
+    """Base class of the errors raised by dbot."""
+
+class BoardError(DbotError):
+    """The link to a board failed: it vanished, did not answer, or refused a request."""
+
+class Model:
+    """An organism model: bodies, joints, feet and the servo map."""
+
+    @staticmethod
+    def builtin(name: str) -> Model:
+        """A built-in model by name (``BUILTIN_MODELS``); ValueError naming the known ones."""
+    @staticmethod
+    def load(path: str | PathLike[str]) -> Model:
+        """A model from a ``.toml`` model file or an AnimatLab ``.aproj`` project."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def joint_names(self) -> list[str]:
+        """Every joint's full name (``LF_ThC1``, ...), model order: the columns of ``Plan.angles``."""
+    @property
+    def servo_joint_names(self) -> list[str]:
+        """Joints with a servo, in the board's joint-map order: the columns of setpoints,
+        telemetry and proprioception."""
+    @property
+    def servo_joints(self) -> list[int]:
+        """Indices into ``joint_names`` of the servo joints."""
+    @property
+    def legs(self) -> list[str]: ...
+    @property
+    def limits(self) -> npt.NDArray[np.float64]:
+        """Joint limits, rad: [joint, 2] of (lower, upper)."""
+    @property
+    def mass_kg(self) -> float: ...
+
+class Plan:
+    """A planned step cycle; arrays are indexed [slice, joint] / [slice, leg]."""
+
+    @property
+    def angles(self) -> npt.NDArray[np.float64]:
+        """Joint angles, rad: [slice, joint] in ``joint_names`` order."""
+    @property
+    def velocities(self) -> npt.NDArray[np.float64]:
+        """rad/s: [slice, joint]."""
+    @property
+    def accelerations(self) -> npt.NDArray[np.float64]:
+        """rad/s^2: [slice, joint]."""
+    @property
+    def stance(self) -> npt.NDArray[np.bool_]:
+        """[slice, leg] in ``legs`` order."""
+    @property
+    def feet(self) -> npt.NDArray[np.float64]:
+        """Foot targets in the thorax frame, m: [slice, leg, xyz]."""
+    @property
+    def torques(self) -> npt.NDArray[np.float64]:
+        """Actuator torques of the inverse dynamics (floating base), N m: [slice, joint]."""
+    @property
+    def legs(self) -> list[str]: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def phases(self) -> list[float]:
+        """Start of each leg's cycle, fraction of the period."""
+    @property
+    def dt(self) -> float:
+        """Slice duration, s."""
+    @property
+    def period_s(self) -> float: ...
+    @property
+    def duty(self) -> float: ...
+    @property
+    def slices(self) -> int: ...
+    @property
+    def model(self) -> Model: ...
+    def step_table(self, name: str = "dbot-gait", torques: bool = False) -> bytes:
+        """The board's step table; with ``torques`` the planned torques are the bias feed-forward."""
+
+def plan(
+    model: Model,
+    *,
+    swing_s: float = ...,
+    duty: float = ...,
+    step_height_m: dict[str, float] = ...,
+    translation_m: float = ...,
+    rotation_rad: float = ...,
+    body_height_m: dict[str, float] = ...,
+    gait: dict[str, float] = ...,
+    slices: int = ...,
+    terrain: str = ...,
+    ball_radius_m: float = ...,
+) -> Plan:
+    """Plans one step cycle; keyword arguments override the paper's table 1 values
+    (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c})."""
+
+class Status(TypedDict):
+    state: Literal["Idle", "Standing", "Ramping", "Walking", "Stopping", "Streaming", "Fault"]
+    fault: dict[str, Any] | None
+    torque_enabled: int
+    counters: str
+    playback: tuple[int, int, int] | None
+
+class Records(TypedDict):
+    """Per-cycle records: [record] and [record, joint] arrays (joint-map order)."""
+
+    time_s: npt.NDArray[np.float64]
+    cycle: npt.NDArray[np.int64]
+    cycle_us: npt.NDArray[np.int64]
+    commanded_rad: npt.NDArray[np.float64]
+    present_rad: npt.NDArray[np.float64]
+    velocity_rad_s: npt.NDArray[np.float64]
+    load_raw: npt.NDArray[np.int32]
+    """Register 126 as read: MX-28 load in 0.1 % of max, MX-64 current in ~3.36 mA."""
+    error: npt.NDArray[np.int32]
+    flags: npt.NDArray[np.int32]
+
+class Telemetry(Records):
+    step: npt.NDArray[np.int64]
+    slice: npt.NDArray[np.int64]
+
+class Proprioception(Records):
+    time_us: npt.NDArray[np.int64]
+    setpoint_seq: npt.NDArray[np.int64]
+    setpoint_age: npt.NDArray[np.int64]
+
+class Board:
+    """A board, the RP2040 emulator's pseudo-terminal, or the in-process virtual robot."""
+
+    @staticmethod
+    def open(port: str, reply_timeout_s: float = 2.0) -> Board:
+        """``/dev/ttyACM0`` or a pty path, ``virtual`` or ``virtual:PATH``; checks versions."""
+    @property
+    def port(self) -> str: ...
+    def now(self) -> float:
+        """The board's clock as the host sees it, s (simulated time on the virtual robot)."""
+    def close(self) -> None:
+        """Closes the link (a serial port is exclusive); later calls raise BoardError."""
+    def __enter__(self) -> Board: ...
+    def __exit__(self, *args: object) -> bool: ...
+    def info(self) -> dict[str, Any]: ...
+    def status(self) -> Status: ...
+    def upload(self, slot: int, table: bytes) -> int:
+        """Uploads and verifies a step table; returns the bytes sent."""
+    def upload_plan(
+        self, slot: int, plan: Plan, name: str = "dbot-gait", torques: bool = False
+    ) -> int: ...
+    def play(
+        self,
+        slot: int,
+        steps: int | None = None,
+        period_scale: float = 1.0,
+        backward: bool = False,
+    ) -> None: ...
+    def stop(self) -> None: ...
+    def emergency_stop(self) -> None: ...
+    def clear_fault(self) -> None: ...
+    def set_torque(self, enable: bool, joint: int | None = None) -> None: ...
+    def set_telemetry(self, every: int) -> None: ...
+    def set_bus(self, baud: int, cycle_hz: int) -> None: ...
+    def wait(self, seconds: float) -> None:
+        """Lets time pass on the board's clock, keeping telemetry and proprioception."""
+    def record(self, duration_s: float) -> Telemetry: ...
+    def enter_streaming(self, timeout_cycles: int = 5, feedback_every: int = 1) -> None:
+        """From standing only. No setpoint for ``timeout_cycles`` cycles: hold, then safe
+        (state ``Fault``, fault kind ``SetpointTimeout``)."""
+    def leave_streaming(self) -> None: ...
+    def send_setpoint(
+        self,
+        angles_rad: npt.ArrayLike,
+        torques_nm: npt.ArrayLike | None = None,
+    ) -> int:
+        """Targets for the next bus cycle (rad, joint-map order); returns the sequence number."""
+    def next_proprioception(self, timeout_s: float = 0.1) -> Proprioception | None: ...
+    def drain_proprioception(self) -> Proprioception: ...
+

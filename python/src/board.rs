@@ -1,0 +1,315 @@
+//! `dbot.Board`: a board, the RP2040 emulator's pseudo-terminal, or the in-process virtual robot,
+//! opened by port name exactly as `dbot --port` does. Blocking calls release the GIL.
+
+use std::sync::Mutex;
+use std::time::Duration;
+
+use host::link::{PortSpec, Transport};
+use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use crate::errors::{board_error, value_error};
+use crate::plan::Plan;
+use crate::records;
+use crate::stream;
+
+type Link = host::link::Board<Box<dyn Transport>>;
+
+/// A connected board (real, emulated or virtual).
+///
+/// `unsendable`: the in-process virtual robot runs the firmware library on a single-threaded
+/// simulated wire, so a link is not `Send`; a `Board` stays on the Python thread that opened it and
+/// keeps the GIL while it talks to the board.
+#[pyclass(module = "dbot._native", unsendable)]
+#[derive(Debug)]
+pub struct Board {
+    /// None once closed.
+    link: Mutex<Option<Link>>,
+    port: String,
+    next_seq: Mutex<u32>,
+}
+
+fn seconds(s: f64, what: &str) -> PyResult<Duration> {
+    Duration::try_from_secs_f64(s)
+        .map_err(|_| value_error(format!("{what} = {s} s: give a finite, non-negative time")))
+}
+
+impl Board {
+    /// Runs `f` on the link.
+    fn with<R>(
+        &self,
+        _py: Python<'_>,
+        f: impl FnOnce(&mut Link) -> Result<R, host::link::LinkError>,
+    ) -> PyResult<R> {
+        let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        guard
+            .as_mut()
+            .map(f)
+            .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?
+            .map_err(board_error)
+    }
+}
+
+#[pymethods]
+impl Board {
+    /// Opens `port`: a serial device or pseudo-terminal path (a board, the RP2040 emulator),
+    /// `virtual` (an in-process virtual robot with an erased gait store) or `virtual:PATH` (one
+    /// whose flash lives in the file PATH). Checks the protocol and table format versions.
+    #[staticmethod]
+    #[pyo3(signature = (port, reply_timeout_s = 2.0))]
+    fn open(port: &str, reply_timeout_s: f64) -> PyResult<Self> {
+        let timeout = seconds(reply_timeout_s, "reply_timeout_s")?;
+        let spec = PortSpec::parse(port);
+        let link = (|| {
+            let transport = spec.open()?;
+            let mut b = host::link::Board::connect(transport)?;
+            b.set_reply_timeout(timeout);
+            Ok::<_, host::link::LinkError>(b)
+        })()
+        .map_err(board_error)?;
+        Ok(Self {
+            link: Mutex::new(Some(link)),
+            port: port.to_owned(),
+            next_seq: Mutex::new(1),
+        })
+    }
+
+    /// The port name given to `open`.
+    #[getter]
+    fn port(&self) -> String {
+        self.port.clone()
+    }
+
+    /// The board's clock as the host sees it, s: wall time on a port, simulated time on the
+    /// virtual robot.
+    fn now(&self) -> PyResult<f64> {
+        let guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_ref()
+            .ok_or_else(|| board_error("the board was closed"))?;
+        Ok(link.now().as_secs_f64())
+    }
+
+    /// Closes the link (the port can be opened again; a virtual robot with a flash file saves
+    /// it). Further calls raise `BoardError`.
+    fn close(&self) -> PyResult<()> {
+        let link = self.link.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let Some(link) = link {
+            link.into_transport().shutdown().map_err(board_error)?;
+        }
+        Ok(())
+    }
+
+    fn __enter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    #[pyo3(signature = (*_args))]
+    fn __exit__(&self, _py: Python<'_>, _args: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<bool> {
+        self.close()?;
+        Ok(false)
+    }
+
+    /// Firmware version, protocol and table format versions, slots.
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_ref()
+            .ok_or_else(|| board_error("the board was closed"))?;
+        let i = link.info();
+        let d = PyDict::new(py);
+        let f = i.firmware;
+        d.set_item("firmware", format!("{}.{}.{}", f.major, f.minor, f.patch))?;
+        d.set_item("protocol_version", i.protocol_version)?;
+        d.set_item("table_format_version", i.table_format_version)?;
+        d.set_item("slots", i.slots.len())?;
+        d.set_item("slot_capacity", i.slot_capacity)?;
+        Ok(d)
+    }
+
+    /// Run state, fault (kind and joint) and counters.
+    fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.with(py, |l| l.status())?;
+        records::status_dict(py, &s)
+    }
+
+    /// Uploads a step table (bytes, e.g. `Plan.step_table()`) into `slot` and verifies it.
+    /// Returns the number of bytes sent.
+    fn upload(&self, py: Python<'_>, slot: u8, table: &Bound<'_, PyBytes>) -> PyResult<u32> {
+        let bytes = table.as_bytes().to_vec();
+        let report = self.with(py, move |l| l.upload(slot, &bytes, |_, _| {}))?;
+        Ok(report.bytes)
+    }
+
+    /// Builds the step table of `plan` (with the planned torques as bias if `torques`) and
+    /// uploads it into `slot`.
+    #[pyo3(signature = (slot, plan, name = "dbot-gait", torques = false))]
+    fn upload_plan(
+        &self,
+        py: Python<'_>,
+        slot: u8,
+        plan: &Plan,
+        name: &str,
+        torques: bool,
+    ) -> PyResult<u32> {
+        let table = plan.table_bytes(py, name, torques)?;
+        let report = self.with(py, move |l| l.upload(slot, &table, |_, _| {}))?;
+        Ok(report.bytes)
+    }
+
+    /// Plays the gait in `slot`: `steps` whole steps (None: until `stop()`), at `period_scale`
+    /// times the planned step period, backward if asked.
+    #[pyo3(signature = (slot, steps = None, period_scale = 1.0, backward = false))]
+    fn play(
+        &self,
+        py: Python<'_>,
+        slot: u8,
+        steps: Option<u32>,
+        period_scale: f64,
+        backward: bool,
+    ) -> PyResult<()> {
+        let scale = protocol::units::to_fixed(period_scale, 1000.0, 100, 10_000)
+            .ok_or_else(|| value_error(format!("period_scale = {period_scale}: give 0.1..=10")))?;
+        let command = PlayCommand {
+            slot,
+            direction: if backward {
+                Direction::Backward
+            } else {
+                Direction::Forward
+            },
+            period_scale: scale as u16,
+            steps: steps.map_or(Steps::Continuous, Steps::Count),
+        };
+        self.with(py, move |l| l.play(command))
+    }
+
+    /// Stops at the end of the current step (or leaves streaming, holding the last setpoint).
+    fn stop(&self, py: Python<'_>) -> PyResult<()> {
+        self.with(py, |l| l.stop())
+    }
+
+    /// Torque off on every servo at once.
+    fn emergency_stop(&self, py: Python<'_>) -> PyResult<()> {
+        self.with(py, |l| l.emergency_stop())
+    }
+
+    /// Leaves the fault state once its cause is gone (the board is then idle, torque off).
+    fn clear_fault(&self, py: Python<'_>) -> PyResult<()> {
+        self.with(py, |l| l.clear_fault())
+    }
+
+    /// Torque on or off for every servo, or for the servo of one joint (joint-map index).
+    #[pyo3(signature = (enable, joint = None))]
+    fn set_torque(&self, py: Python<'_>, enable: bool, joint: Option<u8>) -> PyResult<()> {
+        let servos = joint.map_or(ServoSelect::All, ServoSelect::Joint);
+        self.with(py, move |l| l.set_torque(servos, enable))
+    }
+
+    /// Playback telemetry every `every` bus cycles (0: off).
+    fn set_telemetry(&self, py: Python<'_>, every: u16) -> PyResult<()> {
+        self.with(py, move |l| l.set_telemetry(every))
+    }
+
+    /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving.
+    fn set_bus(&self, py: Python<'_>, baud: u32, cycle_hz: u16) -> PyResult<()> {
+        self.with(py, move |l| l.set_bus(baud, cycle_hz))
+    }
+
+    /// Lets `seconds` pass on the board's clock, keeping telemetry and proprioception that
+    /// arrive (on the virtual robot, time passes only while the host waits).
+    fn wait(&self, py: Python<'_>, seconds: f64) -> PyResult<()> {
+        let d = self::seconds(seconds, "seconds")?;
+        self.with(py, move |l| l.wait(d))
+    }
+
+    /// Reads playback telemetry for `duration_s` on the board's clock (plus what was already
+    /// received): a dict of NumPy arrays, see `dbot.Telemetry`.
+    fn record<'py>(&self, py: Python<'py>, duration_s: f64) -> PyResult<Bound<'py, PyDict>> {
+        let d = seconds(duration_s, "duration_s")?;
+        let recs = self.with(py, move |l| {
+            let deadline = l.now() + d;
+            let mut out = Vec::new();
+            loop {
+                let now = l.now();
+                let left = deadline.saturating_sub(now);
+                match l.telemetry(left)? {
+                    Some(t) => out.push(t),
+                    None => break,
+                }
+                if left.is_zero() {
+                    break;
+                }
+            }
+            Ok(out)
+        })?;
+        records::telemetry_dict(py, &recs)
+    }
+
+    /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new
+    /// setpoint the board holds the last one, then goes safe with fault `SetpointTimeout`.
+    /// Proprioception comes every `feedback_every` cycles.
+    #[pyo3(signature = (timeout_cycles = 5, feedback_every = 1))]
+    fn enter_streaming(
+        &self,
+        py: Python<'_>,
+        timeout_cycles: u16,
+        feedback_every: u16,
+    ) -> PyResult<()> {
+        let c = StreamConfig {
+            timeout_cycles,
+            feedback_every,
+        };
+        self.with(py, move |l| l.enter_streaming(c))
+    }
+
+    /// Back to standing, holding the last setpoint.
+    fn leave_streaming(&self, py: Python<'_>) -> PyResult<()> {
+        self.with(py, |l| l.leave_streaming())
+    }
+
+    /// Sends joint targets (rad, joint-map order: `Model.servo_joint_names`) and optional torque
+    /// feed-forward (N m) for the next bus cycle. Returns the setpoint's sequence number, echoed
+    /// in proprioception's `setpoint_seq`.
+    #[pyo3(signature = (angles_rad, torques_nm = None))]
+    fn send_setpoint(
+        &self,
+        py: Python<'_>,
+        angles_rad: &Bound<'_, PyAny>,
+        torques_nm: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<u32> {
+        let seq = {
+            let mut s = self.next_seq.lock().unwrap_or_else(|e| e.into_inner());
+            let v = *s;
+            *s = s.wrapping_add(1);
+            v
+        };
+        let sp = stream::setpoint(seq, angles_rad, torques_nm)?;
+        self.with(py, move |l| l.send_setpoint(&sp))?;
+        Ok(seq)
+    }
+
+    /// The next proprioception record (a dict of arrays with one row), waiting up to
+    /// `timeout_s` on the board's clock; None if none came.
+    #[pyo3(signature = (timeout_s = 0.1))]
+    fn next_proprioception<'py>(
+        &self,
+        py: Python<'py>,
+        timeout_s: f64,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let d = seconds(timeout_s, "timeout_s")?;
+        let rec = self.with(py, move |l| l.proprioception(d))?;
+        rec.map(|p| records::proprioception_dict(py, &[p]))
+            .transpose()
+    }
+
+    /// Every proprioception record received so far, without waiting: a dict of arrays.
+    fn drain_proprioception<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let recs = self.with(py, |l| l.drain_proprioception())?;
+        records::proprioception_dict(py, &recs)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Board(port={:?})", self.port)
+    }
+}

@@ -1,0 +1,26 @@
+//! `dbot._native`: the PyO3 module behind the `dbot` Python package. Thin bindings over the host
+//! library (models, planning, the board link, streaming); every rule lives in Rust, this crate only
+//! converts between Python/NumPy values and the host types.
+
+mod board;
+mod errors;
+mod model;
+mod plan;
+mod records;
+mod stream;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("DbotError", py.get_type::<errors::DbotError>())?;
+    m.add("BoardError", py.get_type::<errors::BoardError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("BUILTIN_MODELS", host::model::BUILTIN_NAMES.to_vec())?;
+    m.add_class::<model::Model>()?;
+    m.add_class::<plan::Plan>()?;
+    m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
+    m.add_class::<board::Board>()?;
+    Ok(())
+}

@@ -1,0 +1,228 @@
+//! `dbot.plan(model, **params)` and `dbot.Plan`: one planned step cycle as NumPy arrays.
+
+use std::sync::OnceLock;
+
+use numpy::ndarray::{Array2, Array3};
+use numpy::{PyArray2, PyArray3, ToPyArray};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
+
+use crate::errors::value_error;
+use crate::model::Model;
+
+/// A planned step cycle of a model.
+#[pyclass(frozen, module = "dbot._native")]
+#[derive(Debug)]
+pub struct Plan {
+    inner: host::plan::Plan,
+    /// Inverse dynamics, solved on first use (`torques`, `step_table`).
+    torques: OnceLock<Vec<Vec<f64>>>,
+}
+
+/// Plans one step cycle of `model`. Keyword arguments override the paper's table 1 values
+/// (fields of a parameter file: swing_s, duty, step_height_m, translation_m, rotation_rad,
+/// body_height_m, gait, slices, terrain, ball_radius_m).
+#[pyfunction]
+#[pyo3(signature = (model, **params))]
+pub fn plan(model: &Model, params: Option<&Bound<'_, PyDict>>) -> PyResult<Plan> {
+    let mut base = host::gait::StepParams::table1(&model.inner.name);
+    if let Some(params) = params {
+        let text = toml::to_string(&to_toml_table(params)?).map_err(value_error)?;
+        let file = host::gait::ParamsFile::from_toml(&text, "plan() keyword arguments")
+            .map_err(value_error)?;
+        file.apply(&mut base);
+    }
+    let inner = host::plan::plan(&model.inner, &base).map_err(value_error)?;
+    Ok(Plan {
+        inner,
+        torques: OnceLock::new(),
+    })
+}
+
+/// Python keyword arguments as a TOML table, so the host's parameter-file parser (and its
+/// errors naming the field) does the checking.
+fn to_toml_table(d: &Bound<'_, PyDict>) -> PyResult<toml::Table> {
+    let mut t = toml::Table::new();
+    for (k, v) in d.iter() {
+        let key: String = k.extract()?;
+        t.insert(key.clone(), to_toml_value(&key, &v)?);
+    }
+    Ok(t)
+}
+
+fn to_toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+    if v.is_instance_of::<PyBool>() {
+        Ok(toml::Value::Boolean(v.extract()?))
+    } else if v.is_instance_of::<PyInt>() {
+        Ok(toml::Value::Integer(v.extract()?))
+    } else if v.is_instance_of::<PyFloat>() {
+        Ok(toml::Value::Float(v.extract()?))
+    } else if v.is_instance_of::<PyString>() {
+        Ok(toml::Value::String(v.extract()?))
+    } else if let Ok(d) = v.cast::<PyDict>() {
+        Ok(toml::Value::Table(to_toml_table(d)?))
+    } else if let Ok(x) = v.extract::<f64>() {
+        // NumPy scalars and other numbers.
+        Ok(toml::Value::Float(x))
+    } else {
+        Err(value_error(format!(
+            "plan(): parameter `{key}` has an unsupported type {}",
+            v.get_type().name()?
+        )))
+    }
+}
+
+fn rows<'py>(py: Python<'py>, v: &[Vec<f64>]) -> Bound<'py, PyArray2<f64>> {
+    let cols = v.first().map_or(0, Vec::len);
+    Array2::from_shape_fn((v.len(), cols), |(i, j)| v[i][j]).to_pyarray(py)
+}
+
+impl Plan {
+    /// The step table bytes (see the Python method `step_table`).
+    pub(crate) fn table_bytes(
+        &self,
+        py: Python<'_>,
+        name: &str,
+        torques: bool,
+    ) -> PyResult<Vec<u8>> {
+        let tau = if torques {
+            Some(py.detach(|| self.solved_torques().cloned())?)
+        } else {
+            None
+        };
+        host::plan::table::step_table(&self.inner, tau.as_deref(), name).map_err(value_error)
+    }
+
+    fn solved_torques(&self) -> PyResult<&Vec<Vec<f64>>> {
+        if let Some(t) = self.torques.get() {
+            return Ok(t);
+        }
+        let inputs = host::dynamics::plan_inputs(&self.inner);
+        let solution = host::dynamics::solve_cycle(
+            &self.inner.model,
+            &inputs,
+            &host::dynamics::DynamicsOptions::default(),
+        )
+        .map_err(value_error)?;
+        let t = solution.slices.into_iter().map(|s| s.torque).collect();
+        Ok(self.torques.get_or_init(|| t))
+    }
+}
+
+#[pymethods]
+impl Plan {
+    /// Joint angles, rad: array [slice, joint] in `joint_names` order.
+    #[getter]
+    fn angles<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(py, &self.inner.q)
+    }
+
+    /// Joint velocities, rad/s: array [slice, joint].
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(py, &self.inner.qd)
+    }
+
+    /// Joint accelerations, rad/s^2: array [slice, joint].
+    #[getter]
+    fn accelerations<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(py, &self.inner.qdd)
+    }
+
+    /// Stance flags: bool array [slice, leg] in `legs` order.
+    #[getter]
+    fn stance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<bool>> {
+        let s = &self.inner.stance;
+        let cols = s.first().map_or(0, Vec::len);
+        Array2::from_shape_fn((s.len(), cols), |(i, j)| s[i][j]).to_pyarray(py)
+    }
+
+    /// Foot targets in the thorax frame, m: array [slice, leg, xyz].
+    #[getter]
+    fn feet<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        let f = &self.inner.feet;
+        let cols = f.first().map_or(0, Vec::len);
+        Array3::from_shape_fn((f.len(), cols, 3), |(i, j, k)| f[i][j][k]).to_pyarray(py)
+    }
+
+    /// Actuator torques from the inverse dynamics (floating base, the paper's problem), N m:
+    /// array [slice, joint]. Solved on first access.
+    #[getter]
+    fn torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let t = py.detach(|| self.solved_torques().cloned())?;
+        Ok(rows(py, &t))
+    }
+
+    #[getter]
+    fn legs(&self) -> Vec<&'static str> {
+        self.inner.legs.iter().map(|l| l.name()).collect()
+    }
+
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.inner
+            .model
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect()
+    }
+
+    /// Start of each leg's cycle, fraction of the period, in `legs` order.
+    #[getter]
+    fn phases(&self) -> Vec<f64> {
+        self.inner.phases.clone()
+    }
+
+    /// Slice duration, s.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.dt
+    }
+
+    /// Step period, s.
+    #[getter]
+    fn period_s(&self) -> f64 {
+        self.inner.period_s
+    }
+
+    #[getter]
+    fn duty(&self) -> f64 {
+        self.inner.params.duty
+    }
+
+    #[getter]
+    fn slices(&self) -> usize {
+        self.inner.slices()
+    }
+
+    #[getter]
+    fn model(&self) -> Model {
+        Model {
+            inner: self.inner.model.clone(),
+        }
+    }
+
+    /// The step table for the board (bytes): servo joints, angles and, with `torques=True`, the
+    /// planned torques as the bias feed-forward.
+    #[pyo3(signature = (name = "dbot-gait", torques = false))]
+    fn step_table<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+        torques: bool,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let bytes = self.table_bytes(py, name, torques)?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Plan(model={:?}, slices={}, period_s={:.4}, duty={})",
+            self.inner.model.name,
+            self.inner.slices(),
+            self.inner.period_s,
+            self.inner.params.duty
+        )
+    }
+}

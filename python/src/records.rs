@@ -1,0 +1,109 @@
+//! Telemetry, proprioception and status as Python values: per-cycle records become one dict of
+//! NumPy arrays ([record] and [record, joint]) in SI units; raw registers stay raw and say so.
+
+use numpy::ToPyArray;
+use numpy::ndarray::{Array1, Array2};
+use protocol::{JointFeedback, Proprioception, Status, Telemetry};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// Per-joint columns of a batch of records, converted to SI where a unit exists.
+fn joint_columns<'py>(
+    py: Python<'py>,
+    d: &Bound<'py, PyDict>,
+    rows: &[&[JointFeedback]],
+) -> PyResult<()> {
+    let n = rows.len();
+    let j = rows.iter().map(|r| r.len()).max().unwrap_or(0);
+    let get = |i: usize, k: usize| rows[i].get(k).copied();
+    let f = |conv: &dyn Fn(&JointFeedback) -> f64| {
+        Array2::from_shape_fn((n, j), |(i, k)| get(i, k).map_or(f64::NAN, |x| conv(&x)))
+    };
+    let angle = protocol::units::ANGLE_PER_RAD;
+    let vel = protocol::units::VELOCITY_PER_RAD_S;
+    d.set_item(
+        "commanded_rad",
+        f(&|x| f64::from(x.commanded) / angle).to_pyarray(py),
+    )?;
+    d.set_item(
+        "present_rad",
+        f(&|x| f64::from(x.present) / angle).to_pyarray(py),
+    )?;
+    d.set_item(
+        "velocity_rad_s",
+        f(&|x| f64::from(x.velocity) / vel).to_pyarray(py),
+    )?;
+    let raw = |g: &dyn Fn(&JointFeedback) -> i32| {
+        Array2::from_shape_fn((n, j), |(i, k)| get(i, k).map_or(0, |x| g(&x)))
+    };
+    // Register 126 as read: MX-28 load in 0.1 % of max, MX-64 current in ~3.36 mA.
+    d.set_item("load_raw", raw(&|x| i32::from(x.load)).to_pyarray(py))?;
+    d.set_item("error", raw(&|x| i32::from(x.error)).to_pyarray(py))?;
+    d.set_item("flags", raw(&|x| i32::from(x.flags)).to_pyarray(py))?;
+    Ok(())
+}
+
+/// Playback telemetry records as a dict of arrays.
+pub fn telemetry_dict<'py>(py: Python<'py>, recs: &[Telemetry]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let col = |g: &dyn Fn(&Telemetry) -> f64| Array1::from_iter(recs.iter().map(g));
+    d.set_item("time_s", col(&|t| t.time_us as f64 * 1e-6).to_pyarray(py))?;
+    let icol = |g: &dyn Fn(&Telemetry) -> i64| Array1::from_iter(recs.iter().map(g));
+    d.set_item("cycle", icol(&|t| i64::from(t.cycle)).to_pyarray(py))?;
+    d.set_item("step", icol(&|t| i64::from(t.step)).to_pyarray(py))?;
+    d.set_item("slice", icol(&|t| i64::from(t.slice)).to_pyarray(py))?;
+    d.set_item(
+        "cycle_us",
+        icol(&|t| i64::from(t.bus.cycle_us)).to_pyarray(py),
+    )?;
+    let rows: Vec<&[JointFeedback]> = recs.iter().map(|t| t.joints.as_slice()).collect();
+    joint_columns(py, &d, &rows)?;
+    Ok(d)
+}
+
+/// Streaming proprioception records as a dict of arrays.
+pub fn proprioception_dict<'py>(
+    py: Python<'py>,
+    recs: &[Proprioception],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let col = |g: &dyn Fn(&Proprioception) -> f64| Array1::from_iter(recs.iter().map(g));
+    d.set_item("time_s", col(&|p| p.time_us as f64 * 1e-6).to_pyarray(py))?;
+    let icol = |g: &dyn Fn(&Proprioception) -> i64| Array1::from_iter(recs.iter().map(g));
+    d.set_item("time_us", icol(&|p| p.time_us as i64).to_pyarray(py))?;
+    d.set_item("cycle", icol(&|p| i64::from(p.cycle)).to_pyarray(py))?;
+    d.set_item(
+        "setpoint_seq",
+        icol(&|p| i64::from(p.setpoint_seq)).to_pyarray(py),
+    )?;
+    d.set_item(
+        "setpoint_age",
+        icol(&|p| i64::from(p.setpoint_age)).to_pyarray(py),
+    )?;
+    d.set_item(
+        "cycle_us",
+        icol(&|p| i64::from(p.bus.cycle_us)).to_pyarray(py),
+    )?;
+    let rows: Vec<&[JointFeedback]> = recs.iter().map(|p| p.joints.as_slice()).collect();
+    joint_columns(py, &d, &rows)?;
+    Ok(d)
+}
+
+/// The board's status as a dict (`state`, `fault`, `torque_enabled`, `counters`).
+pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("state", format!("{:?}", s.state))?;
+    match &s.fault {
+        Some(f) => {
+            let fd = PyDict::new(py);
+            fd.set_item("kind", format!("{:?}", f.kind))?;
+            fd.set_item("joint", f.joint)?;
+            d.set_item("fault", fd)?;
+        }
+        None => d.set_item("fault", py.None())?,
+    }
+    d.set_item("torque_enabled", s.torque_enabled)?;
+    d.set_item("counters", format!("{:?}", s.counters))?;
+    d.set_item("playback", s.playback.map(|p| (p.slot, p.step, p.slice)))?;
+    Ok(d)
+}

@@ -1,0 +1,124 @@
+"""Closed loop on the virtual robot: setpoints streamed from Python, servos follow, and the
+setpoint-loss rule (hold for `timeout_cycles`, then safe with `SetpointTimeout`) when the stream
+stops.
+
+Tolerances: the virtual servos are first-order lags (time constant 20 ms) towards their goal, and
+the wire carries angles in 1e-4 rad and positions in servo ticks (2 pi / 4096 = 1.53e-3 rad). A
+goal held for 0.3 s (15 time constants, residual e^-15 of the step) must be reached to within
+FOLLOW_TOL = 5e-3 rad: about three ticks, i.e. quantisation with margin.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import dbot
+from conftest import open_board, servo_rest, standing_board, upload
+
+FOLLOW_TOL = 5e-3  # rad, see the module docstring
+TICK = 2 * np.pi / 4096
+
+
+def stream_constant(board: dbot.Board, target: np.ndarray, cycles: int) -> list[dict]:
+    """Sends `target` once per bus cycle for `cycles` cycles; returns the proprioception (and
+    stores the last setpoint's number in `stream_constant.last_seq`)."""
+    out = []
+    for _ in range(cycles):
+        stream_constant.last_seq = board.send_setpoint(target)
+        rec = board.next_proprioception(timeout_s=1.0)
+        assert rec is not None, "no proprioception within 1 s of a setpoint"
+        out.append(rec)
+    return out
+
+
+def test_streaming_is_refused_unless_standing(tripod_plan, port) -> None:
+    board = open_board(port)
+    if board.status()["state"] == "Fault":
+        board.clear_fault()
+    # Idle with no gait selected: the board has no joint map, so streaming must not start.
+    upload(board, tripod_plan)
+    board.play(0, steps=None)
+    board.wait(0.05)
+    assert board.status()["state"] in ("Ramping", "Walking")
+    with pytest.raises(dbot.BoardError, match="EnterStreaming"):
+        board.enter_streaming()
+
+
+def test_servos_follow_streamed_setpoints(tripod_plan, model, port) -> None:
+    board = standing_board(tripod_plan, port=port)
+    board.enter_streaming(timeout_cycles=5)
+    assert board.status()["state"] == "Streaming"
+    rest = servo_rest(tripod_plan, model)
+    # A step of +0.1 rad on every joint (within the limits of the gait's first posture) ...
+    target = rest + 0.1
+    recs = stream_constant(board, target, 30)  # 0.3 s at 100 Hz
+    last = recs[-1]
+    # ... is on the bus as commanded (to half a servo tick: goals go out in ticks) ...
+    assert np.allclose(last["commanded_rad"][0], target, atol=TICK / 2 + 1e-4)
+    # ... and the servos have reached it.
+    err = np.abs(last["present_rad"][0] - target)
+    assert err.max() < FOLLOW_TOL, f"worst joint error {err.max():.4f} rad"
+    # While moving, a servo lags its goal: the first record after the step shows the lag.
+    first = recs[0]
+    assert np.all(np.abs(first["present_rad"][0] - target) > 0.02)
+    # A sine on one joint is tracked: on the virtual robot the present angle follows within the
+    # lag of its 20 ms first-order servos at 1 Hz (amplitude ratio omega tau / sqrt(1 + (omega tau)^2) = 0.125
+    # of 0.1 rad, plus one 10 ms bus cycle of delay: < 0.02 rad) plus quantisation.
+    recs = []
+    for k in range(200):
+        t = target.copy()
+        t[0] += 0.1 * np.sin(2 * np.pi * k / 100)
+        board.send_setpoint(t)
+        recs.append(board.next_proprioception(1.0))
+    cmd = np.array([r["commanded_rad"][0, 0] for r in recs[100:]])
+    pos = np.array([r["present_rad"][0, 0] for r in recs[100:]])
+    assert np.ptp(cmd) > 0.19
+    if port == "virtual":
+        assert np.abs(cmd - pos).max() < 0.02 + 2 * TICK
+    else:
+        # Another servo model (the emulator's dxl virtual chain, real servos): the sine is
+        # followed, its swing at least 80 % of the command's.
+        assert np.ptp(pos) > 0.8 * np.ptp(cmd)
+
+
+def test_setpoint_loss_holds_then_goes_safe(tripod_plan, model, port) -> None:
+    timeout_cycles = 5
+    board = standing_board(tripod_plan, port=port)
+    board.enter_streaming(timeout_cycles=timeout_cycles)
+    target = servo_rest(tripod_plan, model) - 0.05
+    recs = stream_constant(board, target, 20)
+    last_seq = stream_constant.last_seq
+    # The stream stops. Let 0.5 s (50 cycles, ten times the timeout) pass.
+    board.wait(0.5)
+    after = board.drain_proprioception()
+    ages = after["setpoint_age"]
+    # Hold: the board keeps sending the last setpoint, ageing one cycle at a time ...
+    assert np.all(after["setpoint_seq"] == last_seq)
+    assert list(ages) == list(range(int(ages[0]), int(ages[0]) + len(ages)))
+    assert np.all(ages <= timeout_cycles), "feedback past the timeout: the board did not stop"
+    assert np.allclose(after["commanded_rad"], target, atol=TICK / 2 + 1e-4)
+    # ... then goes safe and says why.
+    st = board.status()
+    assert st["state"] == "Fault"
+    assert st["fault"] is not None and st["fault"]["kind"] == "SetpointTimeout"
+    # Safe keeps the servos' torque (the robot does not fall): all 22 still on.
+    assert st["torque_enabled"] == (1 << 22) - 1
+    # A setpoint now is not followed: the board is no longer streaming.
+    board.send_setpoint(target + 0.2)
+    board.wait(0.1)
+    assert board.status()["state"] == "Fault"
+
+
+def test_bad_setpoints_are_refused_with_the_joint(tripod_plan, model) -> None:
+    board = standing_board(tripod_plan)
+    board.enter_streaming()
+    rest = servo_rest(tripod_plan, model)
+    bad = rest.copy()
+    bad[7] = 10.0  # beyond the wire's +-3.27 rad
+    with pytest.raises(ValueError, match="joint 7"):
+        board.send_setpoint(bad)
+    with pytest.raises(ValueError, match="torques"):
+        board.send_setpoint(rest, torques_nm=np.zeros(3))
+    with pytest.raises(ValueError, match="angles_rad"):
+        board.send_setpoint("not numbers")
