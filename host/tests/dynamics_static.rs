@@ -7,7 +7,8 @@ use host::model::{
 };
 use nalgebra::{Isometry3, Matrix3, Unit, Vector3};
 
-const G: f64 = 9.80665;
+/// The planner's standard gravity, m/s^2 (`SliceInput::still` uses it).
+const G: f64 = 9.81;
 
 fn joint(
     name: &str,

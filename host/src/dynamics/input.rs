@@ -39,7 +39,7 @@ pub struct SliceInput {
 }
 
 impl SliceInput {
-    /// A static slice on flat ground, gravity -9.81 m/s^2 along z, all feet in stance.
+    /// A static slice on flat ground, gravity -[`crate::terrain::G`] along z, all feet in stance.
     pub fn still(model: &Model, q: Vec<f64>) -> Self {
         let n = model.joints.len();
         Self {
@@ -48,7 +48,7 @@ impl SliceInput {
             qdd: vec![0.0; n],
             stance: vec![true; model.feet.len()],
             thorax: ThoraxMotion::default(),
-            gravity: Vector3::new(0.0, 0.0, -crate::dynamics::terrain::STANDARD_GRAVITY),
+            gravity: Vector3::new(0.0, 0.0, -crate::terrain::G),
             normals: vec![Vector3::z(); model.feet.len()],
         }
     }
