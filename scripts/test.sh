@@ -30,6 +30,9 @@ step "firmware release image for thumbv6m-none-eabi"
 (cd firmware && cargo build --release --locked)
 cargo run --quiet --locked -p hil-tests --bin firmware-size -- target/thumbv6m-none-eabi/release/firmware
 
+step "Python package tests (pytest, .venv)"
+.venv/bin/python -m pytest -q python/tests
+
 step "doc tests"
 cargo test --workspace --doc --locked
 
