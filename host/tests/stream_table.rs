@@ -77,5 +77,5 @@ fn a_plan_becomes_a_table_the_protocol_parses() {
     let want = (plan.q[5][j3] * 1e4).round() as i16;
     assert_eq!(table.angle(5, 3), Some(want));
     let e = step_table(&plan, Some(&[vec![0.0; 3]]), "t").unwrap_err();
-    assert!(e.to_string().contains("1 slices"), "{e}");
+    assert!(e.to_string().contains("torques has 3 entries"), "{e}");
 }
