@@ -8,7 +8,6 @@
 
 use std::hint::black_box;
 use std::path::PathBuf;
-use std::time::Instant;
 
 use anyhow::{Context, Result};
 use host::dynamics::motion::body_motions;
@@ -21,27 +20,40 @@ use host::model::{Actuation, Leg, Model, to_urdf};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::{Value, json};
 
-/// CPU time of this thread, s: the scheduler's run time from /proc/thread-self/schedstat (the
-/// clock Python's `time.thread_time` reads), so that other load on a shared machine does not count.
-/// Falls back to wall-clock time where that file is missing.
-fn thread_cpu_s(start: &Instant) -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .map_or_else(|| start.elapsed().as_secs_f64(), |ns| ns * 1e-9)
+#[repr(C)]
+struct Timespec {
+    tv_sec: i64,
+    tv_nsec: i64,
+}
+
+unsafe extern "C" {
+    fn clock_gettime(clock: i32, tp: *mut Timespec) -> i32;
+}
+
+/// CPU time of this thread, s (CLOCK_THREAD_CPUTIME_ID, the clock Python's `time.thread_time`
+/// reads), so that other load on a shared machine does not count. Linux x86_64 / aarch64.
+fn thread_cpu_s() -> f64 {
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut t = Timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec (two 64-bit fields on 64-bit Linux) to `t`.
+    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
 }
 
 /// Median thread CPU seconds per call of `f`, over `rounds` rounds of `reps` calls each.
 fn time_per_call(rounds: usize, reps: usize, mut f: impl FnMut()) -> f64 {
     f();
-    let origin = Instant::now();
     let mut t: Vec<f64> = (0..rounds)
         .map(|_| {
-            let s = thread_cpu_s(&origin);
+            let s = thread_cpu_s();
             for _ in 0..reps {
                 f();
             }
-            (thread_cpu_s(&origin) - s) / reps as f64
+            (thread_cpu_s() - s) / reps as f64
         })
         .collect();
     t.sort_by(f64::total_cmp);
