@@ -38,8 +38,8 @@ fn torques_match_independent_rnea() {
         };
         let r = rnea(&model, &q, &qd, &qdd, base, input.gravity, &s.grf);
         let scale = weight * 0.3;
-        for j in 0..model.joints.len() {
-            let name = &model.joints[j].name;
+        for (j, joint) in model.joints.iter().enumerate() {
+            let name = &joint.name;
             assert!(
                 (r.tau[j] - s.axis_moment[j]).abs() < 1e-10 * scale,
                 "slice {i} {name}: {} vs {}",
@@ -47,10 +47,10 @@ fn torques_match_independent_rnea() {
                 s.axis_moment[j]
             );
             // The actuator torque is the axis moment minus the spring's share.
-            let spring = model.joints[j]
+            let spring = joint
                 .spring
                 .map_or(0.0, |sp| -sp.stiffness * (q[j] - sp.equilibrium));
-            if model.joints[j].spring.is_some() {
+            if joint.spring.is_some() {
                 assert!((s.torque[j] - (r.tau[j] - spring)).abs() < 1e-10 * scale);
             }
             assert!(

@@ -190,3 +190,28 @@ fn parallel_spring_takes_part_of_the_torque() {
     let expected: f64 = s.torque.iter().map(|t| 0.5 * t * t / 2.5).sum();
     assert!((s.v_star - expected).abs() < 1e-15);
 }
+
+#[test]
+fn servo_command_bias_is_torque_over_servo_stiffness() {
+    // Paper section 2.5: command = planned angle + torque / servo stiffness. The spring does not
+    // enter: with a spring the actuator torque is smaller, and so is the bias.
+    let spring = ParallelSpring {
+        stiffness: 0.5,
+        equilibrium: 0.4,
+    };
+    let model = arm(Some(spring));
+    let mut input = SliceInput::still(&model, vec![0.1, -0.2, 0.3]);
+    input.stance = vec![false];
+    let options = DynamicsOptions {
+        base: Base::Fixed,
+        ..Default::default()
+    };
+    let s = solve_slice(&model, &input, &options, 0).unwrap();
+    let cmd = host::dynamics::output::biased_commands(&model, &input.q, &s.torque);
+    // Servo stiffness of every joint of the arm is 2.0 N m/rad.
+    for ((c, q), t) in cmd.iter().zip(&input.q).zip(&s.torque) {
+        assert!((c - (q + t / 2.0)).abs() < 1e-15);
+    }
+    // Hip holds the straight leg: the bias lowers the command by |T| / k in the direction of the torque.
+    assert!(s.torque[1] < 0.0 && cmd[1] < input.q[1]);
+}

@@ -28,6 +28,7 @@ pub mod output;
 pub mod problem;
 mod report;
 mod solve;
+pub mod table;
 pub mod terrain;
 pub mod wrench;
 

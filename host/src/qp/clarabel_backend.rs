@@ -1,6 +1,5 @@
-//! The QP handed to Clarabel: reduced equality rows first, then the cone rows as given; the
-//! answer is polished onto the equality set so that balance laws hold to rounding, not to the
-//! interior-point tolerance.
+//! The QP handed to Clarabel, restricted to the equality set (null-space parameterisation), so
+//! that balance laws hold to rounding, not to the interior-point tolerance.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -10,54 +9,50 @@ use nalgebra::{DMatrix, DVector};
 
 use super::{ConeBlock, QpError, QpProblem, QpSolution, ReducedEqualities};
 
-/// Interior-point tolerances, tighter than Clarabel's defaults (1e-8) because the problems are
-/// scaled to unit size and tiny.
-const TOLERANCE: f64 = 1e-10;
+/// Interior-point tolerances (Clarabel's default is 1e-8). The problems are scaled to unit size
+/// and the equalities hold exactly, so this only bounds the optimality gap and the cone rows.
+const TOLERANCE: f64 = 1e-9;
 
 pub fn solve(
     problem: &QpProblem,
     eq: &ReducedEqualities,
     n_eq: usize,
+    reduced_hessian: &DMatrix<f64>,
 ) -> Result<QpSolution, QpError> {
-    let n = problem.q.len();
-    let r = eq.v.ncols();
+    // Clarabel sees the problem on the equality set, x = x_p + Z w: fewer unknowns, no equality
+    // rows, and the equalities hold to rounding whatever the interior-point tolerance.
     let m_rest = problem.a.nrows() - n_eq;
-    let mut a = DMatrix::zeros(r + m_rest, n);
-    a.rows_mut(0, r).copy_from(&eq.v.transpose());
-    a.rows_mut(r, m_rest)
-        .copy_from(&problem.a.rows(n_eq, m_rest));
-    let mut b = DVector::zeros(r + m_rest);
-    b.rows_mut(0, r).copy_from(&eq.b_hat);
-    b.rows_mut(r, m_rest)
-        .copy_from(&problem.b.rows(n_eq, m_rest));
-
-    let mut cones: Vec<SupportedConeT<f64>> = Vec::with_capacity(problem.cones.len() + 1);
-    if r > 0 {
-        cones.push(ZeroConeT(r));
+    if eq.z.ncols() == 0 {
+        return determined(problem, eq, n_eq);
     }
-    for c in &problem.cones {
-        match *c {
-            ConeBlock::Zero(_) => {}
-            ConeBlock::Nonnegative(k) => cones.push(NonnegativeConeT(k)),
-            ConeBlock::SecondOrder(k) => cones.push(SecondOrderConeT(k)),
-        }
-    }
+    let a_c = problem.a.rows(n_eq, m_rest);
+    let b_c = problem.b.rows(n_eq, m_rest) - a_c * &eq.x_particular;
+    let a_w = a_c * &eq.z;
+    let q_w = eq.z.transpose() * (&problem.p * &eq.x_particular + &problem.q);
 
+    let cones: Vec<SupportedConeT<f64>> = problem
+        .cones
+        .iter()
+        .filter_map(|c| match *c {
+            ConeBlock::Zero(_) => None,
+            ConeBlock::Nonnegative(k) => Some(NonnegativeConeT(k)),
+            ConeBlock::SecondOrder(k) => Some(SecondOrderConeT(k)),
+        })
+        .collect();
     let settings = DefaultSettings {
         verbose: false,
         tol_gap_abs: TOLERANCE,
         tol_gap_rel: TOLERANCE,
         tol_feas: TOLERANCE,
-        tol_ktratio: 1e-8,
         ..DefaultSettings::default()
     };
-    let p_csc = csc(&problem.p.upper_triangle());
-    let a_csc = csc(&a);
+    let p_csc = csc(&reduced_hessian.upper_triangle());
+    let a_csc = csc(&a_w);
     let mut solver = DefaultSolver::new(
         &p_csc,
-        problem.q.as_slice(),
+        q_w.as_slice(),
         &a_csc,
-        b.as_slice(),
+        b_c.as_slice(),
         &cones,
         settings,
     )
@@ -72,18 +67,57 @@ pub fn solve(
             iterations: sol.iterations,
         });
     }
-    let x = eq.project(&DVector::from_column_slice(&sol.x));
+    let x = &eq.x_particular + &eq.z * DVector::from_column_slice(&sol.x);
+    let z_c = DVector::from_column_slice(&sol.z);
+    // Equality multipliers from stationarity along the row space (its null-space part is
+    // Clarabel's own optimality condition).
+    let residual = &problem.p * &x + &problem.q + a_c.transpose() * &z_c;
+    let z_hat = -(eq.v.transpose() * residual);
     let mut z = DVector::zeros(problem.a.nrows());
-    let z_hat = DVector::from_column_slice(&sol.z[..r]);
     z.rows_mut(0, n_eq).copy_from(&(&eq.multiplier_map * z_hat));
-    z.rows_mut(n_eq, m_rest)
-        .copy_from(&DVector::from_column_slice(&sol.z[r..]));
+    z.rows_mut(n_eq, m_rest).copy_from(&z_c);
     let s = &problem.b - &problem.a * &x;
     Ok(QpSolution {
         x,
         s,
         z,
         iterations: sol.iterations,
+    })
+}
+
+/// The equalities leave no freedom: x is x_p, feasible for the cones or not.
+fn determined(
+    problem: &QpProblem,
+    eq: &ReducedEqualities,
+    n_eq: usize,
+) -> Result<QpSolution, QpError> {
+    let x = eq.x_particular.clone();
+    let s = &problem.b - &problem.a * &x;
+    let mut row = n_eq;
+    for c in &problem.cones {
+        let k = c.rows();
+        let v = s.rows(row, k);
+        let inside = match c {
+            ConeBlock::Zero(_) => true,
+            ConeBlock::Nonnegative(_) => v.iter().all(|x| *x >= -TOLERANCE),
+            ConeBlock::SecondOrder(_) => v[0] >= v.rows(1, k - 1).norm() - TOLERANCE,
+        };
+        if !inside {
+            return Err(QpError::Status {
+                status: "PrimalInfeasible".into(),
+                iterations: 0,
+            });
+        }
+        row += k;
+    }
+    let z_hat = -(eq.v.transpose() * (&problem.p * &x + &problem.q));
+    let mut z = DVector::zeros(problem.a.nrows());
+    z.rows_mut(0, n_eq).copy_from(&(&eq.multiplier_map * z_hat));
+    Ok(QpSolution {
+        x,
+        s,
+        z,
+        iterations: 0,
     })
 }
 

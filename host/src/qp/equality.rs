@@ -36,6 +36,8 @@ impl ReducedEqualities {
                 DVector::zeros(0),
                 DMatrix::zeros(m, 0),
             )
+        } else if let Some(fast) = full_rank(a, b) {
+            fast
         } else {
             // Row space from the eigen decomposition of the small Gram matrix A A' = U S^2 U'
             // (m <= 6 here): V = A' U / S. Much cheaper than an SVD of A, and accurate enough
@@ -83,6 +85,33 @@ impl ReducedEqualities {
         let r = self.v.transpose() * x - &self.b_hat;
         x - &self.v * r
     }
+}
+
+/// The common case, rows independent: A A' = L L' (Cholesky), V = A' L^-T has orthonormal
+/// columns, b_hat = L^-1 b, multipliers map back through L^-T. `None` when the rows are
+/// (nearly) dependent, judged by the Cholesky pivots.
+fn full_rank(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+) -> Option<(DMatrix<f64>, DVector<f64>, DMatrix<f64>)> {
+    let m = a.nrows();
+    if m > a.ncols() {
+        return None;
+    }
+    let chol = (a * a.transpose()).cholesky()?;
+    let l = chol.l();
+    let d = l.diagonal();
+    let (lo, hi) = d.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+        (lo.min(x.abs()), hi.max(x.abs()))
+    });
+    if lo.is_nan() || lo <= RANK_TOLERANCE * hi {
+        return None;
+    }
+    let l_inv = l.try_inverse()?;
+    let map = l_inv.transpose();
+    let v = a.transpose() * &map;
+    let b_hat = &l_inv * b;
+    Some((v, b_hat, map))
 }
 
 /// An orthonormal basis of the complement of the orthonormal columns of `v`: the last n - r

@@ -112,7 +112,7 @@ pub fn solve(problem: &QpProblem, backend: Backend) -> Result<QpSolution, QpErro
     if only_equalities && backend == Backend::Auto {
         Ok(direct::solve(problem, &eq, &reduced_hessian))
     } else {
-        clarabel_backend::solve(problem, &eq, n_eq)
+        clarabel_backend::solve(problem, &eq, n_eq, &reduced_hessian)
     }
 }
 

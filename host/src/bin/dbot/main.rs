@@ -9,6 +9,7 @@ mod compare;
 mod dynamics_args;
 mod model;
 mod plan;
+mod table;
 
 /// Plan, run and record gaits of the Drosophibot II hexapod.
 ///
@@ -28,6 +29,8 @@ enum Cmd {
     Model(model::Args),
     /// Compare two plans DoF by DoF (R-squared of angles and torques), or sweep swing durations.
     Compare(compare::Args),
+    /// Build the board's step table from a plan directory.
+    Table(table::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -36,5 +39,6 @@ fn main() -> anyhow::Result<()> {
         Cmd::Plan(a) => a.run(),
         Cmd::Model(a) => a.run(),
         Cmd::Compare(a) => a.run(),
+        Cmd::Table(a) => a.run(),
     }
 }

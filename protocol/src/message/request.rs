@@ -1,0 +1,117 @@
+//! Requests from the host and their parameters.
+
+use crate::MAX_CHUNK_LEN;
+use crate::gait::GaitHeader;
+
+// Messages live in fixed-size buffers on a board without a heap: boxing the large variant is not
+// an option, and the size is bounded by MAX_JOINTS / MAX_CHUNK_LEN.
+#[allow(clippy::large_enum_variant)]
+/// A request. Replies are named per variant; [`crate::Response::Error`] is possible for all.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Request {
+    /// Reply: `DeviceInfo`.
+    GetDeviceInfo,
+    /// Reply: `Status`.
+    GetStatus,
+    /// Reply: `Slots`.
+    ListGaits,
+    /// Starts an upload into `slot` (replacing an unfinished one). `total_len` must equal
+    /// `header.table_len()`. Reply: `Ack`.
+    UploadBegin {
+        slot: u8,
+        header: GaitHeader,
+        total_len: u32,
+    },
+    /// Table bytes at `offset`; chunks must arrive in order without gaps. Reply: `ChunkAccepted`.
+    UploadChunk {
+        offset: u32,
+        data: heapless::Vec<u8, MAX_CHUNK_LEN>,
+    },
+    /// Ends the upload: `crc` is the CRC-32 of all `total_len` bytes. Reply: `Committed`.
+    UploadCommit { crc: u32 },
+    /// Drops the upload in progress; the slot keeps its old table. Reply: `Ack`.
+    UploadAbort,
+    /// Empties a slot (not the one playing). Reply: `Ack`.
+    DeleteGait { slot: u8 },
+    /// Starts playback from standing, ramping from the present posture to the first slice.
+    /// Reply: `Ack`.
+    Play(PlayCommand),
+    /// Stops at the end of the current step (never mid-swing). Reply: `Ack`.
+    Stop,
+    /// Changes the step period scale while playing (1e-3, 1000 = as planned). Reply: `Ack`.
+    SetPeriodScale { scale: u16 },
+    /// Reply: `Settings`.
+    GetSettings,
+    /// Bus baud rate (bit/s) and bus cycle rate (Hz); only when not moving. Reply: `Ack`.
+    SetBus { baud: u32, cycle_hz: u16 },
+    /// Servo stiffness for the torque bias of `joint`, mN m/rad. Reply: `Ack`.
+    SetStiffness { joint: u8, stiffness: u32 },
+    /// Limits of `joint`, 1e-4 rad. Reply: `Ack`.
+    SetLimits { joint: u8, min: i16, max: i16 },
+    /// Torque on or off for one servo or all. Reply: `Ack`.
+    SetTorque { servos: ServoSelect, enable: bool },
+    /// Reboots servos (clears a hardware error; torque is off afterwards). Reply: `Ack`.
+    RebootServos { servos: ServoSelect },
+    /// Torque off on every servo at once, from any state. Reply: `Ack`.
+    EmergencyStop,
+    /// Leaves the fault state once its cause is gone. Reply: `Ack`.
+    ClearFault,
+    /// Sends telemetry every `every` bus cycles (0 = off). Reply: `Ack`.
+    SetTelemetry { every: u16 },
+    /// Enters streaming mode from standing. Reply: `Ack`.
+    EnterStreaming(StreamConfig),
+    /// Leaves streaming mode, holding the last setpoint. Reply: `Ack`.
+    LeaveStreaming,
+}
+
+/// Which servos a command addresses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ServoSelect {
+    All,
+    /// The servo of one joint (index into the joint map).
+    Joint(u8),
+}
+
+/// Playback direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Direction {
+    Forward,
+    /// Slices in reverse order (walking backward on the same footpaths).
+    Backward,
+}
+
+/// How many steps to play.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Steps {
+    /// Until `Stop`.
+    Continuous,
+    /// This many whole steps, then stop at the end of the last.
+    Count(u32),
+}
+
+/// Parameters of [`Request::Play`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlayCommand {
+    pub slot: u8,
+    pub direction: Direction,
+    /// Step period scale, 1e-3 (2000 = half speed).
+    pub period_scale: u16,
+    pub steps: Steps,
+}
+
+/// Parameters of [`Request::EnterStreaming`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StreamConfig {
+    /// Bus cycles without a new setpoint after which the board holds position and faults with
+    /// `FaultKind::SetpointTimeout` (at least 1).
+    pub timeout_cycles: u16,
+    /// Sends `Proprioception` every this many bus cycles (at least 1).
+    pub feedback_every: u16,
+}

@@ -1,0 +1,100 @@
+//! State, counters and settings of the board.
+
+use super::{Direction, Fault};
+use crate::MAX_JOINTS;
+
+/// State of the board's safety state machine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum RunState {
+    /// Torque off.
+    Idle,
+    /// Torque on, holding a posture.
+    Standing,
+    /// Moving from the present posture to the first slice of a gait.
+    Ramping,
+    /// Playing a gait.
+    Walking,
+    /// Finishing the current step before standing.
+    Stopping,
+    /// Following streamed setpoints.
+    Streaming,
+    /// Stopped by a fault (see [`Status::fault`]) until `ClearFault`.
+    Fault,
+}
+
+/// Where playback is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlaybackPosition {
+    pub slot: u8,
+    pub direction: Direction,
+    /// Step period scale, 1e-3.
+    pub period_scale: u16,
+    /// Steps completed.
+    pub step: u32,
+    pub slice: u16,
+}
+
+/// An upload in progress.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct UploadProgress {
+    pub slot: u8,
+    pub received: u32,
+    pub total_len: u32,
+}
+
+/// Counters since boot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Counters {
+    pub cycles: u32,
+    pub missed_deadlines: u32,
+    pub bus_timeouts: u32,
+    pub crc_errors: u32,
+    /// Frames from the host that could not be decoded.
+    pub rejected_frames: u32,
+    /// Telemetry records dropped because the host did not read them in time.
+    pub telemetry_dropped: u32,
+}
+
+/// Answer to [`crate::Request::GetStatus`].
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Status {
+    pub state: RunState,
+    /// The fault that stopped the robot, until cleared.
+    pub fault: Option<Fault>,
+    pub playback: Option<PlaybackPosition>,
+    pub upload: Option<UploadProgress>,
+    /// Bit j set when joint j's servo has torque on.
+    pub torque_enabled: u32,
+    pub counters: Counters,
+}
+
+/// Run-time settings of one joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointSettings {
+    /// Servo stiffness for the torque bias, mN m/rad.
+    pub stiffness: u32,
+    /// Limits, 1e-4 rad.
+    pub min: i16,
+    pub max: i16,
+    pub torque_enabled: bool,
+}
+
+/// Answer to [`crate::Request::GetSettings`].
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Settings {
+    /// Bus baud rate, bit/s.
+    pub baud: u32,
+    /// Bus cycle rate, Hz.
+    pub cycle_hz: u16,
+    /// Telemetry every this many cycles (0 = off).
+    pub telemetry_every: u16,
+    pub joints: heapless::Vec<JointSettings, MAX_JOINTS>,
+}

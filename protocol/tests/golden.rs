@@ -1,0 +1,197 @@
+//! Golden bytes, derived by hand from the postcard 1.x wire specification, COBS and the CRC-32
+//! catalogue, not from this crate's encoder. If one of these fails, the wire format changed: make
+//! that deliberate and bump `PROTOCOL_VERSION` (and `gait::FORMAT_VERSION` for the table).
+//!
+//! postcard rules used below (postcard wire spec, "Serde Data Model" section):
+//! * enum variant: its index as a varint (u32); unit variants are just that;
+//! * u16/u32/u64: LEB128 varint, 7 bits per byte, low group first, 0x80 = more follows;
+//! * i16: zigzag ((n << 1) ^ (n >> 15)) then varint;
+//! * Option: 0x00 for None, 0x01 then the value for Some;
+//! * seq (heapless::Vec): varint length then the elements; u8: one raw byte; struct: fields in order.
+//!
+//! Frame = COBS(message ++ CRC-32/ISO-HDLC(message) little-endian) ++ 0x00. The CRCs were computed
+//! with Python's `zlib.crc32` (the same algorithm; its check value for "123456789" is 0xCBF43926,
+//! asserted here too against the crate). COBS: each block is a code byte (1 + number of non-zero
+//! bytes up to the next zero or the end) followed by those bytes; the zero itself is dropped.
+
+mod common;
+
+use common::golden_table::GOLDEN_TABLE;
+use protocol::gait::GaitTable;
+use protocol::*;
+
+fn frame_of<T: serde::Serialize>(msg: &T) -> Vec<u8> {
+    protocol::frame::encode_frame_vec(msg).unwrap()
+}
+
+fn assert_golden<T>(msg: T, postcard_bytes: &[u8], frame: &[u8])
+where
+    T: serde::Serialize + serde::de::DeserializeOwned + PartialEq + core::fmt::Debug,
+{
+    assert_eq!(
+        postcard::to_allocvec(&msg).unwrap(),
+        postcard_bytes,
+        "postcard bytes of {msg:?}"
+    );
+    assert_eq!(frame_of(&msg), frame, "frame of {msg:?}");
+    let mut acc = FrameAccumulator::new();
+    let decoded: Vec<_> = acc.messages::<T>(frame).collect();
+    assert_eq!(decoded, vec![Ok(msg)]);
+}
+
+#[test]
+fn protocol_version_is_the_one_these_bytes_belong_to() {
+    assert_eq!(PROTOCOL_VERSION, 1);
+    assert_eq!(gait::FORMAT_VERSION, 1);
+}
+
+#[test]
+fn frame_crc_is_crc32_iso_hdlc() {
+    assert_eq!(protocol::crc32::checksum(b"123456789"), 0xCBF4_3926);
+}
+
+#[test]
+fn get_status_with_seq_300() {
+    // HostMessage::Request = variant 0 -> 00
+    // seq 300 = 0b10_0101100 -> low 7 bits 0x2C | 0x80 = AC, then 300 >> 7 = 2 -> 02
+    // Request::GetStatus = variant 1 -> 01
+    // CRC-32 of 00 AC 02 01 = 0xB417290C -> LE 0C 29 17 B4
+    // COBS of 00 AC 02 01 0C 29 17 B4: block "" before the zero -> 01; block of 7 bytes -> 08 ...
+    assert_golden(
+        HostMessage::Request {
+            seq: 300,
+            request: Request::GetStatus,
+        },
+        &[0x00, 0xAC, 0x02, 0x01],
+        &[0x01, 0x08, 0xAC, 0x02, 0x01, 0x0C, 0x29, 0x17, 0xB4, 0x00],
+    );
+}
+
+#[test]
+fn play_backward_ten_steps_at_1_5_period() {
+    // 00 (Request) 05 (seq 5) 08 (Play = 9th variant of Request)
+    // PlayCommand { slot 2 -> 02, Backward = variant 1 -> 01, period_scale 1500 = 0x5DC:
+    //   0x5C | 0x80 = DC, 1500 >> 7 = 11 -> 0B, Steps::Count = variant 1 -> 01, 10 -> 0A }
+    // CRC-32 = 0x74B7ED89 -> 89 ED B7 74; COBS: leading zero -> 01, then 12 non-zero bytes -> 0D.
+    assert_golden(
+        HostMessage::Request {
+            seq: 5,
+            request: Request::Play(PlayCommand {
+                slot: 2,
+                direction: Direction::Backward,
+                period_scale: 1500,
+                steps: Steps::Count(10),
+            }),
+        },
+        &[0x00, 0x05, 0x08, 0x02, 0x01, 0xDC, 0x0B, 0x01, 0x0A],
+        &[
+            0x01, 0x0D, 0x05, 0x08, 0x02, 0x01, 0xDC, 0x0B, 0x01, 0x0A, 0x89, 0xED, 0xB7, 0x74,
+            0x00,
+        ],
+    );
+}
+
+#[test]
+fn out_of_order_chunk_error_reply() {
+    // DeviceMessage::Reply = 0 -> 00, seq 7 -> 07, Response::Error = variant 7 -> 07,
+    // ProtocolError::Upload = variant 7 -> 07, UploadError::OutOfOrder = variant 9 -> 09,
+    // offset 1024 = 0x400 -> 80 08, expected 512 = 0x200 -> 80 04.
+    // CRC-32 = 0xE6DACA21 -> 21 CA DA E6; COBS: 01 then 12 non-zero bytes -> 0D.
+    assert_golden(
+        DeviceMessage::Reply {
+            seq: 7,
+            response: Response::Error(ProtocolError::Upload(UploadError::OutOfOrder {
+                offset: 1024,
+                expected: 512,
+            })),
+        },
+        &[0x00, 0x07, 0x07, 0x07, 0x09, 0x80, 0x08, 0x80, 0x04],
+        &[
+            0x01, 0x0D, 0x07, 0x07, 0x07, 0x09, 0x80, 0x08, 0x80, 0x04, 0x21, 0xCA, 0xDA, 0xE6,
+            0x00,
+        ],
+    );
+}
+
+#[test]
+fn streaming_setpoint_with_negative_angle_and_feed_forward() {
+    // HostMessage::Setpoint = variant 1 -> 01; seq 1 -> 01; 2 joints -> 02;
+    // joint 0: angle -1 -> zigzag 1 -> 01, torque None -> 00;
+    // joint 1: angle 15708 -> zigzag 31416 = 0x7AB8 -> B8 F5 01, torque Some -> 01,
+    //          -300 -> zigzag 599 = 0x257 -> D7 04.
+    // CRC-32 = 0xA1B0F9AC -> AC F9 B0 A1.
+    // COBS: "01 01 02 01" before the zero -> 05 01 01 02 01; then 10 bytes to the end -> 0B ...
+    assert_golden(
+        HostMessage::Setpoint(Setpoint {
+            seq: 1,
+            joints: [
+                JointSetpoint {
+                    angle: -1,
+                    torque: None,
+                },
+                JointSetpoint {
+                    angle: 15708,
+                    torque: Some(-300),
+                },
+            ]
+            .into_iter()
+            .collect(),
+        }),
+        &[
+            0x01, 0x01, 0x02, 0x01, 0x00, 0xB8, 0xF5, 0x01, 0x01, 0xD7, 0x04,
+        ],
+        &[
+            0x05, 0x01, 0x01, 0x02, 0x01, 0x0B, 0xB8, 0xF5, 0x01, 0x01, 0xD7, 0x04, 0xAC, 0xF9,
+            0xB0, 0xA1, 0x00,
+        ],
+    );
+}
+
+#[test]
+fn builder_writes_the_hand_laid_table() {
+    let mut b = GaitTableBuilder::new(
+        "tripod",
+        1.0,
+        0.5,
+        vec![JointSpec {
+            name: "LF_CTr".into(),
+            servo_id: 1,
+            model: ServoModel::Mx64,
+            sign: Sign::Negative,
+            zero_offset: 2048,
+            min_rad: -1.5,
+            max_rad: 1.5,
+            stiffness_nm_per_rad: 8.4,
+        }],
+    );
+    b.slice(0b0000_1001, &[0.25], &[-1.2]);
+    assert_eq!(b.build().unwrap(), GOLDEN_TABLE);
+}
+
+#[test]
+fn view_reads_the_hand_laid_table() {
+    let t = GaitTable::parse(&GOLDEN_TABLE).unwrap();
+    let h = t.header();
+    assert_eq!(
+        (h.joint_count, h.slice_count, h.duty, h.step_period_us),
+        (1, 1, 5000, 1_000_000)
+    );
+    assert_eq!(h.name_str(), Some("tripod"));
+    assert_eq!(h.table_len(), 62);
+    assert_eq!(
+        t.joint(0),
+        Some(JointMap {
+            servo_id: 1,
+            model: ServoModel::Mx64,
+            sign: Sign::Negative,
+            zero_offset: 2048,
+            min: -15000,
+            max: 15000,
+            stiffness: 8400,
+        })
+    );
+    assert_eq!(t.stance(0), Some(0b1001));
+    assert_eq!(t.angle(0, 0), Some(2500));
+    assert_eq!(t.torque(0, 0), Some(-1200));
+    assert_eq!(t.crc(), 0x8567_F1A7);
+}
