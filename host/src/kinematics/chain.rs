@@ -21,7 +21,7 @@ impl Default for IkOptions {
     fn default() -> Self {
         IkOptions {
             tol_rel: 1e-9,
-            tol_null: 1e-10,
+            tol_null: 1e-8,
             max_iter: 1000,
         }
     }
@@ -31,15 +31,15 @@ impl Default for IkOptions {
 #[derive(Debug, Clone)]
 pub struct LegChain {
     pub leg: Leg,
-    n: usize,
-    origins: [Isometry3<f64>; MAX_CHAIN],
+    /// `seg[k]`: constant transform from actuated joint k-1's turned frame (the thorax for k = 0)
+    /// to actuated joint k's frame, fixed joints folded in.
+    seg: [Isometry3<f64>; MAX_CHAIN],
     axes: [Unit<Vector3<f64>>; MAX_CHAIN],
-    /// Fixed angle, or NaN for an actuated joint.
-    fixed: [f64; MAX_CHAIN],
     /// Model joint index of each actuated joint, proximal first.
     pub actuated: Vec<usize>,
     lo: [f64; MAX_CHAIN],
     hi: [f64; MAX_CHAIN],
+    /// Foot point in the last actuated joint's turned frame.
     foot: Vector3<f64>,
     /// Leg length (m), the scale of the tolerances.
     pub length: f64,
@@ -60,30 +60,34 @@ impl LegChain {
         }
         let mut c = LegChain {
             leg,
-            n: chain.len(),
-            origins: [Isometry3::identity(); MAX_CHAIN],
+            seg: [Isometry3::identity(); MAX_CHAIN],
             axes: [Vector3::x_axis(); MAX_CHAIN],
-            fixed: [f64::NAN; MAX_CHAIN],
             actuated: Vec::new(),
             lo: [0.0; MAX_CHAIN],
             hi: [0.0; MAX_CHAIN],
             foot: foot.point,
             length: model.leg_length(leg),
         };
-        for (k, &j) in chain.iter().enumerate() {
+        let mut acc = Isometry3::identity();
+        for &j in &chain {
             let joint = &model.joints[j];
-            c.origins[k] = joint.origin;
-            c.axes[k] = joint.axis;
+            acc *= joint.origin;
             match joint.actuation {
-                Actuation::Fixed { angle } => c.fixed[k] = angle,
+                Actuation::Fixed { angle } => {
+                    acc *= UnitQuaternion::from_axis_angle(&joint.axis, angle)
+                }
                 Actuation::Actuated { .. } => {
                     let a = c.actuated.len();
+                    c.seg[a] = acc;
+                    c.axes[a] = joint.axis;
                     c.lo[a] = joint.limits.0;
                     c.hi[a] = joint.limits.1;
                     c.actuated.push(j);
+                    acc = Isometry3::identity();
                 }
             }
         }
+        c.foot = (acc * Point3::from(foot.point)).coords;
         Ok(c)
     }
 
@@ -109,18 +113,11 @@ impl LegChain {
         let mut pose = Isometry3::identity();
         let mut o = [Vector3::zeros(); MAX_CHAIN];
         let mut a = [Vector3::zeros(); MAX_CHAIN];
-        let mut k_act = 0;
-        for k in 0..self.n {
-            pose *= self.origins[k];
-            let angle = if self.fixed[k].is_nan() {
-                o[k_act] = pose.translation.vector;
-                a[k_act] = pose.rotation * self.axes[k].into_inner();
-                k_act += 1;
-                qa[k_act - 1]
-            } else {
-                self.fixed[k]
-            };
-            pose *= UnitQuaternion::from_axis_angle(&self.axes[k], angle);
+        for k in 0..self.dof() {
+            pose *= self.seg[k];
+            o[k] = pose.translation.vector;
+            a[k] = pose.rotation * self.axes[k].into_inner();
+            pose *= UnitQuaternion::from_axis_angle(&self.axes[k], qa[k]);
         }
         ((pose * Point3::from(self.foot)).coords, o, a)
     }
@@ -143,6 +140,8 @@ impl LegChain {
     /// Moves `qa` (warm start, updated in place) until the foot is at `target` within tolerance,
     /// pulling spare degrees of freedom towards `rest`. Returns the iterations used, or the
     /// remaining distance (m) if the target was not reached.
+    // The loops walk several index-parallel fixed-size arrays (angles, limits, Jacobian columns).
+    #[allow(clippy::needless_range_loop)]
     pub fn solve(
         &self,
         target: &Vector3<f64>,

@@ -16,11 +16,13 @@ mod aproj;
 mod builtin;
 mod error;
 mod file;
+mod file_write;
 mod query;
 mod urdf;
 
 pub use aproj::{ImportOptions, anim_to_rep, import_aproj, import_aproj_file, parse_joint_name};
 pub use builtin::{BUILTIN_NAMES, builtin};
 pub use error::ModelError;
-pub use file::{ModelFile, from_toml_str, load, rpy_of, to_toml_string};
+pub use file::{ModelFile, from_toml_str, load};
+pub use file_write::{rpy_of, to_toml_string};
 pub use urdf::to_urdf;

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 fn xyz_rpy(iso: &Isometry3<f64>) -> String {
     let t = iso.translation.vector;
-    let [r, p, y] = super::file::rpy_of(&iso.rotation);
+    let [r, p, y] = super::file_write::rpy_of(&iso.rotation);
     format!(
         r#"<origin xyz="{:e} {:e} {:e}" rpy="{:e} {:e} {:e}"/>"#,
         t.x, t.y, t.z, r, p, y

@@ -3,6 +3,7 @@
 use anyhow::{Context, Result};
 use clap::{Args as ClapArgs, Subcommand};
 use host::model::{self, ImportOptions, Model};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Work with organism models (built-in names: drosophibot2, scale-drosophila).
@@ -68,7 +69,10 @@ impl Args {
             }
             ModelCmd::Show { model } => {
                 let m = load_model(&model)?;
-                println!(
+                // writeln! rather than println!: a closed pipe (`| head`) is an error, not a panic.
+                let mut out = std::io::stdout().lock();
+                writeln!(
+                    out,
                     "{}: {} bodies, {} joints ({} actuated), {} feet, {:.6} kg",
                     m.name,
                     m.bodies.len(),
@@ -76,9 +80,10 @@ impl Args {
                     m.actuated_joints().len(),
                     m.feet.len(),
                     m.total_mass()
-                );
+                )?;
                 for j in &m.joints {
-                    println!(
+                    writeln!(
+                        out,
                         "  {:10} {:>8} -> {:16} limits [{:7.1}, {:7.1}] deg  {:?}",
                         j.name,
                         m.bodies[j.parent].name,
@@ -86,10 +91,15 @@ impl Args {
                         j.limits.0.to_degrees(),
                         j.limits.1.to_degrees(),
                         j.actuation
-                    );
+                    )?;
                 }
                 for leg in m.legs() {
-                    println!("  {} leg length {:.4} m", leg.name(), m.leg_length(leg));
+                    writeln!(
+                        out,
+                        "  {} leg length {:.4} m",
+                        leg.name(),
+                        m.leg_length(leg)
+                    )?;
                 }
                 Ok(())
             }

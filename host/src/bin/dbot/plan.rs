@@ -31,9 +31,10 @@ pub struct Args {
     /// Walk backward (negates the body translation per step).
     #[arg(long)]
     backward: bool,
-    /// TOML file with stepping parameters (any subset of: swing_s, duty, step_height_m,
-    /// translation_m, rotation_rad, body_height_m, gait, slices, terrain, ball_radius_m,
-    /// ball_offset_m).
+    /// TOML file with stepping parameters, any subset of: swing_s (s), duty, step_height_m and
+    /// body_height_m ({ hind, middle, front }, m), translation_m and rotation_rad (per stance),
+    /// gait ({ phi_i, phi_c }), slices, terrain, ball_radius_m, ball_offset_m (below the CoM, m),
+    /// placement ({ forward_m = {..}, outward_m = {..} }, foot offsets from each ThC, m).
     #[arg(long)]
     params: Option<PathBuf>,
     /// Output directory (created if missing).

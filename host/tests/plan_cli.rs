@@ -1,0 +1,100 @@
+//! The `dbot plan` and `dbot model export` commands end to end: files written as issue 5 specifies.
+
+use std::process::Command;
+
+fn dbot(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn plan_writes_every_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let o = dbot(&[
+        "plan",
+        "--model",
+        "drosophibot2",
+        "--terrain",
+        "incline:15",
+        "--gait",
+        "tripod",
+        "--swing",
+        "0.6",
+        "--slices",
+        "40",
+        "--backward",
+        "--out",
+        out,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "joints.csv",
+        "feet.csv",
+        "plan.json",
+        "model.urdf",
+        "joint_angles.png",
+        "footfall.png",
+        "feet.png",
+    ] {
+        assert!(dir.path().join(f).metadata().unwrap().len() > 0, "{f}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("plan.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["parameters"]["swing_s"], 0.6);
+    assert_eq!(json["slices"], 40);
+    assert!(json["parameters"]["translation_m"].as_f64().unwrap() < 0.0);
+    // Period = swing / (1 - duty) = 0.6 / 0.4.
+    assert!((json["period_s"].as_f64().unwrap() - 1.5).abs() < 1e-12);
+    let g = json["gravity_m_s2"].as_array().unwrap();
+    assert!((g[0].as_f64().unwrap() + 9.81 * 15f64.to_radians().sin()).abs() < 1e-9);
+    let joints = std::fs::read_to_string(dir.path().join("joints.csv")).unwrap();
+    assert_eq!(joints.lines().count(), 1 + 40 * 32);
+    assert!(urdf_rs::read_file(dir.path().join("model.urdf")).is_ok());
+}
+
+#[test]
+fn params_file_and_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let params = dir.path().join("p.toml");
+    std::fs::write(&params, "duty = 1.5\n").unwrap();
+    let o = dbot(&[
+        "plan",
+        "--params",
+        params.to_str().unwrap(),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("duty"));
+    std::fs::write(&params, "dutty = 0.5\n").unwrap();
+    let o = dbot(&[
+        "plan",
+        "--params",
+        params.to_str().unwrap(),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("dutty"));
+}
+
+#[test]
+fn model_export_urdf() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("fly.urdf");
+    let o = dbot(&[
+        "model",
+        "export",
+        "--model",
+        "scale-drosophila",
+        "--urdf",
+        f.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let robot = urdf_rs::read_file(&f).unwrap();
+    assert!(robot.links.iter().any(|l| l.name == "LF_tip"));
+    assert!(robot.joints.iter().any(|j| j.name == "LF_ThC1"));
+}
