@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The one bench command (issue 12): ours vs SciPy SLSQP, Clarabel (Python), a NumPy reduced solve
+# with Pinocchio's RNEA, Pinocchio's RNEA on one leg, a Python reference IK, and the firmware's
+# simulated bus cycle vs the wire limit, all on the same inputs in one run. Prints the ratio table;
+# everything (export.json, URDFs, results.json, logs) lands in bench/out/.
+#
+# Usage: bench/run.sh [--slsqp-slices N] [--no-scaling] [--no-firmware] [--firmware-log FILE]
+#   --firmware-log FILE: use the output of an earlier run of the firmware's simulated-wire test
+#   (e.g. on a branch that has it) instead of running it here.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SLSQP_SLICES=5
+SCALING=--scaling
+FIRMWARE=1
+FW_GIVEN=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --slsqp-slices) SLSQP_SLICES="$2"; shift 2 ;;
+    --no-scaling) SCALING=""; shift ;;
+    --no-firmware) FIRMWARE=0; shift ;;
+    --firmware-log) FIRMWARE=0; FW_GIVEN="$2"; shift 2 ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
+done
+OUT=bench/out
+mkdir -p "$OUT"
+
+# Python peers from pinned versions, in a local virtual environment.
+if [ ! -x bench/.venv/bin/python ] || ! cmp -s bench/requirements.txt bench/.venv/requirements.txt; then
+  python3 -m venv bench/.venv
+  bench/.venv/bin/pip install --quiet --disable-pip-version-check -r bench/requirements.txt
+  cp bench/requirements.txt bench/.venv/requirements.txt
+fi
+
+# Every peer on one thread, like ours (a multi-threaded BLAS on a shared machine also makes SLSQP
+# hundreds of times slower through oversubscription).
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 RAYON_NUM_THREADS=1
+
+echo "== ours: build and export (cargo --release)" >&2
+cargo build --release --quiet -p host --example bench_export --example bench_schur
+TARGET_DIR=$(cargo metadata --format-version 1 --no-deps | bench/.venv/bin/python -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
+"$TARGET_DIR/release/examples/bench_export" "$OUT" $SCALING
+
+FW_LOG="$FW_GIVEN"
+if [ "$FIRMWARE" = 1 ]; then
+  if grep -qs "fn bus_rate_and_jitter_at_1_and_4_mbps" firmware/src/sim_tests.rs; then
+    echo "== firmware: simulated-wire bus cycle test" >&2
+    FW_LOG="$OUT/firmware_bus.log"
+    cargo test --quiet -p firmware --lib sim_tests::bus_rate_and_jitter_at_1_and_4_mbps -- --nocapture >"$FW_LOG" 2>&1 || {
+      echo "firmware bus test failed, see $FW_LOG" >&2; FW_LOG=""; }
+  else
+    echo "== firmware: simulated-wire bus test not on this branch (firmware/src/sim_tests.rs); rates not measured" >&2
+  fi
+fi
+
+echo "== peers (Python)" >&2
+bench/.venv/bin/python bench/peers.py "$OUT" --slsqp-slices "$SLSQP_SLICES" ${FW_LOG:+--firmware "$FW_LOG"} | tee "$OUT/table.txt"
+echo | tee -a "$OUT/table.txt"
+echo "prototype from the profile (block-diagonal Schur solve of the reduced QP, host/examples/bench_schur.rs):" | tee -a "$OUT/table.txt"
+"$TARGET_DIR/release/examples/bench_schur" | tee -a "$OUT/table.txt"
