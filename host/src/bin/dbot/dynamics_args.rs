@@ -142,8 +142,14 @@ impl PlanDynamics {
             .flatten()
             .fold(0.0f64, |m, t| m.max(t.abs()));
         let r = &self.cycle.report;
+        // The robot's torques are N m, the scale fly's are nano to micro N m.
+        let peak = if peak >= 1e-2 {
+            format!("{peak:.3}")
+        } else {
+            format!("{peak:.3e}")
+        };
         format!(
-            "peak actuated torque {peak:.4e} N m; {} foot-slices outside the mu = {} cone or pulling; {} joint-slices over the torque limit",
+            "peak actuated torque {peak} N m; {} foot-slices outside the mu = {} cone or pulling; {} joint-slices over the torque limit",
             r.slips.len(),
             self.options.mu,
             r.saturations.len()
