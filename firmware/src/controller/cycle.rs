@@ -110,7 +110,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             // Safe keeps whatever torque the servos have: the faulty one has dropped it already,
             // the others hold their last goal rather than letting the robot fall.
             let off = matches!(self.state, State::Idle | State::EStop);
-            return if off && self.torque_sent {
+            return if off && (self.torque_sent || self.torque_unknown) {
                 BusAction::TorqueOff
             } else {
                 BusAction::ReadOnly

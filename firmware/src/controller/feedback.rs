@@ -25,8 +25,14 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.counters.jitter_us = late_us;
         self.counters.max_jitter_us = self.counters.max_jitter_us.max(late_us);
         match (plan.action, outcome) {
-            (BusAction::TorqueOn, Outcome::Done(Ok(()))) => self.torque_sent = true,
-            (BusAction::TorqueOff, Outcome::Done(Ok(()))) => self.torque_sent = false,
+            (BusAction::TorqueOn, Outcome::Done(Ok(()))) => {
+                self.torque_sent = true;
+                self.torque_unknown = false;
+            }
+            (BusAction::TorqueOff, Outcome::Done(Ok(()))) => {
+                self.torque_sent = false;
+                self.torque_unknown = false;
+            }
             (BusAction::Reboot { joints }, Outcome::Done(r)) => {
                 // Rebooted servos come back with torque off; Boot then looks for all of them. If
                 // only some were rebooted the others may still hold torque: Idle turns it off.

@@ -108,6 +108,10 @@ pub struct Controller<F> {
     known: [bool; MAX_JOINTS],
     /// Torque as last sent to the servos.
     torque_sent: bool,
+    /// No Torque On / Off has reached the servos since boot: a reset (watchdog, the board's own
+    /// brown-out) can leave them holding torque, so Idle and EStop send Torque Off once, and what
+    /// the board reports and what an emergency stop does match the servos.
+    torque_unknown: bool,
     misses: MissCounter<MAX_JOINTS>,
     /// Joints whose servos are to be rebooted (bit j), if a reboot is pending.
     reboot_pending: Option<u32>,
@@ -139,6 +143,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             present: [Feedback::default(); MAX_JOINTS],
             known: [false; MAX_JOINTS],
             torque_sent: false,
+            torque_unknown: true,
             misses: MissCounter::new(config.miss_limit),
             reboot_pending: None,
             hw_error_pending: None,

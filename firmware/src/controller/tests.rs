@@ -376,7 +376,9 @@ fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
 #[test]
 fn a_status_error_number_is_a_servo_error() {
     let mut r = Rig::new();
+    // Boot -> Idle, then the one Torque Off of a fresh boot (torque state unknown after a reset).
     r.cycle();
+    assert_eq!(r.cycle(), BusAction::TorqueOff);
     let plan = r.c.plan(r.now);
     let mut replies = [Ok(Feedback::default()); 22];
     replies[5] = Err(ReplyFault::Status(StatusError(0x04)));
@@ -426,7 +428,10 @@ fn telemetry_every_nth_cycle_and_drops_counted_when_nobody_reads() {
     let cycles: Vec<u32> = core::iter::from_fn(|| r.c.pop_telemetry())
         .map(|t| t.cycle)
         .collect();
-    assert_eq!(cycles, [1, 4, 7]);
+    // Telemetry comes from feedback cycles: cycle 2 is the fresh boot's Torque Off (no feedback),
+    // so the feedback cycles are 1, 3, 4, 5, ... and every third of them, from the first, is
+    // reported: cycles 1, 5, 8.
+    assert_eq!(cycles, [1, 5, 8]);
     r.c.set_telemetry(1);
     for _ in 0..20 {
         r.cycle();
