@@ -24,7 +24,7 @@ seed() {
         model_toml) cp ../host/models/*.toml "corpus/$t/" ;;
         aproj) cp ../../shared/models/animatlab/*.aproj "corpus/$t/" 2>/dev/null || true ;;
         plan_params)
-            printf 'swing_s = 0.5\nduty = 0.6\ngait = "tripod"\nslices = 40\nterrain = "ball:0.1:0.02"\nstep_height_m = { hind = 0.02, middle = 0.02, front = 0.02 }\n' \
+            printf 'swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\nterrain = "ball:0.1:0.02"\nstep_height_m = { hind = 0.02, middle = 0.02, front = 0.02 }\n' \
                 >"corpus/$t/seed.toml" ;;
         # First byte: chunk size 3; then the ping status of ID 1 from the e-manual.
         dxl_status) printf '\x03\xFF\xFF\xFD\x00\x01\x07\x00\x55\x00\x06\x04\x26\x65\x5D' >"corpus/$t/ping" ;;
