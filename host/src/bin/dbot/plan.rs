@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use host::gait::{Gait, ParamsFile, StepParams};
 use host::report;
 use indicatif::ProgressBar;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
 ///
@@ -75,12 +75,13 @@ impl Args {
         bar.inc(1);
         let out = &self.out;
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        let create = |name: &str| {
-            let path = out.join(name);
-            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
-        };
-        report::write_joints_csv(create("joints.csv")?, &plan, &[])?;
-        report::write_feet_csv(create("feet.csv")?, &plan, &[])?;
+        let file = |p: &Path| std::fs::File::create(p).map_err(anyhow::Error::from);
+        replace(out, "joints.csv", |p| {
+            Ok(report::write_joints_csv(file(p)?, &plan, &[])?)
+        })?;
+        replace(out, "feet.csv", |p| {
+            Ok(report::write_feet_csv(file(p)?, &plan, &[])?)
+        })?;
         bar.inc(1);
         let json = serde_json::json!({
             "model": model.name,
@@ -99,14 +100,20 @@ impl Args {
             "resting_posture_rad": model.joints.iter().zip(&plan.posture.q).map(|(j, q)| (j.name.clone(), *q)).collect::<std::collections::BTreeMap<_, _>>(),
             "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
         });
-        std::fs::write(out.join("plan.json"), serde_json::to_string_pretty(&json)?)?;
-        std::fs::write(out.join("model.urdf"), host::model::to_urdf(&model))?;
+        let json = serde_json::to_string_pretty(&json)?;
+        replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
+        let urdf = host::model::to_urdf(&model);
+        replace(out, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
         bar.inc(1);
-        report::plot_joint_angles(&plan, &out.join("joint_angles.png"))?;
+        replace(out, "joint_angles.png", |p| {
+            Ok(report::plot_joint_angles(&plan, p)?)
+        })?;
         bar.inc(1);
-        report::plot_footfall(&plan, &out.join("footfall.png"))?;
+        replace(out, "footfall.png", |p| {
+            Ok(report::plot_footfall(&plan, p)?)
+        })?;
         bar.inc(1);
-        report::plot_feet(&plan, &out.join("feet.png"))?;
+        replace(out, "feet.png", |p| Ok(report::plot_feet(&plan, p)?))?;
         bar.finish_and_clear();
         println!(
             "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png to {}",
@@ -117,4 +124,22 @@ impl Args {
         );
         Ok(())
     }
+}
+
+/// Writes the output `name` in `dir` through a scratch file next to it (`.partial-NAME`, same
+/// extension, so plotters picks the same format), renamed over `name` only once complete: a run
+/// that fails or is killed leaves the previous file whole (and at worst a scratch file). The error
+/// names the file.
+pub(crate) fn replace(
+    dir: &Path,
+    name: &str,
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<()> {
+    let path = dir.join(name);
+    let scratch = dir.join(format!(".partial-{name}"));
+    let done = write(&scratch).and_then(|()| Ok(std::fs::rename(&scratch, &path)?));
+    if done.is_err() {
+        let _ = std::fs::remove_file(&scratch);
+    }
+    done.with_context(|| format!("writing {}", path.display()))
 }
