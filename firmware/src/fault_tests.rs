@@ -616,3 +616,166 @@ fn a_table_larger_than_the_flash_bank_is_refused_and_the_stored_gait_stays() {
     play(&mut board, &mut client, protocol::Steps::Count(1));
     run_until(&mut board, &wire, 500, |s| s == State::Walking);
 }
+
+/// The soak: `secs` of simulated walking (100 Hz) with random bus noise, servo glitches (corrupt
+/// replies for fewer cycles than the miss limit), servos going silent (a fault, cleared and walked
+/// on), host garbage frames and a host that stops reading for a while. Checks that no cycle
+/// hangs or panics, every injected fault is reported with its joint, every garbage frame is counted,
+/// no glitch becomes a fault, and the stored gait is unchanged at the end. Returns the figures.
+fn soak(secs: u64) -> SoakFigures {
+    let (mut board, wire, mut client, table) = walking();
+    let limit = Config::default().miss_limit;
+    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut rnd = move |n: u64| {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x % n
+    };
+    let mut f = SoakFigures::default();
+    let c0 = status(&mut board, &mut client).counters;
+    let mut glitch_until = 0u64;
+    let mut deaf_until = 0u64;
+    let started = std::time::Instant::now();
+    let cycles = secs * 100;
+    for k in 0..cycles {
+        if state(&board) == State::Walking {
+            if rnd(200) == 0 {
+                let burst: Vec<u8> = (0..rnd(48)).map(|_| rnd(256) as u8).collect();
+                wire.inject_noise(&burst);
+                f.noise_bursts += 1;
+            }
+            if k >= glitch_until && rnd(500) == 0 {
+                let id = rnd(JOINTS as u64) as u8 + 1;
+                set_faults(
+                    &wire,
+                    id,
+                    Faults {
+                        corrupt_crc: true,
+                        ..Faults::default()
+                    },
+                );
+                // Below the miss limit, and no other glitch until this one has been healed
+                // for a few cycles.
+                for _ in 0..1 + rnd(u64::from(limit) - 1) {
+                    cycle(&mut board, &wire);
+                }
+                set_faults(&wire, id, Faults::default());
+                glitch_until = k + 10;
+                f.glitches += 1;
+            }
+            if rnd(3000) == 0 {
+                let id = rnd(JOINTS as u64) as u8 + 1;
+                set_faults(
+                    &wire,
+                    id,
+                    Faults {
+                        no_reply: true,
+                        ..Faults::default()
+                    },
+                );
+                run_until(&mut board, &wire, usize::from(limit) + 1, |s| {
+                    matches!(s, State::Safe(_))
+                });
+                let s = status(&mut board, &mut client);
+                let fault = s.fault.expect("a silent servo is reported");
+                assert_eq!(fault.joint, Some(id - 1), "cycle {k}");
+                assert_eq!(fault.kind, FaultKind::ServoMissing { cycles: limit });
+                f.silent_servos += 1;
+                f.faults_reported += 1;
+                set_faults(&wire, id, Faults::default());
+                assert_eq!(
+                    ask(&mut board, &mut client, Request::ClearFault),
+                    Response::Ack
+                );
+                run_until(&mut board, &wire, 10, |s| s == State::Idle);
+                play(&mut board, &mut client, protocol::Steps::Continuous);
+                run_until(&mut board, &wire, 1000, |s| s == State::Walking);
+            }
+        }
+        if rnd(1000) == 0 {
+            let len = 1 + rnd(300) as usize;
+            let mut junk: Vec<u8> = (0..len).map(|_| rnd(255) as u8 + 1).collect();
+            junk.push(0);
+            let answer = exchange(&mut board, &junk);
+            assert!(
+                matches!(answer.as_slice(), [DeviceMessage::Rejected(_)]),
+                "{answer:?}"
+            );
+            f.garbage_frames += 1;
+        }
+        if k >= deaf_until && rnd(6000) == 0 {
+            deaf_until = k + 100 + rnd(400); // the host stops reading for 1 to 5 s
+            f.host_silences += 1;
+        }
+        if k < deaf_until {
+            wire.block_on(board.run_cycle());
+        } else {
+            cycle(&mut board, &wire);
+        }
+        if k % 100 == 0 {
+            let s = status(&mut board, &mut client);
+            assert!(s.fault.is_none(), "cycle {k}: unexpected fault {s:?}");
+        }
+    }
+    let c1 = status(&mut board, &mut client).counters;
+    f.sim_s = (wire.now_us() as f64) * 1e-6;
+    f.wall_s = started.elapsed().as_secs_f64();
+    f.cycles = u64::from(c1.cycles - c0.cycles);
+    f.missed_deadlines = u64::from(c1.missed_deadlines - c0.missed_deadlines);
+    f.timeouts = u64::from(c1.bus_timeouts - c0.bus_timeouts);
+    f.crc_errors = u64::from(c1.crc_errors - c0.crc_errors);
+    f.rejected = u64::from(c1.rejected_frames - c0.rejected_frames);
+    f.telemetry_dropped = u64::from(c1.telemetry_dropped - c0.telemetry_dropped);
+    assert_eq!(f.rejected, f.garbage_frames, "every garbage frame counted");
+    assert_eq!(f.faults_reported, f.silent_servos);
+    assert_eq!(
+        slots(&mut board, &mut client)[0],
+        Some(table_crc(&table)),
+        "gait kept"
+    );
+    assert_eq!(board.controller.borrow().store().table(0), Some(&table[..]));
+    assert!(
+        f.cycles >= cycles,
+        "{} bus cycles for {cycles} loop turns",
+        f.cycles
+    );
+    eprintln!("soak: {f:?}");
+    f
+}
+
+#[derive(Debug, Default)]
+struct SoakFigures {
+    sim_s: f64,
+    wall_s: f64,
+    cycles: u64,
+    missed_deadlines: u64,
+    timeouts: u64,
+    crc_errors: u64,
+    rejected: u64,
+    telemetry_dropped: u64,
+    noise_bursts: u64,
+    glitches: u64,
+    silent_servos: u64,
+    faults_reported: u64,
+    garbage_frames: u64,
+    host_silences: u64,
+}
+
+#[test]
+fn soak_two_simulated_minutes() {
+    let f = soak(120);
+    assert!(
+        f.silent_servos >= 1 && f.glitches >= 5 && f.noise_bursts >= 20,
+        "{f:?}"
+    );
+}
+
+/// One simulated hour: `cargo test -p firmware --release --lib soak_one_simulated_hour -- --ignored
+/// --nocapture` (figures in docs/reliability.md).
+#[test]
+#[ignore = "long: one simulated hour (minutes of wall time in release)"]
+fn soak_one_simulated_hour() {
+    let f = soak(3600);
+    assert!(f.sim_s >= 3600.0, "{f:?}");
+}
