@@ -1,0 +1,88 @@
+//! Faults of docs/reliability.md that need the real firmware image and the emulator's controls
+//! and are not covered by the other HIL tests: the USB link unplugged and plugged back while
+//! walking, and a chip reset while walking. (Overload, a silent host, bad frames: tests/safety.rs;
+//! reset during an upload: tests/link.rs.)
+
+use anyhow::{Result, ensure};
+use hil_tests::drive::{T, start_playing, start_with_servos};
+use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::link::Link;
+use protocol::message::{Direction, RunState, Status, Steps};
+use protocol::{MAX_CHUNK_LEN, Request, Response};
+use std::time::Duration;
+
+const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
+
+fn walking(test: &str) -> Result<Option<(hil_tests::Target, Link, u32)>> {
+    let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, 1_000_000)? else {
+        return Ok(None);
+    };
+    let (builder, table) = sine_gait("faults", 40, 0.2)?;
+    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
+    let Response::Committed { crc, .. } = r else {
+        anyhow::bail!("upload: {r:?}");
+    };
+    start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
+    Ok(Some((board, link, crc)))
+}
+
+#[test]
+fn usb_unplugged_and_back_while_walking_the_gait_goes_on() -> Result<()> {
+    let Some((board, link, _)) = walking("usb_replug_walking")? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip("usb_replug_walking", "re-plugging USB needs the emulator");
+    };
+    emu.run_for(Duration::from_millis(500))?;
+    let before = emu.events("usb_configured").len();
+    drop(link);
+    emu.usb_replug()?;
+    emu.wait_event_n("usb_configured", before + 1, Duration::from_secs(30))?;
+    let t0 = emu.sim_time()?;
+    emu.run_for(Duration::from_secs(1))?;
+    let mut link = Link::open(board.port())?;
+    let s: Status = link.request(&Request::GetStatus, T)?;
+    ensure!(
+        s.state == RunState::Walking && s.fault.is_none(),
+        "after the re-plug: {s:?}"
+    );
+    // The bus loop ran on through the re-plug: 100 Hz over the simulated time since.
+    let elapsed = emu.sim_time()? - t0;
+    ensure!(elapsed >= Duration::from_secs(1), "{elapsed:?}");
+    Ok(())
+}
+
+#[test]
+fn a_reset_while_walking_comes_up_idle_with_the_gait_kept() -> Result<()> {
+    let Some((board, link, crc)) = walking("reset_walking")? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip("reset_walking", "resetting the chip needs the emulator");
+    };
+    emu.run_for(Duration::from_millis(700))?;
+    let before = emu.events("usb_configured").len();
+    drop(link);
+    emu.reset()?;
+    emu.wait_event_n("usb_configured", before + 1, Duration::from_secs(30))?;
+    let mut link = Link::open(board.port())?;
+    // Nothing moves on its own after a reset.
+    emu.run_for(Duration::from_millis(500))?;
+    let s: Status = link.request(&Request::GetStatus, T)?;
+    ensure!(
+        s.state == RunState::Idle && s.playback.is_none(),
+        "after the reset: {s:?}"
+    );
+    let r: Response = link.request(&Request::ListGaits, T)?;
+    let Response::Slots(slots) = r else {
+        anyhow::bail!("ListGaits: {r:?}");
+    };
+    let kept = slots[0].gait.map(|g| g.crc);
+    ensure!(
+        kept == Some(crc),
+        "slot 0 after the reset: {kept:?}, uploaded {crc:#x}"
+    );
+    start_playing(&mut link, 0, Direction::Forward, Steps::Count(1))?;
+    Ok(())
+}
