@@ -1,17 +1,38 @@
 #!/usr/bin/env bash
-# Runs the protocol's cargo-fuzz targets for a bounded time each (default 60 s):
+# Runs the cargo-fuzz targets for a bounded time each (default 60 s), niced, one after another:
 #   fuzz/run.sh [seconds] [target...]
-# Needs the nightly toolchain (present on these machines) and cargo-fuzz, installed here from
-# crates.io when missing. Not part of scripts/test.sh: the bounded proptest versions of the same
-# checks run there (protocol/tests/robustness.rs).
+# Targets: frame_decode gait_table upload (protocol), dxl_status (Dynamixel status parser),
+# model_toml (model TOML loader), aproj (AnimatLab importer), plan_params (planner parameters).
+# Seeds: the new targets start from valid inputs (the repo's model files, the shared AnimatLab
+# projects when ../shared exists, a parameter file, the e-manual's ping status packet).
+# Needs the nightly toolchain and cargo-fuzz (installed here from crates.io when missing). Not part
+# of scripts/test.sh: the bounded proptest versions of the same checks run there
+# (protocol/tests/robustness.rs, host/tests/reliability_inputs.rs). Figures: docs/reliability.md.
 set -euo pipefail
 cd "$(dirname "$0")"
 secs="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(frame_decode gait_table upload)
+[ ${#targets[@]} -gt 0 ] || targets=(frame_decode gait_table upload dxl_status model_toml aproj plan_params)
 command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
+
+seed() {
+    local t="$1"
+    mkdir -p "corpus/$t"
+    [ -z "$(ls -A "corpus/$t")" ] || return 0
+    case "$t" in
+        model_toml) cp ../host/models/*.toml "corpus/$t/" ;;
+        aproj) cp ../../shared/models/animatlab/*.aproj "corpus/$t/" 2>/dev/null || true ;;
+        plan_params)
+            printf 'swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\nterrain = "ball:0.1:0.02"\nstep_height_m = { hind = 0.02, middle = 0.02, front = 0.02 }\n' \
+                >"corpus/$t/seed.toml" ;;
+        # First byte: chunk size 3; then the ping status of ID 1 from the e-manual.
+        dxl_status) printf '\x03\xFF\xFF\xFD\x00\x01\x07\x00\x55\x00\x06\x04\x26\x65\x5D' >"corpus/$t/ping" ;;
+    esac
+}
+
 for t in "${targets[@]}"; do
+    seed "$t"
     printf '\n==> fuzz %s for %s s\n' "$t" "$secs"
-    cargo +nightly fuzz run "$t" -- -max_total_time="$secs"
+    nice -n 19 cargo +nightly fuzz run "$t" "corpus/$t" -- -max_total_time="$secs" -print_final_stats=1
 done

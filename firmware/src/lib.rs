@@ -26,6 +26,8 @@ pub mod bias;
 pub mod board;
 pub mod bus_loop;
 pub mod controller;
+#[cfg(test)]
+mod fault_tests;
 pub mod gait_view;
 pub mod link;
 pub mod memory_map;

@@ -214,6 +214,42 @@ impl StepParams {
         if !self.ball_offset_m.is_finite() {
             return Err(bad("ball_offset_m", self.ball_offset_m, "not finite"));
         }
+        // Finite is not enough: the footpath quintics raise times to the 5th power and lengths
+        // near f64::MAX overflow to infinity (found by host/tests/reliability_inputs.rs). These
+        // bounds are far beyond any walking robot and only keep the arithmetic finite.
+        const MAX_LENGTH_M: f64 = 100.0;
+        const MAX_PERIOD_S: f64 = 3600.0;
+        if self.period_s() > MAX_PERIOD_S {
+            return Err(bad(
+                "duty",
+                self.duty,
+                "the step period swing_s / (1 - duty) must be at most 3600 s",
+            ));
+        }
+        let mut lengths = vec![
+            ("translation_m", self.translation_m),
+            ("ball_radius_m", self.ball_radius_m),
+            ("ball_offset_m", self.ball_offset_m),
+        ];
+        for (f, p) in [
+            ("step_height_m", &self.step_height_m),
+            ("body_height_m", &self.body_height_m),
+        ] {
+            lengths.extend([(f, p.hind), (f, p.middle), (f, p.front)]);
+        }
+        if let Some(pl) = &self.placement {
+            for (f, p) in [
+                ("placement.forward_m", &pl.forward_m),
+                ("placement.outward_m", &pl.outward_m),
+            ] {
+                lengths.extend([(f, p.hind), (f, p.middle), (f, p.front)]);
+            }
+        }
+        for (f, v) in lengths {
+            if !(v.is_finite() && v.abs() <= MAX_LENGTH_M) {
+                return Err(bad(f, v, "must be finite and at most 100 m"));
+            }
+        }
         Ok(())
     }
 }

@@ -57,13 +57,11 @@ impl Args {
                     anyhow::bail!("nothing to do: give --urdf FILE and/or --toml FILE");
                 }
                 if let Some(p) = urdf {
-                    std::fs::write(&p, model::to_urdf(&m))
-                        .with_context(|| format!("writing {}", p.display()))?;
+                    write_whole(&p, &model::to_urdf(&m))?;
                 }
                 if let Some(p) = toml {
                     let notes = format!("Exported by dbot from `{model}`.");
-                    std::fs::write(&p, model::to_toml_string(&m, &notes, &|_| String::new()))
-                        .with_context(|| format!("writing {}", p.display()))?;
+                    write_whole(&p, &model::to_toml_string(&m, &notes, &|_| String::new()))?;
                 }
                 Ok(())
             }
@@ -105,4 +103,18 @@ impl Args {
             }
         }
     }
+}
+
+/// Writes `text` to `path` so that an interrupted run never leaves it half written
+/// ([`crate::plan::replace`]).
+fn write_whole(path: &Path, text: &str) -> Result<()> {
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file name", path.display()))?
+        .to_string_lossy();
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    crate::plan::replace(dir, &name, |p| Ok(std::fs::write(p, text)?))
 }

@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use host::gait::{Gait, ParamsFile, StepParams};
 use host::report;
 use indicatif::ProgressBar;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
 ///
@@ -78,15 +78,16 @@ impl Args {
         let dynamics = self.dynamics.solve(&plan)?;
         let out = &self.out;
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        let create = |name: &str| {
-            let path = out.join(name);
-            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
-        };
         let (joint_cols, feet_cols) = dynamics
             .as_ref()
             .map_or((vec![], vec![]), |d| (d.joint_columns(), d.feet_columns()));
-        report::write_joints_csv(create("joints.csv")?, &plan, &joint_cols)?;
-        report::write_feet_csv(create("feet.csv")?, &plan, &feet_cols)?;
+        let file = |p: &Path| std::fs::File::create(p).map_err(anyhow::Error::from);
+        replace(out, "joints.csv", |p| {
+            Ok(report::write_joints_csv(file(p)?, &plan, &joint_cols)?)
+        })?;
+        replace(out, "feet.csv", |p| {
+            Ok(report::write_feet_csv(file(p)?, &plan, &feet_cols)?)
+        })?;
         bar.inc(1);
         let mut json = serde_json::json!({
             "model": model.name,
@@ -108,14 +109,20 @@ impl Args {
         if let Some(d) = &dynamics {
             json["dynamics"] = d.json(&plan);
         }
-        std::fs::write(out.join("plan.json"), serde_json::to_string_pretty(&json)?)?;
-        std::fs::write(out.join("model.urdf"), host::model::to_urdf(&model))?;
+        let json = serde_json::to_string_pretty(&json)?;
+        replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
+        let urdf = host::model::to_urdf(&model);
+        replace(out, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
         bar.inc(1);
-        report::plot_joint_angles(&plan, &out.join("joint_angles.png"))?;
+        replace(out, "joint_angles.png", |p| {
+            Ok(report::plot_joint_angles(&plan, p)?)
+        })?;
         bar.inc(1);
-        report::plot_footfall(&plan, &out.join("footfall.png"))?;
+        replace(out, "footfall.png", |p| {
+            Ok(report::plot_footfall(&plan, p)?)
+        })?;
         bar.inc(1);
-        report::plot_feet(&plan, &out.join("feet.png"))?;
+        replace(out, "feet.png", |p| Ok(report::plot_feet(&plan, p)?))?;
         if let Some(d) = &dynamics {
             let files = d.write_files(&plan, out)?;
             println!("{}; wrote {}", d.summary(), files.join(" "));
@@ -130,4 +137,22 @@ impl Args {
         );
         Ok(())
     }
+}
+
+/// Writes the output `name` in `dir` through a scratch file next to it (`.partial-NAME`, same
+/// extension, so plotters picks the same format), renamed over `name` only once complete: a run
+/// that fails or is killed leaves the previous file whole (and at worst a scratch file). The error
+/// names the file.
+pub(crate) fn replace(
+    dir: &Path,
+    name: &str,
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<()> {
+    let path = dir.join(name);
+    let scratch = dir.join(format!(".partial-{name}"));
+    let done = write(&scratch).and_then(|()| Ok(std::fs::rename(&scratch, &path)?));
+    if done.is_err() {
+        let _ = std::fs::remove_file(&scratch);
+    }
+    done.with_context(|| format!("writing {}", path.display()))
 }
