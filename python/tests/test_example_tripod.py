@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import pathlib
 import sys
+import tomllib
 
 import numpy as np
 import pytest
@@ -49,6 +50,59 @@ def pattern(phase_of_leg: dict[str, float], duty: float = 0.6, period: int = 100
     )
 
 
+MODEL_FILE = pathlib.Path(__file__).resolve().parents[2] / "host" / "models" / "drosophibot2.toml"
+#: No-load speed at 12 V, rad/s (e-manual datasheets: MX-28 55 rpm, MX-64 63 rpm).
+NO_LOAD_RAD_S = {"mx28": 55 * 2 * np.pi / 60, "mx64": 63 * 2 * np.pi / 60}
+
+
+def omega0_of_servo_joints(model: dbot.Model) -> np.ndarray:
+    """Each servo joint's no-load speed, rad/s, from its actuator in the model file."""
+    with open(MODEL_FILE, "rb") as f:
+        joints = tomllib.load(f)["joint"]
+    actuation = {f"{j['leg']}_{j['kind']}": j["actuation"] for j in joints}
+    return np.array([NO_LOAD_RAD_S[actuation[name]] for name in model.servo_joint_names])
+
+
+def servo_law(cmd: np.ndarray, t: np.ndarray, start: np.ndarray, omega0: np.ndarray) -> np.ndarray:
+    """Present angles [record, joint] the virtual servos must report, rad.
+
+    The servo (dynamixel/src/sim/physics.rs, after the MX e-manual's P controller): PWM duty
+    d = clamp(P / 128 * error_ticks / 885, -1, 1) at P = 850, and with no external load (none
+    while streaming) the quasi-static motor turns at omega = omega0 * d: a first-order lag of
+    time constant 1 / (omega0 * 4.89 / rad), 35.5 ms (MX-28) or 31.0 ms (MX-64), that saturates
+    at the no-load speed for errors beyond 0.20 rad. In the wire's direction convention the
+    error is goal minus present in joint radians (a joint's sign flips both alike).
+
+    Timing on the simulated 1 Mbit/s wire (10 us a byte): a cycle starts with the Sync Write of
+    the goals, 14 + 5 n bytes, and the servos take the new goal when it ends; the Sync Read of
+    14 + n bytes follows, and every servo samples its present position when that ends (its
+    reply is computed then). So between two reads a servo heads for the previous goal until
+    (14 + n) * 10 us before the read, then for the new one.
+
+    Tolerance (2 ticks): reported positions are whole ticks (half a tick), the start is a
+    reported position (half a tick, decaying), and the simulator's Euler steps of 1 ms against
+    this finer integration (well under 0.1 tick).
+    """
+    n = cmd.shape[1]
+    new_goal_s = (14 + n) * 10e-6
+    k_per_rad = (850 / 128) / 885 / (2 * np.pi / 4096)
+    h_max = 1e-4
+
+    def run(x: np.ndarray, goal: np.ndarray, dt: float) -> np.ndarray:
+        steps = max(1, int(np.ceil(dt / h_max)))
+        h = dt / steps
+        for _ in range(steps):
+            x = x + h * omega0 * np.clip(k_per_rad * (goal - x), -1.0, 1.0)
+        return x
+
+    expect = np.empty_like(cmd)
+    expect[0] = start
+    for k in range(1, len(t)):
+        x = run(expect[k - 1], cmd[k - 1], t[k] - t[k - 1] - new_goal_s)
+        expect[k] = run(x, cmd[k], new_goal_s)
+    return expect
+
+
 def test_tripod_report_accepts_a_tripod_and_rejects_other_gaits() -> None:
     tripod = {"LF": 0, "RM": 0, "LH": 0, "RF": 0.5, "LM": 0.5, "RH": 0.5}
     assert_tripod(tripod_cpg.tripod_report(pattern(tripod), LEGS))
@@ -74,17 +128,11 @@ def test_example_walks_the_virtual_robot_in_a_tripod(tmp_path) -> None:
     # The board streamed all along: no fault, every record fresh (setpoint age at most 1).
     assert board.status()["fault"] is None
     assert rec["setpoint_age"].max() <= 1
-    # The servos followed: the virtual servos are first-order lags (tau = 20 ms, an estimate
-    # of an MX-28 at default gains; host/src/robot/servos.rs) that move towards the previous
-    # cycle's goal before reporting. The same law, integrated here from the commanded angles,
-    # must give the measured angles to within 2 servo ticks (reported positions are whole ticks).
+    # The servos followed: the servo law, integrated here from the commanded angles, must give
+    # the measured angles to within 2 servo ticks (see `servo_law`).
     cmd, pos, t = rec["commanded_rad"], rec["present_rad"], rec["time_s"]
-    tau, tick = 0.02, 2 * np.pi / 4096
-    expect = np.empty_like(pos)
-    expect[0] = pos[0]
-    for k in range(1, len(t)):
-        a = 1.0 - np.exp(-(t[k] - t[k - 1]) / tau)
-        expect[k] = expect[k - 1] + (cmd[k - 1] - expect[k - 1]) * a
+    expect = servo_law(cmd, t, pos[0], omega0_of_servo_joints(model))
+    tick = 2 * np.pi / 4096
     assert np.abs(pos - expect).max() <= 2 * tick
     settled = st[len(st) // 3 :]
     assert_tripod(tripod_cpg.tripod_report(settled, list(plan.legs)))

@@ -3,9 +3,17 @@ to that setpoint on the bus (the start of the first bus cycle whose goals carry 
 proprioception record's `time_us` with `setpoint_seq` equal to the setpoint's number). The issue's
 bound is two bus cycles, at 100 Hz and at 200 Hz.
 
-The host sends at many offsets within a cycle (0..1 of the period, evenly spread), so both the
-best case (just before a cycle starts) and the worst (just after) are measured. Send times are the
-board clock at the moment of sending (`Board.now()`, simulated time on the virtual robot).
+The host sends at many offsets within a cycle (0..0.9 of the period after the cycle's start,
+evenly spread), so both the best case (just before a cycle starts) and the worst (just after) are
+measured. Send times are the board clock at the moment of sending (`Board.now()`, simulated time
+on the virtual robot).
+
+One setpoint per cycle: the board applies the newest setpoint at each cycle start, so a second
+setpoint sent before the next cycle replaces the first, which then never reaches the bus (by
+design, not a loss). The measurement therefore syncs to the newest cycle (stale records drained
+first) and sends within that cycle's period. A cycle's record reaches the host only after the
+cycle's bus traffic (write, then the servos' replies: a few ms on the wire simulated at 1 Mbit/s),
+so an offset shorter than that traffic is sent as soon as the record is in.
 """
 
 from __future__ import annotations
@@ -29,11 +37,17 @@ def measure_latency(board, target: np.ndarray, cycle_hz: int, samples: int) -> n
             on_bus.setdefault(int(seq), float(t))
 
     for k in range(samples):
-        # Sync to a cycle, then send at an offset spread over the whole period.
+        # Sync to the newest cycle: drop records of cycles already past (noting their setpoints),
+        # then the next record is of the first cycle after the previous send.
+        note(board.drain_proprioception())
         rec = board.next_proprioception(timeout_s=2 * period)
         assert rec is not None
         note(rec)
-        board.wait(period * (k % 10) / 10)
+        # Send at an offset from that cycle's start spread over the period (before the next
+        # cycle starts, so each cycle carries at most one new setpoint).
+        start = float(rec["time_s"][-1])
+        board.wait(max(0.0, start + period * (k % 10) / 10 - board.now()))
+        assert board.now() < start + period, "the cycle's record came after the next cycle start"
         sent[board.send_setpoint(target)] = board.now()
     board.wait(3 * period)
     note(board.drain_proprioception())
@@ -46,6 +60,14 @@ def measure_latency(board, target: np.ndarray, cycle_hz: int, samples: int) -> n
 def test_setpoint_reaches_the_bus_within_two_cycles(tripod_plan, model, cycle_hz: int) -> None:
     board = standing_board(tripod_plan, cycle_hz=cycle_hz)
     board.enter_streaming(timeout_cycles=20)
+    # The latency bound is in bus cycles of the requested rate, so the board must keep that rate:
+    # a cycle (Sync Write of 22 goals + Sync Read of 22 replies) must fit in the period.
+    board.drain_proprioception()
+    board.wait(10 / cycle_hz)
+    starts = board.drain_proprioception()["time_s"]
+    assert np.allclose(np.diff(starts), 1.0 / cycle_hz), (
+        f"the bus loop does not keep {cycle_hz} Hz: cycles start {np.diff(starts)} s apart"
+    )
     lat = measure_latency(board, servo_rest(tripod_plan, model), cycle_hz, samples=50)
     period = 1.0 / cycle_hz
     print(
