@@ -167,12 +167,36 @@ impl VirtualRobot {
     /// Runs the next bus cycle of the firmware's bus loop (time passes to its start and through
     /// its bus traffic) and queues its telemetry for the host.
     pub fn cycle(&mut self) {
+        self.follow_baud();
         self.apply_loads();
         self.wire
             .block_on(self.schedule.run_cycle(&self.controller, &mut self.master));
         while let Some(frame) = self.link.telemetry(&self.controller) {
             self.to_host.extend(frame);
         }
+    }
+
+    /// `SetBus` changed the board's baud: the wire and the bus master follow, as the board's UART
+    /// does, and the virtual servos are taken to be set up for it (on a robot: `dbot dxl setup`
+    /// first), as they are fitted to the joint map.
+    fn follow_baud(&mut self) {
+        let want = self.controller.borrow().config().baud;
+        if want == self.master.config().baud {
+            return;
+        }
+        let Some(code) = dynamixel::control_table::baud_code(want) else {
+            return;
+        };
+        self.wire.set_baud(want);
+        self.master.set_config(MasterConfig {
+            baud: want,
+            reply_slack_us: REPLY_SLACK_US,
+        });
+        self.wire.with_chain(|chain| {
+            for s in chain.servos_mut() {
+                s.put(dynamixel::control_table::BAUD_RATE, u32::from(code));
+            }
+        });
     }
 
     /// The robot's servos are the ones its gait's joint map names: when the map names IDs or models
