@@ -101,10 +101,12 @@ fn coupled_hessian_falls_back_to_the_null_space_path() {
     let mut p = cycle_problems().swap_remove(0);
     let n = p.q.len();
     assert!(n >= 6);
-    // Couple the first two feet by a small symmetric entry (P stays positive definite).
+    // Couple the first and last foot by a small symmetric entry (P stays positive definite):
+    // the one block would then span all n > 6 unknowns. (Coupling neighbours only merges two
+    // 3x3 blocks into a 6x6 one, which the block path handles.)
     let c = 1e-3 * p.p[(0, 0)];
-    p.p[(0, 3)] = c;
-    p.p[(3, 0)] = c;
+    p.p[(0, n - 1)] = c;
+    p.p[(n - 1, 0)] = c;
     assert!(qp::solve_block_diagonal(&p).is_none());
     let auto = qp::solve(&p, Backend::Auto).unwrap();
     assert_eq!(auto, qp::solve(&p, Backend::NullSpace).unwrap());
