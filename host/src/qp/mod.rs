@@ -1,18 +1,21 @@
 //! Small dense convex QPs with cone constraints: minimise 1/2 x'Px + q'x subject to Ax + s = b,
 //! s in a product of cones (equalities first), solved either directly (equalities only) or with
-//! Clarabel.
+//! Clarabel. Equality-only problems whose Hessian is block diagonal with small positive definite
+//! blocks (the dynamics problem: one 3x3 block per stance foot) take a faster block/Schur path.
 //!
 //! The per-slice dynamics problem has at most 18 unknowns, so dense nalgebra matrices are the right
 //! tool; Clarabel gets them as CSC. Equality rows may be linearly dependent (three feet in a line
 //! cannot resist a moment about that line, which is fine when none is asked for): they are reduced
 //! to an orthonormal basis of their row space first, and the multipliers are mapped back.
 
+mod block;
 mod clarabel_backend;
 mod direct;
 mod equality;
 
 use nalgebra::{DMatrix, DVector};
 
+pub use block::solve as solve_block_diagonal;
 pub use equality::ReducedEqualities;
 
 /// A block of constraint rows and the cone its slack lives in.
@@ -49,9 +52,14 @@ pub struct QpProblem {
 /// Which solver runs the QP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Backend {
-    /// Direct null-space solve when there are only equalities, Clarabel otherwise.
+    /// Direct solve when there are only equalities (block/Schur when P is block diagonal with
+    /// small positive definite blocks and the equality rows are independent, null space
+    /// otherwise), Clarabel otherwise.
     #[default]
     Auto,
+    /// As `Auto` but never the block/Schur path: the general null-space solve for equality-only
+    /// problems (the reference the block path is tested against), Clarabel otherwise.
+    NullSpace,
     /// Always Clarabel (also for equality-only problems).
     Clarabel,
 }
@@ -92,6 +100,19 @@ pub const UNIQUENESS_TOLERANCE: f64 = 1e-13;
 /// equalities must be positive definite, which is checked before any solver runs.
 pub fn solve(problem: &QpProblem, backend: Backend) -> Result<QpSolution, QpError> {
     check_shape(problem)?;
+    let only_equalities = problem
+        .cones
+        .iter()
+        .all(|c| matches!(c, ConeBlock::Zero(_)));
+    // The block path proves uniqueness itself (P positive definite, equality rows independent)
+    // and returns None for anything it cannot decide; the general path below then gives the
+    // verdict, so errors are unchanged.
+    if only_equalities
+        && backend == Backend::Auto
+        && let Some(solution) = block::solve(problem)
+    {
+        return Ok(solution);
+    }
     let n_eq = match problem.cones.first() {
         Some(ConeBlock::Zero(n)) => *n,
         _ => 0,
@@ -105,11 +126,7 @@ pub fn solve(problem: &QpProblem, backend: Backend) -> Result<QpSolution, QpErro
     if condition < UNIQUENESS_TOLERANCE {
         return Err(QpError::NotUnique { condition });
     }
-    let only_equalities = problem
-        .cones
-        .iter()
-        .all(|c| matches!(c, ConeBlock::Zero(_)));
-    if only_equalities && backend == Backend::Auto {
+    if only_equalities && backend != Backend::Clarabel {
         Ok(direct::solve(problem, &eq, &reduced_hessian))
     } else {
         clarabel_backend::solve(problem, &eq, n_eq, &reduced_hessian)
