@@ -26,9 +26,14 @@ const BLOCK_CONDITION: f64 = 1e3 * UNIQUENESS_TOLERANCE;
 /// equality rows count as dependent (the same cut the equality reduction applies to A A').
 const SCHUR_RANK_TOLERANCE: f64 = 1e-7;
 
+/// Largest equality residual, relative to the size of `b` and of `A x`, that the fast path returns.
+const EQUALITY_TOLERANCE: f64 = 1e-9;
+
 /// Solve an equality-only `problem` (all rows of `a` are equalities) by the block/Schur method,
 /// or `None` when it has other cones or inconsistent shapes, P is not block diagonal with small
-/// well-conditioned positive definite blocks, or the equality rows are (nearly) dependent.
+/// well-conditioned positive definite blocks, the equality rows are (nearly) dependent, or the
+/// result misses the equalities.
+
 pub fn solve(problem: &QpProblem) -> Option<QpSolution> {
     check_shape(problem).ok()?;
     if !problem
@@ -87,6 +92,13 @@ pub fn solve(problem: &QpProblem) -> Option<QpSolution> {
     };
     let x = -(y.columns(0, m) * &z + y.column(m));
     let s = &problem.b - &problem.a * &x;
+    // The rank test above is a pivot ratio: an inconsistent system (e.g. two feet that cannot
+    // hold the body) can pass it and give an x that misses A x = b. Such a problem belongs to the
+    // general path, which reports it; only a solution that meets the equalities is returned.
+    let scale = problem.b.amax().max(problem.a.amax() * x.amax()).max(1.0);
+    if !(s.amax() <= EQUALITY_TOLERANCE * scale) {
+        return None;
+    }
     Some(QpSolution {
         x,
         s,
