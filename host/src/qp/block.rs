@@ -33,7 +33,6 @@ const EQUALITY_TOLERANCE: f64 = 1e-9;
 /// or `None` when it has other cones or inconsistent shapes, P is not block diagonal with small
 /// well-conditioned positive definite blocks, the equality rows are (nearly) dependent, or the
 /// result misses the equalities.
-
 pub fn solve(problem: &QpProblem) -> Option<QpSolution> {
     check_shape(problem).ok()?;
     if !problem
@@ -96,7 +95,8 @@ pub fn solve(problem: &QpProblem) -> Option<QpSolution> {
     // hold the body) can pass it and give an x that misses A x = b. Such a problem belongs to the
     // general path, which reports it; only a solution that meets the equalities is returned.
     let scale = problem.b.amax().max(problem.a.amax() * x.amax()).max(1.0);
-    if !(s.amax() <= EQUALITY_TOLERANCE * scale) {
+    // A NaN residual fails this test too.
+    if s.amax().partial_cmp(&(EQUALITY_TOLERANCE * scale)) != Some(std::cmp::Ordering::Less) {
         return None;
     }
     Some(QpSolution {
