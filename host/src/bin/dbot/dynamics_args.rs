@@ -123,14 +123,25 @@ impl PlanDynamics {
     }
 
     /// joint_forces.csv, torques.png, grf.png in `out`; returns the file names.
+    /// Each file is written through [`crate::plan::replace`]: a run that is killed leaves the
+    /// previous file whole.
     pub fn write_files(&self, plan: &Plan, out: &Path) -> Result<Vec<&'static str>> {
-        let path = out.join("joint_forces.csv");
-        let f =
-            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
-        output::write_joint_forces_csv(f, &plan.model, plan.dt, &self.cycle)
-            .with_context(|| format!("writing {}", path.display()))?;
-        host::analysis::plot_torques(plan, &self.cycle, &out.join("torques.png"))?;
-        host::analysis::plot_grf(plan, &self.cycle, &out.join("grf.png"))?;
+        use crate::plan::replace;
+        replace(out, "joint_forces.csv", |p| {
+            let f = std::fs::File::create(p)?;
+            Ok(output::write_joint_forces_csv(
+                f,
+                &plan.model,
+                plan.dt,
+                &self.cycle,
+            )?)
+        })?;
+        replace(out, "torques.png", |p| {
+            Ok(host::analysis::plot_torques(plan, &self.cycle, p)?)
+        })?;
+        replace(out, "grf.png", |p| {
+            Ok(host::analysis::plot_grf(plan, &self.cycle, p)?)
+        })?;
         Ok(vec!["joint_forces.csv", "torques.png", "grf.png"])
     }
 
