@@ -3,11 +3,11 @@
 //! components and magnitude (figure S9), and overlays of two plans.
 
 use std::path::Path;
-use std::sync::Once;
 
 use plotters::prelude::*;
 
 use crate::model::Leg;
+use crate::report::style::register_font;
 
 /// A line of a panel.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,19 +48,6 @@ const COLOURS: [RGBColor; 8] = [
     RGBColor(227, 119, 194),
     RGBColor(0, 0, 0),
 ];
-
-static FONT: Once = Once::new();
-
-/// plotters' `ab_glyph` backend has no system fonts: register DejaVu Sans once.
-fn register_font() {
-    FONT.call_once(|| {
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            dejavu::sans::regular(),
-        );
-    });
-}
 
 /// Stance intervals of a per-slice stance flag over a cycle of `period` with slices `dt` apart.
 pub fn stance_spans(stance: &[bool], dt: f64) -> Vec<(f64, f64)> {

@@ -4,28 +4,15 @@
 //! embedded font (no system fonts needed).
 
 use std::path::Path;
-use std::sync::Once;
 
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
 use super::csv_out::Row;
 use super::joints::JointMeta;
 use super::stats::phase_stats;
+use crate::report::style::register_font;
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
-
-fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        // Can only fail if the bytes are not a font; dejavu's are.
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            dejavu::sans::regular(),
-        );
-    });
-}
 
 const COLS: usize = 4;
 

@@ -2,6 +2,7 @@
 
 mod csv_out;
 mod plots;
+pub mod style;
 
 pub use csv_out::{ExtraColumn, ReportError, write_feet_csv, write_joints_csv};
 pub use plots::{plot_feet, plot_footfall, plot_joint_angles};

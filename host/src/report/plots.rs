@@ -2,23 +2,10 @@
 //! the footfall pattern, and foot trajectories (top and side views).
 
 use super::ReportError;
+use super::style::register_font;
 use crate::plan::Plan;
 use plotters::prelude::*;
 use std::path::Path;
-use std::sync::Once;
-
-static FONT: Once = Once::new();
-
-/// plotters' `ab_glyph` backend has no system fonts: register DejaVu Sans once.
-fn register_font() {
-    FONT.call_once(|| {
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            dejavu::sans::regular(),
-        );
-    });
-}
 
 fn perr<E: std::fmt::Display>(e: E) -> ReportError {
     ReportError::Plot(e.to_string())
