@@ -77,12 +77,16 @@ try {
 
 // Flash writes: counted, persisted, and the reset-during-write test point.
 const flashStats = { erases: 0, programs: 0, programBytes: 0 };
+// USB OUT packets (simulated time handed to the chip, bytes) while `usb_trace` is on.
+let usbTrace = null;
 let flashDirty = false;
 let resetArm = null;
 let resetRequest = null;
 const hooks = {
   onUsbData: (data) => usbSocket?.write(data),
   onUsbConfigured: () => control.event('usb_configured', { sim_ns: board.simNanos() }),
+  onUsbOut: (packet) =>
+    usbTrace?.push({ sim_ns: board.simNanos(), data: Buffer.from(packet).toString('hex') }),
   onWarn: warn,
   onWatchdog(reason) {
     resetRequest = reason & 2 ? 'watchdog (forced)' : 'watchdog (timer expired)';
@@ -206,6 +210,11 @@ control.handlers = {
     const trace = bus.trace ?? [];
     bus.trace = null;
     return { bursts: trace };
+  },
+  usb_trace: (cmd) => {
+    const packets = usbTrace ?? [];
+    usbTrace = cmd.on ? [] : null;
+    return { packets };
   },
   bus_control: (cmd) => {
     if (!bus) throw new Error('no servo chain attached (--bus-cmd)');
