@@ -42,13 +42,15 @@ pub enum Echo {
     Off,
 }
 
-/// One USB OUT packet (host to board) as it was handed to the emulated chip.
+/// What the USB OUT trace records (host to board), in simulated time.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct UsbPacket {
-    /// Simulated time when the packet landed in the chip's endpoint buffer.
-    pub at: Duration,
-    /// Its bytes (at most 64: one full-speed bulk packet).
-    pub data: Vec<u8>,
+pub enum UsbOut {
+    /// `len` bytes written by the host (to the pty) reached the runner; the chip takes them in
+    /// packets once its firmware has armed the OUT endpoint.
+    FromHost { at: Duration, len: usize },
+    /// A packet (at most 64 bytes, one full-speed bulk packet) landed in the chip's endpoint
+    /// buffer.
+    ToChip { at: Duration, data: Vec<u8> },
 }
 
 /// A bus burst with the bytes the board put on the wire.
@@ -376,22 +378,37 @@ impl Emulator {
             .collect()
     }
 
+    /// Sets the host's turnaround before each USB OUT packet lands on the chip (default 10 us,
+    /// back to that after a reset). The host's bytes enter simulated time only between the
+    /// runner's run slices, so sweeping this is how a test makes packets land at any phase.
+    pub fn set_usb_out_delay(&self, d: Duration) -> Result<()> {
+        self.command(json!({"cmd": "usb_out_delay", "ns": d.as_nanos() as u64}))
+            .map(drop)
+    }
+
     /// Starts recording the USB OUT packets handed to the chip (dropping any earlier recording).
     pub fn usb_trace_start(&self) -> Result<()> {
         self.command(json!({"cmd": "usb_trace", "on": true}))
             .map(drop)
     }
 
-    /// Stops recording and returns every USB OUT packet since the start, oldest first.
-    pub fn usb_trace_stop(&self) -> Result<Vec<UsbPacket>> {
+    /// Stops recording and returns what the USB OUT path saw since the start, oldest first.
+    pub fn usb_trace_stop(&self) -> Result<Vec<UsbOut>> {
         let r = self.command(json!({"cmd": "usb_trace", "on": false}))?;
-        let packets = r["packets"].as_array().cloned().unwrap_or_default();
-        packets
+        let entries = r["packets"].as_array().cloned().unwrap_or_default();
+        entries
             .iter()
-            .map(|p| {
-                Ok(UsbPacket {
-                    at: nanos(&p["sim_ns"]),
-                    data: hex(&p["data"]).context("a USB trace entry without its bytes")?,
+            .map(|e| {
+                let at = nanos(&e["sim_ns"]);
+                Ok(match e["host_bytes"].as_u64() {
+                    Some(len) => UsbOut::FromHost {
+                        at,
+                        len: len as usize,
+                    },
+                    None => UsbOut::ToChip {
+                        at,
+                        data: hex(&e["data"]).context("a USB trace entry without its bytes")?,
+                    },
                 })
             })
             .collect()

@@ -38,6 +38,8 @@ export class CdcHost {
     this.onData = onData;
     this.onConfigured = onConfigured;
     this.onOut = onOut;
+    /** Host turnaround before an OUT packet lands; tests sweep it to reach every cycle phase. */
+    this.outDelayNanos = OUT_DELAY_NANOS;
     this.enumerate();
     const original = this.usb.DPRAMUpdated.bind(this.usb);
     this.usb.DPRAMUpdated = (offset, value) => {
@@ -90,7 +92,7 @@ export class CdcHost {
 
   schedule() {
     if (this.queued > 0 && this.configured && this.armed.has(this.cdc.outEndpoint)) {
-      if (!this.deliverAlarm.scheduled) this.deliverAlarm.schedule(OUT_DELAY_NANOS);
+      if (!this.deliverAlarm.scheduled) this.deliverAlarm.schedule(this.outDelayNanos);
     }
   }
 

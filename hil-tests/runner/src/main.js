@@ -77,7 +77,8 @@ try {
 
 // Flash writes: counted, persisted, and the reset-during-write test point.
 const flashStats = { erases: 0, programs: 0, programBytes: 0 };
-// USB OUT packets (simulated time handed to the chip, bytes) while `usb_trace` is on.
+// While `usb_trace` is on: USB OUT packets (simulated time handed to the chip, bytes) and when the
+// host's bytes reached the runner.
 let usbTrace = null;
 let flashDirty = false;
 let resetArm = null;
@@ -138,7 +139,11 @@ let rtt = rttAddress === undefined ? null : new RttReader(board.rp2040, rttAddre
 let usbSocket = null;
 if (opts['usb-socket']) {
   usbSocket = connect(opts['usb-socket']);
-  usbSocket.on('data', (data) => board.usb.send(data));
+  usbSocket.on('data', (data) => {
+    // With `usb_trace` on, when the host's bytes reached the runner (before the chip takes them).
+    usbTrace?.push({ sim_ns: board.simNanos(), host_bytes: data.length });
+    board.usb.send(data);
+  });
   usbSocket.on('error', (e) => warn(`USB socket ${opts['usb-socket']}: ${e.message}`));
 }
 
@@ -210,6 +215,11 @@ control.handlers = {
     const trace = bus.trace ?? [];
     bus.trace = null;
     return { bursts: trace };
+  },
+  // Until the next reset (a new chip gets the default, 10 us).
+  usb_out_delay: (cmd) => {
+    board.usb.outDelayNanos = cmd.ns;
+    return {};
   },
   usb_trace: (cmd) => {
     const packets = usbTrace ?? [];
