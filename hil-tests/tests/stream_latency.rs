@@ -69,18 +69,27 @@ struct Sample {
 
 #[test]
 fn setpoint_latency_at_100_hz_1_mbps() -> Result<()> {
-    check("stream_latency_100", 1_000_000, 100)
+    check("stream_latency_100", 1_000_000, 100, true)
 }
 
 #[test]
-fn setpoint_latency_at_200_hz_2_mbps() -> Result<()> {
-    // 2 Mbit/s: a 22-servo cycle is 622 bytes (3.1 ms) plus 22 servo turnarounds, which fits the
-    // 5 ms period; at 4 Mbit/s with feedback every cycle the servos' replies are lost (see
-    // hil-tests/README.md), so 2 Mbit/s is the rate that serves 200 Hz streaming.
-    check("stream_latency_200", 2_000_000, 200)
+fn setpoint_latency_at_200_hz_4_mbps() -> Result<()> {
+    check("stream_latency_200", 4_000_000, 200, true)
 }
 
-fn check(test: &str, baud: u32, cycle_hz: u16) -> Result<()> {
+/// 2 Mbit/s would fit a 22-servo cycle in 5 ms on paper (622 bytes = 3.1 ms, plus 22 servo
+/// turnarounds), but while streaming with feedback every cycle the link task's work makes cycle
+/// starts up to about 1 ms late and about one cycle in 16 overruns (skipped), so 200 Hz runs at
+/// 4 Mbit/s. Kept to show it: `cargo test -p hil-tests --test stream_latency -- --ignored`.
+#[test]
+#[ignore = "cycles overrun at 200 Hz / 2 Mbit/s while streaming (see docs/performance.md)"]
+fn setpoint_latency_at_200_hz_2_mbps() -> Result<()> {
+    check("stream_latency_200_2M", 2_000_000, 200, false)
+}
+
+/// Measures at `baud` and `cycle_hz`; with `keeps_rate`, the firmware must also not have skipped a
+/// cycle start (the bound is in cycles of the configured rate).
+fn check(test: &str, baud: u32, cycle_hz: u16, keeps_rate: bool) -> Result<()> {
     let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, baud)? else {
         return Ok(());
     };
@@ -109,8 +118,6 @@ fn check(test: &str, baud: u32, cycle_hz: u16) -> Result<()> {
         )
     };
     let pty = ms(&|s| s.runner.saturating_sub(s.before_write));
-    let take = ms(&|s| s.arrival - s.runner);
-    let whole = ms(&|s| s.on_bus - s.runner);
     let mut deciles = [0usize; 10];
     for s in &samples {
         deciles[((s.phase * 10.0) as usize).min(9)] += 1;
@@ -120,9 +127,8 @@ fn check(test: &str, baud: u32, cycle_hz: u16) -> Result<()> {
          USB packet on the chip -> Sync Write start: min {min:.3} / mean {mean:.3} / max {max:.3} \
          cycles = {:.2} / {:.2} / {:.2} ms\n  \
          arrivals on the chip per tenth of the cycle after a Sync Write start: {deciles:?}\n  \
-         host's write -> bytes at the runner (pty, wall time passing): {:.2} / {:.2} / {:.2} ms\n  \
-         bytes at the runner -> packet on the chip (swept turnaround): {:.2} / {:.2} / {:.2} ms\n  \
-         bytes at the runner -> Sync Write start: {:.2} / {:.2} / {:.2} ms",
+         host's write -> bytes at the runner (wall-clock pty transit, the emulator running on): \
+         {:.2} / {:.2} / {:.2} ms",
         samples.len(),
         min * period * 1e3,
         mean * period * 1e3,
@@ -130,12 +136,6 @@ fn check(test: &str, baud: u32, cycle_hz: u16) -> Result<()> {
         pty.0,
         pty.1,
         pty.2,
-        take.0,
-        take.1,
-        take.2,
-        whole.0,
-        whole.1,
-        whole.2,
     );
     // Cycles that did not start one period after the previous one (late starts, overruns).
     let irregular: Vec<f64> = starts
@@ -166,6 +166,11 @@ fn check(test: &str, baud: u32, cycle_hz: u16) -> Result<()> {
         "setpoints arrived in too few phases of the cycle to show the worst case: {deciles:?}"
     );
     ensure!(min > 0.0, "a setpoint was on the bus before it arrived");
+    let missed = after.counters.missed_deadlines - before.counters.missed_deadlines;
+    ensure!(
+        !keeps_rate || missed == 0,
+        "{missed} cycle starts missed while streaming at {cycle_hz} Hz"
+    );
     ensure!(
         max <= 2.0,
         "a setpoint took {max:.3} cycles to reach the bus (bound: 2)"
