@@ -8,7 +8,8 @@ by ``hil-emulator`` (hil-tests/src/bin/hil-emulator.rs) for the session, reached
 With ``DBOT_TEST_PORT`` set they run on that port as well (a board's ``/dev/ttyACM0``).
 
 The emulator needs the firmware image, ``hil-emulator`` and ``hil-bus``, the runner's Node packages
-and defmt-print. Without them its tests are skipped with the reason; under CI (``CI`` set) they fail.
+and defmt-print. Without them its tests are skipped with the reason; under CI (``CI`` set) they
+fail.
 
 Time on a port is not the host's: the emulator runs at roughly 0.15 x real time while the bus
 cycles with 22 servos (faster when idle) and a real board at 1 x. So waits here are counted in the
@@ -160,7 +161,7 @@ def wait_cycles(board: dbot.Board, cycles: int) -> None:
     deadline = wall_deadline(board)
     while (n := bus_cycles(board)) < target:
         if deadline is not None and time.monotonic() > deadline:
-            raise AssertionError(f"the board ran {n} of {target} bus cycles in {PORT_WALL_S} s wall")
+            raise AssertionError(f"the board ran {n} of {target} bus cycles in {PORT_WALL_S} s")
         board.wait(0.01)
 
 

@@ -143,6 +143,9 @@ def test_setpoint_loss_holds_then_goes_safe(tripod_plan, model, port) -> None:
     assert st["fault"] is not None and st["fault"]["kind"] == "SetpointTimeout", st
     # Safe keeps the servos' torque (the robot does not fall): all 22 still on.
     assert st["torque_enabled"] == (1 << 22) - 1
+    # Streaming does not start again from the fault: only from standing.
+    with pytest.raises(dbot.BoardError, match="EnterStreaming"):
+        board.enter_streaming()
     # A setpoint now is not followed: the board is no longer streaming.
     board.send_setpoint(target + 0.2)
     wait_cycles(board, 10)
