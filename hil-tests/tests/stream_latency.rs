@@ -14,7 +14,7 @@
 //! has taken its goals) would go unseen. The host's bytes enter simulated time only between the
 //! runner's 1 ms run slices, which restart after every bus burst, so a host alone reaches only a
 //! few phases. The test therefore sweeps the runner's USB OUT turnaround (the simulated time from
-//! the host's bytes being there to the packet landing) over one cycle period in sixtieths. The
+//! the host's bytes being there to the packet landing) over one cycle period in hundredths. The
 //! phase each setpoint really landed at is taken from the traces (arrival minus the start of the
 //! last Sync Write before it) and must cover every tenth of the cycle.
 
@@ -36,7 +36,7 @@ const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 /// Sync Write instruction (e-manual).
 const SYNC_WRITE: u8 = 0x83;
 /// Setpoints measured per rate.
-const SAMPLES: u32 = 60;
+const SAMPLES: u32 = 100;
 /// Sequence number of the first measured setpoint.
 const SEQ0: u32 = 1000;
 /// Angle of setpoint k: (ANGLE0 + ANGLE_STEP * k) * 1e-4 rad, within the gait's +-1.5 rad.
@@ -255,8 +255,8 @@ fn measure(emu: &Emulator, link: &mut Link, cycle_hz: u16) -> Result<(Vec<Sample
     let period = Duration::from_secs(1) / u32::from(cycle_hz);
     let mut before_write = HashMap::new();
     for k in 0..SAMPLES {
-        // 37 and 60 are coprime: the delays visit every sixtieth of a period once, out of order.
-        emu.set_usb_out_delay(period.mul_f64(f64::from((k * 37) % 60) / 60.0))?;
+        // 37 and 100 are coprime: the delays visit every hundredth of a period once, out of order.
+        emu.set_usb_out_delay(period.mul_f64(f64::from((k * 37) % SAMPLES) / f64::from(SAMPLES)))?;
         let seq = SEQ0 + k;
         let sp = Setpoint {
             seq,
@@ -365,9 +365,18 @@ fn sync_writes(bursts: &[TracedBurst]) -> Result<Vec<(Duration, Vec<i32>)>> {
     let mut out = Vec::new();
     for b in bursts {
         let mut parser = Parser::<1024>::new();
-        parser.feed(&b.bytes);
+        ensure!(
+            parser.feed(&b.bytes) == b.bytes.len(),
+            "burst at {:?} ({} bytes) longer than the parser holds",
+            b.burst.start,
+            b.bytes.len()
+        );
         while let Some(frame) = parser.next_frame() {
-            let Ok(f) = frame else { continue };
+            // A corrupt packet from the board means bytes were lost on the wire (e.g. the
+            // direction pin low too early): its goals never reached the servos.
+            let f = frame.map_err(|e| {
+                anyhow::anyhow!("corrupt packet in the burst at {:?}: {e:?}", b.burst.start)
+            })?;
             if f.instruction != SYNC_WRITE {
                 continue;
             }
@@ -396,6 +405,12 @@ fn sync_writes(bursts: &[TracedBurst]) -> Result<Vec<(Duration, Vec<i32>)>> {
             goals.sort_by_key(|g| g.0);
             out.push((b.burst.start, goals.into_iter().map(|g| g.1).collect()));
         }
+        ensure!(
+            parser.skipped_bytes() == 0 && parser.buffered() == 0,
+            "burst at {:?}: {} bytes outside whole packets (lost on the wire?)",
+            b.burst.start,
+            parser.skipped_bytes() as usize + parser.buffered()
+        );
     }
     Ok(out)
 }
