@@ -30,7 +30,10 @@ step "firmware release image for thumbv6m-none-eabi"
 (cd firmware && cargo build --release --locked)
 cargo run --quiet --locked -p hil-tests --bin firmware-size -- target/thumbv6m-none-eabi/release/firmware
 
-step "Python package tests (pytest, .venv)"
+step "emulated board for pytest: hil-emulator and hil-bus (the firmware image is built above)"
+cargo build --quiet --locked -p hil-tests --bins
+
+step "Python package tests (pytest, .venv; closed loop on the virtual robot and the emulated board)"
 .venv/bin/python -m pytest -q python/tests
 
 step "doc tests"

@@ -26,6 +26,38 @@ pub struct Options {
     pub bus: Option<Vec<String>>,
     /// Cap simulated time at this multiple of wall time (None: as fast as possible).
     pub realtime: Option<f64>,
+    /// Where decoded defmt lines and runner notices are echoed (they are collected either way).
+    pub echo: Echo,
+}
+
+/// Where the harness echoes the firmware's log lines and the runner's notices.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Echo {
+    /// Standard output: captured by the test harness, shown for failing tests.
+    #[default]
+    Stdout,
+    /// Standard error (a program whose stdout carries data, e.g. `hil-emulator`).
+    Stderr,
+    /// Not echoed.
+    Off,
+}
+
+/// What the USB OUT trace records (host to board), in simulated time.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum UsbOut {
+    /// `len` bytes written by the host (to the pty) reached the runner; the chip takes them in
+    /// packets once its firmware has armed the OUT endpoint.
+    FromHost { at: Duration, len: usize },
+    /// A packet (at most 64 bytes, one full-speed bulk packet) landed in the chip's endpoint
+    /// buffer.
+    ToChip { at: Duration, data: Vec<u8> },
+}
+
+/// A bus burst with the bytes the board put on the wire.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TracedBurst {
+    pub burst: BusBurst,
+    pub bytes: Vec<u8>,
 }
 
 /// One transmission of the board on the bus, as the runner saw it on the wire.
@@ -116,7 +148,8 @@ impl Emulator {
         let stdout = child.stdout.take().context("runner stdout")?;
         let shared = Arc::new(Shared::default());
         let reader_shared = shared.clone();
-        std::thread::spawn(move || read_events(BufReader::new(stdout), &reader_shared));
+        let echo = opts.echo;
+        std::thread::spawn(move || read_events(BufReader::new(stdout), &reader_shared, echo));
 
         listener.set_nonblocking(true)?;
         let started = Instant::now();
@@ -326,17 +359,59 @@ impl Emulator {
     pub fn bus_trace_stop(&self) -> Result<Vec<BusBurst>> {
         let r = self.command(json!({"cmd": "bus_trace", "on": false}))?;
         let bursts = r["bursts"].as_array().cloned().unwrap_or_default();
-        Ok(bursts
+        Ok(bursts.iter().map(burst).collect())
+    }
+
+    /// Like [`Self::bus_trace_stop`], with the bytes of every burst (the recording must have been
+    /// started with [`Self::bus_trace_start`]).
+    pub fn bus_trace_stop_bytes(&self) -> Result<Vec<TracedBurst>> {
+        let r = self.command(json!({"cmd": "bus_trace", "on": false}))?;
+        let bursts = r["bursts"].as_array().cloned().unwrap_or_default();
+        bursts
             .iter()
-            .map(|b| BusBurst {
-                start: nanos(&b["start_ns"]),
-                len: b["len"].as_u64().unwrap_or(0) as usize,
-                instruction: b["inst"].as_u64().map(|i| i as u8),
-                answer_end: b["rx_end_ns"]
-                    .as_f64()
-                    .map(|n| Duration::from_nanos(n as u64)),
+            .map(|b| {
+                Ok(TracedBurst {
+                    burst: burst(b),
+                    bytes: hex(&b["tx"]).context("a bus trace entry without its bytes")?,
+                })
             })
-            .collect())
+            .collect()
+    }
+
+    /// Sets the host's turnaround before each USB OUT packet lands on the chip (default 10 us,
+    /// back to that after a reset). The host's bytes enter simulated time only between the
+    /// runner's run slices, so sweeping this is how a test makes packets land at any phase.
+    pub fn set_usb_out_delay(&self, d: Duration) -> Result<()> {
+        self.command(json!({"cmd": "usb_out_delay", "ns": d.as_nanos() as u64}))
+            .map(drop)
+    }
+
+    /// Starts recording the USB OUT packets handed to the chip (dropping any earlier recording).
+    pub fn usb_trace_start(&self) -> Result<()> {
+        self.command(json!({"cmd": "usb_trace", "on": true}))
+            .map(drop)
+    }
+
+    /// Stops recording and returns what the USB OUT path saw since the start, oldest first.
+    pub fn usb_trace_stop(&self) -> Result<Vec<UsbOut>> {
+        let r = self.command(json!({"cmd": "usb_trace", "on": false}))?;
+        let entries = r["packets"].as_array().cloned().unwrap_or_default();
+        entries
+            .iter()
+            .map(|e| {
+                let at = nanos(&e["sim_ns"]);
+                Ok(match e["host_bytes"].as_u64() {
+                    Some(len) => UsbOut::FromHost {
+                        at,
+                        len: len as usize,
+                    },
+                    None => UsbOut::ToChip {
+                        at,
+                        data: hex(&e["data"]).context("a USB trace entry without its bytes")?,
+                    },
+                })
+            })
+            .collect()
     }
 
     /// Sends a control message to the servo chain process (fault injection).
@@ -367,11 +442,42 @@ fn nanos(v: &Value) -> Duration {
     Duration::from_nanos(v.as_f64().unwrap_or(0.0) as u64)
 }
 
-fn read_events(stdout: BufReader<std::process::ChildStdout>, shared: &Shared) {
+fn burst(b: &Value) -> BusBurst {
+    BusBurst {
+        start: nanos(&b["start_ns"]),
+        len: b["len"].as_u64().unwrap_or(0) as usize,
+        instruction: b["inst"].as_u64().map(|i| i as u8),
+        answer_end: b["rx_end_ns"]
+            .as_f64()
+            .map(|n| Duration::from_nanos(n as u64)),
+    }
+}
+
+/// Bytes from the runner's hex strings.
+fn hex(v: &Value) -> Result<Vec<u8>> {
+    let s = v.as_str().context("no hex string")?;
+    if s.len() % 2 != 0 {
+        bail!("odd-length hex string from the runner: {s:?}");
+    }
+    (0..s.len())
+        .step_by(2)
+        .map(|i| {
+            u8::from_str_radix(&s[i..i + 2], 16)
+                .with_context(|| format!("not hex at {i}: {:?}", &s[i..i + 2]))
+        })
+        .collect()
+}
+
+fn read_events(stdout: BufReader<std::process::ChildStdout>, shared: &Shared, echo: Echo) {
+    let say = |text: std::fmt::Arguments| match echo {
+        Echo::Stdout => println!("{text}"),
+        Echo::Stderr => eprintln!("{text}"),
+        Echo::Off => {}
+    };
     for line in stdout.lines() {
         let Ok(line) = line else { break };
         let Ok(v) = serde_json::from_str::<Value>(&line) else {
-            println!("[runner] {line}");
+            say(format_args!("[runner] {line}"));
             continue;
         };
         let mut state = shared.state.lock().unwrap();
@@ -384,11 +490,11 @@ fn read_events(stdout: BufReader<std::process::ChildStdout>, shared: &Shared) {
                         sim: nanos(&v["sim_ns"]),
                         text: v["line"].as_str().unwrap_or("").to_string(),
                     };
-                    println!("[{:>10.6} s] {}", l.sim.as_secs_f64(), l.text);
+                    say(format_args!("[{:>10.6} s] {}", l.sim.as_secs_f64(), l.text));
                     state.logs.push(l);
                 }
                 Some("warn") | Some("fatal") | Some("halted") | Some("reset") => {
-                    println!("[runner] {v}");
+                    say(format_args!("[runner] {v}"));
                     if v["event"] == json!("fatal") {
                         state.closed = Some(v["msg"].as_str().unwrap_or("fatal").to_string());
                     }

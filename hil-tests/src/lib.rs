@@ -15,5 +15,5 @@ pub mod pty;
 pub mod servo_bus;
 pub mod target;
 
-pub use emulator::{BusBurst, Emulator, LogLine, Options};
+pub use emulator::{BusBurst, Echo, Emulator, LogLine, Options, TracedBurst, UsbOut};
 pub use target::Target;

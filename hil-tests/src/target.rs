@@ -79,8 +79,8 @@ pub fn skip(test: &str, why: &str) -> Result<()> {
     Ok(())
 }
 
-/// Why the emulator cannot run here, if it cannot.
-fn emulator_missing(opts: &Options) -> Option<String> {
+/// Why the emulator cannot run here, if it cannot (with the setup command that fixes it).
+pub fn emulator_missing(opts: &Options) -> Option<String> {
     let elf = opts.elf.clone().unwrap_or_else(crate::paths::firmware_elf);
     if !elf.exists() {
         return Some(format!(

@@ -1,20 +1,41 @@
-"""Shared fixtures: a virtual robot standing in the posture of a planned tripod gait.
+"""Shared fixtures: boards standing in the posture of a planned tripod gait.
 
-Every test here runs on the in-process virtual robot (``Board.open("virtual")``): the firmware
+Every test runs on the in-process virtual robot (``Board.open("virtual")``): the firmware
 library's controller and link dispatcher over simulated servos and a simulated clock, so the tests
-need no hardware and run faster than real time. The closed-loop tests also run against the port in
-``DBOT_TEST_PORT`` when it is set (a board's ``/dev/ttyACM0`` or the RP2040 emulator's pty).
+need no hardware and run faster than real time. The closed-loop tests also run on the emulated
+board: the release firmware image in the RP2040 emulator with 22 virtual servos on its bus, started
+by ``hil-emulator`` (hil-tests/src/bin/hil-emulator.rs) for the session, reached through its pty.
+With ``DBOT_TEST_PORT`` set they run on that port as well (a board's ``/dev/ttyACM0``).
+
+The emulator needs the firmware image, ``hil-emulator`` and ``hil-bus``, the runner's Node packages
+and defmt-print. Without them its tests are skipped with the reason; under CI (``CI`` set) they
+fail.
+
+Time on a port is not the host's: the emulator runs at roughly 0.15 x real time while the bus
+cycles with 22 servos (faster when idle) and a real board at 1 x. So waits here are counted in the
+board's own bus cycles or driven by its proprioception, never by the host's wall clock; the wall
+clock only bounds how long a test may hang (generously).
 """
 
 from __future__ import annotations
 
 import os
+import pathlib
+import re
+import select
+import subprocess
+import time
 
 import numpy as np
 import pytest
 
 import dbot
 
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+#: Exit status of hil-emulator when a prerequisite is missing (hil-emulator.rs, `MISSING`).
+HIL_EMULATOR_MISSING = 3
+#: Wall-clock bound for anything on a port (a wedged emulator fails a test instead of hanging CI).
+PORT_WALL_S = 180.0
 
 @pytest.fixture(scope="session")
 def model() -> dbot.Model:
@@ -27,12 +48,77 @@ def tripod_plan(model: dbot.Model) -> dbot.Plan:
     return dbot.plan(model, slices=50)
 
 
-#: Ports the closed-loop tests run on.
-PORTS = ["virtual"] + ([os.environ["DBOT_TEST_PORT"]] if os.environ.get("DBOT_TEST_PORT") else [])
+def hil_emulator_binary() -> pathlib.Path:
+    """`hil-emulator` as `cargo build -p hil-tests --bins` leaves it (`CARGO_TARGET_DIR` is
+    honoured), or `DBOT_HIL_EMULATOR`."""
+    if os.environ.get("DBOT_HIL_EMULATOR"):
+        return pathlib.Path(os.environ["DBOT_HIL_EMULATOR"])
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    return target / "debug" / "hil-emulator"
+
+
+def missing_prerequisite(why: str) -> None:
+    """Skips the test with `why`, or fails it under CI, where the emulator must run."""
+    if os.environ.get("CI"):
+        pytest.fail(f"cannot run on the emulated board under CI: {why}", pytrace=False)
+    pytest.skip(f"emulated board not available: {why}")
+
+
+@pytest.fixture(scope="session")
+def emulator_port(tmp_path_factory) -> str:
+    """Starts `hil-emulator` (22 virtual servos at 1 Mbit/s) for the session; yields its pty.
+    Its stderr (the firmware's defmt log with simulated times) goes to a file that is printed
+    when the emulator cannot start."""
+    exe = hil_emulator_binary()
+    if not exe.is_file():
+        missing_prerequisite(f"no {exe} (build it with `cargo build -p hil-tests --bins`)")
+    log_path = tmp_path_factory.mktemp("hil-emulator") / "emulator.log"
+    log = open(log_path, "w+b")
+    proc = subprocess.Popen(
+        [str(exe), "--log"], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=log, cwd=ROOT
+    )
+    try:
+        line = b""
+        deadline = time.monotonic() + PORT_WALL_S
+        while not line.endswith(b"\n") and time.monotonic() < deadline:
+            ready, _, _ = select.select([proc.stdout], [], [], 0.5)
+            if ready:
+                chunk = os.read(proc.stdout.fileno(), 256)
+                if not chunk:
+                    break
+                line += chunk
+        if not line.startswith(b"PORT "):
+            try:
+                rc = proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                rc = None
+            log.seek(0)
+            tail = log.read().decode(errors="replace")[-2000:]
+            if rc == HIL_EMULATOR_MISSING:
+                missing_prerequisite(tail.strip())
+            pytest.fail(f"hil-emulator did not report its port (exit status {rc}):\n{tail}")
+        yield line.decode().split(maxsplit=1)[1].strip()
+    finally:
+        # Closing stdin is hil-emulator's stop signal; it ends the runner and the servo chain.
+        proc.stdin.close()
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            proc.terminate()
+            proc.wait(timeout=15)
+        log.close()
+
+
+#: Boards the closed-loop tests run on: "emulator" stands for the pty of `emulator_port`.
+PORTS = ["virtual", "emulator"] + (
+    [os.environ["DBOT_TEST_PORT"]] if os.environ.get("DBOT_TEST_PORT") else []
+)
 
 
 @pytest.fixture(params=PORTS)
 def port(request) -> str:
+    if request.param == "emulator":
+        return request.getfixturevalue("emulator_port")
     return request.param
 
 
@@ -53,15 +139,64 @@ def _close_boards():
         _OPEN.pop().close()
 
 
+def bus_cycles(board: dbot.Board) -> int:
+    """The board's bus cycle counter (every cycle counts, whatever the state): its own clock."""
+    counters = board.status()["counters"]
+    m = re.search(r"cycles: (\d+)", counters)
+    if m is None:
+        raise AssertionError(f"no cycle counter in the board's status counters: {counters!r}")
+    return int(m.group(1))
+
+
+def wall_deadline(board: dbot.Board) -> float | None:
+    """The monotonic wall time after which a wait on `board` gives up; None on the virtual robot,
+    where time only passes while the host waits, so a simulated budget bounds every wait."""
+    return None if board.port.startswith("virtual") else time.monotonic() + PORT_WALL_S
+
+
+def wait_cycles(board: dbot.Board, cycles: int) -> None:
+    """Lets at least `cycles` bus cycles pass on the board (proprioception and telemetry that
+    arrive meanwhile are kept)."""
+    target = bus_cycles(board) + cycles
+    deadline = wall_deadline(board)
+    while (n := bus_cycles(board)) < target:
+        if deadline is not None and time.monotonic() > deadline:
+            raise AssertionError(f"the board ran {n} of {target} bus cycles in {PORT_WALL_S} s")
+        board.wait(0.01)
+
+
+def wait_for_state(board: dbot.Board, states: tuple[str, ...], max_cycles: int) -> dict:
+    """Polls the status until the board is in one of `states`, for at most `max_cycles` bus
+    cycles of the board; returns that status."""
+    limit = bus_cycles(board) + max_cycles
+    deadline = wall_deadline(board)
+    while True:
+        st = board.status()
+        if st["state"] in states:
+            return st
+        n = bus_cycles(board)
+        late = deadline is not None and time.monotonic() > deadline
+        if n > limit or late:
+            raise AssertionError(f"not {' or '.join(states)} within {max_cycles} bus cycles: {st}")
+        board.wait(0.01)
+
+
+def record_timeout(board: dbot.Board) -> float:
+    """How long to wait for the next proprioception record, s of the board's clock as the host
+    sees it: simulated on the virtual robot (one record per 10 ms cycle, so 1 s is 100 cycles),
+    wall on a port, where the emulator may be 20 x slower than real time on a loaded machine."""
+    return 1.0 if board.port.startswith("virtual") else 20.0
+
+
 def upload(board: dbot.Board, plan: dbot.Plan) -> None:
     """Uploads `plan` into slot 0. The emulated board (firmware image in rp2040js) reports
     ServoMissing while its flash is written (bus cycles stall): that fault is cleared here.
     Seen only on the emulator; see the report of the python branch."""
     board.upload_plan(0, plan)
-    board.wait(0.3)
+    wait_cycles(board, 30)
     if board.status()["state"] == "Fault":
         board.clear_fault()
-        board.wait(0.3)
+        wait_cycles(board, 30)
 
 
 def bus_baud(cycle_hz: int) -> int:
@@ -82,17 +217,15 @@ def standing_board(plan: dbot.Plan, cycle_hz: int = 100, port: str = "virtual") 
     state = board.status()["state"]
     if state == "Fault":
         board.clear_fault()
-    elif state in ("Streaming", "Walking", "Ramping"):
+    elif state in ("Streaming", "Walking", "Ramping", "Stopping"):
         board.stop()
-        board.wait(2.0)
+        wait_for_state(board, ("Standing", "Idle"), max_cycles=30 * cycle_hz)
     board.set_bus(bus_baud(cycle_hz), cycle_hz)
     upload(board, plan)
     board.play(0, steps=1)
-    for _ in range(100):
-        board.wait(0.1)
-        if board.status()["state"] == "Standing":
-            return board
-    raise AssertionError(f"the virtual robot never stood: {board.status()}")
+    # A ramp to the first posture plus one step (1.25 s for the default plan): 10 s is ample.
+    wait_for_state(board, ("Standing",), max_cycles=10 * cycle_hz)
+    return board
 
 
 def servo_rest(plan: dbot.Plan, model: dbot.Model) -> np.ndarray:

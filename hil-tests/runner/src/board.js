@@ -99,6 +99,7 @@ export class Board {
     this.usb = new CdcHost(rp2040, {
       onData: (data) => this.hooks.onUsbData?.(data),
       onConfigured: () => this.hooks.onUsbConfigured?.(),
+      onOut: (packet) => this.hooks.onUsbOut?.(packet),
     });
     // The watchdog resets the chip (rp2040js only logs it). Its scratch registers and the reset
     // reason survive a watchdog reset, as on the chip, so firmware can tell why it rebooted.

@@ -81,6 +81,7 @@ export class BusLink {
       end_ns: this.board.simNanos(this.burstEnd),
       baud: Math.round(this.board.uart.baudRate),
     };
+    if (this.trace) entry.tx = msg.tx; // the bytes too, for tests that decode what went out
     this.proc.stdin.write(JSON.stringify(msg) + '\n');
   }
 

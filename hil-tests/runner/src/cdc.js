@@ -23,8 +23,9 @@ export class CdcHost {
    * @param rp2040 the chip
    * @param onData called with a Uint8Array for every IN packet the device sends
    * @param onConfigured called when enumeration is done and DTR is raised
+   * @param onOut called with every OUT packet (Uint8Array) as it is handed to the chip
    */
-  constructor(rp2040, { onData, onConfigured }) {
+  constructor(rp2040, { onData, onConfigured, onOut }) {
     this.rp2040 = rp2040;
     this.usb = rp2040.usbCtrl;
     this.queue = [];
@@ -36,6 +37,9 @@ export class CdcHost {
     this.deliverAlarm = rp2040.clock.createAlarm(() => this.deliver());
     this.onData = onData;
     this.onConfigured = onConfigured;
+    this.onOut = onOut;
+    /** Host turnaround before an OUT packet lands; tests sweep it to reach every cycle phase. */
+    this.outDelayNanos = OUT_DELAY_NANOS;
     this.enumerate();
     const original = this.usb.DPRAMUpdated.bind(this.usb);
     this.usb.DPRAMUpdated = (offset, value) => {
@@ -88,7 +92,7 @@ export class CdcHost {
 
   schedule() {
     if (this.queued > 0 && this.configured && this.armed.has(this.cdc.outEndpoint)) {
-      if (!this.deliverAlarm.scheduled) this.deliverAlarm.schedule(OUT_DELAY_NANOS);
+      if (!this.deliverAlarm.scheduled) this.deliverAlarm.schedule(this.outDelayNanos);
     }
   }
 
@@ -119,5 +123,6 @@ export class CdcHost {
     word = (word & ~(AVAILABLE | LEN_MASK)) | FULL | packet.length;
     view.setUint32(control, word, true);
     usb.indicateBufferReady(endpoint, true);
+    this.onOut?.(packet);
   }
 }

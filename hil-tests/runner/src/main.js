@@ -77,12 +77,17 @@ try {
 
 // Flash writes: counted, persisted, and the reset-during-write test point.
 const flashStats = { erases: 0, programs: 0, programBytes: 0 };
+// While `usb_trace` is on: USB OUT packets (simulated time handed to the chip, bytes) and when the
+// host's bytes reached the runner.
+let usbTrace = null;
 let flashDirty = false;
 let resetArm = null;
 let resetRequest = null;
 const hooks = {
   onUsbData: (data) => usbSocket?.write(data),
   onUsbConfigured: () => control.event('usb_configured', { sim_ns: board.simNanos() }),
+  onUsbOut: (packet) =>
+    usbTrace?.push({ sim_ns: board.simNanos(), data: Buffer.from(packet).toString('hex') }),
   onWarn: warn,
   onWatchdog(reason) {
     resetRequest = reason & 2 ? 'watchdog (forced)' : 'watchdog (timer expired)';
@@ -134,7 +139,11 @@ let rtt = rttAddress === undefined ? null : new RttReader(board.rp2040, rttAddre
 let usbSocket = null;
 if (opts['usb-socket']) {
   usbSocket = connect(opts['usb-socket']);
-  usbSocket.on('data', (data) => board.usb.send(data));
+  usbSocket.on('data', (data) => {
+    // With `usb_trace` on, when the host's bytes reached the runner (before the chip takes them).
+    usbTrace?.push({ sim_ns: board.simNanos(), host_bytes: data.length });
+    board.usb.send(data);
+  });
   usbSocket.on('error', (e) => warn(`USB socket ${opts['usb-socket']}: ${e.message}`));
 }
 
@@ -206,6 +215,16 @@ control.handlers = {
     const trace = bus.trace ?? [];
     bus.trace = null;
     return { bursts: trace };
+  },
+  // Until the next reset (a new chip gets the default, 10 us).
+  usb_out_delay: (cmd) => {
+    board.usb.outDelayNanos = cmd.ns;
+    return {};
+  },
+  usb_trace: (cmd) => {
+    const packets = usbTrace ?? [];
+    usbTrace = cmd.on ? [] : null;
+    return { packets };
   },
   bus_control: (cmd) => {
     if (!bus) throw new Error('no servo chain attached (--bus-cmd)');

@@ -6,7 +6,7 @@
 //!
 //! Commands (see main.js for the fields): time, wait_until {sim_ns}, reset,
 //! reset_on_flash_program {nth, torn_bytes?}, usb_replug, usb_pending, save_flash,
-//! bus_trace {on}, bus_control {msg}, stats, quit.
+//! bus_trace {on}, usb_trace {on}, usb_out_delay {ns}, bus_control {msg}, stats, quit.
 
 import { createInterface } from 'node:readline';
 
