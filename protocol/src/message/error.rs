@@ -104,6 +104,11 @@ pub enum FaultKind {
     SetpointTimeout,
     /// The watchdog reset the firmware.
     Watchdog,
+    /// A servo's output did not follow its goal: over one detection window the goal (and the
+    /// planned angle) moved over `goal_range` ticks while the present position moved over only
+    /// `present_range` ticks (a jammed gear, a blocked joint). Appended last, so the variants above
+    /// keep their encoding; an older host cannot decode it, hence protocol version 2.
+    ServoStuck { goal_range: u16, present_range: u16 },
 }
 
 /// A fault and the joint it concerns, if any.
@@ -112,4 +117,36 @@ pub enum FaultKind {
 pub struct Fault {
     pub kind: FaultKind,
     pub joint: Option<u8>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// postcard encodes an enum as its variant index (varint) followed by the fields (u8 raw, u16
+    /// as a LEB128 varint): bytes written out by hand from the postcard wire specification.
+    #[test]
+    fn fault_kinds_keep_their_indices_and_servo_stuck_is_appended() {
+        let cases: [(FaultKind, &[u8]); 6] = [
+            (FaultKind::EmergencyStop, &[0]),
+            (FaultKind::ServoError { bits: 0x20 }, &[1, 0x20]),
+            (FaultKind::ServoMissing { cycles: 3 }, &[2, 3]),
+            (FaultKind::SetpointTimeout, &[3]),
+            (FaultKind::Watchdog, &[4]),
+            // 300 = 0b10_0101100 -> 0xAC 0x02; 2 -> 0x02.
+            (
+                FaultKind::ServoStuck {
+                    goal_range: 300,
+                    present_range: 2,
+                },
+                &[5, 0xAC, 0x02, 0x02],
+            ),
+        ];
+        for (kind, bytes) in cases {
+            let mut buf = [0u8; 8];
+            let got = postcard::to_slice(&kind, &mut buf).unwrap();
+            assert_eq!(&got[..], bytes, "{kind:?}");
+            assert_eq!(postcard::from_bytes::<FaultKind>(bytes).unwrap(), kind);
+        }
+    }
 }
