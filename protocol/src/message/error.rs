@@ -111,6 +111,53 @@ pub enum FaultKind {
     ServoStuck { goal_range: u16, present_range: u16 },
 }
 
+impl FaultKind {
+    /// The variant's name, as `dbot status` and the Python package show it (`"ServoStuck"`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::EmergencyStop => "EmergencyStop",
+            Self::ServoError { .. } => "ServoError",
+            Self::ServoMissing { .. } => "ServoMissing",
+            Self::SetpointTimeout => "SetpointTimeout",
+            Self::Watchdog => "Watchdog",
+            Self::ServoStuck { .. } => "ServoStuck",
+        }
+    }
+}
+
+impl fmt::Display for FaultKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::EmergencyStop => write!(f, "emergency stop by the host"),
+            Self::ServoError { bits } => {
+                write!(f, "servo hardware error (error bits {bits:#04x})")
+            }
+            Self::ServoMissing { cycles } => {
+                write!(f, "servo missing: no usable reply for {cycles} bus cycles")
+            }
+            Self::SetpointTimeout => write!(f, "no streaming setpoint in time"),
+            Self::Watchdog => write!(f, "the watchdog reset the firmware"),
+            Self::ServoStuck {
+                goal_range,
+                present_range,
+            } => write!(
+                f,
+                "servo stuck: its goal moved over {goal_range} ticks, its position over {present_range}"
+            ),
+        }
+    }
+}
+
+impl fmt::Display for Fault {
+    /// `ServoStuck on joint 2: servo stuck: ...`
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.joint {
+            Some(j) => write!(f, "{} on joint {j}: {}", self.kind.name(), self.kind),
+            None => write!(f, "{}: {}", self.kind.name(), self.kind),
+        }
+    }
+}
+
 /// A fault and the joint it concerns, if any.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -125,6 +172,41 @@ mod tests {
 
     /// postcard encodes an enum as its variant index (varint) followed by the fields (u8 raw, u16
     /// as a LEB128 varint): bytes written out by hand from the postcard wire specification.
+    #[test]
+    fn a_fault_reads_with_its_name_joint_and_numbers() {
+        let stuck = Fault {
+            kind: FaultKind::ServoStuck {
+                goal_range: 312,
+                present_range: 1,
+            },
+            joint: Some(2),
+        };
+        let mut buf = [0u8; 128];
+        let mut w = Writer(&mut buf, 0);
+        core::fmt::write(&mut w, format_args!("{stuck}")).unwrap();
+        let text = core::str::from_utf8(&w.0[..w.1]).unwrap();
+        assert_eq!(
+            text,
+            "ServoStuck on joint 2: servo stuck: its goal moved over 312 ticks, its position over 1"
+        );
+        assert_eq!(FaultKind::Watchdog.name(), "Watchdog");
+    }
+
+    /// A `fmt::Write` into a byte array (the crate is no_std without `alloc` in tests).
+    struct Writer<'a>(&'a mut [u8], usize);
+
+    impl core::fmt::Write for Writer<'_> {
+        fn write_str(&mut self, s: &str) -> core::fmt::Result {
+            let end = self.1 + s.len();
+            self.0
+                .get_mut(self.1..end)
+                .ok_or(core::fmt::Error)?
+                .copy_from_slice(s.as_bytes());
+            self.1 = end;
+            Ok(())
+        }
+    }
+
     #[test]
     fn fault_kinds_keep_their_indices_and_servo_stuck_is_appended() {
         let cases: [(FaultKind, &[u8]); 6] = [
