@@ -118,8 +118,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }
             if let (true, Ok(fb)) = (sample, reply) {
                 let goal = plan.goals[j].position;
-                if let Some(reason) = self.stuck.record(j, id, goal, self.planned[j], fb.position)
-                {
+                if let Some(reason) = self.stuck.record(j, id, goal, self.planned[j], fb.position) {
                     self.event(Event::Fault(reason));
                 }
             }

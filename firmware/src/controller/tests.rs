@@ -514,7 +514,9 @@ fn a_jammed_servo_is_reported_at_the_end_of_the_first_whole_window_after_the_jam
     // Every cycle from here on writes goals with torque on and every servo answers: one sample
     // each. Walk (past the ramp) to the middle of a window.
     let mut samples = 0;
-    while !(r.c.state() == State::Walking && samples >= 4 * window && samples % window == window / 2)
+    while !(r.c.state() == State::Walking
+        && samples >= 4 * window
+        && samples % window == window / 2)
     {
         assert_eq!(r.cycle(), BusAction::Cycle);
         samples += 1;

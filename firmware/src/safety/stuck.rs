@@ -234,10 +234,14 @@ mod tests {
         let s: Vec<_> = (0..5).map(|k| (100 + k, 100 + k, 300)).collect();
         assert_eq!(feed(&mut d, &s), vec![]);
         // Present range 2 (> 1): it moved.
-        let s: Vec<_> = (0..5).map(|k| (100 + 2 * k, 100 + 2 * k, 300 + k % 3)).collect();
+        let s: Vec<_> = (0..5)
+            .map(|k| (100 + 2 * k, 100 + 2 * k, 300 + k % 3))
+            .collect();
         assert_eq!(feed(&mut d, &s), vec![]);
         // Goal range 5, present range 1: fires.
-        let s: Vec<_> = (0..5).map(|k| (100 + k + k / 4, 100 + k + k / 4, 300 + k % 2)).collect();
+        let s: Vec<_> = (0..5)
+            .map(|k| (100 + k + k / 4, 100 + k + k / 4, 300 + k % 2))
+            .collect();
         assert_eq!(feed(&mut d, &s), vec![(5, stuck(5, 1).unwrap())]);
     }
 
@@ -271,6 +275,9 @@ mod tests {
         // Out-of-range joints are ignored rather than panicking; window 0 switches it off.
         assert_eq!(d.record(9, 1, 0, 0, 0), None);
         let mut off = StuckDetector::<4>::new(StuckLimits { window: 0, ..L });
-        assert_eq!(feed(&mut off, &(0..20).map(jam).collect::<Vec<_>>()), vec![]);
+        assert_eq!(
+            feed(&mut off, &(0..20).map(jam).collect::<Vec<_>>()),
+            vec![]
+        );
     }
 }
