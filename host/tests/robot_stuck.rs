@@ -64,7 +64,7 @@ fn ten_loaded_steps_of_the_tripod_gait_raise_no_stuck_fault() {
     while let Some(t) = b.telemetry(Duration::from_secs(1)).unwrap() {
         last_step = t.step;
         records.push(t);
-        if records.len() % 50 == 0 {
+        if records.len().is_multiple_of(50) {
             let s = b.status().unwrap();
             assert!(s.fault.is_none(), "{:?}", s.fault);
             if s.state == RunState::Standing {
