@@ -5,11 +5,12 @@
 //! `{"tx":"<hex>","start_ns":..,"end_ns":..,"baud":..}`; [`ServoBus::burst`] advances the motors to
 //! the burst's end, parses the bytes (a packet may span bursts; garbage is skipped as a servo would),
 //! lets the chain execute each complete instruction packet and answers with the status packets as
-//! timed segments. `{"control":{..}}` lines inject faults ([`ServoBus::control`]).
+//! timed segments. `{"control":{..}}` lines inject faults ([`ServoBus::control`]): overload, load,
+//! silent, corrupt, stuck servos and bus noise.
 
 use anyhow::{Context, Result, bail};
 use dynamixel::parser::Parser;
-use dynamixel::sim::VirtualChain;
+use dynamixel::sim::{Faults, VirtualChain};
 use serde_json::{Value, json};
 
 /// One reply on the wire: `delay_ns` after the end of the previous segment (or of the request).
@@ -31,6 +32,9 @@ pub struct ServoBus {
     turnaround_ns: u64,
     /// Instruction packets executed so far.
     pub packets: u64,
+    /// Noise to put on the wire ahead of the next replies (the `noise` control).
+    noise: Vec<u8>,
+    noise_seed: u32,
 }
 
 impl ServoBus {
@@ -43,6 +47,8 @@ impl ServoBus {
             now_ns: None,
             turnaround_ns: 0,
             packets: 0,
+            noise: Vec::new(),
+            noise_seed: 0x2545_F491,
         }
     }
 
@@ -96,13 +102,90 @@ impl ServoBus {
                 break;
             }
         }
+        if !out.is_empty() && !self.noise.is_empty() {
+            // The noise collides with the replies: the servos send on time (they do not listen
+            // while they talk), and what reaches the board is the noise in place of the first
+            // reply bytes of the window. Noise longer than the replies is cut at their end.
+            let noise = std::mem::take(&mut self.noise);
+            let mut it = noise.into_iter();
+            for b in out.iter_mut().flat_map(|s| s.rx.iter_mut()) {
+                match it.next() {
+                    Some(n) => *b = n,
+                    None => break,
+                }
+            }
+        }
         out
     }
 
+    /// Queues noise for the next burst that gets replies: `bytes` pseudo-random bytes, then
+    /// `headers` false status headers (`FF FF FD 00`, ID 5, a length of 32 that swallows the
+    /// bytes after it). They replace the first reply bytes of that window, timing unchanged (a
+    /// collision on the wire). Deterministic: the same controls give the same bytes.
+    pub fn queue_noise(&mut self, bytes: usize, headers: usize) {
+        for _ in 0..bytes {
+            let x = &mut self.noise_seed;
+            *x ^= *x << 13;
+            *x ^= *x >> 17;
+            *x ^= *x << 5;
+            self.noise.push(*x as u8);
+        }
+        for _ in 0..headers {
+            self.noise
+                .extend_from_slice(&[0xFF, 0xFF, 0xFD, 0x00, 0x05, 0x20, 0x00]);
+        }
+    }
+
+    fn faults_of<'v>(&mut self, v: &'v Value, what: &str) -> Result<(&mut Faults, &'v Value)> {
+        let id = v[0]
+            .as_u64()
+            .and_then(|id| u8::try_from(id).ok())
+            .with_context(|| format!("{what}[0]: servo id 0..=252, got {}", v[0]))?;
+        let servo = self.chain.servo_mut(id)?;
+        Ok((&mut servo.faults, &v[1]))
+    }
+
     /// Applies a control message: `{"overload": id}`, `{"external_torque": [id, N m]}`,
-    /// `{"return_delay": code}`.
+    /// `{"return_delay": code}`, and the servo faults of the dynamixel crate's sim
+    /// ([`dynamixel::sim::Faults`]): `{"silent": [id, bool]}` (executes, never replies),
+    /// `{"corrupt": [id, bool]}` (every reply with a bad CRC) or `{"corrupt": [id, n]}` (the next n
+    /// replies), `{"stuck": [id, bool]}` (output jammed: position frozen, goals accepted, no error
+    /// bit); and `{"noise": {"bytes": n, "headers": k}}` ([`Self::queue_noise`]).
     pub fn control(&mut self, msg: &Value) -> Result<()> {
-        if let Some(id) = msg.get("overload") {
+        let flag = |v: &Value, what: &str| {
+            v.as_bool()
+                .with_context(|| format!("{what}[1]: true or false, got {v}"))
+        };
+        if let Some(v) = msg.get("silent") {
+            let (f, on) = self.faults_of(v, "silent")?;
+            f.no_reply = flag(on, "silent")?;
+        } else if let Some(v) = msg.get("stuck") {
+            let (f, on) = self.faults_of(v, "stuck")?;
+            f.stuck = flag(on, "stuck")?;
+        } else if let Some(v) = msg.get("corrupt") {
+            let (f, arg) = self.faults_of(v, "corrupt")?;
+            match (arg.as_bool(), arg.as_u64()) {
+                (Some(on), _) => f.corrupt_crc = on,
+                (_, Some(n)) => {
+                    f.corrupt_next = u32::try_from(n).context("corrupt[1]: too many replies")?
+                }
+                _ => bail!("corrupt[1]: true, false or a number of replies, got {arg}"),
+            }
+        } else if let Some(v) = msg.get("noise") {
+            let n = |k: &str| {
+                v.get(k).map_or(Ok(0), |x| {
+                    x.as_u64()
+                        .filter(|&n| n <= 4096)
+                        .map(|n| n as usize)
+                        .with_context(|| format!("noise.{k}: a count up to 4096, got {x}"))
+                })
+            };
+            let (bytes, headers) = (n("bytes")?, n("headers")?);
+            if bytes + headers == 0 {
+                bail!("noise: give \"bytes\" and/or \"headers\" (counts), got {v}");
+            }
+            self.queue_noise(bytes, headers);
+        } else if let Some(id) = msg.get("overload") {
             let id = id.as_u64().context("overload: servo id")? as u8;
             self.chain.trigger_overload(id)?;
         } else if let Some(v) = msg.get("external_torque") {

@@ -93,7 +93,10 @@
 //!
 //! [`PROTOCOL_VERSION`] changes with any change of the encoded bytes of a message (the golden-byte tests
 //! in `tests/golden.rs` fail first, on purpose); [`gait::FORMAT_VERSION`] changes with the table layout.
-//! New message variants are appended at the end of their enum so older variants keep their index.
+//! New message variants are appended at the end of their enum so older variants keep their index;
+//! such an addition still bumps the version when the board can send the new variant (an older host
+//! cannot decode it and would fail only when it arrives: version 2 added `FaultKind::ServoStuck`,
+//! which arrives exactly when the robot has stopped on a fault), so the host refuses the board up front.
 //! [`DeviceInfo`] reports both versions and [`Capabilities`] so the host can refuse a board it does
 //! not understand before sending anything else.
 
@@ -116,7 +119,7 @@ pub use message::*;
 pub use upload::{UploadError, UploadLimits, UploadTracker};
 
 /// Version of the wire protocol; bumped on every change of the encoded bytes.
-pub const PROTOCOL_VERSION: u16 = 1;
+pub const PROTOCOL_VERSION: u16 = 2;
 
 /// USB vendor ID of the board: pid.codes' open-source vendor ID.
 pub const USB_VID: u16 = 0x1209;

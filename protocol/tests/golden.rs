@@ -41,7 +41,8 @@ where
 
 #[test]
 fn protocol_version_is_the_one_these_bytes_belong_to() {
-    assert_eq!(PROTOCOL_VERSION, 1);
+    // 2: FaultKind::ServoStuck appended (no existing byte changed; see the crate's Versioning).
+    assert_eq!(PROTOCOL_VERSION, 2);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 

@@ -103,9 +103,18 @@ def plan(
     """Plans one step cycle; keyword arguments override the paper's table 1 values
     (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c})."""
 
+class Fault(TypedDict):
+    kind: str
+    """The fault with its numbers, e.g. ``ServoStuck { goal_range: 312, present_range: 0 }``."""
+    name: Literal[
+        "EmergencyStop", "ServoError", "ServoMissing", "SetpointTimeout", "Watchdog", "ServoStuck"
+    ]
+    joint: int | None
+    message: str
+
 class Status(TypedDict):
     state: Literal["Idle", "Standing", "Ramping", "Walking", "Stopping", "Streaming", "Fault"]
-    fault: dict[str, Any] | None
+    fault: Fault | None
     torque_enabled: int
     counters: str
     playback: tuple[int, int, int] | None

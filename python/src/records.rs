@@ -89,7 +89,9 @@ pub fn proprioception_dict<'py>(
     Ok(d)
 }
 
-/// The board's status as a dict (`state`, `fault`, `torque_enabled`, `counters`).
+/// The board's status as a dict (`state`, `fault`, `torque_enabled`, `counters`); `fault` holds
+/// `kind` (with its numbers, e.g. `ServoStuck { goal_range: 312, present_range: 0 }`), `name`
+/// (`ServoStuck`), `joint` and `message` (a sentence).
 pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("state", format!("{:?}", s.state))?;
@@ -97,6 +99,8 @@ pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDi
         Some(f) => {
             let fd = PyDict::new(py);
             fd.set_item("kind", format!("{:?}", f.kind))?;
+            fd.set_item("name", f.kind.name())?;
+            fd.set_item("message", f.to_string())?;
             fd.set_item("joint", f.joint)?;
             d.set_item("fault", fd)?;
         }

@@ -130,6 +130,25 @@ impl VirtualChain {
     /// Executes one instruction packet heard at `baud` (servos set to another baud do not hear
     /// it) and returns the replies in wire order.
     pub fn handle(&mut self, req: &Frame<'_>, baud: u32) -> Vec<PlannedReply> {
+        let mut out = self.execute(req, baud);
+        // Counted corruption: each reply a servo sends uses up one (silent servos send none).
+        for r in &mut out {
+            let Some(bytes) = r.bytes.as_mut() else {
+                continue;
+            };
+            let Some(s) = self.servos.iter_mut().find(|s| s.id() == r.id) else {
+                continue;
+            };
+            if s.faults.corrupt_next > 0 && !s.faults.corrupt_crc && bytes.len() >= 2 {
+                s.faults.corrupt_next -= 1;
+                let n = bytes.len();
+                bytes[n - 2] ^= 0xFF;
+            }
+        }
+        out
+    }
+
+    fn execute(&mut self, req: &Frame<'_>, baud: u32) -> Vec<PlannedReply> {
         let mut out = Vec::new();
         let p = req.params;
         let Some(inst) = Instruction::from_code(req.instruction) else {

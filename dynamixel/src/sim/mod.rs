@@ -5,6 +5,8 @@
 mod chain;
 pub mod physics;
 mod servo;
+#[cfg(test)]
+mod tests;
 mod wire;
 
 pub use chain::{ChainError, DROSOPHIBOT_CTR_IDS, PlannedReply, VirtualChain};

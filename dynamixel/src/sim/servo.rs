@@ -19,6 +19,9 @@ pub struct Faults {
     pub no_reply: bool,
     /// Replies with the CRC's low byte inverted.
     pub corrupt_crc: bool,
+    /// The next this many replies have the CRC's low byte inverted (counts down per reply; a
+    /// short glitch rather than a broken servo).
+    pub corrupt_next: u32,
     /// Replies this many microseconds later than its Return Delay Time says.
     pub late_reply_us: u32,
     /// The output does not move (jammed gear): position stays, the motor stalls.

@@ -336,6 +336,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             );
             self.goals[j] = g;
             self.clamped[j] = c;
+            self.planned[j] = crate::bias::goal_ticks(&self.joints[j], angle, 0, 0).0;
         }
         self.stream.seq = seq;
         self.stream.age = 0;

@@ -123,6 +123,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             // Before torque comes on, the goals become the present posture, so nothing jumps.
             for j in 0..self.joints.len() {
                 self.goals[j] = self.present[j].position;
+                self.planned[j] = self.goals[j];
             }
             return BusAction::TorqueOn;
         }
@@ -176,6 +177,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         });
         let arrived = ramp.advance(dt);
         ramp.goals(&mut self.goals[..n]);
+        // The ramp has no load plan of its own: the servo is meant to reach the goal itself.
+        self.planned[..n].copy_from_slice(&self.goals[..n]);
         if arrived {
             self.ramp = None;
             self.event(Event::RampDone);
@@ -215,7 +218,20 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             &mut goals[..n],
             &mut cut[..n],
         );
+        // The same sample without the torque bias (stiffness 0 switches it off): what a servo
+        // carrying the planned load reaches. Its clamp count is the biased goal's business.
+        let mut planned = [0i32; MAX_JOINTS];
+        let mut planned_cut = [false; MAX_JOINTS];
+        playback::goals(
+            &view,
+            sample,
+            &self.joints,
+            &[0; MAX_JOINTS][..n],
+            &mut planned[..n],
+            &mut planned_cut[..n],
+        );
         self.goals[..n].copy_from_slice(&goals[..n]);
+        self.planned[..n].copy_from_slice(&planned[..n]);
         self.clamped = cut;
         self.count_clamped(clamped);
     }

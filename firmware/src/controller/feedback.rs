@@ -21,6 +21,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         replies: &[Reply],
         late_us: u32,
     ) {
+        if !matches!(plan.action, BusAction::Cycle | BusAction::ReadOnly) {
+            // Torque switched, servos rebooted, an error read: no window spans that.
+            self.stuck.reset();
+        }
         self.counters.cycles = self.counters.cycles.wrapping_add(1);
         self.counters.jitter_us = late_us;
         self.counters.max_jitter_us = self.counters.max_jitter_us.max(late_us);
@@ -73,6 +77,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
 
     fn take_replies(&mut self, plan: &CyclePlan, replies: &[Reply]) {
         let n = self.joints.len().min(plan.n).min(replies.len());
+        // A stuck-rule sample is a cycle that wrote goals the servos are meant to follow.
+        let sample = plan.action == BusAction::Cycle && self.torque_sent;
+        if !sample {
+            self.stuck.reset();
+        }
         for (j, reply) in replies.iter().enumerate().take(n) {
             let id = self.joints[j].id;
             self.reply_flags[j] = match reply {
@@ -106,6 +115,12 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             };
             if let Some(reason) = self.misses.record(j, id, usable) {
                 self.event(Event::Fault(reason));
+            }
+            if let (true, Ok(fb)) = (sample, reply) {
+                let goal = plan.goals[j].position;
+                if let Some(reason) = self.stuck.record(j, id, goal, self.planned[j], fb.position) {
+                    self.event(Event::Fault(reason));
+                }
             }
         }
         if self.state == State::Boot && self.all_known() {

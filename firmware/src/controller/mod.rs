@@ -15,7 +15,7 @@ use embedded_storage::nor_flash::NorFlash;
 
 use crate::bias::JointCal;
 use crate::playback::{MAX_JOINTS, PlayClock, Ramp};
-use crate::safety::{MissCounter, State};
+use crate::safety::{MissCounter, State, StuckDetector, StuckLimits};
 use crate::store::{FlashWindow, GaitStore};
 use crate::telemetry::{DropQueue, Record};
 
@@ -41,6 +41,8 @@ pub struct Config {
     pub ramp_ticks_per_s: u32,
     /// Shortest start ramp, microseconds.
     pub ramp_min_us: u32,
+    /// Stuck-servo detection (no message sets it: the defaults are argued in [`StuckLimits`]).
+    pub stuck: StuckLimits,
 }
 
 impl Default for Config {
@@ -53,6 +55,7 @@ impl Default for Config {
             // About 35 deg/s: slow enough to be harmless from any posture.
             ramp_ticks_per_s: 400,
             ramp_min_us: 500_000,
+            stuck: StuckLimits::default(),
         }
     }
 }
@@ -100,6 +103,9 @@ pub struct Controller<F> {
     ramp: Option<Ramp>,
     /// Goals of the last cycle (what standing holds).
     goals: [i32; MAX_JOINTS],
+    /// The planned angles the goals came from, without the torque bias (ticks): the stuck rule
+    /// wants both to move.
+    planned: [i32; MAX_JOINTS],
     clamped: [bool; MAX_JOINTS],
     /// Telemetry flags of each joint's last reply (no reply, CRC error).
     reply_flags: [u8; MAX_JOINTS],
@@ -113,6 +119,7 @@ pub struct Controller<F> {
     /// the board reports and what an emergency stop does match the servos.
     torque_unknown: bool,
     misses: MissCounter<MAX_JOINTS>,
+    stuck: StuckDetector<MAX_JOINTS>,
     /// Joints whose servos are to be rebooted (bit j), if a reboot is pending.
     reboot_pending: Option<u32>,
     hw_error_pending: Option<u8>,
@@ -138,6 +145,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             play: None,
             ramp: None,
             goals: [0; MAX_JOINTS],
+            planned: [0; MAX_JOINTS],
             clamped: [false; MAX_JOINTS],
             reply_flags: [0; MAX_JOINTS],
             present: [Feedback::default(); MAX_JOINTS],
@@ -145,6 +153,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             torque_sent: false,
             torque_unknown: true,
             misses: MissCounter::new(config.miss_limit),
+            stuck: StuckDetector::new(config.stuck),
             reboot_pending: None,
             hw_error_pending: None,
             last_plan_us: None,

@@ -21,6 +21,8 @@ struct IdealServos {
     silent: Vec<usize>,
     /// Joint whose status carries the Alert bit.
     alert: Option<usize>,
+    /// Joints whose output is jammed: they answer but do not move.
+    stuck: Vec<usize>,
     torque_writes: Vec<bool>,
     reboots: usize,
 }
@@ -36,6 +38,7 @@ impl IdealServos {
             torque: false,
             silent: vec![],
             alert: None,
+            stuck: vec![],
             torque_writes: vec![],
             reboots: 0,
         }
@@ -62,7 +65,9 @@ impl IdealServos {
             BusAction::Cycle => {
                 if self.torque {
                     for (j, g) in plan.goals().iter().enumerate() {
-                        self.pos[j] = g.position;
+                        if !self.stuck.contains(&j) {
+                            self.pos[j] = g.position;
+                        }
                     }
                 }
                 feedback(self, replies)
@@ -497,4 +502,66 @@ fn run_time_stiffness_survives_playing_the_same_gait_again() {
     assert_eq!(r.c.stiffness()[2], 1234);
     // The table's own value for the joints not overridden.
     assert_eq!(r.c.stiffness()[3], 8400);
+}
+
+#[test]
+fn a_jammed_servo_is_reported_at_the_end_of_the_first_whole_window_after_the_jam() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    assert_eq!(r.cycle(), BusAction::TorqueOn);
+    let window = usize::from(Config::default().stuck.window);
+    // Every cycle from here on writes goals with torque on and every servo answers: one sample
+    // each. Walk (past the ramp) to the middle of a window.
+    let mut samples = 0;
+    while !(r.c.state() == State::Walking
+        && samples >= 4 * window
+        && samples % window == window / 2)
+    {
+        assert_eq!(r.cycle(), BusAction::Cycle);
+        samples += 1;
+    }
+    r.servos.stuck = vec![4];
+    // The window in progress saw joint 4 move for half its length: no fault at its end. The next
+    // one is all jam: the fault comes with its last sample.
+    let fire_at = samples - samples % window + 2 * window;
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    while samples < fire_at {
+        assert_eq!(r.c.state(), State::Walking, "sample {samples}");
+        // The goal this cycle writes, from the gait's formula (the clock advances 10 ms first).
+        let t = (r.c.play_clock().unwrap().phase_us() + 10_000) % 1_000_000;
+        let want = r.gait.goal(t as f64 / 1e6 * 100.0, 4, STIFFNESS);
+        if samples >= fire_at - window {
+            (lo, hi) = (lo.min(want), hi.max(want));
+        }
+        r.cycle();
+        samples += 1;
+    }
+    let State::Safe(SafeReason::ServoStuck {
+        joint: 4,
+        id: 5,
+        goal_range,
+        present_range: 0,
+    }) = r.c.state()
+    else {
+        panic!("{:?} at sample {samples}", r.c.state());
+    };
+    // Half a period of a 0.4 rad sine is at least 0.4 rad (260 ticks) of goal range.
+    assert!(
+        (f64::from(goal_range) - (hi - lo)).abs() <= 2.0,
+        "goal range {goal_range} vs {:.1} from the gait",
+        hi - lo
+    );
+    assert!(goal_range > 250, "{goal_range}");
+    // As for a silent servo: no more goals, only reads; then clear, unjam, walk on without a fault.
+    assert_eq!(r.cycle(), BusAction::ReadOnly);
+    r.servos.stuck.clear();
+    r.c.clear_fault().unwrap();
+    r.cycles_until(5, |r| r.c.state() == State::Idle);
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    for _ in 0..4 * window {
+        r.cycle();
+        assert_eq!(r.c.state(), State::Walking);
+    }
 }

@@ -37,6 +37,18 @@ pub fn fault(s: State) -> Option<Fault> {
         State::Safe(SafeReason::ServoMissing { joint, cycles, .. }) => {
             (FaultKind::ServoMissing { cycles }, Some(joint))
         }
+        State::Safe(SafeReason::ServoStuck {
+            joint,
+            goal_range,
+            present_range,
+            ..
+        }) => (
+            FaultKind::ServoStuck {
+                goal_range,
+                present_range,
+            },
+            Some(joint),
+        ),
         State::Safe(SafeReason::SetpointTimeout) => (FaultKind::SetpointTimeout, None),
         State::Safe(SafeReason::Watchdog) => (FaultKind::Watchdog, None),
         _ => return None,

@@ -13,6 +13,10 @@
 //!  Idle / Standing / Safe / EStop ─Reboot─> Boot
 //! ```
 
+pub mod stuck;
+
+pub use stuck::{StuckDetector, StuckLimits};
+
 /// Why the robot went into the safe state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -23,6 +27,14 @@ pub enum SafeReason {
     ServoError { joint: u8, id: u8, error: u8 },
     /// The servo of `joint` (bus `id`) did not answer usably for `cycles` consecutive bus cycles.
     ServoMissing { joint: u8, id: u8, cycles: u8 },
+    /// The servo of `joint` (bus `id`) did not follow its goal: over one window its goal moved over
+    /// `goal_range` ticks, its present position over only `present_range` ([`stuck`]).
+    ServoStuck {
+        joint: u8,
+        id: u8,
+        goal_range: u16,
+        present_range: u16,
+    },
     /// Streaming mode got no new setpoint in time.
     SetpointTimeout,
     /// The watchdog reset a hung firmware.

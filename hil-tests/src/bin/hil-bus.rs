@@ -1,6 +1,8 @@
 //! The virtual servo chain process of the emulator runner: `hil-bus --servos 22 --baud 1000000`
 //! speaks the runner's lock-step JSON lines on stdin/stdout (see hil_tests::servo_bus) and hosts the
-//! dynamixel crate's virtual chain. Errors go to stderr; a bad line does not stop the chain.
+//! dynamixel crate's virtual chain. `{"control":..}` lines inject faults (overload, external
+//! torque, return delay, silent / corrupt / stuck servos, bus noise: `ServoBus::control`). Errors go
+//! to stderr; a bad line (or a bad control) does not stop the chain.
 
 use anyhow::{Context, Result};
 use dynamixel::sim::VirtualChain;

@@ -104,6 +104,58 @@ pub enum FaultKind {
     SetpointTimeout,
     /// The watchdog reset the firmware.
     Watchdog,
+    /// A servo's output did not follow its goal: over one detection window the goal (and the
+    /// planned angle) moved over `goal_range` ticks while the present position moved over only
+    /// `present_range` ticks (a jammed gear, a blocked joint). Appended last, so the variants above
+    /// keep their encoding; an older host cannot decode it, hence protocol version 2.
+    ServoStuck { goal_range: u16, present_range: u16 },
+}
+
+impl FaultKind {
+    /// The variant's name, as `dbot status` and the Python package show it (`"ServoStuck"`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::EmergencyStop => "EmergencyStop",
+            Self::ServoError { .. } => "ServoError",
+            Self::ServoMissing { .. } => "ServoMissing",
+            Self::SetpointTimeout => "SetpointTimeout",
+            Self::Watchdog => "Watchdog",
+            Self::ServoStuck { .. } => "ServoStuck",
+        }
+    }
+}
+
+impl fmt::Display for FaultKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::EmergencyStop => write!(f, "emergency stop by the host"),
+            Self::ServoError { bits } => {
+                write!(f, "servo hardware error (error bits {bits:#04x})")
+            }
+            Self::ServoMissing { cycles } => {
+                write!(f, "servo missing: no usable reply for {cycles} bus cycles")
+            }
+            Self::SetpointTimeout => write!(f, "no streaming setpoint in time"),
+            Self::Watchdog => write!(f, "the watchdog reset the firmware"),
+            Self::ServoStuck {
+                goal_range,
+                present_range,
+            } => write!(
+                f,
+                "servo stuck: its goal moved over {goal_range} ticks, its position over {present_range}"
+            ),
+        }
+    }
+}
+
+impl fmt::Display for Fault {
+    /// `ServoStuck on joint 2: servo stuck: ...`
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.joint {
+            Some(j) => write!(f, "{} on joint {j}: {}", self.kind.name(), self.kind),
+            None => write!(f, "{}: {}", self.kind.name(), self.kind),
+        }
+    }
 }
 
 /// A fault and the joint it concerns, if any.
@@ -112,4 +164,71 @@ pub enum FaultKind {
 pub struct Fault {
     pub kind: FaultKind,
     pub joint: Option<u8>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// postcard encodes an enum as its variant index (varint) followed by the fields (u8 raw, u16
+    /// as a LEB128 varint): bytes written out by hand from the postcard wire specification.
+    #[test]
+    fn a_fault_reads_with_its_name_joint_and_numbers() {
+        let stuck = Fault {
+            kind: FaultKind::ServoStuck {
+                goal_range: 312,
+                present_range: 1,
+            },
+            joint: Some(2),
+        };
+        let mut buf = [0u8; 128];
+        let mut w = Writer(&mut buf, 0);
+        core::fmt::write(&mut w, format_args!("{stuck}")).unwrap();
+        let text = core::str::from_utf8(&w.0[..w.1]).unwrap();
+        assert_eq!(
+            text,
+            "ServoStuck on joint 2: servo stuck: its goal moved over 312 ticks, its position over 1"
+        );
+        assert_eq!(FaultKind::Watchdog.name(), "Watchdog");
+    }
+
+    /// A `fmt::Write` into a byte array (the crate is no_std without `alloc` in tests).
+    struct Writer<'a>(&'a mut [u8], usize);
+
+    impl core::fmt::Write for Writer<'_> {
+        fn write_str(&mut self, s: &str) -> core::fmt::Result {
+            let end = self.1 + s.len();
+            self.0
+                .get_mut(self.1..end)
+                .ok_or(core::fmt::Error)?
+                .copy_from_slice(s.as_bytes());
+            self.1 = end;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn fault_kinds_keep_their_indices_and_servo_stuck_is_appended() {
+        let cases: [(FaultKind, &[u8]); 6] = [
+            (FaultKind::EmergencyStop, &[0]),
+            (FaultKind::ServoError { bits: 0x20 }, &[1, 0x20]),
+            (FaultKind::ServoMissing { cycles: 3 }, &[2, 3]),
+            (FaultKind::SetpointTimeout, &[3]),
+            (FaultKind::Watchdog, &[4]),
+            // 300 = 0b10_0101100 -> 0xAC 0x02; 2 -> 0x02.
+            (
+                FaultKind::ServoStuck {
+                    goal_range: 300,
+                    present_range: 2,
+                },
+                &[5, 0xAC, 0x02, 0x02],
+            ),
+        ];
+        for (kind, bytes) in cases {
+            let mut buf = [0u8; 8];
+            let got = postcard::to_slice(&kind, &mut buf).unwrap();
+            assert_eq!(&got[..], bytes, "{kind:?}");
+            assert_eq!(postcard::from_bytes::<FaultKind>(bytes).unwrap(), kind);
+        }
+    }
 }

@@ -26,7 +26,7 @@ impl Args {
         );
         println!("state     {:?}", st.state);
         if let Some(f) = st.fault {
-            println!("fault     {:?} (joint {:?})", f.kind, f.joint);
+            println!("fault     {f}");
         }
         if let Some(p) = st.playback {
             println!(

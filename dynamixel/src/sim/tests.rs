@@ -1,0 +1,124 @@
+//! The fault knobs of the virtual servos as the bus master sees them on the simulated wire.
+
+use super::{Faults, SimWire, VirtualChain, WireConfig};
+use crate::master::{AutoDirection, BusMaster, Goal, MasterConfig, Reply, ReplyFault};
+
+type Master = BusMaster<SimWire, AutoDirection, SimWire>;
+
+fn bus() -> (SimWire, Master) {
+    let mut chain = VirtualChain::drosophibot(6, 1_000_000).unwrap();
+    chain.set_return_delay_all(0);
+    let wire = SimWire::new(
+        chain,
+        WireConfig {
+            baud: 1_000_000,
+            echo: true,
+        },
+    );
+    let m = BusMaster::new(
+        wire.clone(),
+        AutoDirection,
+        wire.clone(),
+        MasterConfig::new(1_000_000),
+    );
+    (wire, m)
+}
+
+fn cycle(wire: &SimWire, m: &mut Master) -> Vec<Reply> {
+    let goals: Vec<Goal> = (1..=6).map(|id| Goal { id, position: 2048 }).collect();
+    let mut replies = vec![Err(ReplyFault::Timeout); 6];
+    wire.block_on(m.cycle(&goals, &mut replies)).unwrap();
+    replies
+}
+
+#[test]
+fn corrupt_next_spoils_exactly_that_many_replies_of_that_servo() {
+    let (wire, mut m) = bus();
+    wire.with_chain(|c| {
+        c.set_faults(
+            5,
+            Faults {
+                corrupt_next: 2,
+                ..Faults::default()
+            },
+        )
+    })
+    .unwrap();
+    for k in 0..4 {
+        let replies = cycle(&wire, &mut m);
+        for (i, r) in replies.iter().enumerate() {
+            let want_crc_error = i == 4 && k < 2;
+            assert_eq!(
+                matches!(r, Err(ReplyFault::Crc)),
+                want_crc_error,
+                "cycle {k} servo {}: {r:?}",
+                i + 1
+            );
+            if !want_crc_error {
+                assert!(matches!(r, Ok(f) if f.position == 2048), "{r:?}");
+            }
+        }
+    }
+    wire.with_chain(|c| assert_eq!(c.servo(5).unwrap().faults.corrupt_next, 0));
+}
+
+#[test]
+fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
+    let (wire, mut m) = bus();
+    wire.with_chain(|c| {
+        c.set_faults(
+            2,
+            Faults {
+                no_reply: true,
+                corrupt_next: 1,
+                ..Faults::default()
+            },
+        )
+        .unwrap();
+        c.set_faults(
+            3,
+            Faults {
+                stuck: true,
+                ..Faults::default()
+            },
+        )
+        .unwrap();
+    });
+    // Torque on, then goals 300 ticks away for 0.5 s: the others get there, servo 3 does not.
+    wire.with_chain(|c| {
+        for s in c.servos_mut() {
+            s.put(crate::control_table::TORQUE_ENABLE, 1);
+        }
+    });
+    let goals: Vec<Goal> = (1..=6).map(|id| Goal { id, position: 2348 }).collect();
+    let mut replies = vec![Err(ReplyFault::Timeout); 6];
+    for _ in 0..50 {
+        wire.block_on(m.cycle(&goals, &mut replies)).unwrap();
+        wire.advance_us(10_000 - 1);
+    }
+    assert_eq!(replies[1], Err(ReplyFault::Timeout));
+    assert!(
+        matches!(replies[2], Ok(f) if f.position == 2048 && !f.alert),
+        "{:?}",
+        replies[2]
+    );
+    for i in [0, 3, 4, 5] {
+        assert!(
+            matches!(replies[i], Ok(f) if (f.position - 2348).abs() <= 1),
+            "{:?}",
+            replies[i]
+        );
+    }
+    // Back on the bus, servo 2's one corrupt reply is still to come.
+    wire.with_chain(|c| {
+        c.set_faults(
+            2,
+            Faults {
+                corrupt_next: 1,
+                ..Faults::default()
+            },
+        )
+    })
+    .unwrap();
+    assert_eq!(cycle(&wire, &mut m)[1], Err(ReplyFault::Crc));
+}
