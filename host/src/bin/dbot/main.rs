@@ -11,6 +11,7 @@ mod dxl;
 mod dynamics_args;
 mod estop;
 mod gaits;
+mod interrupt;
 mod model;
 mod plan;
 mod record;

@@ -1,12 +1,16 @@
 //! `dbot run`: plays a stored gait, following its steps with a progress bar until the robot stands.
+//! Ctrl-C while following stops the walk at the end of the step, waits until the robot stands and
+//! exits non-zero; it never leaves the robot walking.
 
 use std::time::Duration;
 
 use anyhow::{Context, bail};
+use host::link::{Board, LinkError, Transport};
 use indicatif::{ProgressBar, ProgressStyle};
-use protocol::{Direction, PlayCommand, RunState, Steps};
+use protocol::{Direction, PlayCommand, ProtocolError, RunState, Steps};
 
 use crate::board_args::{BoardArgs, Session};
+use crate::interrupt;
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
 #[derive(Debug, clap::Args)]
@@ -32,6 +36,9 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
+        if !self.detach {
+            interrupt::catch()?;
+        }
         let mut s = self.board.connect()?;
         let slot = self.slot.or(s.setup.slot).unwrap_or(0);
         if s.is_virtual() && (self.steps.is_none() || self.detach) {
@@ -41,6 +48,9 @@ impl Args {
             );
         }
         let command = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        if interrupt::requested() {
+            bail!("interrupted before the walk started: nothing was played");
+        }
         s.board
             .play(command)
             .with_context(|| format!("playing slot {slot}"))?;
@@ -97,6 +107,8 @@ pub fn play_command(
 }
 
 /// Follows playback until the robot stands again (or a fault), with a progress bar over the steps.
+/// On Ctrl-C: asks the board to stop at the end of the step, follows it until it stands and fails
+/// with a message saying so.
 pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
     let bar = match steps {
         Some(k) => ProgressBar::new(u64::from(k)).with_style(
@@ -106,7 +118,15 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         None => ProgressBar::new_spinner(),
     };
     let mut started = false;
-    loop {
+    let mut stopping = false;
+    let state = loop {
+        if interrupt::requested() && !stopping {
+            bar.println(
+                "interrupted: stopping at the end of the step (Ctrl-C again to exit at once)",
+            );
+            stop_walk(&mut s.board)?;
+            stopping = true;
+        }
         s.board.wait(Duration::from_millis(100))?;
         s.board.discard_telemetry();
         let st = s.board.status()?;
@@ -116,16 +136,39 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         bar.set_message(format!("{:?}", st.state));
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
-            RunState::Standing | RunState::Idle if started => break,
+            RunState::Standing | RunState::Idle if started || stopping => break st,
             RunState::Fault => {
                 bar.abandon();
                 bail!("the board stopped with a fault: {:?}", st.fault);
             }
             _ => {}
         }
-    }
+    };
     bar.finish_and_clear();
     let t = s.board.now().as_secs_f64();
+    if stopping {
+        let step = state
+            .playback
+            .map_or(String::new(), |p| format!(" after step {}", p.step));
+        bail!(
+            "interrupted: the walk was stopped at the end of its step{step}; the robot is {:?} \
+             (board clock {t:.2} s)",
+            state.state
+        );
+    }
     println!("done: the robot stands (board clock {t:.2} s)");
     Ok(())
+}
+
+/// Asks the board to stop walking at the end of the step. A board that refuses because it is not
+/// walking (booting, in a fault) has nothing to stop.
+pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<()> {
+    match board.stop() {
+        Ok(())
+        | Err(LinkError::Device {
+            error: ProtocolError::WrongState { .. },
+            ..
+        }) => Ok(()),
+        Err(e) => Err(anyhow::Error::new(e).context("stopping the walk after Ctrl-C")),
+    }
 }
