@@ -109,10 +109,24 @@ fn fails_naming(d: &Done, what: &str, needles: &[&str]) {
         d.stdout,
         d.stderr
     );
-    assert_eq!(d.status.code(), Some(1), "{what}: {:?}\n{}", d.status, d.stderr);
-    assert!(!d.stderr.contains("panicked"), "{what}: panicked: {}", d.stderr);
+    assert_eq!(
+        d.status.code(),
+        Some(1),
+        "{what}: {:?}\n{}",
+        d.status,
+        d.stderr
+    );
+    assert!(
+        !d.stderr.contains("panicked"),
+        "{what}: panicked: {}",
+        d.stderr
+    );
     for n in needles {
-        assert!(d.stderr.contains(n), "{what}: stderr does not name `{n}`: {}", d.stderr);
+        assert!(
+            d.stderr.contains(n),
+            "{what}: stderr does not name `{n}`: {}",
+            d.stderr
+        );
     }
 }
 
@@ -160,8 +174,14 @@ fn every_board_command_on_a_missing_or_wrong_port_names_the_port_and_the_problem
     std::fs::create_dir(&folder).unwrap();
     let cases = [
         ("/dev/does-not-exist".to_owned(), "no such device"),
-        (file.display().to_string(), "is a regular file, not a serial port"),
-        (folder.display().to_string(), "is a directory, not a serial port"),
+        (
+            file.display().to_string(),
+            "is a regular file, not a serial port",
+        ),
+        (
+            folder.display().to_string(),
+            "is a directory, not a serial port",
+        ),
         ("/dev/null".to_owned(), "is not a serial port"),
     ];
     for (port, why) in &cases {
@@ -186,7 +206,14 @@ fn every_board_command_on_a_pty_nobody_answers_times_out_naming_it() {
         .iter()
         .zip(&ptys)
         .enumerate()
-        .map(|(i, (c, p))| spawn(dir.path(), &format!("silent{i}"), &with_port(c, &p.path), None))
+        .map(|(i, (c, p))| {
+            spawn(
+                dir.path(),
+                &format!("silent{i}"),
+                &with_port(c, &p.path),
+                None,
+            )
+        })
         .collect();
     for ((run, cmd), p) in runs.into_iter().zip(&cmds).zip(&ptys) {
         let d = run.wait();
@@ -281,4 +308,346 @@ fn a_board_of_another_protocol_version_is_told_apart_and_sent_nothing_else() {
             }
         }
     }
+}
+
+/// Waits (bounded) until `cond` holds.
+fn wait_for(what: &str, limit: Duration, mut cond: impl FnMut() -> bool) {
+    let t0 = Instant::now();
+    while !cond() {
+        assert!(t0.elapsed() < limit, "{what}: not within {limit:?}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Rows of a telemetry CSV, checking that it is whole: the header, then complete rows of every
+/// column (22 joints per bus cycle), the last one ended by a newline.
+fn whole_csv_rows(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.ends_with('\n'), "{}: last row cut", path.display());
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), host::record::CSV_HEADER.join(","));
+    let rows: Vec<_> = lines.collect();
+    for r in &rows {
+        assert_eq!(
+            r.split(',').count(),
+            host::record::CSV_HEADER.len(),
+            "{}: {r}",
+            path.display()
+        );
+    }
+    assert_eq!(
+        rows.len() % 22,
+        0,
+        "{}: {} rows",
+        path.display(),
+        rows.len()
+    );
+    rows.len()
+}
+
+#[test]
+fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
+    // The virtual robot served on a pty in real time stands for a board on USB: it lives on after
+    // dbot exits, so what Ctrl-C left behind can be looked at.
+    let dir = tempfile::tempdir().unwrap();
+    let gait = SyntheticGait::new(40, 0.6).build();
+    let rec = dir.path().join("rec");
+    let commands = [
+        strings(&["run", "--slot", "0"]),
+        strings(&[
+            "record",
+            "--out",
+            rec.to_str().unwrap(),
+            "--play",
+            "0",
+            "--seconds",
+            "600",
+        ]),
+    ];
+    for cmd in commands {
+        let robot = RobotServer::start(gait.clone());
+        let r = spawn(dir.path(), "walk", &with_port(&cmd, &robot.pty_path), None);
+        // Without --steps the gait plays until stopped: Ctrl-C while it walks.
+        wait_for(&format!("{cmd:?}: walking"), HANG, || {
+            robot.state() == State::Walking
+        });
+        r.signal(Signal::SIGINT);
+        let d = r.wait();
+        fails_naming(
+            &d,
+            &format!("{cmd:?} after Ctrl-C"),
+            &["interrupted", "stopped at the end of its step", "Standing"],
+        );
+        // dbot only returned once the robot stood, and it stays standing.
+        assert_eq!(robot.state(), State::Standing, "{cmd:?}: {}", d.stderr);
+        std::thread::sleep(Duration::from_millis(300));
+        assert_eq!(robot.state(), State::Standing, "{cmd:?}");
+        robot.finish();
+    }
+    // The interrupted recording is kept, whole, under its name; no scratch file is left.
+    assert!(whole_csv_rows(&rec.join("telemetry.csv")) > 0);
+    assert!(!rec.join(".partial-telemetry.csv").exists());
+    assert!(rec.join("angles.png").exists());
+}
+
+/// The `gaits` line of slot 1 of the virtual robot whose flash is `image`.
+fn slot1(dir: &Path, image: &str) -> String {
+    let d = run(dir, &strings(&["gaits", "--port", image]));
+    assert!(d.status.success(), "gaits: {}", d.stderr);
+    d.stdout
+        .lines()
+        .find(|l| l.starts_with("slot 1:"))
+        .unwrap()
+        .to_owned()
+}
+
+#[test]
+fn an_upload_interrupted_or_killed_midway_leaves_the_stored_gait_intact() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = format!("virtual:{}", dir.path().join("robot.flash").display());
+    let old = table(dir.path(), "old.dbgt", 50, 1.0);
+    // A large table (about 90 KB in 177 chunks), so that its chunks take a while to send even to
+    // the virtual robot.
+    let new = table(dir.path(), "new.dbgt", 1000, 2.0);
+    let up = |t: &str| strings(&["upload", "--table", t, "--slot", "1", "--port", &image]);
+    assert!(run(dir.path(), &up(&new)).status.success());
+    let new_line = slot1(dir.path(), &image);
+    // Timed over an existing flash image, as in the rounds below.
+    let d = run(dir.path(), &up(&old));
+    assert!(d.status.success(), "{}", d.stderr);
+    let upload_time = d.took;
+    let old_line = slot1(dir.path(), &image);
+    assert_ne!(old_line, new_line);
+
+    // One upload of the new table over the old one, `sig` after `delay`. What the slot holds
+    // afterwards must be one of the two gaits, whole; returns whether the upload was still
+    // sending chunks (Some(true)), not yet (Some(false)) or had finished (None) when Ctrl-C came.
+    let round = |sig: Signal, delay: Duration| -> Option<bool> {
+        let r = spawn(dir.path(), "upload", &up(&new), None);
+        std::thread::sleep(delay);
+        r.signal(sig);
+        let d = r.wait();
+        let now = slot1(dir.path(), &image);
+        assert!(
+            now == old_line || now == new_line,
+            "{sig:?} after {delay:?}: slot 1 is neither the old nor the new gait: {now}"
+        );
+        let outcome = match (sig, d.status.code()) {
+            (Signal::SIGINT, Some(1)) => {
+                // Ctrl-C before the commit: aborted, said so, the old table stays.
+                fails_naming(
+                    &d,
+                    "upload after Ctrl-C",
+                    &["interrupted", "the slot keeps its previous table"],
+                );
+                assert_eq!(now, old_line, "{}", d.stderr);
+                Some(!d.stderr.contains("after 0 of"))
+            }
+            (Signal::SIGINT, Some(0)) => None,
+            // Ended by the signal itself (before the handler was installed, or SIGKILL).
+            _ => Some(false),
+        };
+        if now == new_line {
+            assert!(run(dir.path(), &up(&old)).status.success());
+        }
+        outcome
+    };
+    // SIGKILL and Ctrl-C at moments spread over an upload.
+    let mut midway = 0;
+    let (mut lo, mut hi) = (Duration::ZERO, upload_time * 2);
+    for k in 1..=10u32 {
+        let sig = if k % 2 == 0 {
+            Signal::SIGKILL
+        } else {
+            Signal::SIGINT
+        };
+        let delay = upload_time * k / 10;
+        match round(sig, delay) {
+            Some(true) => midway += 1,
+            Some(false) if sig == Signal::SIGINT => lo = lo.max(delay),
+            None => hi = hi.min(delay),
+            _ => {}
+        }
+    }
+    // On a busy machine the moments shift: look for the chunks between the last Ctrl-C that came
+    // too early and the first that came too late.
+    for _ in 0..8 {
+        if midway > 0 {
+            break;
+        }
+        let delay = (lo + hi) / 2;
+        match round(Signal::SIGINT, delay) {
+            Some(true) => midway += 1,
+            Some(false) => lo = delay,
+            None => hi = delay,
+        }
+    }
+    assert!(midway > 0, "no Ctrl-C landed while chunks were sent");
+}
+
+/// Every regular file in `dir` that is not a command's scratch file (`.partial-*`), with its bytes.
+fn outputs(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
+        .filter(|(n, _)| !n.starts_with('.'))
+        .map(|(n, p)| (n, std::fs::read(p).unwrap()))
+        .collect()
+}
+
+/// Whether `bytes` are a whole PNG: the signature, and the IEND chunk (with its CRC) at the end.
+fn whole_png(bytes: &[u8]) -> bool {
+    const IEND: [u8; 12] = [0, 0, 0, 0, b'I', b'E', b'N', b'D', 0xAE, 0x42, 0x60, 0x82];
+    bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.ends_with(&IEND)
+}
+
+#[test]
+fn a_recording_killed_leaves_whole_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = format!("virtual:{}", dir.path().join("robot.flash").display());
+    let t = table(dir.path(), "g.dbgt", 40, 0.4);
+    let d = run(
+        dir.path(),
+        &strings(&["upload", "--table", &t, "--port", &image]),
+    );
+    assert!(d.status.success(), "{}", d.stderr);
+    let rec = dir.path().join("rec");
+    // Without --table only angles.png is drawn: drawing (PNG encoding in a debug build) is most
+    // of a run on the virtual robot, whose walk runs on simulated time.
+    let record = |out: &Path, backward: bool| {
+        let mut a = strings(&["record", "--out", out.to_str().unwrap(), "--play", "0"]);
+        a.extend(strings(&["--steps", "1", "--every", "4", "--port", &image]));
+        if backward {
+            a.push("--backward".into());
+        }
+        a
+    };
+    // The previous good recording, and what a complete new one holds.
+    let d = run(dir.path(), &record(&rec, false));
+    assert!(d.status.success(), "{}", d.stderr);
+    let fresh = dir.path().join("fresh");
+    let d = run(dir.path(), &record(&fresh, true));
+    assert!(d.status.success(), "{}", d.stderr);
+    let took = d.took;
+    let (old, new) = (outputs(&rec), outputs(&fresh));
+    assert_eq!(old.len(), 2, "telemetry.csv, angles.png: {:?}", old.keys());
+    assert_ne!(old["telemetry.csv"], new["telemetry.csv"]);
+    // SIGKILL (no chance to clean up) at moments spread over a run. Ctrl-C during a recording
+    // is checked on a board in real time (ctrl_c_while_walking_...) and in the demo.
+    for k in 1..=4u32 {
+        let r = spawn(dir.path(), "record", &record(&rec, true), None);
+        std::thread::sleep(took * k / 5);
+        r.signal(Signal::SIGKILL);
+        r.wait();
+        for (name, bytes) in outputs(&rec) {
+            assert!(
+                old.get(&name) == Some(&bytes) || new.get(&name) == Some(&bytes),
+                "killed at {k}/5 of {took:?}: {name} is neither the previous file nor a \
+                 complete new one ({} bytes)",
+                bytes.len()
+            );
+        }
+    }
+}
+
+/// Every file under `dir` (relative path, bytes), scratch files included.
+fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                todo.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().display().to_string();
+                out.push((rel, std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Whether `bytes` are a whole output of the kind its name says (checked by structure: a PNG ends
+/// with IEND, a CSV has equal rows and a final newline, JSON parses, a table parses and its CRC
+/// holds, a URDF closes its root element).
+fn whole_output(name: &str, bytes: &[u8]) -> bool {
+    let text = || std::str::from_utf8(bytes).ok();
+    match name.rsplit('.').next() {
+        Some("png") => whole_png(bytes),
+        Some("csv") => text().is_some_and(|t| {
+            let widths: Vec<_> = t.lines().map(|l| l.split(',').count()).collect();
+            t.ends_with('\n') && widths.len() > 1 && widths.iter().all(|&w| w == widths[0])
+        }),
+        Some("json") => serde_json::from_slice::<serde_json::Value>(bytes).is_ok(),
+        Some("urdf") => text().is_some_and(|t| t.trim_end().ends_with("</robot>")),
+        Some("dbgt") => protocol::GaitTable::parse(bytes).is_ok(),
+        _ => false,
+    }
+}
+
+#[test]
+fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    // The previous run's outputs (stand-ins with known bytes).
+    let names = [
+        "plan/joints.csv",
+        "plan/feet.csv",
+        "plan/plan.json",
+        "plan/model.urdf",
+        "plan/joint_angles.png",
+        "plan/footfall.png",
+        "plan/feet.png",
+        "plan/joint_forces.csv",
+        "plan/torques.png",
+        "plan/grf.png",
+        "drosophibot2-tripod.dbgt",
+        "record/forward/telemetry.csv",
+        "record/forward/torque.png",
+        "record/forward/angles.png",
+        "record/backward/telemetry.csv",
+        "record/backward/torque.png",
+        "record/backward/angles.png",
+    ];
+    let previous = |name: &str| format!("previous {name}\n").into_bytes();
+    for n in names {
+        let p = out.join(n);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(&p, previous(n)).unwrap();
+    }
+    let r = spawn(
+        dir.path(),
+        "demo",
+        &strings(&["demo", "--steps", "1", "--out", out.to_str().unwrap()]),
+        None,
+    );
+    // Ctrl-C once the second walk has started: the plan, the table and the first recording are
+    // complete new files by then, the second recording is under way.
+    wait_for("the demo's backward walk", HANG, || {
+        std::fs::read_to_string(&r.out).is_ok_and(|s| s.contains("[5/5]"))
+    });
+    r.signal(Signal::SIGINT);
+    let d = r.wait();
+    fails_naming(
+        &d,
+        "demo after Ctrl-C",
+        &["interrupted while recording", "backward"],
+    );
+    let files = tree(&out);
+    for (name, bytes) in &files {
+        assert!(!name.contains(".partial-"), "scratch file left: {name}");
+        let old = *bytes == previous(name);
+        let fresh = whole_output(name, bytes);
+        assert!(
+            old || fresh,
+            "{name}: neither the previous file nor a whole new one"
+        );
+        // What was written before the Ctrl-C is new; the interrupted recording is the old one.
+        assert_eq!(old, name.starts_with("record/backward"), "{name}");
+    }
+    assert_eq!(files.len(), names.len(), "{files:?}");
 }
