@@ -651,3 +651,118 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
     }
     assert_eq!(files.len(), names.len(), "{files:?}");
 }
+
+#[test]
+fn missing_or_bad_input_files_are_named_with_the_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n).display().to_string();
+    let good = table(dir.path(), "good.dbgt", 20, 0.5);
+    std::fs::write(p("short.dbgt"), b"garbage\n").unwrap();
+    let mut bytes = std::fs::read(&good).unwrap();
+    let last = bytes.len() - 1;
+    bytes[last] ^= 0xFF;
+    std::fs::write(p("crc.dbgt"), bytes).unwrap();
+    std::fs::create_dir(p("plan")).unwrap();
+    std::fs::write(
+        p("plan/plan.json"),
+        "{\n  \"model\": \"drosophibot2\",\n  oops\n}\n",
+    )
+    .unwrap();
+    std::fs::create_dir(p("plan2")).unwrap();
+    std::fs::write(
+        p("plan2/plan.json"),
+        r#"{"model_source": "drosophibot2", "period_s": 1.25, "parameters": {"duty": 0.6}}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        p("plan2/joints.csv"),
+        "slice,leg,joint,angle_rad,torque_nm\nx,LF,ThC1,0.1,0.2\n",
+    )
+    .unwrap();
+    std::fs::write(p("bad.toml"), "stiffness = 8.4\nwobble = 1\n").unwrap();
+    let f_bad_toml = p("bad.toml");
+    let f_cmp = p("cmp");
+    let f_crc_dbgt = p("crc.dbgt");
+    let f_gone = p("gone");
+    let f_gone_dbgt = p("gone.dbgt");
+    let f_gone_toml = p("gone.toml");
+    let f_plan = p("plan");
+    let f_plan2 = p("plan2");
+    let f_rec = p("rec");
+    let f_short_dbgt = p("short.dbgt");
+    // The port does not exist: every failure below must come from the file, checked first.
+    let nope = "/dev/does-not-exist";
+    let cases: Vec<(Vec<&str>, Vec<String>)> = vec![
+        (
+            vec!["upload", "--table", &f_gone_dbgt],
+            vec![p("gone.dbgt")],
+        ),
+        (
+            vec!["upload", "--table", &f_short_dbgt],
+            vec![p("short.dbgt"), "needs 40".into()],
+        ),
+        (
+            vec!["upload", "--table", &f_crc_dbgt],
+            vec![p("crc.dbgt"), "CRC".into()],
+        ),
+        (
+            vec!["upload", "--plan", &f_plan],
+            vec![p("plan/plan.json"), "line 3".into()],
+        ),
+        (vec!["upload", "--plan", &f_gone], vec![p("gone/plan.json")]),
+        (
+            vec!["servos", "--table", &f_short_dbgt],
+            vec![p("short.dbgt"), "not a step table".into()],
+        ),
+        (
+            vec!["record", "--out", &f_rec, "--table", &f_gone_dbgt],
+            vec![p("gone.dbgt")],
+        ),
+        (
+            vec!["set", "--stiffness", "5", "--config", &f_bad_toml],
+            vec![p("bad.toml"), "line 2".into(), "wobble".into()],
+        ),
+        (
+            vec!["set", "--stiffness", "5", "--config", &f_gone_toml],
+            vec![p("gone.toml")],
+        ),
+        (vec!["set", "--stiffness=-1"], vec!["--stiffness -1".into()]),
+        (vec!["set"], vec!["nothing to set".into()]),
+    ];
+    for (args, needles) in cases {
+        let d = run(dir.path(), &with_port(&strings(&args), nope));
+        let needles: Vec<&str> = needles.iter().map(String::as_str).collect();
+        fails_naming(&d, &format!("{args:?}"), &needles);
+        assert!(
+            !d.stderr.contains(nope),
+            "{args:?}: touched the port first: {}",
+            d.stderr
+        );
+    }
+    // The file commands (no port).
+    let out = p("out.dbgt");
+    let file_cases: Vec<(Vec<&str>, Vec<String>)> = vec![
+        (
+            vec!["table", "--plan", &f_plan2, "--out", &out],
+            vec![p("plan2/joints.csv"), "line 2".into(), "slice `x`".into()],
+        ),
+        (
+            vec!["table", "--plan", &f_gone, "--out", &out],
+            vec![p("gone/plan.json")],
+        ),
+        (
+            vec!["compare", &f_plan2, &f_gone, "--out", &f_cmp],
+            vec![p("gone/joints.csv")],
+        ),
+        (
+            vec!["compare", &f_plan, "--out", &f_cmp],
+            vec!["two plan directories".into()],
+        ),
+    ];
+    for (args, needles) in file_cases {
+        let d = run(dir.path(), &strings(&args));
+        let needles: Vec<&str> = needles.iter().map(String::as_str).collect();
+        fails_naming(&d, &format!("{args:?}"), &needles);
+    }
+    assert!(!Path::new(&out).exists());
+}

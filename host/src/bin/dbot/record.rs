@@ -65,8 +65,9 @@ impl Args {
         };
         let joints = match &table {
             Some(b) => {
+                let path = self.table.as_deref().unwrap_or(Path::new("?")).display();
                 let t = protocol::GaitTable::parse(b)
-                    .context("the --table file is not a step table")?;
+                    .with_context(|| format!("{path} (--table) is not a step table"))?;
                 joints_of_table(&t, &[])
             }
             None => Vec::new(),
