@@ -57,7 +57,6 @@ impl Args {
         if self.steps == 0 {
             bail!("--steps 0: give at least one step");
         }
-        interrupt::catch()?;
 
         println!("[1/5] planning the tripod gait of drosophibot2 (flat, table 1 of the paper)");
         let model = host::model::builtin("drosophibot2")?;
@@ -76,7 +75,8 @@ impl Args {
         let t1 = Instant::now();
         let dynamics = dyn_args.solve(&plan)?.context("inverse dynamics")?;
         let t_dyn = t1.elapsed();
-        check_interrupt("while planning")?;
+        // Until here a Ctrl-C simply ends the process: nothing has been written yet.
+        interrupt::catch()?;
         let plan_dir = out.join("plan");
         write_plan(&plan, &dynamics, &plan_dir)?;
         check_interrupt("after writing the plan")?;
