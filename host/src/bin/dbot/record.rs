@@ -21,6 +21,9 @@ use crate::interrupt;
 use crate::plan::replace;
 
 /// Record telemetry to OUT/telemetry.csv and plot it (OUT/torque.png, OUT/angles.png).
+///
+/// Ctrl-C stops the walk at the end of its step, records until the robot stands and keeps the
+/// rows so far in OUT/telemetry.csv.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Output directory.

@@ -13,6 +13,9 @@ use crate::board_args::{BoardArgs, Session};
 use crate::interrupt;
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
+///
+/// Ctrl-C stops the walk at the end of its step and waits until the robot stands (a second
+/// Ctrl-C exits at once; the board still finishes the step).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).

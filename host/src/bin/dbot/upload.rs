@@ -13,6 +13,8 @@ use crate::board_args::BoardArgs;
 use crate::interrupt;
 
 /// Upload a step table into a gait slot of the board (verified after the upload).
+///
+/// Ctrl-C before the upload commits aborts it: the slot keeps its previous table.
 #[derive(Debug, clap::Args)]
 #[group(id = "source", required = true, multiple = false)]
 pub struct Args {
