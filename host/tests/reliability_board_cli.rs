@@ -766,3 +766,28 @@ fn missing_or_bad_input_files_are_named_with_the_place() {
     }
     assert!(!Path::new(&out).exists());
 }
+
+#[test]
+fn a_reader_that_goes_away_ends_dbot_quietly_not_with_a_panic() {
+    // `dbot gaits | head -0`: the pipe is closed before dbot prints.
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(["gaits", "--port", "virtual"])
+        .current_dir(dir.path())
+        .env("RUST_BACKTRACE", "0")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    use std::os::unix::process::ExitStatusExt as _;
+    assert_eq!(
+        o.status.signal(),
+        Some(Signal::SIGPIPE as i32),
+        "{:?} {err}",
+        o.status
+    );
+}
