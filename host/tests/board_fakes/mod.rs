@@ -4,6 +4,8 @@
 //! virtual robot served in real time, as a board on USB would be.
 #![allow(dead_code)]
 
+pub mod cli;
+
 use std::fs::File;
 use std::io::{Read, Write};
 use std::os::fd::{AsFd, AsRawFd, OwnedFd};
