@@ -21,6 +21,7 @@ use board_fakes::{Answer, FakeBoard, RobotServer, host_messages, pty};
 use firmware::safety::State;
 use firmware::testkit::SyntheticGait;
 use nix::sys::signal::Signal;
+use protocol::gait::FORMAT_VERSION;
 use protocol::{HostMessage, PROTOCOL_VERSION, Request};
 
 /// Every board-facing command with arguments that would work on a good board (`--port` is
@@ -157,20 +158,31 @@ fn a_board_of_another_protocol_version_is_told_apart_and_sent_nothing_else() {
         // A later version whose DeviceInfo gained fields: the reply does not decode here as a
         // whole, yet the versions at its start are read and named (not a 2 s "no reply").
         (Answer::VersionWithNewFields(newer), newer, "update dbot"),
+        // Same protocol, a gait table format this dbot does not write.
+        (
+            Answer::TableFormat(FORMAT_VERSION + 1),
+            FORMAT_VERSION + 1,
+            "update dbot",
+        ),
     ];
-    let host = format!("this dbot speaks {PROTOCOL_VERSION}");
     for (answer, version, update) in cases {
+        let (host, said) = match answer {
+            Answer::TableFormat(_) => (
+                format!("this dbot writes {FORMAT_VERSION}"),
+                format!("gait table format {version}"),
+            ),
+            _ => (
+                format!("this dbot speaks {PROTOCOL_VERSION}"),
+                format!("protocol version {version}"),
+            ),
+        };
         for cmd in board_commands(dir.path(), &t) {
             let board = FakeBoard::start(answer);
             let port = board.pty_path.clone();
             let d = run(dir.path(), &with_port(&cmd, &port));
             let received = board.finish();
             let what = format!("{cmd:?} on a board of protocol {version} ({answer:?})");
-            fails_naming(
-                &d,
-                &what,
-                &[&port, &format!("protocol version {version}"), &host, update],
-            );
+            fails_naming(&d, &what, &[&port, &said, &host, update]);
             // Only the version question reached the board: no upload, no play, no settings.
             let messages = host_messages(&received);
             assert!(!messages.is_empty(), "{what}: the board heard nothing");

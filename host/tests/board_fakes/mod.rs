@@ -91,6 +91,8 @@ pub enum Answer {
     /// The same followed by 6 bytes of fields this host does not know (a later protocol version
     /// that added fields), so the whole reply does not decode here.
     VersionWithNewFields(u16),
+    /// This host's protocol version, but this gait table format version.
+    TableFormat(u16),
 }
 
 /// A board that answers `GetDeviceInfo` only and keeps every byte it received.
@@ -121,13 +123,24 @@ impl FakeBoard {
                     else {
                         continue;
                     };
-                    let (v, extra) = match answer {
-                        Answer::Version(v) => (v, false),
-                        Answer::VersionWithNewFields(v) => (v, true),
+                    let mut info = device_info(protocol::PROTOCOL_VERSION);
+                    let extra = match answer {
+                        Answer::Version(v) => {
+                            info.protocol_version = v;
+                            false
+                        }
+                        Answer::VersionWithNewFields(v) => {
+                            info.protocol_version = v;
+                            true
+                        }
+                        Answer::TableFormat(v) => {
+                            info.table_format_version = v;
+                            false
+                        }
                     };
                     let reply = DeviceMessage::Reply {
                         seq,
-                        response: Response::DeviceInfo(device_info(v)),
+                        response: Response::DeviceInfo(info),
                     };
                     let frame = if extra {
                         // Postcard encodes a tuple as its fields in order: the reply, then more.
