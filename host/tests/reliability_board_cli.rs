@@ -208,43 +208,62 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
     // dbot exits, so what Ctrl-C left behind can be looked at.
     let dir = tempfile::tempdir().unwrap();
     let gait = SyntheticGait::new(40, 0.6).build();
-    let rec = dir.path().join("rec");
-    let commands = [
-        strings(&["run", "--slot", "0"]),
-        strings(&[
-            "record",
-            "--out",
-            rec.to_str().unwrap(),
-            "--play",
-            "0",
-            "--seconds",
-            "600",
-        ]),
+    let (rec, rec2) = (dir.path().join("rec"), dir.path().join("rec2"));
+    let record = |out: &Path, play: bool| {
+        let mut a = strings(&["record", "--out", out.to_str().unwrap(), "--seconds", "600"]);
+        if play {
+            a.extend(strings(&["--play", "0"]));
+        }
+        a
+    };
+    // (started by another command first, the command, Ctrl-C once the robot is in this state).
+    // Without --steps the gait plays until stopped.
+    let cases = [
+        (None, strings(&["run", "--slot", "0"]), State::Walking),
+        (None, strings(&["run", "--slot", "0"]), State::Ramping),
+        (None, record(&rec, true), State::Walking),
+        // Recording a walk someone else started: Ctrl-C stops it all the same.
+        (
+            Some(strings(&["run", "--slot", "0", "--detach"])),
+            record(&rec2, false),
+            State::Walking,
+        ),
     ];
-    for cmd in commands {
+    for (first, cmd, when) in cases {
+        let what = format!("{cmd:?}, Ctrl-C while {when:?}");
         let robot = RobotServer::start(gait.clone());
+        if let Some(first) = first {
+            let d = run(dir.path(), &with_port(&first, &robot.pty_path));
+            assert!(d.status.success(), "{first:?}: {}", d.stderr);
+        }
         let r = spawn(dir.path(), "walk", &with_port(&cmd, &robot.pty_path), None);
-        // Without --steps the gait plays until stopped: Ctrl-C while it walks.
-        wait_for(&format!("{cmd:?}: walking"), HANG, || {
-            robot.state() == State::Walking
-        });
+        wait_for(&what, HANG, || robot.state() == when);
+        if cmd[0] == "record" {
+            // Once rows arrive, the recording is under way.
+            let scratch = dir.path().join(&cmd[2]).join(".partial-telemetry.csv");
+            wait_for(&what, HANG, || {
+                std::fs::metadata(&scratch).is_ok_and(|m| m.len() > 1000)
+            });
+        }
         r.signal(Signal::SIGINT);
         let d = r.wait();
         fails_naming(
             &d,
-            &format!("{cmd:?} after Ctrl-C"),
+            &what,
             &["interrupted", "stopped at the end of its step", "Standing"],
         );
         // dbot only returned once the robot stood, and it stays standing.
-        assert_eq!(robot.state(), State::Standing, "{cmd:?}: {}", d.stderr);
+        assert_eq!(robot.state(), State::Standing, "{what}: {}", d.stderr);
         std::thread::sleep(Duration::from_millis(300));
-        assert_eq!(robot.state(), State::Standing, "{cmd:?}");
+        assert_eq!(robot.state(), State::Standing, "{what}");
         robot.finish();
     }
-    // The interrupted recording is kept, whole, under its name; no scratch file is left.
-    assert!(whole_csv_rows(&rec.join("telemetry.csv")) > 0);
-    assert!(!rec.join(".partial-telemetry.csv").exists());
-    assert!(rec.join("angles.png").exists());
+    // The interrupted recordings are kept, whole, under their name; no scratch file is left.
+    for r in [&rec, &rec2] {
+        assert!(whole_csv_rows(&r.join("telemetry.csv")) > 0);
+        assert!(!r.join(".partial-telemetry.csv").exists());
+        assert!(r.join("angles.png").exists());
+    }
 }
 
 /// The `gaits` line of slot 1 of the virtual robot whose flash is `image`.
