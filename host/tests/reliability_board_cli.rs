@@ -258,6 +258,26 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
         assert_eq!(robot.state(), State::Standing, "{what}");
         robot.finish();
     }
+    // Ctrl-C twice in a row (here SIGINT then SIGTERM, handled alike): dbot exits at once (130),
+    // but only after asking the board to stop, so the robot still stands at the end of its step.
+    let robot = RobotServer::start(gait.clone());
+    let cmd = with_port(&strings(&["run", "--slot", "0"]), &robot.pty_path);
+    let r = spawn(dir.path(), "twice", &cmd, None);
+    wait_for("run: walking", HANG, || robot.state() == State::Walking);
+    // Two different signals, both counted, so that they are not merged into one on delivery.
+    r.signal(Signal::SIGINT);
+    r.signal(Signal::SIGTERM);
+    let d = r.wait();
+    assert_eq!(d.status.code(), Some(130), "{}", d.stderr);
+    assert!(d.stderr.contains("interrupted twice"), "{}", d.stderr);
+    wait_for(
+        "standing after Ctrl-C twice",
+        Duration::from_secs(20),
+        || robot.state() == State::Standing,
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(robot.state(), State::Standing);
+    robot.finish();
     // The interrupted recordings are kept, whole, under their name; no scratch file is left.
     for r in [&rec, &rec2] {
         assert!(whole_csv_rows(&r.join("telemetry.csv")) > 0);

@@ -4,9 +4,11 @@
 //! default action (the process ends at once; their outputs go through scratch files, so nothing
 //! is half-written). The first signal only sets a flag, so the command can stop the robot at the
 //! end of its step, finish its files and exit non-zero saying so; a second one ends the process
-//! at once (exit 130), for a user who will not wait.
+//! at once (exit 130), for a user who will not wait. While a walk may be under way and the board
+//! has not yet been asked to stop ([`hold`] .. [`release`]), the second signal waits for that
+//! request: a user pressing Ctrl-C twice in a row must not leave the robot walking.
 
-use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 
 use anyhow::Context as _;
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
@@ -14,11 +16,14 @@ use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction
 /// Signals received since [`catch`].
 static RECEIVED: AtomicU8 = AtomicU8::new(0);
 
+/// Whether a second signal may end the process at once (see [`hold`]).
+static MAY_EXIT: AtomicBool = AtomicBool::new(true);
+
 /// Exit status of a process ended by a second Ctrl-C (128 + SIGINT, as a shell reports it).
 const EXIT_INTERRUPTED: i32 = 130;
 
 extern "C" fn on_signal(_: nix::libc::c_int) {
-    if RECEIVED.fetch_add(1, Ordering::SeqCst) >= 1 {
+    if RECEIVED.fetch_add(1, Ordering::SeqCst) >= 1 && MAY_EXIT.load(Ordering::SeqCst) {
         const MSG: &[u8] = b"\ninterrupted twice: exiting now\n";
         // SAFETY: write(2) and _exit(2) are async-signal-safe; MSG is a valid buffer.
         unsafe {
@@ -46,4 +51,22 @@ pub fn catch() -> anyhow::Result<()> {
 /// Whether Ctrl-C (or SIGTERM) arrived since [`catch`].
 pub fn requested() -> bool {
     RECEIVED.load(Ordering::SeqCst) > 0
+}
+
+/// From now on a second signal does not end the process until [`release`]: the robot may be
+/// walking and the board has not been asked to stop yet.
+pub fn hold() {
+    MAY_EXIT.store(false, Ordering::SeqCst);
+}
+
+/// The board has been asked to stop (or nothing moves): a second signal ends the process at once
+/// again, and if it already came, the process ends now.
+pub fn release() {
+    MAY_EXIT.store(true, Ordering::SeqCst);
+    if RECEIVED.load(Ordering::SeqCst) >= 2 {
+        eprintln!(
+            "interrupted twice: the board was asked to stop at the end of the step; exiting now"
+        );
+        std::process::exit(EXIT_INTERRUPTED);
+    }
 }

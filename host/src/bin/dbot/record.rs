@@ -79,6 +79,8 @@ impl Args {
         std::fs::create_dir_all(&self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
         interrupt::catch()?;
+        // Ctrl-C stops a walk (even one another command started) before a second one may exit.
+        interrupt::hold();
         let mut s = self.board.connect()?;
         if s.is_virtual() && self.play.is_none() {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
@@ -156,7 +158,9 @@ pub fn record_to<T: Transport>(
     let interrupted = matches!(result, Ok(Ended::Interrupted));
     if interrupted {
         bar.println("interrupted: stopping at the end of the step (Ctrl-C again to exit at once)");
-        result = match crate::run::stop_walk(board) {
+        let stopped = crate::run::stop_walk(board);
+        interrupt::release();
+        result = match stopped {
             Ok(()) => capture_while(
                 board,
                 &mut rec,

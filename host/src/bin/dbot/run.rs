@@ -41,6 +41,7 @@ impl Args {
     pub fn run(self) -> anyhow::Result<()> {
         if !self.detach {
             interrupt::catch()?;
+            interrupt::hold();
         }
         let mut s = self.board.connect()?;
         let slot = self.slot.or(s.setup.slot).unwrap_or(0);
@@ -128,6 +129,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
                 "interrupted: stopping at the end of the step (Ctrl-C again to exit at once)",
             );
             stop_walk(&mut s.board)?;
+            interrupt::release();
             stopping = true;
         }
         s.board.wait(Duration::from_millis(100))?;
