@@ -122,15 +122,17 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         None => ProgressBar::new_spinner(),
     };
     let mut started = false;
-    let mut stopping = false;
+    // After Ctrl-C: the board's state right after it was asked to stop (Stopping: it finishes
+    // the step; Standing: it was still ramping to the first slice and holds where it got to).
+    let mut stopped_in: Option<RunState> = None;
     let state = loop {
-        if interrupt::requested() && !stopping {
+        if interrupt::requested() && stopped_in.is_none() {
             bar.println(
                 "interrupted: stopping at the end of the step (Ctrl-C again to exit at once)",
             );
             stop_walk(&mut s.board)?;
             interrupt::release();
-            stopping = true;
+            stopped_in = Some(s.board.status()?.state);
         }
         s.board.wait(Duration::from_millis(100))?;
         s.board.discard_telemetry();
@@ -141,7 +143,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         bar.set_message(format!("{:?}", st.state));
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
-            RunState::Standing | RunState::Idle if started || stopping => break st,
+            RunState::Standing | RunState::Idle if started || stopped_in.is_some() => break st,
             RunState::Fault => {
                 bar.abandon();
                 bail!("the board stopped with a fault: {:?}", st.fault);
@@ -151,13 +153,19 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
     };
     bar.finish_and_clear();
     let t = s.board.now().as_secs_f64();
-    if stopping {
-        let step = state
-            .playback
-            .map_or(String::new(), |p| format!(" after step {}", p.step));
+    if let Some(was) = stopped_in {
+        // A ramp has no step to finish: the board holds where the ramp got to.
+        let what = if matches!(was, RunState::Standing | RunState::Idle) {
+            "the ramp to the gait's first slice was stopped where it got to (no step walked)"
+                .to_owned()
+        } else {
+            let step = state
+                .playback
+                .map_or(String::new(), |p| format!(" after step {}", p.step));
+            format!("the walk was stopped at the end of its step{step}")
+        };
         bail!(
-            "interrupted: the walk was stopped at the end of its step{step}; the robot is {:?} \
-             (board clock {t:.2} s)",
+            "interrupted: {what}; the robot is {:?} (board clock {t:.2} s)",
             state.state
         );
     }
