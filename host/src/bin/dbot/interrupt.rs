@@ -8,13 +8,13 @@
 //! has not yet been asked to stop ([`hold`] .. [`release`]), the second signal waits for that
 //! request: a user pressing Ctrl-C twice in a row must not leave the robot walking.
 
-use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use anyhow::Context as _;
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
 
 /// Signals received since [`catch`].
-static RECEIVED: AtomicU8 = AtomicU8::new(0);
+static RECEIVED: AtomicUsize = AtomicUsize::new(0);
 
 /// Whether a second signal may end the process at once (see [`hold`]).
 static MAY_EXIT: AtomicBool = AtomicBool::new(true);
