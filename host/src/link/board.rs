@@ -13,6 +13,7 @@ use protocol::{
 
 use super::error::LinkError;
 use super::transport::{Transport, TransportError};
+use super::version::{ForeignInfo, device_info_prefix};
 
 /// How long a request waits for its reply by default. Flash work on the board (a sector erase
 /// per chunk) stays well below it.
@@ -40,11 +41,19 @@ pub struct Board<T: Transport> {
     bad_frames: u64,
     /// Telemetry records dropped from the backlog.
     telemetry_dropped: u64,
+    /// A `DeviceInfo` reply of another protocol version that did not decode as a whole.
+    foreign: Option<ForeignInfo>,
 }
 
 impl<T: Transport> Board<T> {
-    /// Asks the board who it is and refuses a board of another protocol or table format version.
+    /// Asks the board who it is and refuses a board of another protocol or table format version
+    /// (having sent it nothing but that question).
     pub fn connect(transport: T) -> Result<Self, LinkError> {
+        Self::connect_within(transport, DEFAULT_REPLY_TIMEOUT)
+    }
+
+    /// [`Board::connect`] waiting `reply_timeout` for each reply (from the first one on).
+    pub fn connect_within(transport: T, reply_timeout: Duration) -> Result<Self, LinkError> {
         let mut board = Self {
             transport,
             client: Client::new(),
@@ -53,9 +62,10 @@ impl<T: Transport> Board<T> {
             telemetry: VecDeque::new(),
             proprioception: VecDeque::new(),
             info: placeholder_info(),
-            reply_timeout: DEFAULT_REPLY_TIMEOUT,
+            reply_timeout,
             bad_frames: 0,
             telemetry_dropped: 0,
+            foreign: None,
         };
         // A lone delimiter ends whatever partial frame an earlier session left in the board's
         // receiver, so our first request is not glued to garbage.
@@ -151,6 +161,15 @@ impl<T: Transport> Board<T> {
         let deadline = self.transport.now() + self.reply_timeout;
         loop {
             let Some(message) = self.next_message(deadline)? else {
+                if let Some(f) = self.foreign.take()
+                    && f.seq == seq
+                {
+                    return Err(LinkError::ProtocolVersion {
+                        port: self.port().to_owned(),
+                        board: f.protocol_version,
+                        host: protocol::PROTOCOL_VERSION,
+                    });
+                }
                 return Err(LinkError::NoReply {
                     port: self.port().to_owned(),
                     request: name,
@@ -289,7 +308,8 @@ impl<T: Transport> Board<T> {
             .map_err(|source| vanished(self.transport.name(), source))
     }
 
-    /// The next decoded message, reading until `deadline` on the transport's clock.
+    /// The next decoded message, reading until `deadline` on the transport's clock. Ends early
+    /// (with `None`) at a `DeviceInfo` reply of another protocol version, left in `self.foreign`.
     pub(super) fn next_message(
         &mut self,
         deadline: Duration,
@@ -300,17 +320,29 @@ impl<T: Transport> Board<T> {
                 return Ok(Some(m));
             }
             let now = self.transport.now();
-            if now >= deadline {
+            if now >= deadline || self.foreign.is_some() {
                 return Ok(None);
             }
             let n = self
                 .transport
                 .recv(&mut buf, deadline - now)
                 .map_err(|source| vanished(self.transport.name(), source))?;
-            for m in self.acc.messages::<DeviceMessage>(&buf[..n]) {
-                match m {
+            for &byte in &buf[..n] {
+                let Some(frame) = self.acc.push(byte) else {
+                    continue;
+                };
+                let Ok(frame) = frame else {
+                    self.bad_frames += 1;
+                    continue;
+                };
+                match protocol::decode_message::<DeviceMessage>(frame) {
                     Ok(m) => self.inbox.push_back(m),
-                    Err(_) => self.bad_frames += 1,
+                    Err(_) => {
+                        self.bad_frames += 1;
+                        if let Some(f) = device_info_prefix(frame) {
+                            self.foreign = Some(f);
+                        }
+                    }
                 }
             }
         }

@@ -67,6 +67,17 @@ pub enum LinkError {
     /// The table to upload is not a valid table.
     #[error("the table to upload is invalid: {0}")]
     Table(protocol::TableError),
+    /// The caller interrupted an upload before its commit; it was aborted (best effort), so the
+    /// slot keeps what it held before.
+    #[error(
+        "{port}: the upload into slot {slot} was interrupted after {sent} of {total} bytes and aborted: the slot keeps its previous table"
+    )]
+    UploadInterrupted {
+        port: String,
+        slot: u8,
+        sent: u32,
+        total: u32,
+    },
     /// The upload went through but the board's report does not match the table sent.
     #[error("{port}: verification failed: {what}")]
     Verify { port: String, what: String },

@@ -12,6 +12,7 @@ mod serial;
 mod stream;
 mod transport;
 mod upload;
+mod version;
 
 pub use board::{BOOT_WAIT, Board, DEFAULT_REPLY_TIMEOUT, request_name};
 pub use devices::{BoardPort, list_boards};

@@ -26,11 +26,19 @@ pub type Uploaded = Result<UploadReport, LinkError>;
 impl<T: Transport> Board<T> {
     /// Uploads `table` into `slot`, calling `progress(sent, total)` after every chunk, and verifies
     /// the slot afterwards (header and CRC as listed by the board).
-    pub fn upload(
+    pub fn upload(&mut self, slot: u8, table: &[u8], progress: impl FnMut(u32, u32)) -> Uploaded {
+        self.upload_unless(slot, table, progress, || false)
+    }
+
+    /// [`Board::upload`] that gives up before the next chunk once `interrupted()` is true (a
+    /// Ctrl-C): the upload is aborted, the slot keeps its old table, and the error is
+    /// [`LinkError::UploadInterrupted`]. Once the commit is sent the upload runs to its end.
+    pub fn upload_unless(
         &mut self,
         slot: u8,
         table: &[u8],
         mut progress: impl FnMut(u32, u32),
+        mut interrupted: impl FnMut() -> bool,
     ) -> Uploaded {
         let parsed = GaitTable::parse(table).map_err(LinkError::Table)?;
         let header = parsed.header();
@@ -45,7 +53,7 @@ impl<T: Transport> Board<T> {
             header,
             total_len,
         })?;
-        let result = self.send_chunks(table, &mut progress);
+        let result = self.send_chunks(slot, table, &mut progress, &mut interrupted);
         let chunks = match result {
             Ok(chunks) => chunks,
             Err(e) => {
@@ -102,14 +110,24 @@ impl<T: Transport> Board<T> {
 
     fn send_chunks(
         &mut self,
+        slot: u8,
         table: &[u8],
         progress: &mut impl FnMut(u32, u32),
+        interrupted: &mut impl FnMut() -> bool,
     ) -> Result<u32, LinkError> {
         let max = usize::from(self.info().max_chunk_len).clamp(1, protocol::MAX_CHUNK_LEN);
         let total = table.len() as u32;
         let mut chunks = 0;
         for (i, piece) in table.chunks(max).enumerate() {
             let offset = (i * max) as u32;
+            if interrupted() {
+                return Err(LinkError::UploadInterrupted {
+                    port: self.port().to_owned(),
+                    slot,
+                    sent: offset,
+                    total,
+                });
+            }
             let data = heapless::Vec::from_slice(piece).expect("chunk is at most MAX_CHUNK_LEN");
             let expect = offset + piece.len() as u32;
             match self.request_response(&Request::UploadChunk { offset, data })? {

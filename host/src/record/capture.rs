@@ -1,5 +1,5 @@
 //! The recording loop: telemetry from a board into a [`Recorder`] until a time on the board's clock
-//! has passed or the robot stands again.
+//! has passed, the robot stands again, or the caller asks it to end (Ctrl-C).
 
 use std::time::Duration;
 
@@ -39,13 +39,34 @@ const STATE_POLL_S: f64 = 0.2;
 /// Silence after which the board is taken not to be sending telemetry, s of board time.
 const SILENCE_S: f64 = 2.0;
 
+/// How a recording ended without error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ended {
+    /// As [`Until`] asked.
+    Done,
+    /// The caller's `interrupted` turned true; the board was left as it was.
+    Interrupted,
+}
+
 /// Records telemetry of `board` into `rec`; `progress(seconds_recorded)` after each record.
 pub fn capture<T: Transport>(
     board: &mut Board<T>,
     rec: &mut Recorder,
     until: Until,
-    mut progress: impl FnMut(f64),
+    progress: impl FnMut(f64),
 ) -> Result<(), CaptureError> {
+    capture_while(board, rec, until, || false, progress).map(|_| ())
+}
+
+/// [`capture`] that also ends as soon as `interrupted()` is true (checked before every record), so
+/// that a Ctrl-C handler can end a recording between two whole rows.
+pub fn capture_while<T: Transport>(
+    board: &mut Board<T>,
+    rec: &mut Recorder,
+    until: Until,
+    mut interrupted: impl FnMut() -> bool,
+    mut progress: impl FnMut(f64),
+) -> Result<Ended, CaptureError> {
     let link = |source, rec: &Recorder| CaptureError::Link {
         source,
         cycles: rec.cycles(),
@@ -53,13 +74,16 @@ pub fn capture<T: Transport>(
     let mut moving = false;
     let mut next_poll = 0.0;
     loop {
+        if interrupted() {
+            return Ok(Ended::Interrupted);
+        }
         let t = match board.telemetry(Duration::from_secs_f64(SILENCE_S)) {
             Ok(Some(t)) => t,
             Ok(None) if moving || until.standing => {
                 // Nothing comes while standing: check whether the walk has ended.
                 let st = board.status().map_err(|e| link(e, rec))?;
                 if matches!(st.state, RunState::Standing | RunState::Idle) {
-                    return Ok(());
+                    return Ok(Ended::Done);
                 }
                 return Err(CaptureError::Silent { seconds: SILENCE_S });
             }
@@ -70,15 +94,15 @@ pub fn capture<T: Transport>(
         let elapsed = rec.duration_s();
         progress(elapsed);
         if until.seconds.is_some_and(|s| elapsed >= s) {
-            return Ok(());
+            return Ok(Ended::Done);
         }
         if until.standing && elapsed >= next_poll {
             next_poll = elapsed + STATE_POLL_S;
             let st = board.status().map_err(|e| link(e, rec))?;
             match st.state {
                 RunState::Ramping | RunState::Walking | RunState::Stopping => moving = true,
-                RunState::Standing | RunState::Idle if moving => return Ok(()),
-                RunState::Fault => return Ok(()),
+                RunState::Standing | RunState::Idle if moving => return Ok(Ended::Done),
+                RunState::Fault => return Ok(Ended::Done),
                 _ => {}
             }
         }

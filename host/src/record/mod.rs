@@ -8,7 +8,7 @@ mod joints;
 mod plots;
 mod stats;
 
-pub use capture::{CaptureError, Until, capture};
+pub use capture::{CaptureError, Ended, Until, capture, capture_while};
 pub use csv_out::{CSV_HEADER, Recorder, Row};
 pub use joints::{JointMeta, joints_of_table};
 pub use plots::{plot_angles, plot_torques};

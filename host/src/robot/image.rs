@@ -62,16 +62,61 @@ pub fn load(path: &Path) -> Result<VirtualFlash, ImageError> {
     Ok(flash)
 }
 
-/// Writes `flash` to `path` (through a temporary file, so a crash leaves the old image).
+/// Writes `flash` to `path` through a scratch file next to it (`.partial-NAME`), renamed over it
+/// once complete, so a crash or a kill leaves the old image. (The scratch name is derived from the
+/// whole file name: `path.with_extension("tmp")` would be the image itself for `robot.tmp`, and
+/// shared by `robot.flash` and `robot.img`.)
 pub fn save(path: &Path, flash: &VirtualFlash) -> Result<(), ImageError> {
     let err = |source| ImageError::Write {
         path: path.to_owned(),
         source,
     };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(err)?;
+    let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) => {
+            std::fs::create_dir_all(dir).map_err(err)?;
+            dir
+        }
+        None => Path::new("."),
+    };
+    let name = path.file_name().ok_or_else(|| {
+        err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a file name",
+        ))
+    })?;
+    let tmp = dir.join(format!(".partial-{}", name.to_string_lossy()));
+    let written = std::fs::write(&tmp, flash.window()).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, flash.window()).map_err(err)?;
-    std::fs::rename(&tmp, path).map_err(err)
+    written.map_err(err)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_save_that_fails_leaves_the_previous_image_even_when_named_like_a_scratch_file() {
+        // `robot.tmp`: the old scratch name (`with_extension("tmp")`) was the image itself, so a
+        // save cut short destroyed the image it was replacing.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("robot.tmp");
+        let mut a = VirtualFlash::new(FLASH_SECTORS);
+        a.write(0, &[1, 2, 3, 4]).unwrap();
+        save(&path, &a).unwrap();
+        let mut b = VirtualFlash::new(FLASH_SECTORS);
+        b.write(0, &[9, 9, 9, 9]).unwrap();
+        // The scratch file cannot be written (a directory is in its place): the save fails,
+        // naming the image, and the image is still A, whole.
+        std::fs::create_dir(dir.path().join(".partial-robot.tmp")).unwrap();
+        let e = save(&path, &b).unwrap_err();
+        assert!(e.to_string().contains("robot.tmp"), "{e}");
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(bytes.len(), IMAGE_LEN);
+        assert_eq!(&bytes[..5], &[1, 2, 3, 4, 0xFF]);
+        std::fs::remove_dir(dir.path().join(".partial-robot.tmp")).unwrap();
+        save(&path, &b).unwrap();
+        assert_eq!(&std::fs::read(&path).unwrap()[..4], &[9, 9, 9, 9]);
+    }
 }

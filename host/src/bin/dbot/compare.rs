@@ -10,6 +10,8 @@ use host::analysis::{ComparisonRow, DofTrace, SweepPoint, classify_sweep, compar
 use host::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use host::model::{JointKind, Leg};
 
+use crate::plan::replace;
+
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
 /// With two plan directories (written by `dbot plan`, with torques): per common DoF the R-squared
@@ -35,6 +37,11 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> Result<()> {
+        let two_plans = self.plans.len() == 2 && self.swing.is_empty();
+        let sweep_only = self.plans.is_empty() && !self.swing.is_empty();
+        if !(two_plans || sweep_only) {
+            bail!("give either two plan directories or --swing S1,S2,... (not both)");
+        }
         std::fs::create_dir_all(&self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
         match (self.plans.len(), self.swing.is_empty()) {
@@ -120,9 +127,8 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
     if rows.is_empty() {
         bail!("{} and {} have no DoF in common", a.display(), b.display());
     }
-    let path = out.join("compare.csv");
-    let mut w =
-        csv::Writer::from_path(&path).with_context(|| format!("creating {}", path.display()))?;
+    // Built in memory and written through a scratch file: a killed run leaves the old file whole.
+    let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(["leg", "dof", "summed_in", "r2_angle", "r2_torque"])?;
     println!("| leg | DoF | R^2 angle | R^2 torque |\n|---|---|---|---|");
     for r in &rows {
@@ -150,7 +156,8 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
             fmt(r.r2_torque)
         );
     }
-    w.flush()?;
+    let bytes = w.into_inner().context("building compare.csv")?;
+    replace(out, "compare.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
     overlay(&ta, &tb, &rows, out)?;
     println!(
         "wrote compare.csv compare_angles.png compare_torques.png to {}",
@@ -218,13 +225,15 @@ fn overlay(ta: &[DofTrace], tb: &[DofTrace], rows: &[ComparisonRow], out: &Path)
         } else {
             "angle (deg)"
         };
-        plot_leg_panels(
-            &out.join(file),
-            &panels,
-            &phase,
-            "phase of the step cycle",
-            y,
-        )?;
+        replace(out, file, |p| {
+            Ok(plot_leg_panels(
+                p,
+                &panels,
+                &phase,
+                "phase of the step cycle",
+                y,
+            )?)
+        })?;
     }
     Ok(())
 }
@@ -264,9 +273,7 @@ fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let path = out.join("sweep.csv");
-    let mut w =
-        csv::Writer::from_path(&path).with_context(|| format!("creating {}", path.display()))?;
+    let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
         "period_s",
         "peak_torque_nm",
@@ -284,7 +291,8 @@ fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
             p.period, p.peak_torque, p.peak_inertial_torque, share
         );
     }
-    w.flush()?;
+    let bytes = w.into_inner().context("building sweep.csv")?;
+    replace(out, "sweep.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
     if let Some(r) = classify_sweep(&points) {
         println!(
             "inertial torque ~ T^{:.2} (-2 for pure inertia); quasi-static where the inertial share is below ~0.1",

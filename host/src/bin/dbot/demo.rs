@@ -3,6 +3,11 @@
 //! writes the plan's CSVs and plots, builds the step table, uploads it to the in-process virtual
 //! robot, walks 10 steps forward and 10 backward while recording, and prints a summary whose numbers
 //! all come from this run.
+//!
+//! Every output goes through a scratch file renamed when complete, so a demo that is killed or
+//! interrupted leaves each file either as the previous run wrote it or complete from this run.
+//! Ctrl-C ends the demo at the next check (between stages, or between two recorded bus cycles)
+//! with a non-zero exit.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -14,12 +19,25 @@ use host::link::Board;
 use host::model::Leg;
 use host::plan::Plan;
 use host::record::{
-    JointMeta, Recorder, Until, capture, joints_of_table, plot_angles, plot_torques, tracking,
+    Ended, JointMeta, Recorder, Until, capture_while, joints_of_table, plot_angles, plot_torques,
+    tracking,
 };
 use host::robot::{VirtualRobot, VirtualTransport};
 use protocol::{Direction, PlayCommand, Steps};
 
 use crate::dynamics_args::{DynamicsArgs, PlanDynamics};
+use crate::interrupt;
+use crate::plan::replace;
+
+/// Fails with a message saying where the demo was when Ctrl-C arrived.
+fn check_interrupt(stage: &str) -> anyhow::Result<()> {
+    if interrupt::requested() {
+        bail!(
+            "interrupted {stage}: the outputs written so far are complete, the others are as before"
+        );
+    }
+    Ok(())
+}
 
 /// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
 #[derive(Debug, clap::Args)]
@@ -57,14 +75,19 @@ impl Args {
         let t1 = Instant::now();
         let dynamics = dyn_args.solve(&plan)?.context("inverse dynamics")?;
         let t_dyn = t1.elapsed();
+        // Until here a Ctrl-C simply ends the process: nothing has been written yet.
+        interrupt::catch()?;
         let plan_dir = out.join("plan");
         write_plan(&plan, &dynamics, &plan_dir)?;
+        check_interrupt("after writing the plan")?;
 
         println!("[2/5] building the step table");
         let (table, names) = step_table(&plan, &dynamics)?;
         let table_path = out.join("drosophibot2-tripod.dbgt");
-        std::fs::write(&table_path, &table)
-            .with_context(|| format!("writing {}", table_path.display()))?;
+        replace(out, "drosophibot2-tripod.dbgt", |p| {
+            Ok(std::fs::write(p, &table)?)
+        })?;
+        check_interrupt("after writing the step table")?;
 
         println!("[3/5] uploading to the virtual robot");
         let mut board = Board::connect(VirtualTransport::new(VirtualRobot::new()))?;
@@ -169,17 +192,25 @@ fn walk(
         steps: Steps::Count(steps),
     })?;
     let csv = dir.join("telemetry.csv");
-    let mut rec =
-        Recorder::create(&csv, joints).with_context(|| format!("creating {}", csv.display()))?;
-    capture(
+    let scratch = dir.join(".partial-telemetry.csv");
+    let mut rec = Recorder::create(&scratch, joints)
+        .with_context(|| format!("creating {}", scratch.display()))?;
+    let ended = capture_while(
         board,
         &mut rec,
         Until {
             seconds: None,
             standing: true,
         },
+        interrupt::requested,
         |_| {},
     )?;
+    if ended == Ended::Interrupted {
+        // An interrupted walk is not the demo's recording: the previous one stays.
+        let _ = std::fs::remove_file(&scratch);
+        check_interrupt(&format!("while recording into {}", dir.display()))?;
+    }
+    std::fs::rename(&scratch, &csv).with_context(|| format!("writing {}", csv.display()))?;
     // Only whole walking steps go into the per-step statistics (not the start ramp).
     let walking: Vec<_> = rec
         .rows()
@@ -187,10 +218,14 @@ fn walk(
         .filter(|r| r.step < steps)
         .cloned()
         .collect();
-    plot_torques(&dir.join("torque.png"), &walking, rec.joints(), slices)
-        .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))?;
-    plot_angles(&dir.join("angles.png"), rec.rows(), rec.joints())
-        .map_err(|e| anyhow::anyhow!("plotting angles: {e}"))?;
+    replace(dir, "torque.png", |p| {
+        plot_torques(p, &walking, rec.joints(), slices)
+            .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))
+    })?;
+    replace(dir, "angles.png", |p| {
+        plot_angles(p, rec.rows(), rec.joints())
+            .map_err(|e| anyhow::anyhow!("plotting angles: {e}"))
+    })?;
     Ok(rec)
 }
 
@@ -227,15 +262,25 @@ fn print_tracking(rec: &Recorder, names: &[String]) {
     }
 }
 
-/// The plan's CSVs, JSON summary, URDF and plots, as `dbot plan` writes them.
+/// The plan's CSVs, JSON summary, URDF and plots, as `dbot plan` writes them (each through a
+/// scratch file).
 fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let create = |name: &str| {
-        let path = dir.join(name);
-        std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
-    };
-    host::report::write_joints_csv(create("joints.csv")?, plan, &d.joint_columns())?;
-    host::report::write_feet_csv(create("feet.csv")?, plan, &d.feet_columns())?;
+    let create = |p: &Path| std::fs::File::create(p).map_err(anyhow::Error::from);
+    replace(dir, "joints.csv", |p| {
+        Ok(host::report::write_joints_csv(
+            create(p)?,
+            plan,
+            &d.joint_columns(),
+        )?)
+    })?;
+    replace(dir, "feet.csv", |p| {
+        Ok(host::report::write_feet_csv(
+            create(p)?,
+            plan,
+            &d.feet_columns(),
+        )?)
+    })?;
     let json = serde_json::json!({
         "model": plan.model.name,
         "parameters": plan.params,
@@ -244,11 +289,17 @@ fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
         "dynamics": d.json(plan),
         "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
     });
-    std::fs::write(dir.join("plan.json"), serde_json::to_string_pretty(&json)?)?;
-    std::fs::write(dir.join("model.urdf"), host::model::to_urdf(&plan.model))?;
-    host::report::plot_joint_angles(plan, &dir.join("joint_angles.png"))?;
-    host::report::plot_footfall(plan, &dir.join("footfall.png"))?;
-    host::report::plot_feet(plan, &dir.join("feet.png"))?;
+    let json = serde_json::to_string_pretty(&json)?;
+    replace(dir, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
+    let urdf = host::model::to_urdf(&plan.model);
+    replace(dir, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
+    replace(dir, "joint_angles.png", |p| {
+        Ok(host::report::plot_joint_angles(plan, p)?)
+    })?;
+    replace(dir, "footfall.png", |p| {
+        Ok(host::report::plot_footfall(plan, p)?)
+    })?;
+    replace(dir, "feet.png", |p| Ok(host::report::plot_feet(plan, p)?))?;
     d.write_files(plan, dir)?;
     Ok(())
 }

@@ -11,6 +11,7 @@ mod dxl;
 mod dynamics_args;
 mod estop;
 mod gaits;
+mod interrupt;
 mod model;
 mod plan;
 mod record;
@@ -74,6 +75,10 @@ enum Cmd {
 }
 
 fn main() -> anyhow::Result<()> {
+    // `dbot gaits | head -1`: end quietly when the reader goes away, as Unix tools do, instead of
+    // panicking in `println!` (Rust ignores SIGPIPE by default).
+    // SAFETY: restoring a signal's default action before any thread starts.
+    unsafe { nix::libc::signal(nix::libc::SIGPIPE, nix::libc::SIG_DFL) };
     let cli = Cli::parse();
     match cli.cmd {
         Cmd::Demo(a) => a.run(),

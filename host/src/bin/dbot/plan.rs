@@ -156,3 +156,17 @@ pub(crate) fn replace(
     }
     done.with_context(|| format!("writing {}", path.display()))
 }
+
+/// [`replace`] for an output named by its whole path (`--out FILE`): the scratch file sits next to it.
+pub(crate) fn replace_file(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file name", path.display()))?
+        .to_string_lossy()
+        .into_owned();
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    replace(dir, &name, write)
+}

@@ -1,14 +1,21 @@
 //! `dbot run`: plays a stored gait, following its steps with a progress bar until the robot stands.
+//! Ctrl-C while following stops the walk at the end of the step, waits until the robot stands and
+//! exits non-zero; it never leaves the robot walking.
 
 use std::time::Duration;
 
 use anyhow::{Context, bail};
+use host::link::{Board, LinkError, Transport};
 use indicatif::{ProgressBar, ProgressStyle};
-use protocol::{Direction, PlayCommand, RunState, Steps};
+use protocol::{Direction, PlayCommand, ProtocolError, RunState, Steps};
 
 use crate::board_args::{BoardArgs, Session};
+use crate::interrupt;
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
+///
+/// Ctrl-C stops the walk at the end of its step and waits until the robot stands (a second
+/// Ctrl-C exits at once; the board still finishes the step).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).
@@ -32,6 +39,10 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
+        if !self.detach {
+            interrupt::catch()?;
+            interrupt::hold();
+        }
         let mut s = self.board.connect()?;
         let slot = self.slot.or(s.setup.slot).unwrap_or(0);
         if s.is_virtual() && (self.steps.is_none() || self.detach) {
@@ -41,6 +52,9 @@ impl Args {
             );
         }
         let command = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        if interrupt::requested() {
+            bail!("interrupted before the walk started: nothing was played");
+        }
         s.board
             .play(command)
             .with_context(|| format!("playing slot {slot}"))?;
@@ -97,6 +111,8 @@ pub fn play_command(
 }
 
 /// Follows playback until the robot stands again (or a fault), with a progress bar over the steps.
+/// On Ctrl-C: asks the board to stop at the end of the step, follows it until it stands and fails
+/// with a message saying so.
 pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
     let bar = match steps {
         Some(k) => ProgressBar::new(u64::from(k)).with_style(
@@ -106,7 +122,18 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         None => ProgressBar::new_spinner(),
     };
     let mut started = false;
-    loop {
+    // After Ctrl-C: the board's state right after it was asked to stop (Stopping: it finishes
+    // the step; Standing: it was still ramping to the first slice and holds where it got to).
+    let mut stopped_in: Option<RunState> = None;
+    let state = loop {
+        if interrupt::requested() && stopped_in.is_none() {
+            bar.println(
+                "interrupted: stopping at the end of the step (Ctrl-C again to exit at once)",
+            );
+            stop_walk(&mut s.board)?;
+            interrupt::release();
+            stopped_in = Some(s.board.status()?.state);
+        }
         s.board.wait(Duration::from_millis(100))?;
         s.board.discard_telemetry();
         let st = s.board.status()?;
@@ -116,16 +143,45 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         bar.set_message(format!("{:?}", st.state));
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
-            RunState::Standing | RunState::Idle if started => break,
+            RunState::Standing | RunState::Idle if started || stopped_in.is_some() => break st,
             RunState::Fault => {
                 bar.abandon();
                 bail!("the board stopped with a fault: {:?}", st.fault);
             }
             _ => {}
         }
-    }
+    };
     bar.finish_and_clear();
     let t = s.board.now().as_secs_f64();
+    if let Some(was) = stopped_in {
+        // A ramp has no step to finish: the board holds where the ramp got to.
+        let what = if matches!(was, RunState::Standing | RunState::Idle) {
+            "the ramp to the gait's first slice was stopped where it got to (no step walked)"
+                .to_owned()
+        } else {
+            let step = state
+                .playback
+                .map_or(String::new(), |p| format!(" after step {}", p.step));
+            format!("the walk was stopped at the end of its step{step}")
+        };
+        bail!(
+            "interrupted: {what}; the robot is {:?} (board clock {t:.2} s)",
+            state.state
+        );
+    }
     println!("done: the robot stands (board clock {t:.2} s)");
     Ok(())
+}
+
+/// Asks the board to stop walking at the end of the step. A board that refuses because it is not
+/// walking (booting, in a fault) has nothing to stop.
+pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<()> {
+    match board.stop() {
+        Ok(())
+        | Err(LinkError::Device {
+            error: ProtocolError::WrongState { .. },
+            ..
+        }) => Ok(()),
+        Err(e) => Err(anyhow::Error::new(e).context("stopping the walk after Ctrl-C")),
+    }
 }

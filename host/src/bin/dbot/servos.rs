@@ -25,12 +25,16 @@ impl Args {
             Some(p) => Some(std::fs::read(p).with_context(|| format!("reading {}", p.display()))?),
             None => None,
         };
-        let table = match &bytes {
-            Some(b) => Some(
-                protocol::GaitTable::parse(b).context("the --table file is not a step table")?,
-            ),
-            None => None,
-        };
+        let table =
+            match &bytes {
+                Some(b) => {
+                    let path = self.table.as_deref().unwrap_or(std::path::Path::new("?"));
+                    Some(protocol::GaitTable::parse(b).with_context(|| {
+                        format!("{} (--table) is not a step table", path.display())
+                    })?)
+                }
+                None => None,
+            };
         let mut s = self.board.connect()?;
         let set = s.board.settings()?;
         // Feedback only flows while a gait plays; a short wait tells whether it does.

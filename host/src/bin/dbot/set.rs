@@ -46,25 +46,42 @@ pub enum OnOff {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
-        let mut s = self.board.connect()?;
+        // Everything is checked before the board is touched, so a bad flag changes nothing.
+        let setup = self.board.setup()?;
         let (k, rate, baud) = if self.from_config {
             (
-                self.stiffness.or(s.setup.stiffness),
-                self.rate.or(s.setup.rate),
-                self.baud.or(s.setup.baud),
+                self.stiffness.or(setup.stiffness),
+                self.rate.or(setup.rate),
+                self.baud.or(setup.baud),
             )
         } else {
             (self.stiffness, self.rate, self.baud)
         };
+        if let Some(k) = k
+            && !(k.is_finite()
+                && k > 0.0
+                && k * protocol::units::STIFFNESS_PER_NM_RAD < f64::from(u32::MAX))
+        {
+            bail!("--stiffness {k}: must be a positive number of N m/rad (at most 4294)");
+        }
+        let nothing = !self.clear_fault
+            && k.is_none()
+            && rate.is_none()
+            && baud.is_none()
+            && self.telemetry_every.is_none()
+            && self.torque.is_none();
+        if nothing {
+            bail!(
+                "nothing to set: give --stiffness, --rate, --baud, --telemetry-every, --torque or --clear-fault"
+            );
+        }
+        let mut s = self.board.connect()?;
         let mut did = Vec::new();
         if self.clear_fault {
             s.board.clear_fault()?;
             did.push("fault cleared".to_owned());
         }
         if let Some(k) = k {
-            if !(k.is_finite() && k > 0.0) {
-                bail!("--stiffness {k}: must be a positive number of N m/rad");
-            }
             let units = (k * protocol::units::STIFFNESS_PER_NM_RAD).round() as u32;
             let joints = s.board.settings()?.joints.len() as u8;
             let list: Vec<u8> = match self.joint {
@@ -94,11 +111,6 @@ impl Args {
         if let Some(t) = self.torque {
             s.board.set_torque(ServoSelect::All, t == OnOff::On)?;
             did.push(format!("torque {t:?}"));
-        }
-        if did.is_empty() {
-            bail!(
-                "nothing to set: give --stiffness, --rate, --baud, --telemetry-every, --torque or --clear-fault"
-            );
         }
         println!("{}", did.join(", "));
         s.close()

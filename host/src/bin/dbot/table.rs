@@ -139,8 +139,7 @@ impl Args {
         });
         let bytes = gait_table(&model, &name, period, duty, &q, &torque, &stance)
             .with_context(|| format!("building the step table of {}", dir.display()))?;
-        std::fs::write(&self.out, &bytes)
-            .with_context(|| format!("writing {}", self.out.display()))?;
+        crate::plan::replace_file(&self.out, |p| Ok(std::fs::write(p, &bytes)?))?;
         println!(
             "{}: {} slices, period {period:.3} s, {} bytes to {}",
             model.name,

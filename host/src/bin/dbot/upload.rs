@@ -1,15 +1,20 @@
 //! `dbot upload`: sends a step table to a gait slot, with a progress bar, verification, and a
-//! report of what the slot held before.
+//! report of what the slot held before. Ctrl-C before the commit aborts the upload (the slot keeps
+//! its table) and exits non-zero; a killed upload never commits, so the board keeps it too.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
+use host::link::LinkError;
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol::GaitSummary;
 
 use crate::board_args::BoardArgs;
+use crate::interrupt;
 
 /// Upload a step table into a gait slot of the board (verified after the upload).
+///
+/// Ctrl-C before the upload commits aborts it: the slot keeps its previous table.
 #[derive(Debug, clap::Args)]
 #[group(id = "source", required = true, multiple = false)]
 pub struct Args {
@@ -34,27 +39,33 @@ impl Args {
             (None, Some(dir)) => table_from_plan_dir(dir)?,
             (None, None) => bail!("give --table FILE or --plan DIR"),
         };
-        protocol::GaitTable::parse(&table).with_context(|| {
-            format!(
-                "{} is not a valid step table",
-                self.table
-                    .as_deref()
-                    .unwrap_or(std::path::Path::new("?"))
-                    .display()
-            )
+        protocol::GaitTable::parse(&table).with_context(|| match (&self.table, &self.plan) {
+            (Some(p), _) => format!("{} is not a valid step table", p.display()),
+            (None, p) => format!(
+                "the step table built from {} is not valid",
+                p.as_deref().unwrap_or(Path::new("?")).display()
+            ),
         })?;
+        interrupt::catch()?;
         let mut s = self.board.connect()?;
         let slot = self.slot.or(s.setup.slot).unwrap_or(0);
         let bar = ProgressBar::new(table.len() as u64).with_style(
             ProgressStyle::with_template("uploading {bar:40} {bytes}/{total_bytes} {msg}")
                 .expect("template is valid"),
         );
-        let report = s
-            .board
-            .upload(slot, &table, |sent, _| bar.set_position(u64::from(sent)))
-            .with_context(|| format!("uploading into slot {slot}"));
+        let report = s.board.upload_unless(
+            slot,
+            &table,
+            |sent, _| bar.set_position(u64::from(sent)),
+            interrupt::requested,
+        );
         bar.finish_and_clear();
-        let report = report?;
+        if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
+            // The aborted session ends cleanly (the virtual robot keeps its flash as it is now).
+            s.close()?;
+            bail!("interrupted: {e}");
+        }
+        let report = report.with_context(|| format!("uploading into slot {slot}"))?;
         println!(
             "slot {slot}: {} ({} bytes in {} chunks, verified: header and CRC {:#010x} read back)",
             describe(&report.stored),
