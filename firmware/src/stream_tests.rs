@@ -380,6 +380,10 @@ fn proprioception_names_the_setpoint_its_sync_write_carried_at_200_hz() {
 fn feedback_every_governs_streaming_and_telemetry_every_playback() {
     let (mut board, wire, _tap, _) = standing_then_streaming(1_000_000, 100);
     let mut client = Client::new();
+    // A first session that takes setpoint 40.
+    board.receive(&setpoint_frame(40), |_| panic!("setpoint 40 rejected"));
+    wire.block_on(board.run_cycle());
+    assert_eq!(drain(&mut board)[0].setpoint_seq, 40);
     // Telemetry every cycle does not make streaming send more than feedback_every asks for.
     assert_eq!(
         ask(&mut board, &mut client, Request::SetTelemetry { every: 1 }),
@@ -395,17 +399,24 @@ fn feedback_every_governs_streaming_and_telemetry_every_playback() {
     });
     assert_eq!(ask(&mut board, &mut client, enter), Response::Ack);
     let first = board.controller.borrow().counters().cycles + 1;
-    let mut cycles = Vec::new();
+    let mut records = Vec::new();
     for k in 0..30 {
         if k % 10 == 0 {
-            cycles.extend(drain(&mut board).iter().map(|r| r.cycle));
+            records.extend(drain(&mut board));
         }
         wire.block_on(board.run_cycle());
-        let mut f = Vec::new();
-        board.receive(&setpoint_frame(k + 1), |b| f.extend_from_slice(b));
-        assert!(f.is_empty());
+        board.receive(&setpoint_frame(k + 1), |_| {
+            panic!("setpoint {} rejected", k + 1)
+        });
     }
-    cycles.extend(drain(&mut board).iter().map(|r| r.cycle));
+    records.extend(drain(&mut board));
+    let cycles: Vec<u32> = records.iter().map(|r| r.cycle).collect();
     let want: Vec<u32> = (0..10).map(|i| first + 3 * i).collect();
     assert_eq!(cycles, want);
+    // The new session's first cycle ran before its first setpoint: it names none (0), not the
+    // earlier session's 40. Then every third cycle, each naming the setpoint sent after the
+    // cycle before it: 3, 6, ...
+    let seqs: Vec<u32> = records.iter().map(|r| r.setpoint_seq).collect();
+    let want: Vec<u32> = (0..10).map(|i| 3 * i).collect();
+    assert_eq!(seqs, want);
 }
