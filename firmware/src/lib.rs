@@ -36,6 +36,8 @@ pub mod safety;
 #[cfg(test)]
 mod sim_tests;
 pub mod store;
+#[cfg(test)]
+mod stream_tests;
 pub mod telemetry;
 #[cfg(any(test, feature = "std"))]
 pub mod testkit;

@@ -4,6 +4,7 @@
 
 use dynamixel::master::AutoDirection;
 use dynamixel::sim::{SimWire, VirtualChain, WireConfig};
+use embedded_io_async::{Read, ReadReady, Write};
 use protocol::{Client, DeviceMessage, FrameAccumulator, Request, Response};
 
 use crate::board::Board;
@@ -12,7 +13,9 @@ use crate::safety::State;
 use crate::store::nor_double::NorDouble;
 use crate::testkit::{JOINTS, SyntheticGait};
 
-type SimBoard = Board<NorDouble<4>, SimWire, AutoDirection, SimWire>;
+/// A board on the simulated wire, its bus reached through `IO` (the wire, or a tap on it).
+pub(crate) type SimBoardOn<IO> = Board<NorDouble<4>, IO, AutoDirection, SimWire>;
+type SimBoard = SimBoardOn<SimWire>;
 
 /// A board on a fresh NOR double, wired to 22 virtual servos at `baud` with Return Delay Time 0.
 fn rig(baud: u32, cycle_hz: u16) -> (SimBoard, SimWire) {
@@ -38,7 +41,11 @@ fn rig(baud: u32, cycle_hz: u16) -> (SimBoard, SimWire) {
 }
 
 /// Sends one request through the link and returns its response.
-fn ask(board: &mut SimBoard, client: &mut Client, request: Request) -> Response {
+pub(crate) fn ask<IO: Read + ReadReady + Write>(
+    board: &mut SimBoardOn<IO>,
+    client: &mut Client,
+    request: Request,
+) -> Response {
     let (seq, frame) = client.request_frame(&request).unwrap();
     let mut out = Vec::new();
     board.receive(&frame, |f| out.extend_from_slice(f));
@@ -55,7 +62,12 @@ fn ask(board: &mut SimBoard, client: &mut Client, request: Request) -> Response 
 }
 
 /// Uploads `table` into `slot` through the link, in protocol-sized chunks.
-fn upload(board: &mut SimBoard, client: &mut Client, slot: u8, table: &[u8]) {
+pub(crate) fn upload<IO: Read + ReadReady + Write>(
+    board: &mut SimBoardOn<IO>,
+    client: &mut Client,
+    slot: u8,
+    table: &[u8],
+) {
     let header = protocol::GaitTable::parse(table).unwrap().header();
     let begin = Request::UploadBegin {
         slot,
@@ -81,7 +93,11 @@ fn upload(board: &mut SimBoard, client: &mut Client, slot: u8, table: &[u8]) {
     );
 }
 
-fn play(board: &mut SimBoard, client: &mut Client, steps: protocol::Steps) {
+pub(crate) fn play<IO: Read + ReadReady + Write>(
+    board: &mut SimBoardOn<IO>,
+    client: &mut Client,
+    steps: protocol::Steps,
+) {
     let r = ask(
         board,
         client,
@@ -96,11 +112,11 @@ fn play(board: &mut SimBoard, client: &mut Client, steps: protocol::Steps) {
 }
 
 /// Runs bus cycles until `done` or `max` cycles; returns how many ran.
-fn run_until(
-    board: &mut SimBoard,
+pub(crate) fn run_until<IO: Read + ReadReady + Write>(
+    board: &mut SimBoardOn<IO>,
     wire: &SimWire,
     max: usize,
-    done: impl Fn(&SimBoard) -> bool,
+    done: impl Fn(&SimBoardOn<IO>) -> bool,
 ) -> usize {
     for i in 0..max {
         if done(board) {

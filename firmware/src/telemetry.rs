@@ -25,6 +25,7 @@ pub mod flags {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct JointSample {
+    /// The goal this cycle's Sync Write carried (the held goal when it wrote none).
     pub commanded: i32,
     pub present: i32,
     /// Present Velocity, 0.229 rev/min.
@@ -48,6 +49,8 @@ pub struct Record {
     pub step: u32,
     /// Slice the goals were interpolated from.
     pub slice: u16,
+    /// A streaming cycle (sent as proprioception): the setpoint its Sync Write carried.
+    pub setpoint: Option<crate::controller::SetpointStamp>,
     pub joint_count: u8,
     pub joints: [JointSample; MAX_JOINTS],
     /// Duration of the bus transaction.

@@ -112,11 +112,28 @@ class Fault(TypedDict):
     joint: int | None
     message: str
 
+
+class Counters(TypedDict):
+    """The board's counters since boot (they wrap at 2**32)."""
+
+    cycles: int
+    """Bus cycles performed, whatever the state: the board's own clock."""
+    missed_deadlines: int
+    """Cycle starts missed because the previous cycle ran past its slot."""
+    bus_timeouts: int
+    """Servo replies that did not come in time."""
+    crc_errors: int
+    """Servo replies that failed their CRC."""
+    rejected_frames: int
+    """Frames from the host that could not be decoded."""
+    telemetry_dropped: int
+    """Telemetry / proprioception records dropped because the host did not read them in time."""
+
 class Status(TypedDict):
     state: Literal["Idle", "Standing", "Ramping", "Walking", "Stopping", "Streaming", "Fault"]
     fault: Fault | None
     torque_enabled: int
-    counters: str
+    counters: Counters
     playback: tuple[int, int, int] | None
 
 class Records(TypedDict):
@@ -157,7 +174,9 @@ class Board:
     def __enter__(self) -> Board: ...
     def __exit__(self, *args: object) -> bool: ...
     def info(self) -> dict[str, Any]: ...
-    def status(self) -> Status: ...
+    def status(self) -> Status:
+        """State, fault, torque mask, playback position and the counters since boot
+        (:class:`Counters`, named integers)."""
     def upload(self, slot: int, table: bytes) -> int:
         """Uploads and verifies a step table; returns the bytes sent."""
     def upload_plan(
@@ -174,14 +193,19 @@ class Board:
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
     def set_torque(self, enable: bool, joint: int | None = None) -> None: ...
-    def set_telemetry(self, every: int) -> None: ...
+    def set_telemetry(self, every: int) -> None:
+        """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
+        proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
     def set_bus(self, baud: int, cycle_hz: int) -> None: ...
     def wait(self, seconds: float) -> None:
         """Lets time pass on the board's clock, keeping telemetry and proprioception."""
     def record(self, duration_s: float) -> Telemetry: ...
     def enter_streaming(self, timeout_cycles: int = 5, feedback_every: int = 1) -> None:
         """From standing only. No setpoint for ``timeout_cycles`` cycles: hold, then safe
-        (state ``Fault``, fault kind ``SetpointTimeout``)."""
+        (state ``Fault``, fault kind ``SetpointTimeout``). Proprioception every
+        ``feedback_every`` cycles (1: every cycle) whatever ``set_telemetry`` says; each record's
+        ``setpoint_seq``, ``setpoint_age`` and ``commanded_rad`` are what its cycle wrote to the
+        servos (``setpoint_seq`` 0: no setpoint yet this session)."""
     def leave_streaming(self) -> None: ...
     def send_setpoint(
         self,

@@ -128,7 +128,9 @@ impl Board {
         Ok(d)
     }
 
-    /// Run state, fault (kind and joint) and counters.
+    /// Run state, fault (kind and joint), torque mask, playback position and the board's counters
+    /// since boot as a dict of named integers (`cycles`, `missed_deadlines`, `bus_timeouts`,
+    /// `crc_errors`, `rejected_frames`, `telemetry_dropped`).
     fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.with(py, |l| l.status())?;
         records::status_dict(py, &s)
@@ -206,7 +208,8 @@ impl Board {
         self.with(py, move |l| l.set_torque(servos, enable))
     }
 
-    /// Playback telemetry every `every` bus cycles (0: off).
+    /// Telemetry every `every` bus cycles (0: off) outside streaming; streaming's proprioception
+    /// follows `enter_streaming(feedback_every=...)` instead.
     fn set_telemetry(&self, py: Python<'_>, every: u16) -> PyResult<()> {
         self.with(py, move |l| l.set_telemetry(every))
     }
@@ -248,7 +251,9 @@ impl Board {
 
     /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new
     /// setpoint the board holds the last one, then goes safe with fault `SetpointTimeout`.
-    /// Proprioception comes every `feedback_every` cycles.
+    /// Proprioception comes every `feedback_every` cycles (1: every cycle), whatever
+    /// `set_telemetry` says. Each record's `setpoint_seq`, `setpoint_age` and `commanded_rad` are
+    /// what that cycle wrote to the servos (`setpoint_seq` 0: no setpoint yet this session).
     #[pyo3(signature = (timeout_cycles = 5, feedback_every = 1))]
     fn enter_streaming(
         &self,

@@ -3,7 +3,7 @@
 
 use numpy::ToPyArray;
 use numpy::ndarray::{Array1, Array2};
-use protocol::{JointFeedback, Proprioception, Status, Telemetry};
+use protocol::{Counters, JointFeedback, Proprioception, Status, Telemetry};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -89,6 +89,18 @@ pub fn proprioception_dict<'py>(
     Ok(d)
 }
 
+/// The board's counters since boot, one named integer each (keys as in `protocol::Counters`).
+fn counters_dict<'py>(py: Python<'py>, c: &Counters) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("cycles", c.cycles)?;
+    d.set_item("missed_deadlines", c.missed_deadlines)?;
+    d.set_item("bus_timeouts", c.bus_timeouts)?;
+    d.set_item("crc_errors", c.crc_errors)?;
+    d.set_item("rejected_frames", c.rejected_frames)?;
+    d.set_item("telemetry_dropped", c.telemetry_dropped)?;
+    Ok(d)
+}
+
 /// The board's status as a dict (`state`, `fault`, `torque_enabled`, `counters`); `fault` holds
 /// `kind` (with its numbers, e.g. `ServoStuck { goal_range: 312, present_range: 0 }`), `name`
 /// (`ServoStuck`), `joint` and `message` (a sentence).
@@ -107,7 +119,7 @@ pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDi
         None => d.set_item("fault", py.None())?,
     }
     d.set_item("torque_enabled", s.torque_enabled)?;
-    d.set_item("counters", format!("{:?}", s.counters))?;
+    d.set_item("counters", counters_dict(py, &s.counters)?)?;
     d.set_item("playback", s.playback.map(|p| (p.slot, p.step, p.slice)))?;
     Ok(d)
 }

@@ -165,3 +165,41 @@ def test_bad_setpoints_are_refused_with_the_joint(tripod_plan, model) -> None:
         board.send_setpoint(rest, torques_nm=np.zeros(3))
     with pytest.raises(ValueError, match="angles_rad"):
         board.send_setpoint("not numbers")
+
+
+def test_proprioception_every_cycle_with_telemetry_off(tripod_plan, model, port) -> None:
+    """Streaming proprioception follows `feedback_every`, not the playback telemetry setting
+    (telemetry off used to silence it), and names only setpoints that were sent. The board's
+    counters are named integers; its cycle counter and the records' cycle numbers are two
+    independent views of the same bus cycles."""
+    board = standing_board(tripod_plan, port=port)
+    board.set_telemetry(0)
+    try:
+        before = board.status()["counters"]
+        names = {"cycles", "missed_deadlines", "bus_timeouts", "crc_errors", "rejected_frames",
+                 "telemetry_dropped"}
+        assert set(before) == names
+        assert all(isinstance(v, int) and v >= 0 for v in before.values()), before
+        board.enter_streaming(timeout_cycles=FOLLOW_TIMEOUT_CYCLES, feedback_every=1)
+        first_seq = None
+        recs = []
+        timeout = record_timeout(board)
+        for _ in range(30):
+            seq = board.send_setpoint(servo_rest(tripod_plan, model))
+            first_seq = seq if first_seq is None else first_seq
+            rec = board.next_proprioception(timeout_s=timeout)
+            assert rec is not None, f"telemetry off silenced streaming: {board.status()}"
+            recs.append(rec)
+        after = board.status()["counters"]
+        cycles = np.concatenate([r["cycle"] for r in recs])
+        seqs = np.concatenate([r["setpoint_seq"] for r in recs])
+        ages = np.concatenate([r["setpoint_age"] for r in recs])
+        # One record per bus cycle: consecutive cycle numbers, all within the counter's advance.
+        assert np.all(np.diff(cycles) == 1), cycles
+        assert before["cycles"] < cycles[0] and cycles[-1] <= after["cycles"]
+        # Each names a setpoint of this session (0 = none yet: the standing posture) written
+        # for `age` cycles so far, this one included.
+        assert np.all((seqs == 0) | ((seqs >= first_seq) & (seqs <= seq))), seqs
+        assert np.all(ages >= 1), ages
+    finally:
+        board.set_telemetry(1)

@@ -301,6 +301,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.stream.timeout_cycles = timeout_cycles;
         self.stream.feedback_every = feedback_every.max(1);
         self.stream.age = 0;
+        self.stream.countdown = 0;
+        // No setpoint of this session yet: a number from an earlier one would name a setpoint
+        // these cycles do not carry.
+        self.stream.seq = 0;
         Ok(())
     }
 

@@ -37,6 +37,22 @@ pub struct CyclePlan {
     pub goals: [Goal; MAX_JOINTS],
     pub n: usize,
     pub start_us: u64,
+    /// Joints whose goal was clamped to a limit (bit j), as planned.
+    pub clamped: u32,
+    /// A streaming cycle: the setpoint its Sync Write carries. Taken with the goals, because a
+    /// setpoint arriving during the bus transaction changes the controller's goals and sequence
+    /// number before the cycle completes (and before the link converts its record).
+    pub setpoint: Option<SetpointStamp>,
+}
+
+/// The setpoint a streaming cycle writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SetpointStamp {
+    /// The host's sequence number (0 before the first setpoint of the session: the standing goals).
+    pub seq: u32,
+    /// Cycles the setpoint has been applied, this one included (1 = new since the last cycle).
+    pub age: u16,
 }
 
 impl CyclePlan {
@@ -72,6 +88,8 @@ pub(crate) struct Stream {
     pub age: u16,
     pub timeout_cycles: u16,
     pub feedback_every: u16,
+    /// Cycles until the next proprioception record.
+    pub countdown: u16,
 }
 
 impl<F: NorFlash + FlashWindow> Controller<F> {
@@ -85,11 +103,22 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.last_plan_us = Some(now_us);
         let action = self.next_action(dt);
         let (goals, n) = self.goal_list();
+        let clamped = (0..n.min(32))
+            .filter(|&j| self.clamped[j])
+            .fold(0u32, |m, j| m | 1 << j);
+        let setpoint = (self.state == State::Streaming && action == BusAction::Cycle).then_some(
+            SetpointStamp {
+                seq: self.stream.seq,
+                age: self.stream.age,
+            },
+        );
         CyclePlan {
             action,
             goals,
             n,
             start_us: now_us,
+            clamped,
+            setpoint,
         }
     }
 

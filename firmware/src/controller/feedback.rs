@@ -142,21 +142,29 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         }
     }
 
+    /// Queues the record of `plan`'s cycle if it is due: streaming cycles every
+    /// `feedback_every` (proprioception), all others every `telemetry_every` (0 = none). The goals,
+    /// clamp flags and setpoint come from the plan (what the cycle wrote), the positions from its
+    /// replies, so the record holds together however late the link converts it.
     fn queue_telemetry(&mut self, plan: &CyclePlan, stats: &CycleStats) {
-        if self.config.telemetry_every == 0 {
+        let (every, countdown) = match plan.setpoint {
+            Some(_) => (self.stream.feedback_every, &mut self.stream.countdown),
+            None => (self.config.telemetry_every, &mut self.telemetry_countdown),
+        };
+        if every == 0 {
             return;
         }
-        if self.telemetry_countdown > 1 {
-            self.telemetry_countdown -= 1;
+        if *countdown > 1 {
+            *countdown -= 1;
             return;
         }
-        self.telemetry_countdown = self.config.telemetry_every;
+        *countdown = every;
         let n = self.joints.len();
         let mut joints = [JointSample::default(); MAX_JOINTS];
         for (j, s) in joints.iter_mut().enumerate().take(n) {
             let fb = self.present[j];
             let mut f = self.reply_flags[j];
-            if self.clamped[j] {
+            if plan.clamped & (1 << j) != 0 {
                 f |= flags::CLAMPED;
             }
             if !self.torque_sent {
@@ -166,7 +174,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 f |= flags::ALERT;
             }
             *s = JointSample {
-                commanded: self.goals[j],
+                commanded: plan.goals().get(j).map_or(self.goals[j], |g| g.position),
                 present: fb.position,
                 velocity: fb.velocity,
                 load: fb.load,
@@ -188,6 +196,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             state: self.state,
             step,
             slice,
+            setpoint: plan.setpoint,
             joint_count: n as u8,
             joints,
             cycle_us: stats.duration_us().min(u32::MAX as u64) as u32,

@@ -20,7 +20,7 @@ use crate::store::{FlashWindow, GaitStore};
 use crate::telemetry::{DropQueue, Record};
 
 pub use commands::{CommandError, PlayParams, Setting};
-pub use cycle::{BusAction, CyclePlan, Outcome};
+pub use cycle::{BusAction, CyclePlan, Outcome, SetpointStamp};
 
 /// Telemetry records the queue holds before it drops (about 400 B each).
 pub const TELEMETRY_QUEUE: usize = 8;

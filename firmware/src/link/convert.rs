@@ -74,7 +74,8 @@ fn velocity(raw: i32) -> i16 {
     (i64::from(raw) * 23_981 / 1000).clamp(i16::MIN.into(), i16::MAX.into()) as i16
 }
 
-/// A telemetry record as the protocol message for the current mode.
+/// A telemetry record as the protocol message of its cycle: `Proprioception` for a streaming
+/// cycle, else `Telemetry`.
 pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
     c: &Controller<F>,
     r: &Record,
@@ -109,13 +110,14 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
         crc_errors: r.crc_errors,
         missed_deadlines: r.overruns,
     };
-    if r.state == State::Streaming {
-        let (setpoint_seq, setpoint_age) = c.stream_status();
+    // The record's own setpoint, not the controller's current one: the link converts records
+    // cycles after they were taken, and setpoints keep arriving meanwhile.
+    if let Some(sp) = r.setpoint {
         DeviceMessage::Proprioception(Proprioception {
             time_us: r.time_us,
             cycle: r.cycle,
-            setpoint_seq,
-            setpoint_age,
+            setpoint_seq: sp.seq,
+            setpoint_age: sp.age,
             joints,
             bus,
         })

@@ -42,9 +42,10 @@ pub enum HostMessage {
 pub enum DeviceMessage {
     /// The answer to the request with the same `seq`.
     Reply { seq: u16, response: Response },
-    /// Telemetry of one bus cycle during playback (every Nth cycle, see [`Request::SetTelemetry`]).
+    /// Telemetry of one bus cycle outside streaming (every Nth cycle, see [`Request::SetTelemetry`]).
     Telemetry(Telemetry),
-    /// Feedback of one bus cycle in streaming mode.
+    /// Feedback of one bus cycle in streaming mode (every Nth cycle, see
+    /// [`crate::StreamConfig::feedback_every`]).
     Proprioception(Proprioception),
     /// A frame that could not be decoded (so its `seq` is unknown) and was dropped.
     Rejected(crate::FrameError),

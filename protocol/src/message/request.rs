@@ -58,7 +58,9 @@ pub enum Request {
     EmergencyStop,
     /// Leaves the fault state once its cause is gone. Reply: `Ack`.
     ClearFault,
-    /// Sends telemetry every `every` bus cycles (0 = off). Reply: `Ack`.
+    /// Sends `Telemetry` every `every` bus cycles (0 = off) outside streaming (idle, standing,
+    /// playback, fault). Streaming sends `Proprioception` at its own rate,
+    /// [`StreamConfig::feedback_every`], whatever this says. Reply: `Ack`.
     SetTelemetry { every: u16 },
     /// Enters streaming mode from standing. Reply: `Ack`.
     EnterStreaming(StreamConfig),
@@ -112,6 +114,7 @@ pub struct StreamConfig {
     /// Bus cycles without a new setpoint after which the board holds position and faults with
     /// `FaultKind::SetpointTimeout` (at least 1).
     pub timeout_cycles: u16,
-    /// Sends `Proprioception` every this many bus cycles (at least 1).
+    /// Sends `Proprioception` every this many bus cycles (1 = every cycle; 0 is taken as 1),
+    /// independent of [`Request::SetTelemetry`], which governs the other states' `Telemetry`.
     pub feedback_every: u16,
 }

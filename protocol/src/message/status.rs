@@ -94,7 +94,8 @@ pub struct Settings {
     pub baud: u32,
     /// Bus cycle rate, Hz.
     pub cycle_hz: u16,
-    /// Telemetry every this many cycles (0 = off).
+    /// Telemetry every this many cycles outside streaming (0 = off); streaming's proprioception
+    /// follows `StreamConfig::feedback_every` instead.
     pub telemetry_every: u16,
     pub joints: heapless::Vec<JointSettings, MAX_JOINTS>,
 }

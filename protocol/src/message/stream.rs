@@ -39,7 +39,8 @@ pub mod feedback_flags {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct JointFeedback {
-    /// Goal sent this cycle (after bias and clamping), joint angle in 1e-4 rad.
+    /// Goal this cycle's Sync Write carried (after bias and clamping; the held goal when the cycle
+    /// wrote none), joint angle in 1e-4 rad.
     pub commanded: i16,
     /// Present position, joint angle in 1e-4 rad (wrapped to +-pi around the zero offset).
     pub present: i16,
@@ -80,16 +81,24 @@ pub struct Telemetry {
     pub bus: BusStats,
 }
 
-/// Feedback of one bus cycle in streaming mode.
+/// Feedback of one bus cycle in streaming mode, every [`crate::StreamConfig::feedback_every`]
+/// cycles (whatever [`crate::Request::SetTelemetry`] says: that governs playback telemetry only).
+///
+/// A record holds together: the setpoint it names, its age and every joint's `commanded` are what
+/// this cycle's Sync Write carried, taken when the cycle was planned (a setpoint that arrives while
+/// the cycle is on the bus waits for the next one); `present`, `velocity` and `load` are this
+/// cycle's Sync Read (the last good values, flagged `NO_REPLY`, for a servo that did not answer).
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Proprioception {
     /// Board time at the start of the cycle, us since boot.
     pub time_us: u64,
     pub cycle: u32,
-    /// `seq` of the setpoint applied in this cycle.
+    /// `seq` of the setpoint this cycle's Sync Write carried; 0 before the first setpoint since
+    /// `EnterStreaming` (the standing posture is held), so number setpoints from 1.
     pub setpoint_seq: u32,
-    /// Cycles since that setpoint arrived (0 = fresh).
+    /// Cycles this setpoint has been written, this one included: 1 = it arrived since the previous
+    /// cycle started (fresh); more = held. Past `StreamConfig::timeout_cycles` the board goes safe.
     pub setpoint_age: u16,
     pub joints: heapless::Vec<JointFeedback, MAX_JOINTS>,
     pub bus: BusStats,
