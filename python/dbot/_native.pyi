@@ -112,7 +112,6 @@ class Fault(TypedDict):
     joint: int | None
     message: str
 
-
 class Counters(TypedDict):
     """The board's counters since boot (they wrap at 2**32)."""
 

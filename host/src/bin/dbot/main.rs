@@ -38,39 +38,24 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Cmd {
-    /// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
+    // No doc comments here: clap takes each subcommand's help (short and long) from its
+    // `Args` struct's doc comment, which a comment on the variant would replace.
     Demo(demo::Args),
-    /// Plan a step cycle (posture, footpaths, inverse kinematics) and write CSV, JSON, URDF, plots.
     Plan(plan::Args),
-    /// Export, import or inspect organism models.
     Model(model::Args),
-    /// Build the board's step table from a plan directory.
     Table(table::Args),
-    /// Compare two plans DoF by DoF (R-squared of angles and torques), or sweep swing durations.
     Compare(compare::Args),
-    /// List the boards plugged in over USB.
     Devices(devices::Args),
-    /// Upload a step table into a gait slot.
     Upload(upload::Args),
-    /// List the board's gait slots.
     Gaits(gaits::Args),
-    /// Play a gait.
     Run(run::Args),
-    /// Stop walking at the end of the step.
     Stop(stop::Args),
-    /// Emergency stop: torque off everywhere.
     Estop(estop::Args),
-    /// Show the board's state and counters.
     Status(status::Args),
-    /// Show the joints and their servos.
     Servos(servos::Args),
-    /// Change run-time settings (stiffness, rate, baud).
     Set(set::Args),
-    /// Record telemetry to CSV and plot it.
     Record(record::Args),
-    /// Serve virtual Dynamixel servos on a pseudo-terminal.
     SimBus(sim_bus::Args),
-    /// Set up and inspect Dynamixel servos through a USB serial adapter.
     Dxl(dxl::Args),
 }
 

@@ -21,7 +21,8 @@ pub struct Args {
     /// Dynamixel bus baud rate, bit/s.
     #[arg(long)]
     pub baud: Option<u32>,
-    /// Telemetry every this many bus cycles (0 = off).
+    /// Telemetry every this many bus cycles (0 = off), outside streaming; a stream sets its own
+    /// proprioception rate (`feedback_every`).
     #[arg(long)]
     pub telemetry_every: Option<u16>,
     /// Torque on (hold the present posture) or off.

@@ -7,9 +7,11 @@ use anyhow::{Context, Result, bail};
 use host::dynamics::table::{gait_table, stance_bits};
 use host::model::Leg;
 
-/// Build the board's step table from a plan: planned angle (rad) and modelled actuator torque
-/// (N m) of every servo per slice, stance flags, step period and duty; the firmware adds the
-/// torque bias (torque / servo stiffness) to each command.
+/// Build the board's step table from a plan directory.
+///
+/// The table holds the planned angle (rad) and modelled actuator torque (N m) of every servo per
+/// slice, stance flags, step period and duty; the firmware adds the torque bias (torque / servo
+/// stiffness) to each command.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Plan directory written by `dbot plan` (plan.json, joints.csv with torque_nm, feet.csv).
