@@ -8,8 +8,9 @@
 //! wall time for both.
 //!
 //! Usage: node tools/replay.js --elf ELF --bus-cmd JSON_ARGV --record FILE [--until-ms N]
-//!          [--compare] [--defmt-print PATH]
-//! Without --compare it replays once (fast-forward on) and, with --defmt-print, prints the log.
+//!          [--compare] [--defmt-print PATH] [--trace-from-ms A [--trace-to-ms B]]
+//! Without --compare it replays once (fast-forward on) and prints the log (with --defmt-print) and
+//! the bus bursts between A and B ms of simulated time.
 
 import { spawnSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
@@ -29,6 +30,8 @@ const { values: opts } = parseArgs({
     'until-ms': { type: 'string' },
     compare: { type: 'boolean', default: false },
     'defmt-print': { type: 'string' },
+    'trace-from-ms': { type: 'string' },
+    'trace-to-ms': { type: 'string' },
   },
 });
 if (!opts.elf || !opts['bus-cmd'] || !opts.record) {
@@ -111,6 +114,16 @@ if (opts.compare) {
 } else {
   const r = await replay(true);
   summary('replay', r);
+  if (opts['trace-from-ms']) {
+    // The board's bursts in a window: start, length, instruction, end of the servos' answer (ms).
+    const from = Number(opts['trace-from-ms']) * 1e6;
+    const to = opts['trace-to-ms'] ? Number(opts['trace-to-ms']) * 1e6 : Infinity;
+    for (const b of r.trace.filter((b) => b.start_ns >= from && b.start_ns <= to)) {
+      const inst = b.inst === null ? '-' : `0x${b.inst.toString(16)}`;
+      const end = b.rx_end_ns === null ? 'no answer' : `answer ends ${(b.rx_end_ns / 1e6).toFixed(3)}`;
+      console.log(`${(b.start_ns / 1e6).toFixed(3)} ms: ${b.len} bytes, instruction ${inst}, ${end}`);
+    }
+  }
   if (opts['defmt-print']) {
     const out = spawnSync(opts['defmt-print'], ['-e', opts.elf, 'stdin'], { input: r.rtt });
     process.stdout.write(out.stdout);
