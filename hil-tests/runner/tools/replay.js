@@ -56,6 +56,7 @@ async function replay(fastForward) {
   const logs = [];
   let next = 0;
   const wall0 = performance.now();
+  const cpu0 = process.cpuUsage();
   while (board.simNanos() < until && board.halted === null) {
     // Inputs due by now enter between slices, as the runner's I/O does.
     while (next < record.length && record[next].sim_ns <= board.simNanos()) {
@@ -71,6 +72,7 @@ async function replay(fastForward) {
     if (bytes) logs.push(bytes);
   }
   const wall = performance.now() - wall0;
+  const cpu = process.cpuUsage(cpu0);
   bus.close();
   return {
     trace: bus.trace,
@@ -79,6 +81,7 @@ async function replay(fastForward) {
     simNanos: board.simNanos(),
     halted: board.halted,
     wall,
+    cpuMs: (cpu.user + cpu.system) / 1e3,
     instructions: board.instructions,
     fastForward: board.fastForwardStats,
   };
@@ -88,7 +91,8 @@ function summary(name, r) {
   const sim = r.simNanos / 1e9;
   console.log(
     `${name}: ${sim.toFixed(3)} s simulated in ${(r.wall / 1e3).toFixed(2)} s wall ` +
-      `(${(sim / (r.wall / 1e3)).toFixed(3)} x real time), ${r.instructions} instructions ` +
+      `(${(sim / (r.wall / 1e3)).toFixed(3)} x real time; runner CPU ${(r.cpuMs / 1e3).toFixed(2)} s = ` +
+      `${(sim / (r.cpuMs / 1e3)).toFixed(3)} simulated s per CPU s), ${r.instructions} instructions ` +
       `(${(r.instructions / (r.simNanos / 1e6)).toFixed(0)} per simulated ms), ` +
       `${r.trace.length} bus bursts, ${r.usbIn.length} USB IN bytes, ${r.rtt.length} RTT bytes, ` +
       `skipped ${r.fastForward.skippedTurns} loop turns = ${(r.fastForward.skippedNanos / 1e6).toFixed(1)} ms` +
