@@ -49,7 +49,8 @@ function both(program, setup) {
 function flagAt(at) {
   return (board, r) => {
     r[0] = FLAG;
-    board.clock.createAlarm(() => board.rp2040.sramView.setUint32(FLAG - 0x20000000, 1, true)).schedule(at);
+    const set = () => board.rp2040.sramView.setUint32(FLAG - 0x20000000, 1, true);
+    board.clock.createAlarm(set).schedule(at);
   };
 }
 
@@ -73,10 +74,11 @@ test('a loop polling a RAM flag is skipped up to the alarm that sets it, exit ti
   const { slow, fast } = both(program, flagAt(at));
   assert.ok(slow.nanos > at && slow.nanos < at + 100, `left at ${slow.nanos} ns`);
   assert.ok(fast.skips > 0, 'skipped');
-  assert.ok(fast.instructions * 100 < slow.instructions, `${fast.instructions} vs ${slow.instructions}`);
+  const counts = `${fast.instructions} vs ${slow.instructions}`;
+  assert.ok(fast.instructions * 100 < slow.instructions, counts);
 });
 
-test("the BUSY spin after three UART characters ends 30 us later, skipped, exit time unchanged", () => {
+test('the BUSY spin after three UART characters ends 30 us later, skipped, exit unchanged', () => {
   const program = [
     0x6981, // 0: ldr r1, [r0, #0x18]   UARTFR
     0x0709, // 2: lsls r1, r1, #28      BUSY (bit 3) into N

@@ -91,11 +91,13 @@ function summary(name, r) {
   const sim = r.simNanos / 1e9;
   console.log(
     `${name}: ${sim.toFixed(3)} s simulated in ${(r.wall / 1e3).toFixed(2)} s wall ` +
-      `(${(sim / (r.wall / 1e3)).toFixed(3)} x real time; runner CPU ${(r.cpuMs / 1e3).toFixed(2)} s = ` +
+      `(${(sim / (r.wall / 1e3)).toFixed(3)} x real time; ` +
+      `runner CPU ${(r.cpuMs / 1e3).toFixed(2)} s = ` +
       `${(sim / (r.cpuMs / 1e3)).toFixed(3)} simulated s per CPU s), ${r.instructions} instructions ` +
       `(${(r.instructions / (r.simNanos / 1e6)).toFixed(0)} per simulated ms), ` +
       `${r.trace.length} bus bursts, ${r.usbIn.length} USB IN bytes, ${r.rtt.length} RTT bytes, ` +
-      `skipped ${r.fastForward.skippedTurns} loop turns = ${(r.fastForward.skippedNanos / 1e6).toFixed(1)} ms` +
+      `skipped ${r.fastForward.skippedTurns} loop turns = ` +
+      `${(r.fastForward.skippedNanos / 1e6).toFixed(1)} ms` +
       (r.halted ? `, halted: ${r.halted}` : ''),
   );
 }
