@@ -5,7 +5,10 @@
 //! replays must produce the same wire. With --compare it replays twice, busy-wait fast-forward off
 //! and on (spin.js), and checks that the bus bursts (start, length, instruction, end of the answer),
 //! the USB IN bytes and the defmt (RTT) bytes are identical; it prints instructions executed and
-//! wall time for both.
+//! wall and CPU time for both. Chip resets, USB re-plugs and armed flash-write resets are not
+//! recorded: runs that use them do not replay. A replay need not match the live run it was
+//! recorded from in every nanosecond (there, input met the chip between run slices as wall time
+//! allowed), but it is a faithful run of the firmware on those inputs, and it repeats exactly.
 //!
 //! Usage: node tools/replay.js --elf ELF --bus-cmd JSON_ARGV --record FILE [--until-ms N]
 //!          [--compare] [--defmt-print PATH] [--trace-from-ms A [--trace-to-ms B]]
