@@ -120,6 +120,11 @@ impl Emulator {
             .with_context(|| format!("cannot listen on {}", sock_path.display()))?;
         let runner = crate::paths::runner_dir();
         let mut cmd = Command::new("node");
+        // Extra node flags, e.g. `--cpu-prof --cpu-prof-dir=/tmp/prof` to profile the runner (node
+        // refuses --cpu-prof in NODE_OPTIONS).
+        if let Some(extra) = std::env::var_os("DBOT_HIL_NODE_ARGS") {
+            cmd.args(extra.to_string_lossy().split_whitespace());
+        }
         cmd.arg(runner.join("src/main.js"))
             .arg("--elf")
             .arg(&elf)

@@ -76,6 +76,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     }
 
     fn take_replies(&mut self, plan: &CyclePlan, replies: &[Reply]) {
+        // A reboot still pending means these replies were read before it (the host's command came
+        // while the bus task awaited them): they describe the servos as the reboot is about to
+        // change them, so a latched error in them must not fault the Boot waiting for the reboot,
+        // and they do not count as found.
+        let stale = self.reboot_pending.is_some();
         let n = self.joints.len().min(plan.n).min(replies.len());
         // A stuck-rule sample is a cycle that wrote goals the servos are meant to follow.
         let sample = plan.action == BusAction::Cycle && self.torque_sent;
@@ -92,15 +97,19 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             let usable = match reply {
                 Ok(fb) => {
                     self.present[j] = *fb;
-                    self.known[j] = true;
-                    if fb.alert {
+                    if !stale {
+                        self.known[j] = true;
+                    }
+                    if fb.alert && !stale {
                         self.fault_servo(j, id, 0);
                     }
                     true
                 }
                 Err(ReplyFault::Status(e)) => {
                     // A servo that answers with an error number is there, but its data is not.
-                    self.fault_servo(j, id, e.0);
+                    if !stale {
+                        self.fault_servo(j, id, e.0);
+                    }
                     true
                 }
                 Err(ReplyFault::Timeout) => {
@@ -113,6 +122,9 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 }
                 Err(_) => false,
             };
+            if stale {
+                continue;
+            }
             if let Some(reason) = self.misses.record(j, id, usable) {
                 self.event(Event::Fault(reason));
             }

@@ -378,6 +378,41 @@ fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
     assert_eq!(r.c.state(), State::Idle);
 }
 
+/// The emulator soak's "never left Boot": the host's RebootServos reaches the link task while the
+/// bus task awaits the replies of a Sync Read planned in Safe. Those replies predate the reboot and
+/// still carry the overloaded servo's Alert; taken in Boot they faulted the board again (Safe, so
+/// `Play` was refused for good) before the Reboot was even sent.
+#[test]
+fn replies_read_before_a_pending_reboot_do_not_fault_the_boot_waiting_for_it() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.servos.alert = Some(3);
+    r.cycle();
+    assert_eq!(r.cycle(), BusAction::ReadHardwareError { joint: 3 });
+    // A Sync Read goes out in Safe; the reboot command arrives before its replies are taken.
+    let plan = r.c.plan(r.now);
+    assert_eq!(plan.action, BusAction::ReadOnly);
+    r.c.reboot_servos(Some(3)).unwrap();
+    let mut replies = [Err(ReplyFault::Timeout); 32];
+    let outcome = r.servos.serve(&plan, &mut replies);
+    assert!(matches!(replies[3], Ok(Feedback { alert: true, .. })));
+    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
+    r.now += u64::from(r.c.period_us());
+    assert_eq!(r.c.state(), State::Boot, "the stale Alert faulted the Boot");
+    assert_eq!(r.cycle(), BusAction::Reboot { joints: 1 << 3 });
+    assert_eq!(
+        r.c.state(),
+        State::Boot,
+        "Boot waits for the rebooted servo's answer"
+    );
+    assert_eq!(r.cycle(), BusAction::ReadOnly);
+    assert_eq!(r.c.state(), State::Idle);
+    r.play(None);
+    assert_eq!(r.c.state(), State::Ramping);
+}
+
 #[test]
 fn a_status_error_number_is_a_servo_error() {
     let mut r = Rig::new();

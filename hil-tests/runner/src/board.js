@@ -12,6 +12,7 @@
 import { RP2040 } from 'rp2040js';
 import { installBootrom } from './bootrom.js';
 import { CdcHost } from './cdc.js';
+import { SpinSkipper, watchAccesses } from './spin.js';
 import { PacedUart } from './uart.js';
 
 const UART0_BASE = 0x40034;
@@ -36,10 +37,16 @@ export class Board {
   /**
    * @param flash the 16 MB flash image (Uint8Array), kept and shared across resets
    * @param hooks { onUsbData(bytes), onUsbConfigured(), onWarn(msg), onFlashWrite(kind, off, len) }
+   * @param options { fastForward: skip busy-wait loops (spin.js; default true) }
    */
-  constructor(flash, hooks) {
+  constructor(flash, hooks, { fastForward = true } = {}) {
     this.flash = flash;
     this.hooks = hooks;
+    this.fastForward = fastForward;
+    /** Instructions the core has executed, over all resets. */
+    this.instructions = 0;
+    /** Busy-wait fast-forward totals over all resets (spin.js). */
+    this.spinStats = { skips: 0, skippedTurns: 0, skippedNanos: 0 };
     this.epoch = 0;
     this.baseNanos = 0;
     this.build();
@@ -121,9 +128,22 @@ export class Board {
     core.PC = 0x10000000;
     this.rp2040 = rp2040;
     this.clock = clock;
+    if (this.spin) this.addSpinStats();
+    this.spin = this.fastForward ? new SpinSkipper(core, clock, watchAccesses(rp2040)) : null;
     this.uart = uart;
     this.halted = null;
     this.hold = false;
+  }
+
+  addSpinStats() {
+    for (const k of Object.keys(this.spinStats)) this.spinStats[k] += this.spin.stats[k];
+    this.spin.stats = { skips: 0, skippedTurns: 0, skippedNanos: 0 };
+  }
+
+  /** Busy-wait fast-forward totals: skips, skipped loop turns, skipped simulated nanoseconds. */
+  get fastForwardStats() {
+    if (this.spin) this.addSpinStats();
+    return { ...this.spinStats };
   }
 
   /** Simulated nanoseconds since the first boot for a time of the current chip's clock. */
@@ -146,19 +166,26 @@ export class Board {
   /**
    * Runs until the chip clock reaches `target` (chip nanoseconds), something sets `hold` (the bus
    * waiting for the servo chain), or the core halts. Sleeping (WFI/WFE) skips straight to the next
-   * alarm, one alarm at a time, so a hold set by an alarm stops time right there.
+   * alarm, one alarm at a time, so a hold set by an alarm stops time right there. Busy-wait loops
+   * are fast-forwarded the same way, by whole loop turns (spin.js).
    */
   runUntil(target) {
-    const { rp2040, clock } = this;
+    const { rp2040, clock, spin } = this;
     const core = rp2040.core;
+    // Host I/O and commands ran since the last call: a loop seen before proves nothing now.
+    spin?.invalidate();
+    let instructions = 0;
     while (clock.nanos < target && this.halted === null && !this.hold) {
       if (core.waiting) {
         const next = clock.nextAlarm ? clock.nextAlarm.nanos : target;
         clock.tick(Math.max(0, Math.min(next, target) - clock.nanos));
       } else {
+        if (spin !== null) spin.step(target);
         const cycles = core.executeInstruction();
         clock.tick(cycles * CYCLE_NANOS);
+        instructions++;
       }
     }
+    this.instructions += instructions;
   }
 }

@@ -114,7 +114,10 @@ const hooks = {
   },
 };
 
-const board = new Board(flash.subarray(0), hooks);
+// DBOT_HIL_FAST_FORWARD=0 turns the busy-wait fast-forward off (spin.js), to compare.
+const board = new Board(flash.subarray(0), hooks, {
+  fastForward: process.env.DBOT_HIL_FAST_FORWARD !== '0',
+});
 function saveFlash() {
   if (opts['flash-file']) writeFileSync(opts['flash-file'], board.flash.subarray(0, FLASH_SIZE));
   flashDirty = false;
@@ -136,12 +139,16 @@ else {
 }
 let rtt = rttAddress === undefined ? null : new RttReader(board.rp2040, rttAddress);
 
+// DBOT_HIL_RECORD_USB=FILE: the host's bytes and the bus_control messages with their simulated
+// times, written at exit, to replay a run deterministically (tools/replay.js).
+const usbRecord = process.env.DBOT_HIL_RECORD_USB ? [] : null;
 let usbSocket = null;
 if (opts['usb-socket']) {
   usbSocket = connect(opts['usb-socket']);
   usbSocket.on('data', (data) => {
     // With `usb_trace` on, when the host's bytes reached the runner (before the chip takes them).
     usbTrace?.push({ sim_ns: board.simNanos(), host_bytes: data.length });
+    usbRecord?.push({ sim_ns: board.simNanos(), hex: data.toString('hex') });
     board.usb.send(data);
   });
   usbSocket.on('error', (e) => warn(`USB socket ${opts['usb-socket']}: ${e.message}`));
@@ -228,6 +235,7 @@ control.handlers = {
   },
   bus_control: (cmd) => {
     if (!bus) throw new Error('no servo chain attached (--bus-cmd)');
+    usbRecord?.push({ sim_ns: board.simNanos(), control: cmd.msg });
     bus.control(cmd.msg);
     return {};
   },
@@ -243,6 +251,8 @@ control.handlers = {
     },
     bus: bus?.stats ?? null,
     flash: flashStats,
+    fast_forward: board.fastForwardStats,
+    instructions: board.instructions,
     halted,
   }),
   quit: () => {
@@ -256,6 +266,7 @@ function quit() {
   if (quitting) return;
   quitting = true;
   if (flashDirty) saveFlash();
+  if (usbRecord) writeFileSync(process.env.DBOT_HIL_RECORD_USB, JSON.stringify(usbRecord));
   bus?.close();
   defmt?.stdin.end();
   usbSocket?.end();
