@@ -55,14 +55,15 @@ impl Schedule<'_> {
     }
 
     /// The most bytes a genuine reply still being received can occupy in the parser: its length
-    /// with the worst-case stuffing (one extra byte per `FF FF FD` among INST, ERR and data).
+    /// with the worst-case stuffing (one extra byte per `FF FF FD` among INST, ERR and data: at
+    /// most (data + 2) / 3 of them, rounded down, which is data / 3 rounded up).
     /// More bytes buffered without a complete frame means the front is a false header.
     pub fn max_packet(&self) -> usize {
         let longest = (0..self.slots())
             .map(|k| self.data_len(k))
             .max()
             .unwrap_or(0);
-        STATUS_OVERHEAD + longest + (longest + 2) / 3
+        STATUS_OVERHEAD + longest + longest.div_ceil(3)
     }
 }
 
