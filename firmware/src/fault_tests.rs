@@ -492,6 +492,99 @@ fn bus_noise_bursts_are_survived_and_counted() {
     assert!(errors <= 100 * 3, "{errors} lost replies");
 }
 
+/// One bus cycle with `noise` put on the wire the moment the request has left, i.e. at the start
+/// of the reply window (the servos, at Return Delay Time 0, start answering then too; `SimWire`
+/// puts the noise bytes between the reply bytes that arrive at the same time, garbling both).
+/// The telemetry of the cycle.
+fn cycle_with_reply_noise(board: &mut SimBoard, wire: &SimWire, noise: &[u8]) -> Vec<Telemetry> {
+    let sent0 = wire.byte_counts().0;
+    let mut due_us = None;
+    let mut injected = false;
+    {
+        let mut run = core::pin::pin!(board.run_cycle());
+        wire.block_on(core::future::poll_fn(|cx| {
+            let done = run.as_mut().poll(cx).is_ready();
+            if !injected {
+                // The request is queued in one write; at 1 Mbit/s each byte takes 10 us.
+                let sent = wire.byte_counts().0 - sent0;
+                if due_us.is_none() && sent > 0 {
+                    due_us = Some(wire.now_us() + sent * 10);
+                }
+                if due_us.is_some_and(|t| wire.now_us() >= t) {
+                    wire.inject_noise(noise);
+                    injected = true;
+                }
+            }
+            if done {
+                core::task::Poll::Ready(())
+            } else {
+                core::task::Poll::Pending
+            }
+        }));
+    }
+    assert!(injected, "the cycle sent no request");
+    let mut out = Vec::new();
+    board.drain_telemetry(|f| out.extend_from_slice(f));
+    let mut acc = FrameAccumulator::new();
+    acc.messages::<DeviceMessage>(&out)
+        .filter_map(|m| match m {
+            Ok(DeviceMessage::Telemetry(t)) => Some(t),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn bus_noise_in_the_reply_window_costs_only_the_replies_it_hits() {
+    let (mut board, wire, mut client, _) = walking();
+    let c0 = status(&mut board, &mut client).counters;
+    // Every 10th cycle, 1 to 60 noise bytes (random, ending in a false header) start with the
+    // reply window. Deterministic xorshift, so a failure repeats.
+    let mut x: u32 = 0x9E37_79B9;
+    let mut rnd = move || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x
+    };
+    let (mut hit_total, mut lost_total) = (0usize, 0usize);
+    for k in 0..500 {
+        let records = if k % 10 == 0 {
+            let mut burst: Vec<u8> = (0..1 + rnd() % 54).map(|_| rnd() as u8).collect();
+            burst.extend([0xFF, 0xFF, 0xFD, 0x00, 0x05, 0x20]);
+            let records = cycle_with_reply_noise(&mut board, &wire, &burst);
+            // Noise byte i lands after reply byte i: the replies overlapped are those of the
+            // first burst.len() reply bytes, 21 bytes each (10 data bytes, no stuffing here).
+            let hit = burst.len().div_ceil(21);
+            let t = records.last().expect("telemetry of the cycle");
+            let lost = t
+                .joints
+                .iter()
+                .filter(|j| j.flags & protocol::feedback_flags::NO_REPLY != 0)
+                .count();
+            assert!(lost <= hit, "cycle {k}: {lost} replies lost to {hit} hit");
+            hit_total += hit;
+            lost_total += lost;
+            records
+        } else {
+            cycle(&mut board, &wire)
+        };
+        assert!(!records.is_empty(), "cycle {k}: no telemetry");
+        assert_eq!(state(&board), State::Walking, "cycle {k}");
+    }
+    let c1 = status(&mut board, &mut client).counters;
+    assert_eq!(c1.cycles - c0.cycles, 500);
+    assert_eq!(c1.missed_deadlines, c0.missed_deadlines);
+    eprintln!(
+        "reply-window noise: 50 bursts hit {hit_total} replies, {lost_total} lost \
+         ({} CRC errors, {} timeouts)",
+        c1.crc_errors - c0.crc_errors,
+        c1.bus_timeouts - c0.bus_timeouts
+    );
+    // Every burst garbles at least the reply it starts in.
+    assert!(lost_total >= 50, "{lost_total} replies lost to 50 bursts");
+}
+
 #[test]
 fn a_lost_host_link_does_not_stop_the_walk_and_the_link_comes_back() {
     let (mut board, wire, mut client, _) = walking();

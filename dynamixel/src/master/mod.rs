@@ -1,12 +1,14 @@
 //! Async bus master over `embedded_io_async::{Read, Write}`, a [`DirectionPin`] and a [`Clock`].
 //!
 //! One bus cycle ([`BusMaster::cycle`]) sends a Sync Write of goal positions and a Sync Read of
-//! 126..=135 back to back, then collects one status per servo. Each reply has its own deadline
-//! counted from the previous event, so a missing, late or corrupt reply is reported for that
-//! servo and the others are still collected. Instruction packets on the wire (the master's own
-//! echo when TX and RX share it) are skipped.
+//! 126..=135 back to back, then collects one status per servo. The replies follow a schedule
+//! ([`schedule`]): each expected reply is due one reply budget after the previous one, so a
+//! missing, late, corrupt or noise-garbled reply is reported for that servo alone and the others
+//! are still collected. Instruction packets on the wire (the master's own echo when TX and RX
+//! share it) are skipped.
 
 mod hal;
+mod schedule;
 mod single;
 mod types;
 
@@ -17,6 +19,7 @@ use crate::control_table::{FEEDBACK_ADDR, FEEDBACK_LEN, GOAL_POSITION};
 use crate::encode;
 use crate::parser::{Frame, FrameError, Parser};
 use embedded_io_async::{Error as _, Read, ReadReady, Write};
+use schedule::{Ledger, Progress, Schedule, SlotData, Step, Timeout};
 
 /// Request buffer size: a 22-servo cycle needs 160 bytes (more if stuffed).
 pub const TX_CAPACITY: usize = 512;
@@ -33,16 +36,6 @@ pub struct BusMaster<IO, D, C> {
     parser: Parser,
     tx: [u8; TX_CAPACITY],
     stale_bytes: u32,
-}
-
-/// What the receive loop's handler says about a frame.
-enum Step {
-    /// Not ours (echo, stray): keep the current deadline.
-    Ignore,
-    /// One expected reply settled: restart the per-reply deadline.
-    Progress,
-    /// Everything expected has arrived.
-    Done,
 }
 
 impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C> {
@@ -150,10 +143,14 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         stats: &mut CycleStats,
     ) -> Result<(), BusError> {
         replies.fill(Err(ReplyFault::Timeout));
-        let mut settled = [false; MAX_SERVOS];
-        let mut remaining = ids.len();
-        let budget =
-            self.config.reply_slack_us + self.config.wire_time_us(11 + FEEDBACK_LEN as usize);
+        let mut ledger = Ledger::new(ids);
+        let schedule = Schedule {
+            data: SlotData::Uniform {
+                slots: ids.len(),
+                data: FEEDBACK_LEN as usize,
+            },
+            config: self.config,
+        };
         let mut on_frame = |ev: Result<Frame<'_>, FrameError>| -> Step {
             let (id, outcome) = match ev {
                 Ok(frame) => match frame.status() {
@@ -164,28 +161,31 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                     None => (frame.id, Err(ReplyFault::Malformed)),
                     Some(s) => (s.id, decode_feedback(s.error, s.data)),
                 },
-                Err(FrameError::Crc { id, .. }) => (id, Err(ReplyFault::Crc)),
-                Err(e) => (e.id(), Err(ReplyFault::Malformed)),
+                // A packet that fails its check proves nothing about its ID (noise, a false
+                // header): the fault is noted, but the slot stays open for a valid reply.
+                Err(e) => {
+                    let fault = match e {
+                        FrameError::Crc { .. } => ReplyFault::Crc,
+                        _ => ReplyFault::Malformed,
+                    };
+                    return match ledger.open_slot(e.id()) {
+                        Some(i) => {
+                            replies[i] = Err(fault);
+                            Step::Garbled(i)
+                        }
+                        None => Step::Ignore,
+                    };
+                }
             };
-            let Some(i) = ids
-                .iter()
-                .zip(&settled)
-                .position(|(&x, &done)| x == id && !done)
-            else {
+            let Some(i) = ledger.open_slot(id) else {
                 stats.stray_frames = stats.stray_frames.saturating_add(1);
                 return Step::Ignore;
             };
-            settled[i] = true;
             replies[i] = outcome;
-            remaining -= 1;
-            if remaining == 0 {
-                Step::Done
-            } else {
-                Step::Progress
-            }
+            ledger.settle(i)
         };
         if !ids.is_empty() {
-            self.receive(budget, &mut on_frame).await?;
+            self.receive(&schedule, &mut on_frame).await?;
         }
         for r in replies.iter() {
             match r {
@@ -226,41 +226,53 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         res.map_err(|e| BusError::Io(e.kind()))
     }
 
-    /// Feeds received bytes to `on_frame` until it says `Done` or `budget_us` passes without
-    /// progress. Returns `true` when done. After a timeout, a half-received packet at the front is
-    /// abandoned so that complete packets behind a false header still count.
+    /// Feeds received bytes to `on_frame` until it says `Done`, the last slot of `schedule` has
+    /// been heard, or the schedule is over ([`Progress`]). When a slot's time is over while the
+    /// parser holds more bytes than any expected reply can have, the front is a false header
+    /// (noise) swallowing the replies behind it: it is abandoned there and then, so those replies
+    /// count and move the schedule on. At the end, any half-received packet is abandoned the same
+    /// way so that complete packets behind a false header still count.
     async fn receive(
         &mut self,
-        budget_us: u32,
+        schedule: &Schedule<'_>,
         on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step,
-    ) -> Result<bool, BusError> {
-        let mut deadline = self.clock.now_us() + budget_us as u64;
+    ) -> Result<(), BusError> {
+        let mut progress = Progress::new(self.clock.now_us());
+        let max_packet = schedule.max_packet();
         let mut chunk = [0u8; 32];
         loop {
-            let n = match with_deadline(&self.clock, deadline, self.io.read(&mut chunk)).await {
+            let deadline = progress.deadline_us(schedule);
+            let read = with_deadline(&self.clock, deadline, self.io.read(&mut chunk)).await;
+            let now = self.clock.now_us();
+            let n = match read {
                 Some(Ok(n)) => n,
                 Some(Err(e)) => return Err(BusError::Io(e.kind())),
                 None => {
-                    while self.parser.buffered() > 0 {
+                    let end = progress.on_timeout(schedule, now) == Timeout::End;
+                    let limit = if end { 0 } else { max_packet };
+                    while self.parser.buffered() > limit {
                         self.parser.abandon_partial();
-                        if drain(&mut self.parser, on_frame).0 {
-                            return Ok(true);
+                        if drain(&mut self.parser, on_frame, &mut progress, now) {
+                            return Ok(());
                         }
                     }
-                    return Ok(false);
+                    if end || progress.finished(schedule) {
+                        return Ok(());
+                    }
+                    continue;
                 }
             };
+            progress.last_rx_us = now;
             let mut data = &chunk[..n];
             while !data.is_empty() {
                 let taken = self.parser.feed(data);
                 data = &data[taken..];
-                let (done, progress) = drain(&mut self.parser, on_frame);
-                if done {
-                    return Ok(true);
+                if drain(&mut self.parser, on_frame, &mut progress, now) {
+                    return Ok(());
                 }
-                if progress {
-                    deadline = self.clock.now_us() + budget_us as u64;
-                }
+            }
+            if progress.finished(schedule) {
+                return Ok(());
             }
         }
     }
@@ -277,20 +289,24 @@ pub(crate) fn check_count(servos: usize) -> Result<(), BusError> {
     Ok(())
 }
 
-/// Hands every complete frame to `on_frame`; returns (done, progress).
+/// Hands every complete frame to `on_frame` and follows the schedule; true when `on_frame` says
+/// everything has arrived.
 fn drain(
     parser: &mut Parser,
     on_frame: &mut impl FnMut(Result<Frame<'_>, FrameError>) -> Step,
-) -> (bool, bool) {
-    let mut progress = false;
+    progress: &mut Progress,
+    now_us: u64,
+) -> bool {
     while let Some(ev) = parser.next_frame() {
         match on_frame(ev) {
             Step::Ignore => {}
-            Step::Progress => progress = true,
-            Step::Done => return (true, true),
+            Step::Slot(k) => progress.heard(k, now_us),
+            Step::Garbled(k) if k == progress.next => progress.heard(k, now_us),
+            Step::Garbled(_) => {}
+            Step::Done => return true,
         }
     }
-    (false, progress)
+    false
 }
 
 /// Feedback from a status packet's error byte and data, or the fault it shows.

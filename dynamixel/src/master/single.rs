@@ -1,7 +1,8 @@
 //! Setup helpers of the bus master: Ping, Read, Write, Reboot, generic Sync/Bulk Read and Write.
 
+use super::schedule::{Ledger, Schedule, SlotData, Step};
 use super::{
-    BusError, BusMaster, Clock, DirectionPin, MAX_SERVOS, PingReply, ReplyFault, Step, check_count,
+    BusError, BusMaster, Clock, DirectionPin, MAX_SERVOS, PingReply, ReplyFault, check_count,
 };
 use crate::encode;
 use crate::instruction::{BROADCAST_ID, STATUS, StatusError};
@@ -21,7 +22,13 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         out: &mut [u8],
     ) -> Result<(StatusError, usize), BusError> {
         self.send(len).await?;
-        let budget = self.config.reply_slack_us + self.config.wire_time_us(11 + out.len());
+        let schedule = Schedule {
+            data: SlotData::Uniform {
+                slots: 1,
+                data: out.len(),
+            },
+            config: self.config,
+        };
         let mut result: Option<Result<(StatusError, usize), ReplyFault>> = None;
         let mut on_frame = |ev: Result<Frame<'_>, FrameError>| -> Step {
             match ev {
@@ -45,7 +52,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                 Err(_) => Step::Ignore,
             }
         };
-        self.receive(budget, &mut on_frame).await?;
+        self.receive(&schedule, &mut on_frame).await?;
         match result {
             Some(Ok(r)) => Ok(r),
             Some(Err(fault)) => Err(BusError::Reply { id, fault }),
@@ -186,25 +193,33 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         }
         self.send(n).await?;
         outcomes[..ids.len()].fill(Err(ReplyFault::Timeout));
-        let mut settled = [false; MAX_SERVOS];
-        let mut remaining = ids.len();
-        let longest = lens[..ids.len()].iter().copied().max().unwrap_or(0) as usize;
-        let budget = self.config.reply_slack_us + self.config.wire_time_us(11 + longest);
+        let mut ledger = Ledger::new(ids);
+        let schedule = Schedule {
+            data: SlotData::PerSlot(&lens[..ids.len()]),
+            config: self.config,
+        };
         let mut on_frame = |ev: Result<Frame<'_>, FrameError>| -> Step {
             let (id, st) = match ev {
                 Ok(f) if f.instruction != STATUS => return Step::Ignore,
                 Ok(f) => (f.id, f.status().ok_or(ReplyFault::Malformed)),
-                Err(FrameError::Crc { id, .. }) => (id, Err(ReplyFault::Crc)),
-                Err(e) => (e.id(), Err(ReplyFault::Malformed)),
+                // As in `cycle`: noted, but the slot stays open for a valid reply.
+                Err(e) => {
+                    let fault = match e {
+                        FrameError::Crc { .. } => ReplyFault::Crc,
+                        _ => ReplyFault::Malformed,
+                    };
+                    return match ledger.open_slot(e.id()) {
+                        Some(i) => {
+                            outcomes[i] = Err(fault);
+                            Step::Garbled(i)
+                        }
+                        None => Step::Ignore,
+                    };
+                }
             };
-            let Some(i) = ids
-                .iter()
-                .zip(&settled)
-                .position(|(&x, &done)| x == id && !done)
-            else {
+            let Some(i) = ledger.open_slot(id) else {
                 return Step::Ignore;
             };
-            settled[i] = true;
             let offset: usize = lens[..i].iter().map(|&l| l as usize).sum();
             outcomes[i] = st.and_then(|s| {
                 if s.error.number().is_some() {
@@ -216,15 +231,10 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                     Ok(s.error)
                 }
             });
-            remaining -= 1;
-            if remaining == 0 {
-                Step::Done
-            } else {
-                Step::Progress
-            }
+            ledger.settle(i)
         };
         if !ids.is_empty() {
-            self.receive(budget, &mut on_frame).await?;
+            self.receive(&schedule, &mut on_frame).await?;
         }
         Ok(())
     }
