@@ -91,7 +91,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             let id = self.joints[j].id;
             self.reply_flags[j] = match reply {
                 Ok(_) | Err(ReplyFault::Status(_)) => 0,
-                Err(ReplyFault::Crc) => flags::NO_REPLY | flags::CRC_ERROR,
+                Err(ReplyFault::Crc | ReplyFault::Malformed) => flags::NO_REPLY | flags::CRC_ERROR,
                 Err(_) => flags::NO_REPLY,
             };
             let usable = match reply {
@@ -116,7 +116,9 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                     self.counters.timeouts = self.counters.timeouts.wrapping_add(1);
                     false
                 }
-                Err(ReplyFault::Crc) => {
+                // A malformed reply (checks, but is not the status asked for) is as unusable as
+                // one that fails its CRC, and is counted with them: every lost reply is counted.
+                Err(ReplyFault::Crc | ReplyFault::Malformed) => {
                     self.counters.crc_errors = self.counters.crc_errors.wrapping_add(1);
                     false
                 }

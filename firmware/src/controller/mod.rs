@@ -70,7 +70,7 @@ pub struct Counters {
     pub overruns: u32,
     /// Replies that did not come in time.
     pub timeouts: u32,
-    /// Replies that failed their CRC.
+    /// Replies that came but were unusable: a failed CRC, or malformed (not the status asked for).
     pub crc_errors: u32,
     /// Whole bus operations that failed (UART errors).
     pub bus_errors: u32,

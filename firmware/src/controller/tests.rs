@@ -439,6 +439,29 @@ fn a_status_error_number_is_a_servo_error() {
 }
 
 #[test]
+fn every_unusable_reply_is_counted_crc_and_malformed_with_the_crc_errors() {
+    let mut r = Rig::new();
+    r.cycle();
+    assert_eq!(r.cycle(), BusAction::TorqueOff);
+    let plan = r.c.plan(r.now);
+    let mut replies = [Ok(Feedback::default()); 22];
+    replies[2] = Err(ReplyFault::Crc);
+    replies[7] = Err(ReplyFault::Malformed);
+    replies[9] = Err(ReplyFault::Timeout);
+    let before = r.c.counters();
+    r.c.complete(
+        &plan,
+        Outcome::Feedback(Ok(CycleStats::default())),
+        &replies,
+        0,
+    );
+    let after = r.c.counters();
+    // Three replies lost: two came but were unusable, one never came.
+    assert_eq!(after.crc_errors - before.crc_errors, 2);
+    assert_eq!(after.timeouts - before.timeouts, 1);
+}
+
+#[test]
 fn uploads_are_refused_while_walking_and_the_table_stays() {
     let mut r = Rig::new();
     r.cycle();

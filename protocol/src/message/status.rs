@@ -52,7 +52,10 @@ pub struct UploadProgress {
 pub struct Counters {
     pub cycles: u32,
     pub missed_deadlines: u32,
+    /// Servo replies that did not come in time.
     pub bus_timeouts: u32,
+    /// Servo replies that came but could not be used: a failed CRC, or a packet that checks but
+    /// is not the expected status (wrong instruction or data length).
     pub crc_errors: u32,
     /// Frames from the host that could not be decoded.
     pub rejected_frames: u32,

@@ -62,6 +62,7 @@ pub struct BusStats {
     /// Duration of this cycle's bus transaction, us.
     pub cycle_us: u32,
     pub timeouts: u32,
+    /// Replies that failed their CRC or were malformed (as `Counters::crc_errors`).
     pub crc_errors: u32,
     pub missed_deadlines: u32,
 }
