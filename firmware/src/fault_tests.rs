@@ -779,19 +779,29 @@ fn a_table_larger_than_the_flash_bank_is_refused_and_the_stored_gait_stays() {
     upload(&mut board, &mut client, 0, &table);
     let max = board.controller.borrow().store().max_table_len();
     let before = slots(&mut board, &mut client);
-    // A table one byte over the bank (header of a real table, announced length too large).
+    // A valid header whose table is larger than the bank: the most slices a table may have.
     let header = protocol::GaitTable::parse(&table).unwrap().header();
+    let mut large = header;
+    large.slice_count = protocol::gait::MAX_SLICES;
+    assert!(large.table_len() > max, "the test table fits the bank");
     for slot in 0..4 {
         let r = ask(
             &mut board,
             &mut client,
             Request::UploadBegin {
                 slot,
-                header,
-                total_len: max + 1,
+                header: large,
+                total_len: large.table_len(),
             },
         );
-        assert!(matches!(r, Response::Error(_)), "slot {slot}: {r:?}");
+        assert_eq!(
+            r,
+            Response::Error(ProtocolError::Upload(protocol::UploadError::TooLarge {
+                total_len: large.table_len(),
+                capacity: max
+            })),
+            "slot {slot}"
+        );
     }
     // Every slot filled, then one more: there is no fifth slot, and the four stay.
     for slot in 1..4 {

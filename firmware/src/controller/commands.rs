@@ -366,11 +366,13 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// Starts an upload into `slot`; refused while moving and for the slot being played.
     pub fn upload_begin(&mut self, slot: u8, total_len: u32) -> Result<(), CommandError> {
         self.not_moving()?;
+        self.flash_ops = self.flash_ops.wrapping_add(1);
         Ok(self.store.begin(slot, total_len)?)
     }
 
     pub fn upload_chunk(&mut self, offset: u32, data: &[u8]) -> Result<(), CommandError> {
         self.not_moving()?;
+        self.flash_ops = self.flash_ops.wrapping_add(1);
         Ok(self.store.write(offset, data)?)
     }
 
@@ -394,6 +396,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             self.store.abort();
             return Err(CommitError::Store(StoreError::NoUpload));
         }
+        self.flash_ops = self.flash_ops.wrapping_add(1);
         let info = self.store.commit_verified(crc, verify)?;
         if self.selected.is_some_and(|s| s.slot == info.slot) || self.selected.is_none() {
             // The selected table changed under us: take the new one (or its error) now.
@@ -409,6 +412,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// Empties a slot; refused while moving.
     pub fn delete_gait(&mut self, slot: u8) -> Result<(), CommandError> {
         self.not_moving()?;
+        self.flash_ops = self.flash_ops.wrapping_add(1);
         self.store.delete(slot)?;
         if self.selected.is_some_and(|s| s.slot == slot) {
             self.selected = None;

@@ -101,6 +101,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             None => 0,
         };
         self.last_plan_us = Some(now_us);
+        self.flash_ops_at_plan = self.flash_ops;
         let action = self.next_action(dt);
         let (goals, n) = self.goal_list();
         let clamped = (0..n.min(32))

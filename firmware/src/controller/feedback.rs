@@ -81,6 +81,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         // change them, so a latched error in them must not fault the Boot waiting for the reboot,
         // and they do not count as found.
         let stale = self.reboot_pending.is_some();
+        // A flash operation (upload, delete; never while moving) ran while this cycle's replies
+        // were due: a missing reply is the stalled chip's doing, so it neither counts towards the
+        // miss limit nor clears a run of misses. Replies that did come are used as usual.
+        let flash_stalled = self.flash_ops != self.flash_ops_at_plan;
         let n = self.joints.len().min(plan.n).min(replies.len());
         // A stuck-rule sample is a cycle that wrote goals the servos are meant to follow.
         let sample = plan.action == BusAction::Cycle && self.torque_sent;
@@ -124,7 +128,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 }
                 Err(_) => false,
             };
-            if stale {
+            if stale || (flash_stalled && !usable) {
                 continue;
             }
             if let Some(reason) = self.misses.record(j, id, usable) {

@@ -122,6 +122,11 @@ pub struct Controller<F> {
     stuck: StuckDetector<MAX_JOINTS>,
     /// Joints whose servos are to be rebooted (bit j), if a reboot is pending.
     reboot_pending: Option<u32>,
+    /// Flash operations done so far, and their number when the cycle in flight was planned: a
+    /// sector erase or page program stalls the whole chip (interrupts off, XIP off), so the
+    /// replies of a cycle it fell into are lost for the controller's own doing, not the servos'.
+    flash_ops: u32,
+    flash_ops_at_plan: u32,
     hw_error_pending: Option<u8>,
     last_plan_us: Option<u64>,
     stream: cycle::Stream,
@@ -155,6 +160,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             misses: MissCounter::new(config.miss_limit),
             stuck: StuckDetector::new(config.stuck),
             reboot_pending: None,
+            flash_ops: 0,
+            flash_ops_at_plan: 0,
             hw_error_pending: None,
             last_plan_us: None,
             stream: cycle::Stream::default(),

@@ -461,6 +461,55 @@ fn every_unusable_reply_is_counted_crc_and_malformed_with_the_crc_errors() {
     assert_eq!(after.timeouts - before.timeouts, 1);
 }
 
+/// One cycle in which `flash` runs between the plan and the replies, as when the link task
+/// writes an upload chunk while the bus task awaits the Sync Read (the chip stalls for the erase).
+fn cycle_with_flash_op(r: &mut Rig, flash: impl FnOnce(&mut Controller<Flash>)) -> BusAction {
+    let plan = r.c.plan(r.now);
+    let mut replies = [Err(ReplyFault::Timeout); 32];
+    let outcome = r.servos.serve(&plan, &mut replies);
+    flash(&mut r.c);
+    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
+    r.now += u64::from(r.c.period_us());
+    plan.action
+}
+
+#[test]
+fn replies_lost_to_an_upload_stalling_the_chip_are_no_servo_fault_but_real_misses_still_are() {
+    let mut r = Rig::new();
+    r.cycle();
+    assert_eq!(r.cycle(), BusAction::TorqueOff);
+    assert_eq!(r.c.state(), State::Idle);
+    let table = r.gait.build();
+    r.c.upload_begin(1, table.len() as u32).unwrap();
+    // Servo 5 (joint 4) loses its reply in five cycles in a row, each with a flash write in it.
+    r.servos.silent = vec![4];
+    let chunk = 64;
+    for (i, part) in table.chunks(chunk).take(5).enumerate() {
+        cycle_with_flash_op(&mut r, |c| {
+            c.upload_chunk((i * chunk) as u32, part).unwrap()
+        });
+        assert_eq!(r.c.state(), State::Idle, "cycle {i} with a flash write");
+    }
+    assert_eq!(
+        r.c.counters().timeouts,
+        5,
+        "the lost replies are still counted"
+    );
+    // The same silence without flash work is a missing servo at the third cycle, as always.
+    r.cycle();
+    r.cycle();
+    assert_eq!(r.c.state(), State::Idle);
+    r.cycle();
+    assert_eq!(
+        r.c.state(),
+        State::Safe(SafeReason::ServoMissing {
+            joint: 4,
+            id: 5,
+            cycles: 3
+        })
+    );
+}
+
 #[test]
 fn uploads_are_refused_while_walking_and_the_table_stays() {
     let mut r = Rig::new();
