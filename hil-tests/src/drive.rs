@@ -68,7 +68,11 @@ pub fn start_playing(link: &mut Link, slot: u8, direction: Direction, steps: Ste
             Err(e) => return Err(e),
         }
     }
-    bail!("the board refused Play for 5 s (wall): it never left Boot")
+    // Say what the board was doing, so that a refusal can be told from a slow machine.
+    let status = link
+        .request::<Status>(&Request::GetStatus, T)
+        .map_or_else(|e| format!("GetStatus failed: {e:#}"), |s| format!("{s:?}"));
+    bail!("the board refused Play for 5 s (wall) with WrongState; its status then: {status}")
 }
 
 /// Plays `steps` steps and collects telemetry until the board stands again.
