@@ -161,21 +161,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
                     None => (frame.id, Err(ReplyFault::Malformed)),
                     Some(s) => (s.id, decode_feedback(s.error, s.data)),
                 },
-                // A packet that fails its check proves nothing about its ID (noise, a false
-                // header): the fault is noted, but the slot stays open for a valid reply.
-                Err(e) => {
-                    let fault = match e {
-                        FrameError::Crc { .. } => ReplyFault::Crc,
-                        _ => ReplyFault::Malformed,
-                    };
-                    return match ledger.open_slot(e.id()) {
-                        Some(i) => {
-                            replies[i] = Err(fault);
-                            Step::Garbled(i)
-                        }
-                        None => Step::Ignore,
-                    };
-                }
+                Err(e) => return ledger.garbled(&e, replies),
             };
             let Some(i) = ledger.open_slot(id) else {
                 stats.stray_frames = stats.stray_frames.saturating_add(1);

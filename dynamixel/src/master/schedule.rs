@@ -8,7 +8,8 @@
 //! on the way) then costs only the slots it overlaps: the replies behind it are still inside
 //! their own time. See [`super::BusMaster`]'s `receive` for how the schedule is followed.
 
-use super::{MAX_SERVOS, MasterConfig};
+use super::{MAX_SERVOS, MasterConfig, ReplyFault};
+use crate::parser::FrameError;
 
 /// Per-slot data lengths of one read.
 #[derive(Debug, Clone, Copy)]
@@ -105,6 +106,22 @@ impl<'a> Ledger<'a> {
             .iter()
             .zip(&self.settled)
             .position(|(&x, &done)| x == id && !done)
+    }
+
+    /// A packet that failed its check proves nothing about its ID (noise, a false header): its
+    /// fault is noted in the open slot of the ID it carries, which stays open for a valid reply.
+    pub fn garbled<T>(&self, e: &FrameError, out: &mut [Result<T, ReplyFault>]) -> Step {
+        let fault = match e {
+            FrameError::Crc { .. } => ReplyFault::Crc,
+            _ => ReplyFault::Malformed,
+        };
+        match self.open_slot(e.id()) {
+            Some(i) => {
+                out[i] = Err(fault);
+                Step::Garbled(i)
+            }
+            None => Step::Ignore,
+        }
     }
 
     /// Marks `slot` answered: [`Step::Done`] when it was the last one open.

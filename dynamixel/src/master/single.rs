@@ -202,20 +202,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
             let (id, st) = match ev {
                 Ok(f) if f.instruction != STATUS => return Step::Ignore,
                 Ok(f) => (f.id, f.status().ok_or(ReplyFault::Malformed)),
-                // As in `cycle`: noted, but the slot stays open for a valid reply.
-                Err(e) => {
-                    let fault = match e {
-                        FrameError::Crc { .. } => ReplyFault::Crc,
-                        _ => ReplyFault::Malformed,
-                    };
-                    return match ledger.open_slot(e.id()) {
-                        Some(i) => {
-                            outcomes[i] = Err(fault);
-                            Step::Garbled(i)
-                        }
-                        None => Step::Ignore,
-                    };
-                }
+                Err(e) => return ledger.garbled(&e, outcomes),
             };
             let Some(i) = ledger.open_slot(id) else {
                 return Step::Ignore;
