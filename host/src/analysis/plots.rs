@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::model::Leg;
-use crate::report::style::register_font;
+use crate::report::style::{colour, register_font};
 
 /// A line of a panel.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,17 +37,6 @@ pub struct PlotError {
     pub path: String,
     pub reason: String,
 }
-
-const COLOURS: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(0, 0, 0),
-];
 
 /// Stance intervals of a per-slice stance flag over a cycle of `period` with slices `dt` apart.
 pub fn stance_spans(stance: &[bool], dt: f64) -> Vec<(f64, f64)> {
@@ -127,7 +116,7 @@ pub fn plot_leg_panels(
                 .map_err(|e| err(&e))?;
         }
         for tr in &panel.traces {
-            let c = COLOURS[tr.colour % COLOURS.len()];
+            let c = colour(tr.colour);
             let pts: Vec<(f64, f64)> = time
                 .iter()
                 .copied()

@@ -2,7 +2,7 @@
 //! the footfall pattern, and foot trajectories (top and side views).
 
 use super::ReportError;
-use super::style::register_font;
+use super::style::{colour, register_font};
 use crate::plan::Plan;
 use plotters::prelude::*;
 use std::path::Path;
@@ -10,16 +10,6 @@ use std::path::Path;
 fn perr<E: std::fmt::Display>(e: E) -> ReportError {
     ReportError::Plot(e.to_string())
 }
-
-const COLOURS: [RGBColor; 7] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-];
 
 /// Stance intervals of leg `li` as (start, end) times.
 fn stance_spans(plan: &Plan, li: usize) -> Vec<(f64, f64)> {
@@ -93,7 +83,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
                 .map_err(perr)?;
         }
         for (k, &j) in joints.iter().enumerate() {
-            let c = COLOURS[k % COLOURS.len()];
+            let c = colour(k);
             chart
                 .draw_series(LineSeries::new(
                     (0..plan.slices()).map(|s| (plan.time(s), deg(s, j))),
@@ -189,7 +179,7 @@ pub fn plot_feet(plan: &Plan, path: &Path) -> Result<(), ReportError> {
             .map_err(perr)?;
         chart.configure_mesh().draw().map_err(perr)?;
         for (li, leg) in plan.legs.iter().enumerate() {
-            let c = COLOURS[li % COLOURS.len()];
+            let c = colour(li);
             let pts: Vec<(f64, f64)> = (0..=plan.slices())
                 .map(|s| {
                     let p = plan.feet[s % plan.slices()][li];
