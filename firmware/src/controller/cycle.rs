@@ -289,8 +289,16 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         true
     }
 
-    fn enter(&mut self, _from: State, to: State) {
+    fn enter(&mut self, from: State, to: State) {
         match to {
+            State::Idle if matches!(from, State::Safe(_) | State::EStop) => {
+                // ClearFault: the host says the cause is gone, so the miss limit starts afresh. A
+                // servo that had run up its misses would otherwise fault again on its first lost
+                // reply, e.g. one of the Sync Read that was in flight when the command came.
+                self.ramp = None;
+                self.misses.reset();
+                self.stuck.reset();
+            }
             State::Idle | State::EStop => self.ramp = None,
             State::Boot => {
                 self.misses.reset();

@@ -342,6 +342,46 @@ fn a_silent_servo_puts_the_robot_in_the_safe_state_naming_it() {
 }
 
 #[test]
+fn after_clear_fault_a_missing_servo_gets_the_whole_miss_limit_again() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.servos.silent = vec![7];
+    r.cycles_until(10, |r| matches!(r.c.state(), State::Safe(_)));
+    // Still silent while the fault stands: its misses run on.
+    r.cycle();
+    r.cycle();
+    // The host clears the fault while a Sync Read is in flight whose reply of servo 8 is lost
+    // (the servo came back a moment later than the command).
+    let plan = r.c.plan(r.now);
+    let mut replies = [Err(ReplyFault::Timeout); 32];
+    let outcome = r.servos.serve(&plan, &mut replies);
+    r.c.clear_fault().unwrap();
+    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
+    r.now += u64::from(r.c.period_us());
+    assert_eq!(r.c.state(), State::Idle, "one lost reply after ClearFault");
+    // The servo stays silent: the fault comes back at the third read cycle (not counting the
+    // Torque Off that Idle sends first), as for a servo that was never cleared.
+    let mut reads = 1;
+    while r.c.state() == State::Idle {
+        if matches!(r.cycle(), BusAction::ReadOnly | BusAction::Cycle) {
+            reads += 1;
+        }
+        assert!(reads <= 3, "no fault after {reads} lost replies");
+    }
+    assert_eq!(reads, 3);
+    assert!(
+        matches!(
+            r.c.state(),
+            State::Safe(SafeReason::ServoMissing { joint: 7, .. })
+        ),
+        "{:?}",
+        r.c.state()
+    );
+}
+
+#[test]
 fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
     let mut r = Rig::new();
     r.cycle();
