@@ -187,6 +187,35 @@ fn set_faults(wire: &SimWire, id: u8, faults: Faults) {
     wire.with_chain(|c| c.set_faults(id, faults)).unwrap();
 }
 
+/// After a servo fault: `Play` is refused; servo `id` is healed, the fault cleared, and the robot
+/// comes up Idle and walks again.
+fn refused_until_cleared_then_walks(
+    board: &mut SimBoard,
+    wire: &SimWire,
+    client: &mut Client,
+    id: u8,
+) {
+    let r = ask(
+        board,
+        client,
+        Request::Play(protocol::PlayCommand {
+            slot: 0,
+            direction: protocol::Direction::Forward,
+            period_scale: 1000,
+            steps: protocol::Steps::Count(1),
+        }),
+    );
+    assert!(
+        matches!(r, Response::Error(ProtocolError::WrongState { .. })),
+        "{r:?}"
+    );
+    set_faults(wire, id, Faults::default());
+    assert_eq!(ask(board, client, Request::ClearFault), Response::Ack);
+    run_until(board, wire, 10, |s| s == State::Idle);
+    play(board, client, protocol::Steps::Count(1));
+    run_until(board, wire, 500, |s| s == State::Walking);
+}
+
 #[test]
 fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
     let (mut board, wire, mut client, _) = walking();
@@ -225,28 +254,7 @@ fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
     // Every missed reply was counted.
     assert!(s.counters.bus_timeouts >= before + u32::from(limit));
     // Play is refused until the fault is cleared; the servo answers again, clear, play.
-    let r = ask(
-        &mut board,
-        &mut client,
-        Request::Play(protocol::PlayCommand {
-            slot: 0,
-            direction: protocol::Direction::Forward,
-            period_scale: 1000,
-            steps: protocol::Steps::Count(1),
-        }),
-    );
-    assert!(
-        matches!(r, Response::Error(ProtocolError::WrongState { .. })),
-        "{r:?}"
-    );
-    set_faults(&wire, 7, Faults::default());
-    assert_eq!(
-        ask(&mut board, &mut client, Request::ClearFault),
-        Response::Ack
-    );
-    run_until(&mut board, &wire, 10, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Count(1));
-    run_until(&mut board, &wire, 500, |s| s == State::Walking);
+    refused_until_cleared_then_walks(&mut board, &wire, &mut client, 7);
 }
 
 #[test]
@@ -365,28 +373,7 @@ fn a_stuck_servo_stops_the_walk_naming_its_joint_and_shows_in_telemetry() {
     // A moving neighbour for comparison: it followed.
     assert!(span(last.iter().map(|t| t.joints[3].present).collect()) > 2000);
     // Play is refused until ClearFault; unjammed and cleared, it walks again.
-    let r = ask(
-        &mut board,
-        &mut client,
-        Request::Play(protocol::PlayCommand {
-            slot: 0,
-            direction: protocol::Direction::Forward,
-            period_scale: 1000,
-            steps: protocol::Steps::Count(1),
-        }),
-    );
-    assert!(
-        matches!(r, Response::Error(ProtocolError::WrongState { .. })),
-        "{r:?}"
-    );
-    set_faults(&wire, 3, Faults::default());
-    assert_eq!(
-        ask(&mut board, &mut client, Request::ClearFault),
-        Response::Ack
-    );
-    run_until(&mut board, &wire, 10, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Count(1));
-    run_until(&mut board, &wire, 500, |s| s == State::Walking);
+    refused_until_cleared_then_walks(&mut board, &wire, &mut client, 3);
     run_until(&mut board, &wire, 200, |s| s == State::Standing);
 }
 
