@@ -6,6 +6,7 @@ mod reliability_common;
 
 use proptest::collection::vec;
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use reliability_common as checks;
 
 const MODEL: &str = include_str!("../models/drosophibot2.toml");
@@ -75,7 +76,12 @@ fn params_file() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(500))]
+    #![proptest_config(ProptestConfig {
+        cases: 500,
+        // Regressions are kept beside this file, where proptest reads them back.
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn dxl_status_parser_survives_arbitrary_bytes(data in vec(any::<u8>(), 0..1200)) {
@@ -120,7 +126,12 @@ proptest! {
 
 proptest! {
     // The shared AnimatLab projects are ~300-430 kB of XML: few cases, each a full import.
-    #![proptest_config(ProptestConfig::with_cases(12))]
+    #![proptest_config(ProptestConfig {
+        cases: 12,
+        // Regressions are kept beside this file, where proptest reads them back.
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn aproj_importer_survives_mutated_projects(
@@ -129,7 +140,9 @@ proptest! {
     ) {
         let name = ["Drosobot2", "ScaleDrosophila", "TypicalHexapod"][which];
         let path = format!("{}/../../shared/models/animatlab/{name}.aproj", env!("CARGO_MANIFEST_DIR"));
-        let Ok(mut bytes) = std::fs::read(&path) else { return Ok(()) };
+        let mut bytes = std::fs::read(&path).unwrap_or_else(|e| {
+            panic!("{path}: {e} (the test needs ../shared beside the checkout)")
+        });
         for (at, byte) in edits {
             let i = at.index(bytes.len());
             bytes[i] = byte;
@@ -178,4 +191,19 @@ fn parameters_that_overflow_the_footpaths_are_refused_naming_the_field() {
         assert!(e.contains(field), "{text}: {e}");
         assert!(!checks::plan_params(text.as_bytes()));
     }
+}
+
+/// Regression (proptest, 2026-11): a swing or duty so small that the stance rounds to 0 s passed
+/// validation and broke every footpath.
+#[test]
+fn stance_that_rounds_to_zero_is_rejected() {
+    for text in [
+        "swing_s = 1e-308\n",
+        "duty = 1e-300\n",
+        "swing_s = 0.0005\n",
+        "swing_s = 0.01\nduty = 0.01\n",
+    ] {
+        assert!(!checks::plan_params(text.as_bytes()), "{text:?} validated");
+    }
+    assert!(checks::plan_params(b"swing_s = 0.01\nduty = 0.5\n"));
 }

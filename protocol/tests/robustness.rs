@@ -6,6 +6,7 @@ mod common;
 
 use proptest::collection::vec;
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use protocol::gait::{GaitTable, HEADER_LEN, MAGIC, TableError};
 use protocol::*;
 
@@ -22,7 +23,12 @@ fn reencoded<T: serde::Serialize + serde::de::DeserializeOwned>(m: &T) -> T {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(1000))]
+    #![proptest_config(ProptestConfig {
+        cases: 1000,
+        // Regressions are kept beside this file, where proptest reads them back.
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn arbitrary_bytes_never_panic_the_frame_decoder(bytes in vec(any::<u8>(), 0..2000)) {

@@ -5,6 +5,7 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use protocol::units::{
     ANGLE_PER_RAD, STIFFNESS_PER_NM_RAD, TORQUE_PER_NM, angle_to_rad, torque_to_nm,
 };
@@ -37,7 +38,12 @@ where
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(ProptestConfig {
+        cases: 512,
+        // Regressions are kept beside this file, where proptest reads them back.
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn host_messages_round_trip(msg in host_message(), cuts in proptest::collection::vec(any::<usize>(), 0..8)) {

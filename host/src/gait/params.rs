@@ -178,6 +178,24 @@ impl StepParams {
         if !(self.duty > 0.0 && self.duty < 1.0) {
             return Err(bad("duty", self.duty, "duty cycle must lie in (0, 1)"));
         }
+        // Positive is not enough either: swing 1e-308 s or duty 1e-300 pass the checks above yet
+        // give a stance that rounds to 0 s (found by host/tests/reliability_inputs.rs). No bus
+        // plays a phase shorter than a millisecond (200 Hz is the fastest rate the board runs).
+        const MIN_PHASE_S: f64 = 1e-3;
+        if self.swing_s < MIN_PHASE_S {
+            return Err(bad(
+                "swing_s",
+                self.swing_s,
+                "swing must last at least 1 ms",
+            ));
+        }
+        if !(self.stance_s() >= MIN_PHASE_S) {
+            return Err(bad(
+                "duty",
+                self.duty,
+                "the stance swing_s * duty / (1 - duty) must last at least 1 ms",
+            ));
+        }
         for (f, p) in [
             ("step_height_m", &self.step_height_m),
             ("body_height_m", &self.body_height_m),
