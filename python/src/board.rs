@@ -4,7 +4,7 @@
 use std::sync::Mutex;
 use std::time::Duration;
 
-use host::link::{PortSpec, Transport};
+use ::board::link::{PortSpec, Transport};
 use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -14,7 +14,7 @@ use crate::plan::Plan;
 use crate::records;
 use crate::stream;
 
-type Link = host::link::Board<Box<dyn Transport>>;
+type Link = ::board::link::Board<Box<dyn Transport>>;
 
 /// A connected board (real, emulated or virtual).
 ///
@@ -40,7 +40,7 @@ impl Board {
     fn with<R>(
         &self,
         _py: Python<'_>,
-        f: impl FnOnce(&mut Link) -> Result<R, host::link::LinkError>,
+        f: impl FnOnce(&mut Link) -> Result<R, ::board::link::LinkError>,
     ) -> PyResult<R> {
         let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
         guard
@@ -63,9 +63,9 @@ impl Board {
         let spec = PortSpec::parse(port);
         let link = (|| {
             let transport = spec.open()?;
-            let mut b = host::link::Board::connect(transport)?;
+            let mut b = ::board::link::Board::connect(transport)?;
             b.set_reply_timeout(timeout);
-            Ok::<_, host::link::LinkError>(b)
+            Ok::<_, ::board::link::LinkError>(b)
         })()
         .map_err(board_error)?;
         Ok(Self {

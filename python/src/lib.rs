@@ -17,7 +17,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DbotError", py.get_type::<errors::DbotError>())?;
     m.add("BoardError", py.get_type::<errors::BoardError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("BUILTIN_MODELS", host::model::BUILTIN_NAMES.to_vec())?;
+    m.add("BUILTIN_MODELS", planner::model::BUILTIN_NAMES.to_vec())?;
     m.add_class::<model::Model>()?;
     m.add_class::<plan::Plan>()?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;

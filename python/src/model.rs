@@ -12,7 +12,7 @@ use crate::errors::value_error;
 #[pyclass(frozen, module = "dbot._native")]
 #[derive(Debug, Clone)]
 pub struct Model {
-    pub(crate) inner: host::model::Model,
+    pub(crate) inner: planner::model::Model,
 }
 
 #[pymethods]
@@ -20,7 +20,7 @@ impl Model {
     /// A built-in model by name (`dbot.BUILTIN_MODELS`).
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
-        host::model::builtin(name)
+        planner::model::builtin(name)
             .map(|inner| Self { inner })
             .map_err(value_error)
     }
@@ -30,9 +30,9 @@ impl Model {
     fn load(path: PathBuf) -> PyResult<Self> {
         let is_aproj = path.extension().is_some_and(|e| e == "aproj");
         let inner = if is_aproj {
-            host::model::import_aproj_file(&path, &host::model::ImportOptions::default())
+            planner::model::import_aproj_file(&path, &planner::model::ImportOptions::default())
         } else {
-            host::model::load(&path)
+            planner::model::load(&path)
         };
         inner.map(|inner| Self { inner }).map_err(value_error)
     }
@@ -52,7 +52,7 @@ impl Model {
     /// telemetry and proprioception.
     #[getter]
     fn servo_joint_names(&self) -> Vec<String> {
-        host::plan::table::servo_joints(&self.inner)
+        planner::plan::table::servo_joints(&self.inner)
             .into_iter()
             .map(|j| self.inner.joints[j].name.clone())
             .collect()
@@ -61,7 +61,7 @@ impl Model {
     /// Indices into `joint_names` of the servo joints (so `angles[:, model.servo_joints]`).
     #[getter]
     fn servo_joints(&self) -> Vec<usize> {
-        host::plan::table::servo_joints(&self.inner)
+        planner::plan::table::servo_joints(&self.inner)
     }
 
     /// Legs of the model (`LF`, ...), in foot order.
@@ -92,7 +92,7 @@ impl Model {
             "Model(name={:?}, joints={}, servos={})",
             self.inner.name,
             self.inner.joints.len(),
-            host::plan::table::servo_joints(&self.inner).len()
+            planner::plan::table::servo_joints(&self.inner).len()
         )
     }
 }

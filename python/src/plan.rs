@@ -14,7 +14,7 @@ use crate::model::Model;
 #[pyclass(frozen, module = "dbot._native")]
 #[derive(Debug)]
 pub struct Plan {
-    inner: host::plan::Plan,
+    inner: planner::plan::Plan,
     /// Inverse dynamics, solved on first use (`torques`, `step_table`).
     torques: OnceLock<Vec<Vec<f64>>>,
 }
@@ -25,14 +25,14 @@ pub struct Plan {
 #[pyfunction]
 #[pyo3(signature = (model, **params))]
 pub fn plan(model: &Model, params: Option<&Bound<'_, PyDict>>) -> PyResult<Plan> {
-    let mut base = host::gait::StepParams::table1(&model.inner.name);
+    let mut base = planner::gait::StepParams::table1(&model.inner.name);
     if let Some(params) = params {
         let text = toml::to_string(&to_toml_table(params)?).map_err(value_error)?;
-        let file = host::gait::ParamsFile::from_toml(&text, "plan() keyword arguments")
+        let file = planner::gait::ParamsFile::from_toml(&text, "plan() keyword arguments")
             .map_err(value_error)?;
         file.apply(&mut base);
     }
-    let inner = host::plan::plan(&model.inner, &base).map_err(value_error)?;
+    let inner = planner::plan::plan(&model.inner, &base).map_err(value_error)?;
     Ok(Plan {
         inner,
         torques: OnceLock::new(),
@@ -90,18 +90,18 @@ impl Plan {
         } else {
             None
         };
-        host::plan::table::step_table(&self.inner, tau.as_deref(), name).map_err(value_error)
+        planner::plan::table::step_table(&self.inner, tau.as_deref(), name).map_err(value_error)
     }
 
     fn solved_torques(&self) -> PyResult<&Vec<Vec<f64>>> {
         if let Some(t) = self.torques.get() {
             return Ok(t);
         }
-        let inputs = host::dynamics::plan_inputs(&self.inner);
-        let solution = host::dynamics::solve_cycle(
+        let inputs = planner::dynamics::plan_inputs(&self.inner);
+        let solution = planner::dynamics::solve_cycle(
             &self.inner.model,
             &inputs,
-            &host::dynamics::DynamicsOptions::default(),
+            &planner::dynamics::DynamicsOptions::default(),
         )
         .map_err(value_error)?;
         let t = solution.slices.into_iter().map(|s| s.torque).collect();

@@ -22,5 +22,5 @@ pub fn setpoint(
 ) -> PyResult<protocol::Setpoint> {
     let a = vector("angles_rad", angles_rad)?;
     let t = torques_nm.map(|t| vector("torques_nm", t)).transpose()?;
-    host::link::setpoint_from_si(seq, &a, t.as_deref()).map_err(value_error)
+    ::board::link::setpoint_from_si(seq, &a, t.as_deref()).map_err(value_error)
 }

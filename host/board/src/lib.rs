@@ -1,0 +1,8 @@
+//! Everything on the host that talks to a board or runs one: the link (serial port, pseudo-terminal,
+//! USB device discovery, transport, upload, streaming), the host's Dynamixel bus ends, recording
+//! (capture, per-step statistics, telemetry CSV) and the in-process virtual robot.
+
+pub mod bus;
+pub mod link;
+pub mod record;
+pub mod robot;

@@ -1,0 +1,13 @@
+//! Recording what the board did: telemetry as a tidy CSV (one row per bus cycle and joint, written
+//! as it arrives so a board that vanishes leaves every row received so far), per-step statistics of
+//! measured against modelled torque. Its plots live in the `report` crate (`report::recording`).
+
+mod capture;
+mod csv_out;
+mod joints;
+mod stats;
+
+pub use capture::{CaptureError, Ended, Until, capture, capture_while};
+pub use csv_out::{CSV_HEADER, Recorder, Row};
+pub use joints::{JointMeta, joints_of_table};
+pub use stats::{JointTracking, PhaseStats, phase_stats, tracking};

@@ -1,0 +1,165 @@
+//! The robot setup file (TOML): which port, bus baud and cycle rate, servo stiffness and model, so
+//! that daily use is `dbot run --slot 1`. Flags override the file.
+//!
+//! ```toml
+//! port = "/dev/ttyACM0"      # or "virtual", "virtual:out/robot.flash"
+//! baud = 1000000             # Dynamixel bus, bit/s
+//! rate = 100                 # bus cycles per second, Hz
+//! stiffness = 8.4            # servo stiffness for the torque bias, N m/rad (all joints)
+//! model = "drosophibot2"     # robot model for plans and tables
+//! slot = 1                   # default gait slot
+//! ```
+//!
+//! Looked up at `--config PATH`, else `$DBOT_CONFIG`, else `./dbot.toml`, else
+//! `$XDG_CONFIG_HOME/dbot/config.toml` (`~/.config/dbot/config.toml`). No file is fine: every field
+//! has a default or a flag.
+
+use std::path::{Path, PathBuf};
+
+/// A robot setup. Every field is optional; missing ones take the flag or the built-in default.
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotConfig {
+    /// Board port: a serial device path, `virtual` or `virtual:PATH`.
+    pub port: Option<String>,
+    /// Dynamixel bus baud rate, bit/s.
+    pub baud: Option<u32>,
+    /// Bus cycle rate, Hz.
+    pub rate: Option<u16>,
+    /// Servo stiffness used for the torque bias, N m/rad.
+    pub stiffness: Option<f64>,
+    /// Robot model name (or path of a model file).
+    pub model: Option<String>,
+    /// Default gait slot.
+    pub slot: Option<u8>,
+}
+
+/// Why the setup file could not be used.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ConfigError {
+    #[error("{path}: cannot read the robot setup: {source}")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Parse { path: PathBuf, message: String },
+    #[error("{path}: {field} = {value} is out of range ({range})")]
+    Range {
+        path: PathBuf,
+        field: &'static str,
+        value: String,
+        range: &'static str,
+    },
+}
+
+impl RobotConfig {
+    /// Parses `text` (the contents of `path`, named in errors with line and column).
+    pub fn parse(path: &Path, text: &str) -> Result<Self, ConfigError> {
+        let c: Self = toml::from_str(text).map_err(|e| ConfigError::Parse {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+        c.check(path)?;
+        Ok(c)
+    }
+
+    fn check(&self, path: &Path) -> Result<(), ConfigError> {
+        let range = |field, value: String, range| ConfigError::Range {
+            path: path.to_owned(),
+            field,
+            value,
+            range,
+        };
+        if let Some(k) = self.stiffness
+            && !(k.is_finite() && k > 0.0 && k < 4.0e3)
+        {
+            return Err(range("stiffness", k.to_string(), "0 < k < 4000 N m/rad"));
+        }
+        if let Some(r) = self.rate
+            && !(50..=1000).contains(&r)
+        {
+            return Err(range("rate", r.to_string(), "50 ..= 1000 Hz"));
+        }
+        if let Some(b) = self.baud
+            && !(9_600..=4_500_000).contains(&b)
+        {
+            return Err(range("baud", b.to_string(), "9600 ..= 4500000 bit/s"));
+        }
+        if let Some(s) = self.slot
+            && usize::from(s) >= protocol::MAX_SLOTS
+        {
+            return Err(range("slot", s.to_string(), "0 ..= 7"));
+        }
+        Ok(())
+    }
+
+    /// Reads `path`.
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::parse(path, &text)
+    }
+
+    /// The file named by `explicit`, else the first default path that exists, else an empty setup.
+    /// An explicit path that does not exist is an error; a missing default file is not.
+    pub fn find(explicit: Option<&Path>) -> Result<(Self, Option<PathBuf>), ConfigError> {
+        if let Some(p) = explicit {
+            return Ok((Self::load(p)?, Some(p.to_owned())));
+        }
+        for p in default_paths() {
+            if p.is_file() {
+                return Ok((Self::load(&p)?, Some(p)));
+            }
+        }
+        Ok((Self::default(), None))
+    }
+}
+
+/// Where a setup file is looked for, in order.
+pub fn default_paths() -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    if let Some(p) = std::env::var_os("DBOT_CONFIG") {
+        v.push(PathBuf::from(p));
+    }
+    v.push(PathBuf::from("dbot.toml"));
+    let base = std::env::var_os("XDG_CONFIG_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")));
+    if let Some(b) = base {
+        v.push(b.join("dbot").join("config.toml"));
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_full_file_parses() {
+        let c = RobotConfig::parse(
+            Path::new("t.toml"),
+            "port = \"virtual\"\nbaud = 1000000\nrate = 200\nstiffness = 8.4\nmodel = \"drosophibot2\"\nslot = 1\n",
+        )
+        .unwrap();
+        assert_eq!(c.port.as_deref(), Some("virtual"));
+        assert_eq!(c.rate, Some(200));
+        assert_eq!(c.stiffness, Some(8.4));
+        assert_eq!(c.slot, Some(1));
+    }
+
+    #[test]
+    fn unknown_fields_and_bad_values_name_the_problem() {
+        let e = RobotConfig::parse(Path::new("t.toml"), "prot = \"x\"\n").unwrap_err();
+        assert!(e.to_string().contains("prot"), "{e}");
+        let e = RobotConfig::parse(Path::new("t.toml"), "rate = 5\n").unwrap_err();
+        assert!(e.to_string().contains("rate = 5"), "{e}");
+        let e = RobotConfig::parse(Path::new("t.toml"), "stiffness = -1.0\n").unwrap_err();
+        assert!(e.to_string().contains("stiffness"), "{e}");
+    }
+}

@@ -1,0 +1,330 @@
+//! `dbot demo`: the whole path on the virtual robot. Plans the tripod gait of the built-in
+//! Drosophibot II on flat ground with the paper's parameters (table 1), solves its inverse dynamics,
+//! writes the plan's CSVs and plots, builds the step table, uploads it to the in-process virtual
+//! robot, walks 10 steps forward and 10 backward while recording, and prints a summary whose numbers
+//! all come from this run.
+//!
+//! Every output goes through a scratch file renamed when complete, so a demo that is killed or
+//! interrupted leaves each file either as the previous run wrote it or complete from this run.
+//! Ctrl-C ends the demo at the next check (between stages, or between two recorded bus cycles)
+//! with a non-zero exit.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use board::link::Board;
+use board::record::{Ended, JointMeta, Recorder, Until, capture_while, joints_of_table, tracking};
+use board::robot::{VirtualRobot, VirtualTransport};
+use planner::dynamics::table::{gait_table, joint_specs, stance_bits};
+use planner::gait::StepParams;
+use planner::model::Leg;
+use planner::plan::Plan;
+use protocol::{Direction, PlayCommand, Steps};
+use report::recording::{plot_angles, plot_torques};
+
+use crate::args::dynamics::{DynamicsArgs, PlanDynamics};
+use crate::common::interrupt;
+use crate::plan::replace;
+
+/// Fails with a message saying where the demo was when Ctrl-C arrived.
+fn check_interrupt(stage: &str) -> anyhow::Result<()> {
+    if interrupt::requested() {
+        bail!(
+            "interrupted {stage}: the outputs written so far are complete, the others are as before"
+        );
+    }
+    Ok(())
+}
+
+/// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output directory.
+    #[arg(long, default_value = "out/demo")]
+    pub out: PathBuf,
+    /// Steps to walk in each direction.
+    #[arg(long, default_value_t = 10)]
+    pub steps: u32,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let out = &self.out;
+        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+        if self.steps == 0 {
+            bail!("--steps 0: give at least one step");
+        }
+
+        println!("[1/5] planning the tripod gait of drosophibot2 (flat, table 1 of the paper)");
+        let model = planner::model::builtin("drosophibot2")?;
+        let params = StepParams::table1(&model.name);
+        let t0 = Instant::now();
+        let plan = planner::plan::plan(&model, &params).context("planning the step")?;
+        let t_plan = t0.elapsed();
+        let dyn_args = DynamicsArgs {
+            no_dynamics: false,
+            friction_cone: false,
+            push_only: false,
+            mu: 0.5,
+            torque_limits: false,
+            parallel: false,
+        };
+        let t1 = Instant::now();
+        let dynamics = dyn_args.solve(&plan)?.context("inverse dynamics")?;
+        let t_dyn = t1.elapsed();
+        // Until here a Ctrl-C simply ends the process: nothing has been written yet.
+        interrupt::catch()?;
+        let plan_dir = out.join("plan");
+        write_plan(&plan, &dynamics, &plan_dir)?;
+        check_interrupt("after writing the plan")?;
+
+        println!("[2/5] building the step table");
+        let (table, names) = step_table(&plan, &dynamics)?;
+        let table_path = out.join("drosophibot2-tripod.dbgt");
+        replace(out, "drosophibot2-tripod.dbgt", |p| {
+            Ok(std::fs::write(p, &table)?)
+        })?;
+        check_interrupt("after writing the step table")?;
+
+        println!("[3/5] uploading to the virtual robot");
+        let mut board = Board::connect(VirtualTransport::new(VirtualRobot::new()))?;
+        let up = board.upload(0, &table, |_, _| {})?;
+        let parsed = protocol::GaitTable::parse(&table)?;
+        let joints = joints_of_table(&parsed, &names);
+
+        let mut walks = Vec::new();
+        for (i, direction) in [Direction::Forward, Direction::Backward]
+            .into_iter()
+            .enumerate()
+        {
+            let label = if direction == Direction::Forward {
+                "forward"
+            } else {
+                "backward"
+            };
+            println!(
+                "[{}/5] walking {} steps {label}, recording",
+                4 + i,
+                self.steps
+            );
+            let dir = out.join("record").join(label);
+            let wall = Instant::now();
+            let rec = walk(
+                &mut board,
+                direction,
+                self.steps,
+                &dir,
+                joints.clone(),
+                parsed.slice_count(),
+            )?;
+            walks.push((label, dir, rec, wall.elapsed()));
+        }
+
+        let robot = board.transport().robot();
+        let timing = robot.timing();
+        let (to_servos, to_master) = robot.bus_bytes();
+        let sim_s = robot.now_us() as f64 * 1e-6;
+        println!();
+        println!("outputs");
+        println!("  plan (CSV, JSON, URDF, plots)  {}", plan_dir.display());
+        println!(
+            "  step table                     {} ({} bytes, CRC {:#010x})",
+            table_path.display(),
+            up.bytes,
+            up.stored.crc
+        );
+        for (label, dir, _, _) in &walks {
+            println!(
+                "  recording {label:<9}            {}/telemetry.csv, torque.png, angles.png",
+                dir.display()
+            );
+        }
+        println!("planning");
+        println!(
+            "  {} slices, step period {:.3} s; kinematics {:.1} ms, inverse dynamics {:.1} ms (wall clock); {}",
+            plan.slices(),
+            plan.period_s,
+            t_plan.as_secs_f64() * 1e3,
+            t_dyn.as_secs_f64() * 1e3,
+            dynamics.summary()
+        );
+        println!("bus (virtual robot, simulated time)");
+        println!(
+            "  {} cycles in {:.2} s: {:.1} Hz; {} overruns, longest bus transaction {} us; {:.0} bytes per cycle on the wire",
+            timing.cycles,
+            sim_s,
+            timing.rate_hz(),
+            timing.overruns,
+            timing.max_busy_us,
+            (to_servos + to_master) as f64 / timing.cycles.max(1) as f64
+        );
+        for (label, _, rec, wall) in &walks {
+            println!(
+                "tracking error {label} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s of wall time)",
+                rec.cycles(),
+                rec.duration_s(),
+                wall.as_secs_f64()
+            );
+            print_tracking(rec, &names);
+        }
+        Ok(())
+    }
+}
+
+/// Plays `steps` steps in `direction` and records them into `dir`.
+fn walk(
+    board: &mut Board<VirtualTransport>,
+    direction: Direction,
+    steps: u32,
+    dir: &Path,
+    joints: Vec<JointMeta>,
+    slices: usize,
+) -> anyhow::Result<Recorder> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    board.discard_telemetry();
+    board.play(PlayCommand {
+        slot: 0,
+        direction,
+        period_scale: protocol::units::PERIOD_SCALE_ONE,
+        steps: Steps::Count(steps),
+    })?;
+    let csv = dir.join("telemetry.csv");
+    let scratch = dir.join(".partial-telemetry.csv");
+    let mut rec = Recorder::create(&scratch, joints)
+        .with_context(|| format!("creating {}", scratch.display()))?;
+    let ended = capture_while(
+        board,
+        &mut rec,
+        Until {
+            seconds: None,
+            standing: true,
+        },
+        interrupt::requested,
+        |_| {},
+    )?;
+    if ended == Ended::Interrupted {
+        // An interrupted walk is not the demo's recording: the previous one stays.
+        let _ = std::fs::remove_file(&scratch);
+        check_interrupt(&format!("while recording into {}", dir.display()))?;
+    }
+    std::fs::rename(&scratch, &csv).with_context(|| format!("writing {}", csv.display()))?;
+    // Only whole walking steps go into the per-step statistics (not the start ramp).
+    let walking: Vec<_> = rec
+        .rows()
+        .iter()
+        .filter(|r| r.step < steps)
+        .cloned()
+        .collect();
+    replace(dir, "torque.png", |p| {
+        plot_torques(p, &walking, rec.joints(), slices)
+            .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))
+    })?;
+    replace(dir, "angles.png", |p| {
+        plot_angles(p, rec.rows(), rec.joints())
+            .map_err(|e| anyhow::anyhow!("plotting angles: {e}"))
+    })?;
+    Ok(rec)
+}
+
+/// RMS tracking error per leg, over the steps after the first (the first starts from the ramp).
+fn print_tracking(rec: &Recorder, names: &[String]) {
+    let rows: Vec<_> = rec.rows().iter().filter(|r| r.step >= 1).cloned().collect();
+    let per_joint = tracking(&rows, names.len());
+    for leg in Leg::ALL {
+        let mine: Vec<_> = per_joint
+            .iter()
+            .filter(|t| {
+                names
+                    .get(t.joint)
+                    .is_some_and(|n| n.starts_with(leg.name()))
+            })
+            .collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let n: usize = mine.iter().map(|t| t.samples).sum();
+        let sq: f64 = mine
+            .iter()
+            .map(|t| t.rms_rad * t.rms_rad * t.samples as f64)
+            .sum();
+        let max = mine.iter().map(|t| t.max_abs_rad).fold(0.0, f64::max);
+        println!(
+            "  {}: RMS {:.4} rad ({:.2} deg), max {:.4} rad over {} joints",
+            leg.name(),
+            (sq / n.max(1) as f64).sqrt(),
+            (sq / n.max(1) as f64).sqrt().to_degrees(),
+            max,
+            mine.len()
+        );
+    }
+}
+
+/// The plan's CSVs, JSON summary, URDF and plots, as `dbot plan` writes them (each through a
+/// scratch file).
+fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let create = |p: &Path| std::fs::File::create(p).map_err(anyhow::Error::from);
+    replace(dir, "joints.csv", |p| {
+        Ok(planner::plan_dir::write_joints_csv(
+            create(p)?,
+            plan,
+            &d.joint_columns(),
+        )?)
+    })?;
+    replace(dir, "feet.csv", |p| {
+        Ok(planner::plan_dir::write_feet_csv(
+            create(p)?,
+            plan,
+            &d.feet_columns(),
+        )?)
+    })?;
+    let json = serde_json::json!({
+        "model": plan.model.name,
+        "parameters": plan.params,
+        "period_s": plan.period_s,
+        "slices": plan.slices(),
+        "dynamics": d.json(plan),
+        "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
+    });
+    let json = serde_json::to_string_pretty(&json)?;
+    replace(dir, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
+    let urdf = planner::model::to_urdf(&plan.model);
+    replace(dir, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
+    replace(dir, "joint_angles.png", |p| {
+        Ok(report::plan::plot_joint_angles(plan, p)?)
+    })?;
+    replace(dir, "footfall.png", |p| {
+        Ok(report::plan::plot_footfall(plan, p)?)
+    })?;
+    replace(dir, "feet.png", |p| Ok(report::plan::plot_feet(plan, p)?))?;
+    d.write_files(plan, dir)?;
+    Ok(())
+}
+
+/// The step table of a solved plan (the dynamics module's builder): every joint with a servo, its
+/// planned angle and modelled torque per slice, stance bits per leg; and the servos' joint names.
+pub fn step_table(plan: &Plan, d: &PlanDynamics) -> anyhow::Result<(Vec<u8>, Vec<String>)> {
+    let (index, _) = joint_specs(&plan.model)?;
+    let names = index
+        .iter()
+        .map(|&j| plan.model.joints[j].name.clone())
+        .collect();
+    let torques = planner::dynamics::output::torque_rows(&d.cycle);
+    let stance: Vec<u8> = plan
+        .stance
+        .iter()
+        .map(|s| stance_bits(&plan.legs, s))
+        .collect();
+    let table = gait_table(
+        &plan.model,
+        "dbII tripod",
+        plan.period_s,
+        plan.params.duty,
+        &plan.q,
+        &torques,
+        &stance,
+    )
+    .context("building the step table")?;
+    Ok((table, names))
+}

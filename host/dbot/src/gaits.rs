@@ -1,0 +1,23 @@
+//! `dbot gaits`: what each gait slot of the board holds.
+
+use crate::args::board::BoardArgs;
+
+/// List the board's gait slots.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub board: BoardArgs,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let mut s = self.board.connect()?;
+        for slot in s.board.gaits()? {
+            match slot.gait {
+                None => println!("slot {}: empty", slot.slot),
+                Some(g) => println!("slot {}: {}", slot.slot, crate::upload::describe(&g)),
+            }
+        }
+        s.close()
+    }
+}

@@ -1,0 +1,87 @@
+//! `dbot`: plan gaits for Drosophibot II, build step tables, drive the board and record what it did.
+//!
+//! One file per subcommand; each holds a clap `Args` struct whose doc comments are the help text,
+//! and a `run(self)` that does the work.
+
+mod args;
+mod common;
+mod compare;
+mod config;
+mod demo;
+mod devices;
+mod dxl;
+mod estop;
+mod gaits;
+mod model;
+mod plan;
+mod record;
+mod run;
+mod servos;
+mod set;
+mod sim_bus;
+mod status;
+mod stop;
+mod table;
+mod upload;
+
+use clap::{Parser, Subcommand};
+
+/// Plan, run and record gaits of the Drosophibot II hexapod.
+///
+/// Units on the command line are SI (m, s, rad, N m) unless a flag says otherwise.
+#[derive(Debug, Parser)]
+#[command(name = "dbot", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Debug, Subcommand)]
+enum Cmd {
+    // No doc comments here: clap takes each subcommand's help (short and long) from its
+    // `Args` struct's doc comment, which a comment on the variant would replace.
+    Demo(demo::Args),
+    Plan(plan::Args),
+    Model(model::Args),
+    Table(table::Args),
+    Compare(compare::Args),
+    Devices(devices::Args),
+    Upload(upload::Args),
+    Gaits(gaits::Args),
+    Run(run::Args),
+    Stop(stop::Args),
+    Estop(estop::Args),
+    Status(status::Args),
+    Servos(servos::Args),
+    Set(set::Args),
+    Record(record::Args),
+    SimBus(sim_bus::Args),
+    Dxl(dxl::Args),
+}
+
+fn main() -> anyhow::Result<()> {
+    // `dbot gaits | head -1`: end quietly when the reader goes away, as Unix tools do, instead of
+    // panicking in `println!` (Rust ignores SIGPIPE by default).
+    // SAFETY: restoring a signal's default action before any thread starts.
+    unsafe { nix::libc::signal(nix::libc::SIGPIPE, nix::libc::SIG_DFL) };
+    let cli = Cli::parse();
+    match cli.cmd {
+        Cmd::Demo(a) => a.run(),
+        Cmd::Plan(a) => a.run(),
+        Cmd::Model(a) => a.run(),
+        Cmd::Table(a) => a.run(),
+        Cmd::Compare(a) => a.run(),
+        Cmd::Devices(a) => a.run(),
+        Cmd::Upload(a) => a.run(),
+        Cmd::Gaits(a) => a.run(),
+        Cmd::Run(a) => a.run(),
+        Cmd::Stop(a) => a.run(),
+        Cmd::Estop(a) => a.run(),
+        Cmd::Status(a) => a.run(),
+        Cmd::Servos(a) => a.run(),
+        Cmd::Set(a) => a.run(),
+        Cmd::Record(a) => a.run(),
+        Cmd::SimBus(a) => a.run(),
+        Cmd::Dxl(a) => a.run(),
+    }
+}

@@ -1,0 +1,110 @@
+//! `dbot sim-bus`: serves a virtual chain of Dynamixel servos on a pseudo-terminal until
+//! interrupted, printing every request it answers.
+
+use anyhow::Context as _;
+use board::bus::pty::{PtyServer, Served};
+use dynamixel::control_table::Model;
+use dynamixel::instruction::Instruction;
+use dynamixel::sim::{DROSOPHIBOT_CTR_IDS, VirtualChain};
+use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_signal(_: nix::libc::c_int) {
+    STOP.store(true, Ordering::Relaxed);
+}
+
+/// Serve virtual Dynamixel servos on a pseudo-terminal, so that any Protocol 2.0 client can talk to them.
+///
+/// Servos have IDs 1..=N; IDs 3, 6, 9, 14, 17, 20 (the CTr joints of the default layout) are
+/// MX-64(2.0), the others MX-28(2.0). Replies are paced at wall-clock wire time.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Number of servos (IDs 1..=N)
+    #[arg(long, default_value_t = 22, value_parser = clap::value_parser!(u8).range(1..=252))]
+    servos: u8,
+    /// Line rate the servos are set to, in bit/s (9600, 57600, 115200, 1000000, 2000000, 3000000, 4000000, 4500000)
+    #[arg(long, default_value_t = 1_000_000)]
+    baud: u32,
+    /// Path of the symlink to the pseudo-terminal: what clients open as their serial port
+    #[arg(long)]
+    link: PathBuf,
+    /// Return Delay Time register of every servo, in units of 2 us (factory default 250 = 500 us)
+    #[arg(long, default_value_t = 250)]
+    return_delay: u8,
+    /// Print only the start-up line, not every request
+    #[arg(long)]
+    quiet: bool,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let mut chain = VirtualChain::drosophibot(self.servos, self.baud).with_context(|| {
+            format!(
+                "cannot build a chain of {} servos at {} bit/s",
+                self.servos, self.baud
+            )
+        })?;
+        chain.set_return_delay_all(self.return_delay);
+        let mut server = PtyServer::open(chain, self.baud, &self.link)
+            .with_context(|| format!("cannot serve the virtual bus at {}", self.link.display()))?;
+        let handler = SigAction::new(
+            SigHandler::Handler(on_signal),
+            SaFlags::empty(),
+            SigSet::empty(),
+        );
+        for sig in [Signal::SIGINT, Signal::SIGTERM] {
+            // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
+            unsafe { sigaction(sig, &handler) }.context("cannot install the interrupt handler")?;
+        }
+        let mx64: Vec<u8> = DROSOPHIBOT_CTR_IDS
+            .iter()
+            .copied()
+            .filter(|&id| id <= self.servos)
+            .collect();
+        println!(
+            "serving {} virtual servos (IDs 1..={}, {} on {:?}, {} elsewhere) at {} bit/s, return delay {} us, on {} linked at {}; Ctrl-C stops",
+            self.servos,
+            self.servos,
+            Model::Mx64V2.name(),
+            mx64,
+            Model::Mx28V2.name(),
+            self.baud,
+            self.return_delay as u32 * 2,
+            server.slave_path(),
+            self.link.display()
+        );
+        std::io::stdout().flush().ok();
+        let quiet = self.quiet;
+        server
+            .serve(&STOP, |s| {
+                if !quiet {
+                    println!("{}", describe(s));
+                }
+            })
+            .context("serving the virtual bus failed")?;
+        println!("stopped");
+        Ok(())
+    }
+}
+
+fn describe(s: &Served) -> String {
+    let name = Instruction::from_code(s.instruction)
+        .map_or_else(|| format!("0x{:02X}", s.instruction), |i| format!("{i:?}"));
+    let target = if s.id == dynamixel::instruction::BROADCAST_ID {
+        "broadcast".to_string()
+    } else {
+        format!("ID {}", s.id)
+    };
+    let mut line = format!(
+        "{:10.4} s  {name:<10} {target:<9} {:>4} B  replied {:?}",
+        s.at_s, s.request_len, s.replied
+    );
+    if !s.silent.is_empty() {
+        line.push_str(&format!("  silent {:?}", s.silent));
+    }
+    line
+}

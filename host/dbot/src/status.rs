@@ -1,0 +1,67 @@
+//! `dbot status`: the board's state, fault, playback position, upload in progress and counters.
+
+use crate::args::board::BoardArgs;
+
+/// Show the board's state and counters.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub board: BoardArgs,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let mut s = self.board.connect()?;
+        let i = s.board.info().clone();
+        let st = s.board.status()?;
+        let set = s.board.settings()?;
+        println!("port      {}", s.board.port());
+        println!(
+            "firmware  {}.{}.{} (protocol {}, table format {})",
+            i.firmware.major,
+            i.firmware.minor,
+            i.firmware.patch,
+            i.protocol_version,
+            i.table_format_version
+        );
+        println!("state     {:?}", st.state);
+        if let Some(f) = st.fault {
+            println!("fault     {f}");
+        }
+        if let Some(p) = st.playback {
+            println!(
+                "playback  slot {} {:?}, step {} slice {}, period x{:.3}",
+                p.slot,
+                p.direction,
+                p.step,
+                p.slice,
+                f64::from(p.period_scale) / 1000.0
+            );
+        }
+        if let Some(u) = st.upload {
+            println!(
+                "upload    slot {}: {}/{} bytes",
+                u.slot, u.received, u.total_len
+            );
+        }
+        println!(
+            "bus       {} bit/s, {} Hz, telemetry every {} cycles; torque on {} of {} joints",
+            set.baud,
+            set.cycle_hz,
+            set.telemetry_every,
+            st.torque_enabled.count_ones(),
+            set.joints.len()
+        );
+        let c = st.counters;
+        println!(
+            "counters  {} cycles, {} missed deadlines, {} bus timeouts, {} CRC errors, {} rejected frames, {} telemetry dropped",
+            c.cycles,
+            c.missed_deadlines,
+            c.bus_timeouts,
+            c.crc_errors,
+            c.rejected_frames,
+            c.telemetry_dropped
+        );
+        s.close()
+    }
+}

@@ -1,0 +1,32 @@
+//! `dbot stop`: ends walking at the end of the current step (never mid-swing).
+
+use board::link::LinkError;
+use protocol::ProtocolError;
+
+use crate::args::board::BoardArgs;
+
+/// Stop walking at the end of the current step.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub board: BoardArgs,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let mut s = self.board.connect()?;
+        match s.board.stop() {
+            Ok(()) => {
+                let st = s.board.status()?;
+                println!("stop accepted; the board is {:?}", st.state);
+            }
+            // Stopping a robot that is not walking is not an error for the person asking.
+            Err(LinkError::Device {
+                error: ProtocolError::WrongState { state },
+                ..
+            }) => println!("nothing to stop: the board is {state:?}"),
+            Err(e) => return Err(e.into()),
+        }
+        s.close()
+    }
+}
