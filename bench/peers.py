@@ -1,4 +1,4 @@
-"""Python peers of the bench, on the inputs exported by `host/examples/bench_export.rs`.
+"""Python peers of the bench, on the inputs exported by `host/planner/examples/bench_export.rs`.
 
 Solves the same per-slice inverse dynamics with SciPy SLSQP and Clarabel (full per-body system, as
 the paper poses it) and with NumPy (reduced problem: foot forces only, torques from Pinocchio's

@@ -37,7 +37,7 @@ fi
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 RAYON_NUM_THREADS=1
 
 echo "== ours: build and export (cargo --release)" >&2
-cargo build --release --quiet -p host --example bench_export --example bench_schur
+cargo build --release --quiet -p planner --example bench_export --example bench_schur
 TARGET_DIR=$(cargo metadata --format-version 1 --no-deps | bench/.venv/bin/python -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
 "$TARGET_DIR/release/examples/bench_export" "$OUT" $SCALING
 
@@ -56,5 +56,5 @@ fi
 echo "== peers (Python)" >&2
 bench/.venv/bin/python bench/peers.py "$OUT" --slsqp-slices "$SLSQP_SLICES" ${FW_LOG:+--firmware "$FW_LOG"} | tee "$OUT/table.txt"
 echo | tee -a "$OUT/table.txt"
-echo "prototype from the profile (block-diagonal Schur solve of the reduced QP, host/examples/bench_schur.rs):" | tee -a "$OUT/table.txt"
+echo "prototype from the profile (block-diagonal Schur solve of the reduced QP, host/planner/examples/bench_schur.rs):" | tee -a "$OUT/table.txt"
 "$TARGET_DIR/release/examples/bench_schur" | tee -a "$OUT/table.txt"

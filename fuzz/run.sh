@@ -7,7 +7,7 @@
 # projects when ../shared exists, a parameter file, the e-manual's ping status packet).
 # Needs the nightly toolchain and cargo-fuzz (installed here from crates.io when missing). Not part
 # of scripts/test.sh: the bounded proptest versions of the same checks run there
-# (protocol/tests/robustness.rs, host/tests/reliability_inputs.rs). Figures: docs/reliability.md.
+# (protocol/tests/robustness.rs, host/planner/tests/reliability_inputs.rs). Figures: docs/reliability.md.
 set -euo pipefail
 cd "$(dirname "$0")"
 secs="${1:-60}"
@@ -21,7 +21,7 @@ seed() {
     mkdir -p "corpus/$t"
     [ -z "$(ls -A "corpus/$t")" ] || return 0
     case "$t" in
-        model_toml) cp ../host/models/*.toml "corpus/$t/" ;;
+        model_toml) cp ../host/planner/models/*.toml "corpus/$t/" ;;
         aproj) cp ../../shared/models/animatlab/*.aproj "corpus/$t/" 2>/dev/null || true ;;
         plan_params)
             printf 'swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\nterrain = "ball:0.1:0.02"\nstep_height_m = { hind = 0.02, middle = 0.02, front = 0.02 }\n' \

@@ -10,7 +10,7 @@ use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::model::{JointKind, Leg};
 use report::legs::{Panel, Trace, plot_leg_panels};
 
-use crate::plan::replace;
+use crate::common::output::replace;
 
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
@@ -239,7 +239,7 @@ fn overlay(ta: &[DofTrace], tb: &[DofTrace], rows: &[ComparisonRow], out: &Path)
 }
 
 fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
-    let model = crate::model::load_model(model)?;
+    let model = crate::common::model_spec::load_model(model)?;
     let mut points = Vec::new();
     let bar = indicatif::ProgressBar::new(swings.len() as u64);
     for &sw in swings {

@@ -16,7 +16,6 @@ use anyhow::{Context, bail};
 use board::link::Board;
 use board::record::{Ended, JointMeta, Recorder, Until, capture_while, joints_of_table, tracking};
 use board::robot::{VirtualRobot, VirtualTransport};
-use planner::dynamics::table::{gait_table, joint_specs, stance_bits};
 use planner::gait::StepParams;
 use planner::model::Leg;
 use planner::plan::Plan;
@@ -25,7 +24,8 @@ use report::recording::{plot_angles, plot_torques};
 
 use crate::args::dynamics::{DynamicsArgs, PlanDynamics};
 use crate::common::interrupt;
-use crate::plan::replace;
+use crate::common::output::replace;
+use crate::common::step_table::step_table;
 
 /// Fails with a message saying where the demo was when Ctrl-C arrived.
 fn check_interrupt(stage: &str) -> anyhow::Result<()> {
@@ -300,31 +300,4 @@ fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
     replace(dir, "feet.png", |p| Ok(report::plan::plot_feet(plan, p)?))?;
     d.write_files(plan, dir)?;
     Ok(())
-}
-
-/// The step table of a solved plan (the dynamics module's builder): every joint with a servo, its
-/// planned angle and modelled torque per slice, stance bits per leg; and the servos' joint names.
-pub fn step_table(plan: &Plan, d: &PlanDynamics) -> anyhow::Result<(Vec<u8>, Vec<String>)> {
-    let (index, _) = joint_specs(&plan.model)?;
-    let names = index
-        .iter()
-        .map(|&j| plan.model.joints[j].name.clone())
-        .collect();
-    let torques = planner::dynamics::output::torque_rows(&d.cycle);
-    let stance: Vec<u8> = plan
-        .stance
-        .iter()
-        .map(|s| stance_bits(&plan.legs, s))
-        .collect();
-    let table = gait_table(
-        &plan.model,
-        "dbII tripod",
-        plan.period_s,
-        plan.params.duty,
-        &plan.q,
-        &torques,
-        &stance,
-    )
-    .context("building the step table")?;
-    Ok((table, names))
 }

@@ -15,7 +15,11 @@ impl Args {
         for slot in s.board.gaits()? {
             match slot.gait {
                 None => println!("slot {}: empty", slot.slot),
-                Some(g) => println!("slot {}: {}", slot.slot, crate::upload::describe(&g)),
+                Some(g) => println!(
+                    "slot {}: {}",
+                    slot.slot,
+                    crate::common::gait_summary::describe(&g)
+                ),
             }
         }
         s.close()

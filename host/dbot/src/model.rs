@@ -1,10 +1,13 @@
 //! `dbot model`: export a model as URDF or TOML, import an AnimatLab project.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args as ClapArgs, Subcommand};
-use planner::model::{self, ImportOptions, Model};
+use planner::model;
+
+use crate::common::model_spec::load_model;
+use crate::common::output::replace_file;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Work with organism models (built-in names: drosophibot2, scale-drosophila).
 #[derive(Debug, ClapArgs)]
@@ -35,19 +38,6 @@ enum ModelCmd {
     },
 }
 
-/// Loads a model from a built-in name, a .toml file or an .aproj file.
-pub fn load_model(spec: &str) -> Result<Model> {
-    let path = Path::new(spec);
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("toml") => model::load(path).with_context(|| format!("loading model file {spec}")),
-        Some("aproj") => model::import_aproj_file(path, &ImportOptions::default())
-            .with_context(|| format!("importing {spec}")),
-        _ => {
-            model::builtin(spec).context("--model takes a built-in name, a .toml or an .aproj file")
-        }
-    }
-}
-
 impl Args {
     pub fn run(self) -> Result<()> {
         match self.cmd {
@@ -57,11 +47,13 @@ impl Args {
                     anyhow::bail!("nothing to do: give --urdf FILE and/or --toml FILE");
                 }
                 if let Some(p) = urdf {
-                    write_whole(&p, &model::to_urdf(&m))?;
+                    let urdf = model::to_urdf(&m);
+                    replace_file(&p, |f| Ok(std::fs::write(f, &urdf)?))?;
                 }
                 if let Some(p) = toml {
                     let notes = format!("Exported by dbot from `{model}`.");
-                    write_whole(&p, &model::to_toml_string(&m, &notes, &|_| String::new()))?;
+                    let text = model::to_toml_string(&m, &notes, &|_| String::new());
+                    replace_file(&p, |f| Ok(std::fs::write(f, &text)?))?;
                 }
                 Ok(())
             }
@@ -103,18 +95,4 @@ impl Args {
             }
         }
     }
-}
-
-/// Writes `text` to `path` so that an interrupted run never leaves it half written
-/// ([`crate::plan::replace`]).
-fn write_whole(path: &Path, text: &str) -> Result<()> {
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file name", path.display()))?
-        .to_string_lossy();
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    crate::plan::replace(dir, &name, |p| Ok(std::fs::write(p, text)?))
 }

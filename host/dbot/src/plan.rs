@@ -1,11 +1,13 @@
 //! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf and plots.
 
-use crate::model::load_model;
+use crate::common::model_spec::load_model;
 use anyhow::{Context, Result};
 use indicatif::ProgressBar;
 use planner::gait::{Gait, ParamsFile, StepParams};
 use planner::plan_dir;
 use std::path::{Path, PathBuf};
+
+use crate::common::output::replace;
 
 /// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
 ///
@@ -137,36 +139,4 @@ impl Args {
         );
         Ok(())
     }
-}
-
-/// Writes the output `name` in `dir` through a scratch file next to it (`.partial-NAME`, same
-/// extension, so plotters picks the same format), renamed over `name` only once complete: a run
-/// that fails or is killed leaves the previous file whole (and at worst a scratch file). The error
-/// names the file.
-pub(crate) fn replace(
-    dir: &Path,
-    name: &str,
-    write: impl FnOnce(&Path) -> Result<()>,
-) -> Result<()> {
-    let path = dir.join(name);
-    let scratch = dir.join(format!(".partial-{name}"));
-    let done = write(&scratch).and_then(|()| Ok(std::fs::rename(&scratch, &path)?));
-    if done.is_err() {
-        let _ = std::fs::remove_file(&scratch);
-    }
-    done.with_context(|| format!("writing {}", path.display()))
-}
-
-/// [`replace`] for an output named by its whole path (`--out FILE`): the scratch file sits next to it.
-pub(crate) fn replace_file(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file name", path.display()))?
-        .to_string_lossy()
-        .into_owned();
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    replace(dir, &name, write)
 }

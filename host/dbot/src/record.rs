@@ -18,7 +18,7 @@ use report::recording::{plot_angles, plot_torques};
 
 use crate::args::board::BoardArgs;
 use crate::common::interrupt;
-use crate::plan::replace;
+use crate::common::output::replace;
 
 /// Record telemetry to OUT/telemetry.csv and plot it (OUT/torque.png, OUT/angles.png).
 ///
@@ -87,8 +87,13 @@ impl Args {
         }
         s.board.set_telemetry(self.every)?;
         if let Some(slot) = self.play {
-            let cmd =
-                crate::run::play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+            let cmd = crate::common::playback::play_command(
+                &mut s,
+                slot,
+                self.steps,
+                self.period,
+                self.backward,
+            )?;
             if interrupt::requested() {
                 bail!("interrupted before the walk started: nothing was played or recorded");
             }
@@ -158,7 +163,7 @@ pub fn record_to<T: Transport>(
     let interrupted = matches!(result, Ok(Ended::Interrupted));
     if interrupted {
         bar.println("interrupted: stopping at the end of the step (Ctrl-C again to exit at once)");
-        let stopped = crate::run::stop_walk(board);
+        let stopped = crate::common::playback::stop_walk(board);
         interrupt::release();
         result = match stopped {
             Ok(()) => capture_while(

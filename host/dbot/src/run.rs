@@ -5,12 +5,12 @@
 use std::time::Duration;
 
 use anyhow::{Context, bail};
-use board::link::{Board, LinkError, Transport};
 use indicatif::{ProgressBar, ProgressStyle};
-use protocol::{Direction, PlayCommand, ProtocolError, RunState, Steps};
+use protocol::RunState;
 
 use crate::args::board::{BoardArgs, Session};
 use crate::common::interrupt;
+use crate::common::playback::{play_command, stop_walk};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
 ///
@@ -65,49 +65,6 @@ impl Args {
         follow(&mut s, self.steps)?;
         s.close()
     }
-}
-
-/// The play command for `slot`: the period (s) becomes a scale of the slot's planned period.
-pub fn play_command(
-    s: &mut Session,
-    slot: u8,
-    steps: Option<u32>,
-    period: Option<f64>,
-    backward: bool,
-) -> anyhow::Result<PlayCommand> {
-    let gaits = s.board.gaits()?;
-    let Some(gait) = gaits.iter().find(|g| g.slot == slot).and_then(|g| g.gait) else {
-        bail!(
-            "slot {slot} is empty (the board has slots 0..{}); upload a table first",
-            gaits.len()
-        );
-    };
-    let planned = f64::from(gait.header.step_period_us) * 1e-6;
-    let period_scale = match period {
-        None => protocol::units::PERIOD_SCALE_ONE,
-        Some(p) => {
-            let scale = (p / planned * 1000.0).round();
-            if !(p.is_finite() && (100.0..=10_000.0).contains(&scale)) {
-                bail!(
-                    "--period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
-                );
-            }
-            scale as u16
-        }
-    };
-    if steps == Some(0) {
-        bail!("--steps 0: give at least one step");
-    }
-    Ok(PlayCommand {
-        slot,
-        direction: if backward {
-            Direction::Backward
-        } else {
-            Direction::Forward
-        },
-        period_scale,
-        steps: steps.map_or(Steps::Continuous, Steps::Count),
-    })
 }
 
 /// Follows playback until the robot stands again (or a fault), with a progress bar over the steps.
@@ -171,17 +128,4 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
     }
     println!("done: the robot stands (board clock {t:.2} s)");
     Ok(())
-}
-
-/// Asks the board to stop walking at the end of the step. A board that refuses because it is not
-/// walking (booting, in a fault) has nothing to stop.
-pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<()> {
-    match board.stop() {
-        Ok(())
-        | Err(LinkError::Device {
-            error: ProtocolError::WrongState { .. },
-            ..
-        }) => Ok(()),
-        Err(e) => Err(anyhow::Error::new(e).context("stopping the walk after Ctrl-C")),
-    }
 }

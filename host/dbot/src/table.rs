@@ -46,7 +46,7 @@ impl Args {
         let duty = json["parameters"]["duty"]
             .as_f64()
             .with_context(|| format!("{}: no number `parameters.duty`", json_path.display()))?;
-        let model = crate::model::load_model(source)?;
+        let model = crate::common::model_spec::load_model(source)?;
         let n = model.joints.len();
 
         let jpath = dir.join("joints.csv");
@@ -141,7 +141,7 @@ impl Args {
         });
         let bytes = gait_table(&model, &name, period, duty, &q, &torque, &stance)
             .with_context(|| format!("building the step table of {}", dir.display()))?;
-        crate::plan::replace_file(&self.out, |p| Ok(std::fs::write(p, &bytes)?))?;
+        crate::common::output::replace_file(&self.out, |p| Ok(std::fs::write(p, &bytes)?))?;
         println!(
             "{}: {} slices, period {period:.3} s, {} bytes to {}",
             model.name,

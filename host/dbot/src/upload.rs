@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use board::link::LinkError;
 use indicatif::{ProgressBar, ProgressStyle};
-use protocol::GaitSummary;
 
 use crate::args::board::BoardArgs;
+use crate::common::gait_summary::describe;
 use crate::common::interrupt;
 
 /// Upload a step table into a gait slot of the board (verified after the upload).
@@ -82,20 +82,6 @@ impl Args {
     }
 }
 
-/// One line about a stored gait: name, shape, timing, CRC.
-pub fn describe(g: &GaitSummary) -> String {
-    let h = &g.header;
-    format!(
-        "\"{}\" {} joints x {} slices, step {:.3} s, duty {:.2}, CRC {:#010x}",
-        h.name_str().unwrap_or("(name not UTF-8)"),
-        h.joint_count,
-        h.slice_count,
-        f64::from(h.step_period_us) * 1e-6,
-        f64::from(h.duty) * 1e-4,
-        g.crc
-    )
-}
-
 /// The step table of a plan directory written by `dbot plan`: its plan.json names the model, the
 /// stepping parameters and the dynamics options, so the plan and its inverse dynamics are solved
 /// again (deterministically) and checked against the recorded slice count and period.
@@ -118,7 +104,7 @@ fn table_from_plan_dir(dir: &Path) -> anyhow::Result<Vec<u8>> {
         .or_else(|| json.get("model"))
         .and_then(|v| v.as_str())
         .with_context(|| format!("{}: no `model_source` or `model` field", path.display()))?;
-    let model = crate::model::load_model(model_name)?;
+    let model = crate::common::model_spec::load_model(model_name)?;
     let params: planner::gait::StepParams = serde_json::from_value(field("parameters")?.clone())
         .with_context(|| {
             format!(
@@ -154,7 +140,7 @@ fn table_from_plan_dir(dir: &Path) -> anyhow::Result<Vec<u8>> {
         );
     }
     let dynamics = args.solve(&plan)?.context("inverse dynamics")?;
-    let (table, _) = crate::demo::step_table(&plan, &dynamics)?;
+    let (table, _) = crate::common::step_table::step_table(&plan, &dynamics)?;
     eprintln!(
         "built the step table from {} ({} slices, period {:.3} s, re-solved)",
         path.display(),

@@ -123,10 +123,10 @@ impl PlanDynamics {
     }
 
     /// joint_forces.csv, torques.png, grf.png in `out`; returns the file names.
-    /// Each file is written through [`crate::plan::replace`]: a run that is killed leaves the
+    /// Each file is written through [`crate::common::output::replace`]: a run that is killed leaves the
     /// previous file whole.
     pub fn write_files(&self, plan: &Plan, out: &Path) -> Result<Vec<&'static str>> {
-        use crate::plan::replace;
+        use crate::common::output::replace;
         replace(out, "joint_forces.csv", |p| {
             let f = std::fs::File::create(p)?;
             Ok(output::write_joint_forces_csv(

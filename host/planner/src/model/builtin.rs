@@ -1,4 +1,4 @@
-//! The built-in models, embedded from host/models/*.toml.
+//! The built-in models, embedded from host/planner/models/*.toml.
 
 use super::error::ModelError;
 use super::{Model, file};
@@ -18,5 +18,5 @@ pub fn builtin(name: &str) -> Result<Model, ModelError> {
             });
         }
     };
-    file::from_toml_str(text, &format!("host/models/{name}.toml"))
+    file::from_toml_str(text, &format!("host/planner/models/{name}.toml"))
 }
