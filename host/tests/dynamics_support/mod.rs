@@ -8,7 +8,8 @@
 pub mod rnea;
 
 use host::model::{
-    Actuation, ActuatorKind, Body, Foot, Joint, JointKind, Leg, Model, ParallelSpring,
+    Actuation, ActuatorKind, Body, EquilibriumSource, Foot, Joint, JointKind, Leg, Model,
+    ParallelSpring,
 };
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 
@@ -172,6 +173,7 @@ pub fn with_springs(mut model: Model, stiffness: f64, equilibrium: f64) -> Model
             j.spring = Some(ParallelSpring {
                 stiffness,
                 equilibrium,
+                equilibrium_from: EquilibriumSource::Given,
             });
         }
     }

@@ -19,6 +19,7 @@ mod run;
 mod servos;
 mod set;
 mod sim_bus;
+mod spring_args;
 mod status;
 mod stop;
 mod table;

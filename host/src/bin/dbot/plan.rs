@@ -42,11 +42,13 @@ pub struct Args {
     out: PathBuf,
     #[command(flatten)]
     dynamics: crate::dynamics_args::DynamicsArgs,
+    #[command(flatten)]
+    springs: crate::spring_args::SpringArgs,
 }
 
 impl Args {
     pub fn run(self) -> Result<()> {
-        let model = load_model(&self.model)?;
+        let model = self.springs.apply(load_model(&self.model)?)?;
         let mut p = StepParams::table1(&model.name);
         if let Some(f) = &self.params {
             let text =
@@ -92,6 +94,7 @@ impl Args {
         let mut json = serde_json::json!({
             "model": model.name,
             "model_source": self.model,
+            "spring_args": self.springs.json(),
             "parameters": plan.params,
             "terrain": plan.terrain,
             "gravity_m_s2": plan.gravity,

@@ -118,7 +118,8 @@ fn table_from_plan_dir(dir: &Path) -> anyhow::Result<Vec<u8>> {
         .or_else(|| json.get("model"))
         .and_then(|v| v.as_str())
         .with_context(|| format!("{}: no `model_source` or `model` field", path.display()))?;
-    let model = crate::model::load_model(model_name)?;
+    let model = crate::spring_args::SpringArgs::from_json(json.get("spring_args"))?
+        .apply(crate::model::load_model(model_name)?)?;
     let params: host::gait::StepParams = serde_json::from_value(field("parameters")?.clone())
         .with_context(|| {
             format!(
