@@ -10,6 +10,7 @@ mod devices;
 mod dxl;
 mod dynamics_args;
 mod estop;
+mod feasibility_args;
 mod gaits;
 mod interrupt;
 mod model;

@@ -112,6 +112,15 @@ impl Args {
         if let Some(d) = &dynamics {
             json["dynamics"] = d.json(&plan);
         }
+        let torque = dynamics
+            .as_ref()
+            .map(|d| host::dynamics::output::torque_rows(&d.cycle));
+        let feasible =
+            host::plan::feasibility::check(&plan.model, &plan.q, torque.as_deref(), plan.dt);
+        json["feasibility"] = crate::feasibility_args::json(&feasible);
+        replace(out, "feasibility.md", |p| {
+            Ok(std::fs::write(p, feasible.table())?)
+        })?;
         let json = serde_json::to_string_pretty(&json)?;
         replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
         let urdf = host::model::to_urdf(&model);
@@ -131,8 +140,9 @@ impl Args {
             println!("{}; wrote {}", d.summary(), files.join(" "));
         }
         bar.finish_and_clear();
+        println!("{}", crate::feasibility_args::summary(&feasible));
         println!(
-            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png to {}",
+            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json feasibility.md model.urdf joint_angles.png footfall.png feet.png to {}",
             model.name,
             plan.slices(),
             plan.period_s,
