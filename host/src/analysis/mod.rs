@@ -4,6 +4,7 @@
 
 mod compare;
 mod plan_plots;
+pub mod paper;
 pub mod plots;
 mod regression;
 mod sweep;

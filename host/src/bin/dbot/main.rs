@@ -5,6 +5,7 @@
 
 mod board_args;
 mod compare;
+mod compare_paper;
 mod demo;
 mod devices;
 mod dxl;
