@@ -77,9 +77,8 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
             std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
             crate::compare::overlay(&robot.traces, &fly.traces, &r, &dir)?;
             rows.push((terrain, tag, r));
-            if tag == "none" {
-                grf.push((terrain, mean_grf(&robot), mean_grf(&fly)));
-            } else {
+            grf.push((terrain, tag, mean_grf(&robot), mean_grf(&fly)));
+            if tag == "springs" {
                 fly_sprung.push(fly);
             }
         }
@@ -195,21 +194,34 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
             f(pick("ball", "springs", Quantity::Torque)),
         )?;
     }
-    md += "\nGround reaction force, ball / flat (mean |GRF| over each leg's stance, no springs; figure S9 has the fly's up to about 2x, most in the front legs):\n\n| model | LF | LM | LH | RF | RM | RH |\n|---|---|---|---|---|---|---|\n";
+    md += "\nGround reaction force, ball / flat (mean |GRF| over each leg's stance, in brackets the largest slice-by-slice ratio; figure S9, fly with springs, has up to about 2x, most in the front legs):\n\n| model | springs | LF | LM | LH | RF | RM | RH |\n|---|---|---|---|---|---|---|---|\n";
     for (k, name) in ["Drosophibot II", "Scale-Drosophila"].iter().enumerate() {
-        let get = |terrain: &str| {
-            grf.iter()
-                .find(|g| g.0 == terrain)
-                .map(|g| if k == 0 { g.1.clone() } else { g.2.clone() })
-                .unwrap_or_default()
-        };
-        let (flat, ball) = (get("flat"), get("ball"));
-        let cells: Vec<String> = flat
-            .iter()
-            .zip(&ball)
-            .map(|(f, b)| format!("{:.2}", b / f))
-            .collect();
-        writeln!(md, "| {name} | {} |", cells.join(" | "))?;
+        for (tag, _) in springs {
+            let get = |terrain: &str| {
+                grf.iter()
+                    .find(|g| g.0 == terrain && g.1 == tag)
+                    .map(|g| if k == 0 { g.2.clone() } else { g.3.clone() })
+                    .unwrap_or_default()
+            };
+            let (flat, ball) = (get("flat"), get("ball"));
+            let cells: Vec<String> = flat
+                .iter()
+                .zip(&ball)
+                .map(|(f, b)| {
+                    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+                    // Slice by slice (same phase on both terrains), over slices loaded on both.
+                    let floor = 0.05 * mean(f);
+                    let most = f
+                        .iter()
+                        .zip(b)
+                        .filter(|(f, _)| **f > floor)
+                        .map(|(f, b)| b / f)
+                        .fold(0.0f64, f64::max);
+                    format!("{:.2} ({most:.2})", mean(b) / mean(f))
+                })
+                .collect();
+            writeln!(md, "| {name} | {tag} | {} |", cells.join(" | "))?;
+        }
     }
     let bytes = csv.into_inner().context("building tables.csv")?;
     replace(out, "tables.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
@@ -217,15 +229,15 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
     Ok(PaperComparison { markdown: md })
 }
 
-/// Mean |GRF| over each leg's stance slices, N, in [`Leg::ALL`] order.
-fn mean_grf(r: &Run) -> Vec<f64> {
+/// |GRF| over each leg's stance slices, N, per leg in [`Leg::ALL`] order.
+fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
     Leg::ALL
         .iter()
         .map(|leg| {
             let li = r.plan.legs.iter().position(|l| l == leg);
             let fi = r.plan.model.feet.iter().position(|f| f.leg == *leg);
             let (Some(li), Some(fi)) = (li, fi) else {
-                return f64::NAN;
+                return vec![];
             };
             let v: Vec<f64> = r
                 .cycle
@@ -235,7 +247,7 @@ fn mean_grf(r: &Run) -> Vec<f64> {
                 .filter(|(_, st)| st[li])
                 .map(|(s, _)| s.grf[fi].norm())
                 .collect();
-            v.iter().sum::<f64>() / v.len().max(1) as f64
+            v
         })
         .collect()
 }
