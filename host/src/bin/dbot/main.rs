@@ -26,6 +26,7 @@ mod status;
 mod stop;
 mod table;
 mod upload;
+mod validate;
 
 use clap::{Parser, Subcommand};
 
@@ -60,6 +61,7 @@ enum Cmd {
     Record(record::Args),
     SimBus(sim_bus::Args),
     Dxl(dxl::Args),
+    Validate(validate::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -86,5 +88,6 @@ fn main() -> anyhow::Result<()> {
         Cmd::Record(a) => a.run(),
         Cmd::SimBus(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
+        Cmd::Validate(a) => a.run(),
     }
 }
