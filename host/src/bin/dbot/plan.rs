@@ -31,6 +31,11 @@ pub struct Args {
     /// Walk backward (negates the body translation per step).
     #[arg(long)]
     backward: bool,
+    /// Stepping-parameter preset the file and flags below start from: table1 (default),
+    /// physical-robot (Drosophibot II as the original solver ran it: per-pair body heights and
+    /// its resting feet, swing 1.6 s) or paper-comparison (the paper's robot-vs-fly conditions).
+    #[arg(long, default_value = "table1")]
+    preset: String,
     /// TOML file with stepping parameters, any subset of: swing_s (s), duty, step_height_m and
     /// body_height_m ({ hind, middle, front }, m), translation_m and rotation_rad (per stance),
     /// gait ({ phi_i, phi_c }), slices, terrain, ball_radius_m, ball_offset_m (below the CoM, m),
@@ -49,7 +54,13 @@ pub struct Args {
 impl Args {
     pub fn run(self) -> Result<()> {
         let model = self.springs.apply(load_model(&self.model)?)?;
-        let mut p = StepParams::table1(&model.name);
+        let mut p = StepParams::preset(&self.preset, &model.name).with_context(|| {
+            format!(
+                "--preset {}: expected one of {} (physical-robot is for drosophibot2)",
+                self.preset,
+                host::gait::PRESETS.join(", ")
+            )
+        })?;
         if let Some(f) = &self.params {
             let text =
                 std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;

@@ -262,6 +262,43 @@ fn blocks(plots: &std::path::Path) -> Result<BTreeMap<&'static str, String>> {
     };
     b.insert("incline", s);
 
+    // Resting posture: ThC -> foot offsets of table 1's placement and the physical-robot preset
+    // against the original solver's figure (solver.md; ThC z of that figure: hind and middle
+    // -0.0246 m, front 0.0377 m).
+    let original = [
+        ("hind", Leg::LH, [-0.150, 0.130, -0.175 + 0.0246]),
+        ("middle", Leg::LM, [-0.025, 0.200, -0.190 + 0.0246]),
+        ("front", Leg::LF, [0.114, 0.065, -0.165 - 0.0377]),
+    ];
+    let mut s = String::from(
+        "| pair | original ThC -> foot (x, y, z) m | table1 (ours) | off by | physical-robot preset | off by |\n|---|---|---|---|---|---|\n",
+    );
+    let physical = StepParams::preset("physical-robot", "drosophibot2").context("preset")?;
+    let pp = host::plan::plan(&robot, &physical)?;
+    for (pair, leg, o) in original {
+        let thc = robot.joints[robot.leg_chain(leg)[0]]
+            .origin
+            .translation
+            .vector;
+        let o = nalgebra::Vector3::from(o);
+        let offset = |plan: &host::plan::Plan| {
+            let f = plan.posture.foot(leg).unwrap_or_default();
+            f - thc
+        };
+        let cell = |v: nalgebra::Vector3<f64>| format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z);
+        let (a, b) = (offset(&rp), offset(&pp));
+        writeln!(
+            s,
+            "| {pair} | {} | {} | {:.0} % | {} | {:.0} % |",
+            cell(o),
+            cell(a),
+            100.0 * (a - o).norm() / o.norm(),
+            cell(b),
+            100.0 * (b - o).norm() / o.norm()
+        )?;
+    }
+    b.insert("posture", s);
+
     // The paper's comparison.
     std::fs::create_dir_all(plots).with_context(|| format!("creating {}", plots.display()))?;
     let c = crate::compare_paper::run_paper(plots, 50)?;
