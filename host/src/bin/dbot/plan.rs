@@ -28,6 +28,10 @@ pub struct Args {
     /// Time slices per step cycle.
     #[arg(long)]
     slices: Option<usize>,
+    /// Body height offsets per leg pair, HIND,MIDDLE,FRONT in m, added to the preset's (table 1's
+    /// note: the physical robot varies body height per pair against sag and backlash).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    body_height_offset: Option<Vec<f64>>,
     /// Walk backward (negates the body translation per step).
     #[arg(long)]
     backward: bool,
@@ -79,6 +83,16 @@ impl Args {
         }
         if let Some(n) = self.slices {
             p.slices = n;
+        }
+        if let Some(o) = &self.body_height_offset {
+            if o.len() != 3 || !o.iter().all(|v| v.is_finite()) {
+                anyhow::bail!(
+                    "--body-height-offset takes three offsets HIND,MIDDLE,FRONT in m, got {o:?}"
+                );
+            }
+            p.body_height_m.hind += o[0];
+            p.body_height_m.middle += o[1];
+            p.body_height_m.front += o[2];
         }
         if self.backward {
             p.translation_m = -p.translation_m.abs();
