@@ -34,7 +34,11 @@ fn physical_robot_feet_land_where_the_original_put_them() {
             .translation
             .vector;
         let (_, x, y, z) = ORIGINAL.iter().find(|o| o.0 == pair(*leg)).unwrap();
-        let got = (foot.x - thc.x, leg.side() * (foot.y - thc.y), foot.z - thc.z);
+        let got = (
+            foot.x - thc.x,
+            leg.side() * (foot.y - thc.y),
+            foot.z - thc.z,
+        );
         // x and y are placed exactly; z to the 0.1 mm that the model's left and right ThC
         // heights differ by.
         assert!(

@@ -3,8 +3,8 @@
 //! organism moves several joints in one plane, and the torque scaling of a speed sweep.
 
 mod compare;
-mod plan_plots;
 pub mod paper;
+mod plan_plots;
 pub mod plots;
 mod regression;
 mod sweep;
