@@ -33,10 +33,31 @@ pub struct Args {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
+    /// The paper's comparison (tables S2 to S8, figures 4 and S7 with and without parallel
+    /// springs, ball vs flat GRF) in one run: robot at a 4 s period, fly at table 1's 0.25 s.
+    #[arg(long)]
+    paper: bool,
+    /// Time slices per step for --paper.
+    #[arg(long, default_value_t = 100)]
+    slices: usize,
 }
 
 impl Args {
     pub fn run(self) -> Result<()> {
+        if self.paper {
+            if !self.plans.is_empty() || !self.swing.is_empty() {
+                bail!("--paper runs its own plans: give no plan directories and no --swing");
+            }
+            std::fs::create_dir_all(&self.out)
+                .with_context(|| format!("creating {}", self.out.display()))?;
+            let c = crate::compare_paper::run_paper(&self.out, self.slices)?;
+            println!("{}", c.markdown);
+            println!(
+                "wrote tables.md tables.csv and per-case plots to {}",
+                self.out.display()
+            );
+            return Ok(());
+        }
         let two_plans = self.plans.len() == 2 && self.swing.is_empty();
         let sweep_only = self.plans.is_empty() && !self.swing.is_empty();
         if !(two_plans || sweep_only) {
@@ -167,7 +188,12 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
 }
 
 /// Angle (deg) overlays and torque overlays normalised by each plan's peak torque, A solid, B dashed.
-fn overlay(ta: &[DofTrace], tb: &[DofTrace], rows: &[ComparisonRow], out: &Path) -> Result<()> {
+pub(crate) fn overlay(
+    ta: &[DofTrace],
+    tb: &[DofTrace],
+    rows: &[ComparisonRow],
+    out: &Path,
+) -> Result<()> {
     let n = ta
         .iter()
         .chain(tb)

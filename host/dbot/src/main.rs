@@ -6,11 +6,13 @@
 mod args;
 mod common;
 mod compare;
+mod compare_paper;
 mod config;
 mod demo;
 mod devices;
 mod dxl;
 mod estop;
+mod feasibility_args;
 mod gaits;
 mod model;
 mod plan;
@@ -19,10 +21,12 @@ mod run;
 mod servos;
 mod set;
 mod sim_bus;
+mod spring_args;
 mod status;
 mod stop;
 mod table;
 mod upload;
+mod validate;
 
 use clap::{Parser, Subcommand};
 
@@ -57,6 +61,7 @@ enum Cmd {
     Record(record::Args),
     SimBus(sim_bus::Args),
     Dxl(dxl::Args),
+    Validate(validate::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -83,5 +88,6 @@ fn main() -> anyhow::Result<()> {
         Cmd::Record(a) => a.run(),
         Cmd::SimBus(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
+        Cmd::Validate(a) => a.run(),
     }
 }

@@ -29,6 +29,8 @@ enum ModelCmd {
         /// TOML model file output.
         #[arg(long)]
         toml: Option<PathBuf>,
+        #[command(flatten)]
+        springs: crate::spring_args::SpringArgs,
     },
     /// Print a summary: bodies, joints (limits in degrees), feet, total mass.
     Show {
@@ -41,8 +43,13 @@ enum ModelCmd {
 impl Args {
     pub fn run(self) -> Result<()> {
         match self.cmd {
-            ModelCmd::Export { model, urdf, toml } => {
-                let m = load_model(&model)?;
+            ModelCmd::Export {
+                model,
+                urdf,
+                toml,
+                springs,
+            } => {
+                let m = springs.apply(load_model(&model)?)?;
                 if urdf.is_none() && toml.is_none() {
                     anyhow::bail!("nothing to do: give --urdf FILE and/or --toml FILE");
                 }

@@ -30,9 +30,18 @@ pub struct Args {
     /// Time slices per step cycle.
     #[arg(long)]
     slices: Option<usize>,
+    /// Body height offsets per leg pair, HIND,MIDDLE,FRONT in m, added to the preset's (table 1's
+    /// note: the physical robot varies body height per pair against sag and backlash).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    body_height_offset: Option<Vec<f64>>,
     /// Walk backward (negates the body translation per step).
     #[arg(long)]
     backward: bool,
+    /// Stepping-parameter preset the file and flags below start from: table1 (default),
+    /// physical-robot (Drosophibot II as the original solver ran it: per-pair body heights and
+    /// its resting feet, swing 1.6 s) or paper-comparison (the paper's robot-vs-fly conditions).
+    #[arg(long, default_value = "table1")]
+    preset: String,
     /// TOML file with stepping parameters, any subset of: swing_s (s), duty, step_height_m and
     /// body_height_m ({ hind, middle, front }, m), translation_m and rotation_rad (per stance),
     /// gait ({ phi_i, phi_c }), slices, terrain, ball_radius_m, ball_offset_m (below the CoM, m),
@@ -44,12 +53,20 @@ pub struct Args {
     out: PathBuf,
     #[command(flatten)]
     dynamics: crate::args::dynamics::DynamicsArgs,
+    #[command(flatten)]
+    springs: crate::spring_args::SpringArgs,
 }
 
 impl Args {
     pub fn run(self) -> Result<()> {
-        let model = load_model(&self.model)?;
-        let mut p = StepParams::table1(&model.name);
+        let model = self.springs.apply(load_model(&self.model)?)?;
+        let mut p = StepParams::preset(&self.preset, &model.name).with_context(|| {
+            format!(
+                "--preset {}: expected one of {} (physical-robot is for drosophibot2)",
+                self.preset,
+                planner::gait::PRESETS.join(", ")
+            )
+        })?;
         if let Some(f) = &self.params {
             let text =
                 std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;
@@ -68,6 +85,16 @@ impl Args {
         }
         if let Some(n) = self.slices {
             p.slices = n;
+        }
+        if let Some(o) = &self.body_height_offset {
+            if o.len() != 3 || !o.iter().all(|v| v.is_finite()) {
+                anyhow::bail!(
+                    "--body-height-offset takes three offsets HIND,MIDDLE,FRONT in m, got {o:?}"
+                );
+            }
+            p.body_height_m.hind += o[0];
+            p.body_height_m.middle += o[1];
+            p.body_height_m.front += o[2];
         }
         if self.backward {
             p.translation_m = -p.translation_m.abs();
@@ -94,6 +121,7 @@ impl Args {
         let mut json = serde_json::json!({
             "model": model.name,
             "model_source": self.model,
+            "spring_args": self.springs.json(),
             "parameters": plan.params,
             "terrain": plan.terrain,
             "gravity_m_s2": plan.gravity,
@@ -111,6 +139,15 @@ impl Args {
         if let Some(d) = &dynamics {
             json["dynamics"] = d.json(&plan);
         }
+        let torque = dynamics
+            .as_ref()
+            .map(|d| planner::dynamics::output::torque_rows(&d.cycle));
+        let feasible =
+            planner::plan::feasibility::check(&plan.model, &plan.q, torque.as_deref(), plan.dt);
+        json["feasibility"] = crate::feasibility_args::json(&feasible);
+        replace(out, "feasibility.md", |p| {
+            Ok(std::fs::write(p, feasible.table())?)
+        })?;
         let json = serde_json::to_string_pretty(&json)?;
         replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
         let urdf = planner::model::to_urdf(&model);
@@ -130,8 +167,9 @@ impl Args {
             println!("{}; wrote {}", d.summary(), files.join(" "));
         }
         bar.finish_and_clear();
+        println!("{}", crate::feasibility_args::summary(&feasible));
         println!(
-            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png to {}",
+            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json feasibility.md model.urdf joint_angles.png footfall.png feet.png to {}",
             model.name,
             plan.slices(),
             plan.period_s,

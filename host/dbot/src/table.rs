@@ -23,6 +23,8 @@ pub struct Args {
     /// Gait name stored in the table (at most 16 bytes); default: the plan directory's name.
     #[arg(long)]
     name: Option<String>,
+    #[command(flatten)]
+    feasibility: crate::feasibility_args::FeasibilityArgs,
 }
 
 impl Args {
@@ -139,6 +141,10 @@ impl Args {
             }
             full[..end].to_string()
         });
+        let dt = period / q.len().max(1) as f64;
+        let check = planner::plan::feasibility::check(&model, &q, Some(&torque), dt);
+        self.feasibility
+            .enforce(&check, &format!("step table of {}", dir.display()))?;
         let bytes = gait_table(&model, &name, period, duty, &q, &torque, &stance)
             .with_context(|| format!("building the step table of {}", dir.display()))?;
         crate::common::output::replace_file(&self.out, |p| Ok(std::fs::write(p, &bytes)?))?;

@@ -29,6 +29,8 @@ pub struct Args {
     pub slot: Option<u8>,
     #[command(flatten)]
     pub board: BoardArgs,
+    #[command(flatten)]
+    pub feasibility: crate::feasibility_args::FeasibilityArgs,
 }
 
 impl Args {
@@ -36,7 +38,7 @@ impl Args {
         let table = match (&self.table, &self.plan) {
             (Some(path), _) => std::fs::read(path)
                 .with_context(|| format!("reading the step table {}", path.display()))?,
-            (None, Some(dir)) => table_from_plan_dir(dir)?,
+            (None, Some(dir)) => table_from_plan_dir(dir, &self.feasibility)?,
             (None, None) => bail!("give --table FILE or --plan DIR"),
         };
         protocol::GaitTable::parse(&table).with_context(|| match (&self.table, &self.plan) {
@@ -85,7 +87,10 @@ impl Args {
 /// The step table of a plan directory written by `dbot plan`: its plan.json names the model, the
 /// stepping parameters and the dynamics options, so the plan and its inverse dynamics are solved
 /// again (deterministically) and checked against the recorded slice count and period.
-fn table_from_plan_dir(dir: &Path) -> anyhow::Result<Vec<u8>> {
+fn table_from_plan_dir(
+    dir: &Path,
+    feasibility: &crate::feasibility_args::FeasibilityArgs,
+) -> anyhow::Result<Vec<u8>> {
     let path = dir.join("plan.json");
     let text =
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
@@ -104,7 +109,8 @@ fn table_from_plan_dir(dir: &Path) -> anyhow::Result<Vec<u8>> {
         .or_else(|| json.get("model"))
         .and_then(|v| v.as_str())
         .with_context(|| format!("{}: no `model_source` or `model` field", path.display()))?;
-    let model = crate::common::model_spec::load_model(model_name)?;
+    let model = crate::spring_args::SpringArgs::from_json(json.get("spring_args"))?
+        .apply(crate::common::model_spec::load_model(model_name)?)?;
     let params: planner::gait::StepParams = serde_json::from_value(field("parameters")?.clone())
         .with_context(|| {
             format!(
@@ -140,6 +146,9 @@ fn table_from_plan_dir(dir: &Path) -> anyhow::Result<Vec<u8>> {
         );
     }
     let dynamics = args.solve(&plan)?.context("inverse dynamics")?;
+    let torque = planner::dynamics::output::torque_rows(&dynamics.cycle);
+    let check = planner::plan::feasibility::check(&plan.model, &plan.q, Some(&torque), plan.dt);
+    feasibility.enforce(&check, &format!("plan {}", dir.display()))?;
     let (table, _) = crate::common::step_table::step_table(&plan, &dynamics)?;
     eprintln!(
         "built the step table from {} ({} slices, period {:.3} s, re-solved)",

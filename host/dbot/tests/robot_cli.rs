@@ -181,7 +181,40 @@ fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let out = ok(dir.path(), &["upload", "--plan", "p", "--slot", "3"]);
+    // Table 1's default 0.5 s swing turns the front CTr (MX-64) and FTi (MX-28) faster than
+    // their servos can (about 6.6 and 6.1 rad/s against 6.60 and 5.76 rad/s no-load speed).
+    let o = dbot(dir.path(), &["upload", "--plan", "p", "--slot", "3"]);
+    let e = stderr(&o);
+    assert!(!o.status.success());
+    for needle in [
+        "cannot follow",
+        "LF_FTi at slice",
+        "no-load speed 5.76 rad/s by",
+        "--allow-infeasible",
+    ] {
+        assert!(e.contains(needle), "{needle}: {e}");
+    }
+    let table = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_dbot"))
+            .args(["table", "--plan", "p", "--out", "t.dbgt"])
+            .args(extra)
+            .current_dir(dir.path())
+            .output()
+            .unwrap()
+    };
+    let o = table(&[]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("LF_FTi at slice"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("t.dbgt").exists());
+    let o = table(&["--allow-infeasible"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = ok(
+        dir.path(),
+        &["upload", "--plan", "p", "--slot", "3", "--allow-infeasible"],
+    );
     // 22 servos of Drosophibot II, the 50 slices asked for, table 1's 1.25 s step period.
     assert!(
         out.contains("slot 3: \"dbII tripod\" 22 joints x 50 slices, step 1.250 s, duty 0.60"),

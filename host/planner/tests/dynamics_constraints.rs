@@ -116,8 +116,16 @@ fn torque_limits_are_reported_and_enforced() {
         ..Default::default()
     };
     match solve_cycle(&model, &inputs, &opts) {
-        Err(DynamicsError::Solver { slice: 0, reason }) => {
-            assert!(reason.contains("Infeasible"), "{reason}")
+        Err(DynamicsError::Infeasible {
+            slices,
+            constraints,
+            need,
+            advice,
+        }) => {
+            assert!(slices.starts_with('0'), "{slices}");
+            assert_eq!(constraints, "torque limits");
+            assert!(need.contains("limit 1.000e-3"), "{need}");
+            assert!(advice.contains("stronger actuators"), "{advice}");
         }
         other => panic!("expected an infeasibility error naming slice 0, got {other:?}"),
     }

@@ -4,7 +4,8 @@
 use nalgebra::{Isometry3, Matrix3, Unit, Vector3};
 use planner::dynamics::{Base, DynamicsOptions, SliceInput, solve_slice};
 use planner::model::{
-    Actuation, ActuatorKind, Body, Foot, Joint, JointKind, Leg, Model, ParallelSpring,
+    Actuation, ActuatorKind, Body, EquilibriumSource, Foot, Joint, JointKind, Leg, Model,
+    ParallelSpring,
 };
 
 /// The planner's standard gravity, m/s^2 (`SliceInput::still` uses it).
@@ -174,6 +175,7 @@ fn parallel_spring_takes_part_of_the_torque() {
     let spring = ParallelSpring {
         stiffness: 0.5,
         equilibrium: 0.4,
+        equilibrium_from: EquilibriumSource::Given,
     };
     let model = arm(Some(spring));
     let mut input = SliceInput::still(&model, vec![0.0; 3]);
@@ -199,6 +201,7 @@ fn servo_command_bias_is_torque_over_servo_stiffness() {
     let spring = ParallelSpring {
         stiffness: 0.5,
         equilibrium: 0.4,
+        equilibrium_from: EquilibriumSource::Given,
     };
     let model = arm(Some(spring));
     let mut input = SliceInput::still(&model, vec![0.1, -0.2, 0.3]);

@@ -3,6 +3,7 @@
 //! organism moves several joints in one plane, and the torque scaling of a speed sweep.
 
 mod compare;
+pub mod paper;
 mod regression;
 mod sweep;
 

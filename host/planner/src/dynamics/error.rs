@@ -49,4 +49,16 @@ pub enum DynamicsError {
     },
     #[error("slice {slice}: QP solver failed: {reason}")]
     Solver { slice: usize, reason: String },
+    #[error(
+        "slices {slices}: no load sharing meets the {constraints}: without them {need}. \
+         To make it feasible: {advice}"
+    )]
+    Infeasible {
+        /// e.g. `10-14, 60-65`.
+        slices: String,
+        constraints: String,
+        /// What the unconstrained optimum asks of the feet and joints.
+        need: String,
+        advice: String,
+    },
 }

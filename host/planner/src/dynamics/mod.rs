@@ -22,6 +22,7 @@
 
 mod error;
 mod from_plan;
+mod infeasible;
 mod input;
 pub mod motion;
 pub mod output;

@@ -119,9 +119,12 @@ pub fn json_summary(
             .map(|(s, _)| f(s))
             .fold(0.0, f64::max)
     };
+    let (actuator, spring) = stiffness_parts(model);
     serde_json::json!({
-        "stiffness_nm_per_rad": stiffness,
-        "stiffness_note": "k = actuator stiffness + parallel spring, used in V* = 1/2 sum T_act^2 / k",
+        "joint_stiffness_nm_per_rad": stiffness,
+        "actuator_stiffness_nm_per_rad": actuator,
+        "parallel_spring": spring,
+        "stiffness_note": "joint stiffness k = actuator stiffness + parallel spring stiffness, used in V* = 1/2 sum T_act^2 / k; the servo-command bias and the step table use the actuator stiffness alone",
         "v_star_j": cycle.slices.iter().map(|s| s.v_star).collect::<Vec<_>>(),
         "peak_abs_torque_nm": peak(&|s| cycle.slices[s].torque.iter().fold(0.0, |m: f64, t| m.max(t.abs()))),
         "friction_cone": options.friction_cone,
@@ -133,4 +136,35 @@ pub fn json_summary(
         "saturations": cycle.report.saturations.iter().map(|s| serde_json::json!({
             "slice": s.slice, "joint": s.joint, "torque_nm": s.torque, "limit_nm": s.limit })).collect::<Vec<_>>(),
     })
+}
+
+/// Per actuated joint: the actuator stiffness (N m/rad), and per joint with a parallel spring its
+/// stiffness, equilibrium and where the equilibrium came from.
+fn stiffness_parts(
+    model: &Model,
+) -> (
+    serde_json::Map<String, serde_json::Value>,
+    serde_json::Map<String, serde_json::Value>,
+) {
+    let mut actuator = serde_json::Map::new();
+    let mut spring = serde_json::Map::new();
+    for j in &model.joints {
+        match &j.actuation {
+            Actuation::Actuated { stiffness, .. } => {
+                actuator.insert(j.name.clone(), serde_json::json!(stiffness));
+            }
+            Actuation::Fixed { .. } => {}
+        }
+        if let Some(s) = &j.spring {
+            spring.insert(
+                j.name.clone(),
+                serde_json::json!({
+                    "stiffness_nm_per_rad": s.stiffness,
+                    "equilibrium_rad": s.equilibrium,
+                    "equilibrium_from": s.equilibrium_from,
+                }),
+            );
+        }
+    }
+    (actuator, spring)
 }

@@ -71,18 +71,26 @@ pub fn solve_cycle(
     let one = |(i, input): (usize, &SliceInput)| {
         solve_prepared(model, input, options, &stiffness, &limits, i)
     };
-    let slices: Vec<SliceSolution> = if options.parallel {
-        inputs
-            .par_iter()
-            .enumerate()
-            .map(one)
-            .collect::<Result<_, _>>()?
+    let solved: Result<Vec<SliceSolution>, DynamicsError> = if options.parallel {
+        inputs.par_iter().enumerate().map(one).collect()
     } else {
-        inputs
-            .iter()
-            .enumerate()
-            .map(one)
-            .collect::<Result<_, _>>()?
+        inputs.iter().enumerate().map(one).collect()
+    };
+    let slices = match solved {
+        Ok(s) => s,
+        // A solver failure with constraints on: name every such slice and what would help.
+        Err(e @ DynamicsError::Solver { .. }) => {
+            let failed: Vec<usize> = inputs
+                .iter()
+                .enumerate()
+                .filter(|&(i, input)| matches!(one((i, input)), Err(DynamicsError::Solver { .. })))
+                .map(|(i, _)| i)
+                .collect();
+            return Err(super::infeasible::diagnose(
+                model, inputs, options, &limits, &failed, e,
+            ));
+        }
+        Err(e) => return Err(e),
     };
     let mut report = ConstraintReport::default();
     for (i, (s, input)) in slices.iter().zip(inputs).enumerate() {

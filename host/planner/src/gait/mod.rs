@@ -4,9 +4,11 @@
 mod footpath;
 mod params;
 mod phase;
+mod presets;
 mod quintic;
 
 pub use footpath::{Footpath, GroundMotion};
 pub use params::{ParamError, ParamsFile, PerPair, Placement, StepParams};
 pub use phase::Gait;
+pub use presets::PRESETS;
 pub use quintic::Quintic;

@@ -77,8 +77,22 @@ pub enum ActuationEntry {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpringEntry {
+    /// Parallel spring stiffness alone (the actuator's is the joint's `stiffness_nm_per_rad`).
     pub stiffness_nm_per_rad: f64,
-    pub equilibrium_rad: f64,
+    /// Equilibrium angle (rad); when absent, `equilibrium` says where it comes from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub equilibrium_rad: Option<f64>,
+    /// `rest` (default: the plan's resting posture) or `step_midrange` (the middle of the joint's
+    /// range over the planned step); only without `equilibrium_rad`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub equilibrium: Option<EquilibriumEntry>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EquilibriumEntry {
+    Rest,
+    StepMidrange,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -281,13 +295,10 @@ impl ModelFile {
                         "must be >= 0",
                     ));
                 }
-                Some(s) if !s.equilibrium_rad.is_finite() => {
-                    return Err(field(file, &place, "spring.equilibrium_rad", "not finite"));
-                }
-                Some(s) => Some(ParallelSpring {
-                    stiffness: s.stiffness_nm_per_rad,
-                    equilibrium: s.equilibrium_rad,
-                }),
+                Some(s) => Some(
+                    super::spring::from_entry(&s, (lo, hi))
+                        .map_err(|(f, why)| field(file, &place, f, why))?,
+                ),
                 None => None,
             };
             let servo = match (j.servo, &actuation) {

@@ -1,9 +1,7 @@
 //! Writing a [`Model`] back out in the TOML model format, and the roll-pitch-yaw decomposition
 //! shared with the URDF writer.
 
-use super::file::{
-    ActuationEntry, BodyEntry, FootEntry, JointEntry, ModelFile, ServoEntry, SpringEntry,
-};
+use super::file::{ActuationEntry, BodyEntry, FootEntry, JointEntry, ModelFile, ServoEntry};
 use super::*;
 
 /// Writes a model as TOML (sources left empty unless given per body / joint name).
@@ -68,10 +66,7 @@ impl ModelFile {
                     actuation,
                     stiffness_nm_per_rad: stiffness,
                     fixed_angle_rad: fixed,
-                    spring: j.spring.map(|s| SpringEntry {
-                        stiffness_nm_per_rad: s.stiffness,
-                        equilibrium_rad: s.equilibrium,
-                    }),
+                    spring: j.spring.map(|s| super::spring::to_entry(&s)),
                     servo: j.servo.map(|s| ServoEntry {
                         id: s.id,
                         zero_offset_rad: s.zero_offset,

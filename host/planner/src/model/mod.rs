@@ -18,6 +18,7 @@ mod error;
 mod file;
 mod file_write;
 mod query;
+pub mod spring;
 mod urdf;
 
 pub use aproj::{ImportOptions, anim_to_rep, import_aproj, import_aproj_file, parse_joint_name};
@@ -25,4 +26,5 @@ pub use builtin::{BUILTIN_NAMES, builtin};
 pub use error::ModelError;
 pub use file::{ModelFile, from_toml_str, load};
 pub use file_write::{rpy_of, to_toml_string};
+pub use spring::{SpringPreset, SpringSpec};
 pub use urdf::to_urdf;

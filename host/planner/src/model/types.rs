@@ -83,13 +83,32 @@ pub enum ActuatorKind {
     Generic,
 }
 
-/// A spring in parallel with a joint: torque = -stiffness (q - equilibrium).
+/// A spring in parallel with a joint: torque = -stiffness (q - equilibrium). Its stiffness is
+/// the parallel spring's alone; the joint's total stiffness adds the actuator's (see
+/// [`crate::model::spring`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ParallelSpring {
-    /// N m / rad.
+    /// Parallel spring stiffness, N m / rad.
     pub stiffness: f64,
-    /// rad.
+    /// rad. Until a plan resolves it, an [`EquilibriumSource::RestingPosture`] or
+    /// [`EquilibriumSource::StepMidrange`] spring holds the middle of the joint's limits here.
     pub equilibrium: f64,
+    /// Where `equilibrium` comes from.
+    #[serde(default)]
+    pub equilibrium_from: EquilibriumSource,
+}
+
+/// Where a parallel spring's equilibrium angle comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum EquilibriumSource {
+    /// Given in the model (rad).
+    #[default]
+    Given,
+    /// The joint's angle in the plan's resting posture (the default of `dbot plan --spring`).
+    RestingPosture,
+    /// The middle of the joint's range of motion over the planned step (paper section 2.2.1:
+    /// "equilibrium angles ... using the full ROM over the step").
+    StepMidrange,
 }
 
 /// Where a joint's servo sits on the bus and how its ticks map to the joint angle:

@@ -3,6 +3,7 @@
 //! reaction forces to a [`Plan`] afterwards.
 
 mod derivatives;
+pub mod feasibility;
 pub mod table;
 
 pub use derivatives::periodic_central_difference;
@@ -117,6 +118,9 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
             }
         }
     }
+    // Springs whose equilibrium is the resting posture (or the step's mid-range) get it now.
+    let mut model = model.clone();
+    crate::model::spring::resolve_equilibria(&mut model, &posture.q, &q);
     let qd = periodic_central_difference(&q, dt);
     let qdd = periodic_central_difference(&qd, dt);
     let (thorax_velocity, thorax_angular_velocity) = match terrain {
@@ -127,7 +131,7 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
         ),
     };
     Ok(Plan {
-        model: model.clone(),
+        model,
         params: params.clone(),
         gravity: terrain.gravity(),
         ball_centre: posture.ball_centre,

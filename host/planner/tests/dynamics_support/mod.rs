@@ -9,7 +9,8 @@ pub mod rnea;
 
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use planner::model::{
-    Actuation, ActuatorKind, Body, Foot, Joint, JointKind, Leg, Model, ParallelSpring,
+    Actuation, ActuatorKind, Body, EquilibriumSource, Foot, Joint, JointKind, Leg, Model,
+    ParallelSpring,
 };
 
 /// Inertia of a thin rod of `mass` and `length` along local x (plus a small radial part).
@@ -172,6 +173,7 @@ pub fn with_springs(mut model: Model, stiffness: f64, equilibrium: f64) -> Model
             j.spring = Some(ParallelSpring {
                 stiffness,
                 equilibrium,
+                equilibrium_from: EquilibriumSource::Given,
             });
         }
     }

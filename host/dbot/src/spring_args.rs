@@ -1,0 +1,99 @@
+//! `--spring` and `--spring-equilibrium`: parallel elasticity on a whole model (paper section
+//! 3.1.2), shared by `dbot plan` and `dbot compare`, and recorded in plan.json so that
+//! `dbot upload --plan` re-plans the same model.
+
+use anyhow::{Context, Result};
+use planner::model::{EquilibriumSource, Model, SpringSpec};
+
+/// Where the equilibrium of `--spring` comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Equilibrium {
+    /// The joint's angle in the resting posture.
+    Rest,
+    /// The middle of the joint's range over the planned step (paper section 2.2.1).
+    StepMidrange,
+}
+
+impl Equilibrium {
+    pub fn source(self) -> EquilibriumSource {
+        match self {
+            Equilibrium::Rest => EquilibriumSource::RestingPosture,
+            Equilibrium::StepMidrange => EquilibriumSource::StepMidrange,
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Equilibrium::Rest => "rest",
+            Equilibrium::StepMidrange => "step-midrange",
+        }
+    }
+}
+
+/// Parallel elasticity flags.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SpringArgs {
+    /// Parallel spring on every actuated joint, replacing the model's own: `none`, `paper` (the
+    /// paper's value for the model: 1 N m/rad for drosophibot2, 3.8e-8 N m/rad for
+    /// scale-drosophila), a preset name (`drosophibot2`, `scale-drosophila`) or a stiffness in
+    /// N m/rad. Default: the springs in the model file.
+    #[arg(long)]
+    pub spring: Option<String>,
+    /// Equilibrium angle of --spring's springs.
+    #[arg(long, value_enum, default_value_t = Equilibrium::Rest)]
+    pub spring_equilibrium: Equilibrium,
+}
+
+impl SpringArgs {
+    /// Flags that leave the model's springs as they are.
+    pub fn model_default() -> Self {
+        Self {
+            spring: None,
+            spring_equilibrium: Equilibrium::Rest,
+        }
+    }
+
+    /// `model` with the springs these flags ask for.
+    pub fn apply(&self, model: Model) -> Result<Model> {
+        match &self.spring {
+            None => Ok(model),
+            Some(spec) => {
+                let s = SpringSpec::parse(spec)?;
+                s.apply(&model, self.spring_equilibrium.source())
+                    .with_context(|| format!("--spring {spec} on model {}", model.name))
+            }
+        }
+    }
+
+    /// The `spring_args` object of plan.json (null without --spring).
+    pub fn json(&self) -> serde_json::Value {
+        match &self.spring {
+            None => serde_json::Value::Null,
+            Some(spec) => serde_json::json!({
+                "spring": spec,
+                "spring_equilibrium": self.spring_equilibrium.name(),
+            }),
+        }
+    }
+
+    /// The flags recorded by [`SpringArgs::json`].
+    pub fn from_json(v: Option<&serde_json::Value>) -> Result<Self> {
+        let Some(v) = v.filter(|v| !v.is_null()) else {
+            return Ok(Self::model_default());
+        };
+        let spring = v["spring"]
+            .as_str()
+            .context("plan.json `spring_args.spring` is not a string")?
+            .to_string();
+        let spring_equilibrium = match v["spring_equilibrium"].as_str() {
+            Some("rest") | None => Equilibrium::Rest,
+            Some("step-midrange") => Equilibrium::StepMidrange,
+            Some(other) => anyhow::bail!(
+                "plan.json `spring_args.spring_equilibrium` is `{other}`, expected rest or step-midrange"
+            ),
+        };
+        Ok(Self {
+            spring: Some(spring),
+            spring_equilibrium,
+        })
+    }
+}

@@ -1,0 +1,64 @@
+//! Named stepping-parameter presets beyond table 1: the posture the original solver gave the
+//! physical Drosophibot II (`../shared/reference/solver.md`, "Resting posture of the physical
+//! robot"), and the paper's comparison conditions.
+//!
+//! The original method places each resting foot at the leg pair's ground height, x and y relative
+//! to the ThC, with the joints as near mid-range as that allows; [`crate::kinematics::resting_posture`]
+//! does the same with a [`Placement`]. Only the numbers differ: table 1's built-in placement is a
+//! hand-chosen estimate that also reaches the ball; `physical-robot` takes the original's figure.
+
+use super::{PerPair, Placement, StepParams};
+
+/// Preset names accepted by [`StepParams::preset`].
+pub const PRESETS: [&str; 3] = ["table1", "physical-robot", "paper-comparison"];
+
+impl StepParams {
+    /// A named preset for a model: `table1` ([`StepParams::table1`]); `physical-robot`
+    /// (Drosophibot II as the original solver ran it: per-pair body heights, table 1's note, and
+    /// the resting feet of its posture figure, at table 1's longest swing 1.6 s); `paper-comparison`
+    /// (section 3.1: table 1 at the robot's 4 s period or the fly's table 1 swing, see
+    /// [`crate::analysis::paper`]). `None` for an unknown name, or `physical-robot` on a model
+    /// other than drosophibot2.
+    pub fn preset(name: &str, model: &str) -> Option<StepParams> {
+        let mut p = StepParams::table1(model);
+        match name {
+            "table1" => {}
+            "paper-comparison" => {
+                p.swing_s = if model == "scale-drosophila" {
+                    crate::analysis::paper::FLY_SWING_S
+                } else {
+                    crate::analysis::paper::ROBOT_SWING_S
+                };
+            }
+            "physical-robot" if model == "drosophibot2" => {
+                // solver.md: ThC -> foot offsets (x, |y|, z) = (-0.150, 0.130, -0.150) hind,
+                // (-0.025, 0.200, -0.165) middle, (0.114, 0.065, -0.203) m front; feet at
+                // z = -0.175 / -0.190 / -0.165 m below that figure's thorax origin. Its thorax
+                // origin sits 0.0196 m higher relative to the ThCs than ours (ThC z -0.0246 and
+                // 0.0377 m there, -0.0050 and 0.0573 m in host/models/drosophibot2.toml), so the
+                // body heights here are the original's minus 0.0196 m: the feet then land at the
+                // original's offsets from each ThC in x, y and z.
+                p.swing_s = 1.6;
+                p.body_height_m = PerPair {
+                    hind: 0.175 - 0.0196,
+                    middle: 0.190 - 0.0196,
+                    front: 0.165 - 0.0196,
+                };
+                p.placement = Some(Placement {
+                    forward_m: PerPair {
+                        hind: -0.150,
+                        middle: -0.025,
+                        front: 0.114,
+                    },
+                    outward_m: PerPair {
+                        hind: 0.130,
+                        middle: 0.200,
+                        front: 0.065,
+                    },
+                });
+            }
+            _ => return None,
+        }
+        Some(p)
+    }
+}

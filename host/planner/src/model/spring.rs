@@ -1,0 +1,214 @@
+//! Parallel elasticity (paper sections 2.2.2 and 3.1.2): a spring beside a joint's actuator.
+//!
+//! Names used everywhere (code, plan.json, docs): the *actuator stiffness* is the proportional
+//! gain of the servo (or muscle) in N m/rad, the *parallel spring stiffness* is the spring's
+//! alone, and the *joint stiffness* is their sum, the k of V* = 1/2 sum T_act^2 / k (eq. 9).
+//! The step table and the servo-command bias use the actuator stiffness only: the spring does not
+//! move with the command.
+
+use super::file::{EquilibriumEntry, SpringEntry};
+use super::{Actuation, EquilibriumSource, Model, ParallelSpring};
+
+/// The paper's parallel stiffness values (section 3.1.2), as named presets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpringPreset {
+    /// 1 N m/rad on every joint of Drosophibot II: "selected such that the resulting torques at
+    /// each DoF would not overload our selected actuators".
+    Drosophibot2,
+    /// 3.8e-8 N m/rad on every joint of Scale-Drosophila, "calculated based on dynamic scaling
+    /// calculations presented in [91]".
+    ScaleDrosophila,
+}
+
+impl SpringPreset {
+    pub const ALL: [SpringPreset; 2] = [SpringPreset::Drosophibot2, SpringPreset::ScaleDrosophila];
+
+    /// The preset's name, the built-in model's name it belongs to.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpringPreset::Drosophibot2 => "drosophibot2",
+            SpringPreset::ScaleDrosophila => "scale-drosophila",
+        }
+    }
+
+    /// Parallel spring stiffness, N m/rad.
+    pub fn stiffness(self) -> f64 {
+        match self {
+            SpringPreset::Drosophibot2 => 1.0,
+            SpringPreset::ScaleDrosophila => 3.8e-8,
+        }
+    }
+
+    /// Where the value comes from.
+    pub fn source(self) -> &'static str {
+        match self {
+            SpringPreset::Drosophibot2 => {
+                "paper section 3.1.2 (k_joint = 1 N m/rad, Drosophibot II)"
+            }
+            SpringPreset::ScaleDrosophila => {
+                "paper section 3.1.2 (k_joint = 3.8e-8 N m/rad, Scale-Drosophila, from the dynamic scaling of its ref. [91])"
+            }
+        }
+    }
+
+    /// The preset of a built-in model's name, if it has one.
+    pub fn for_model(model_name: &str) -> Option<SpringPreset> {
+        SpringPreset::ALL
+            .into_iter()
+            .find(|p| p.name() == model_name)
+    }
+}
+
+/// What `--spring` asks for on a whole model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SpringSpec {
+    /// Remove every parallel spring.
+    None,
+    /// The paper's value for this model (by its name).
+    Paper,
+    Preset(SpringPreset),
+    /// This parallel stiffness on every actuated joint, N m/rad.
+    Stiffness(f64),
+}
+
+/// A `--spring` value that is not understood, or has no value for the model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpringError {
+    #[error(
+        "spring `{spec}`: expected none, paper, drosophibot2, scale-drosophila or a stiffness >= 0 in N m/rad"
+    )]
+    Unknown { spec: String },
+    #[error(
+        "spring `paper`: the paper gives no parallel stiffness for model `{model}` (it has values for drosophibot2 and scale-drosophila); give one in N m/rad"
+    )]
+    NoPaperValue { model: String },
+}
+
+impl SpringSpec {
+    /// Parses `none`, `paper`, a preset name or a stiffness in N m/rad.
+    pub fn parse(spec: &str) -> Result<SpringSpec, SpringError> {
+        let unknown = || SpringError::Unknown {
+            spec: spec.to_string(),
+        };
+        match spec {
+            "none" => Ok(SpringSpec::None),
+            "paper" => Ok(SpringSpec::Paper),
+            _ => match SpringPreset::ALL.into_iter().find(|p| p.name() == spec) {
+                Some(p) => Ok(SpringSpec::Preset(p)),
+                None => match spec.parse::<f64>() {
+                    Ok(k) if k.is_finite() && k >= 0.0 => Ok(SpringSpec::Stiffness(k)),
+                    _ => Err(unknown()),
+                },
+            },
+        }
+    }
+
+    /// The parallel stiffness this asks for on `model` (0: no springs).
+    pub fn stiffness(&self, model: &Model) -> Result<f64, SpringError> {
+        match self {
+            SpringSpec::None => Ok(0.0),
+            SpringSpec::Paper => SpringPreset::for_model(&model.name)
+                .map(SpringPreset::stiffness)
+                .ok_or_else(|| SpringError::NoPaperValue {
+                    model: model.name.clone(),
+                }),
+            SpringSpec::Preset(p) => Ok(p.stiffness()),
+            SpringSpec::Stiffness(k) => Ok(*k),
+        }
+    }
+
+    /// `model` with this spring on every actuated joint (equilibrium from `from`), or with no
+    /// springs at all for a stiffness of zero.
+    pub fn apply(&self, model: &Model, from: EquilibriumSource) -> Result<Model, SpringError> {
+        Ok(with_parallel_springs(model, self.stiffness(model)?, from))
+    }
+}
+
+/// `model` with a parallel spring of `stiffness` (N m/rad) on every actuated joint; fixed joints
+/// get none. A stiffness of zero removes all springs.
+pub fn with_parallel_springs(model: &Model, stiffness: f64, from: EquilibriumSource) -> Model {
+    let mut m = model.clone();
+    for j in &mut m.joints {
+        j.spring = match (&j.actuation, stiffness > 0.0) {
+            (Actuation::Actuated { .. }, true) => Some(ParallelSpring {
+                stiffness,
+                equilibrium: 0.5 * (j.limits.0 + j.limits.1),
+                equilibrium_from: from,
+            }),
+            (Actuation::Actuated { .. }, false) | (Actuation::Fixed { .. }, _) => None,
+        };
+    }
+    m
+}
+
+/// Sets the equilibrium of every spring that takes it from the plan: the resting posture's angle
+/// `rest[j]`, or the middle of the joint's range over the step's angles `q[slice][j]`.
+pub fn resolve_equilibria(model: &mut Model, rest: &[f64], q: &[Vec<f64>]) {
+    for (j, joint) in model.joints.iter_mut().enumerate() {
+        if let Some(s) = &mut joint.spring {
+            match s.equilibrium_from {
+                EquilibriumSource::Given => {}
+                EquilibriumSource::RestingPosture => s.equilibrium = rest[j],
+                EquilibriumSource::StepMidrange => {
+                    let (lo, hi) = q
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+                            (l.min(r[j]), h.max(r[j]))
+                        });
+                    if lo <= hi {
+                        s.equilibrium = 0.5 * (lo + hi);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Reads a model file's spring entry; `limits` are the joint's (placeholder equilibrium until a
+/// plan resolves it). The error is the field and the problem.
+pub(crate) fn from_entry(
+    s: &SpringEntry,
+    limits: (f64, f64),
+) -> Result<ParallelSpring, (&'static str, String)> {
+    if !(s.stiffness_nm_per_rad.is_finite() && s.stiffness_nm_per_rad >= 0.0) {
+        return Err(("spring.stiffness_nm_per_rad", "must be >= 0".into()));
+    }
+    let (equilibrium, equilibrium_from) = match (s.equilibrium_rad, s.equilibrium) {
+        (Some(_), Some(_)) => {
+            return Err((
+                "spring.equilibrium",
+                "give either equilibrium_rad or equilibrium, not both".into(),
+            ));
+        }
+        (Some(e), None) if !e.is_finite() => {
+            return Err(("spring.equilibrium_rad", "not finite".into()));
+        }
+        (Some(e), None) => (e, EquilibriumSource::Given),
+        (None, from) => (
+            0.5 * (limits.0 + limits.1),
+            match from {
+                None | Some(EquilibriumEntry::Rest) => EquilibriumSource::RestingPosture,
+                Some(EquilibriumEntry::StepMidrange) => EquilibriumSource::StepMidrange,
+            },
+        ),
+    };
+    Ok(ParallelSpring {
+        stiffness: s.stiffness_nm_per_rad,
+        equilibrium,
+        equilibrium_from,
+    })
+}
+
+/// The model file's entry of a spring (an equilibrium from the plan is written as its source).
+pub(crate) fn to_entry(s: &ParallelSpring) -> SpringEntry {
+    let (equilibrium_rad, equilibrium) = match s.equilibrium_from {
+        EquilibriumSource::Given => (Some(s.equilibrium), None),
+        EquilibriumSource::RestingPosture => (None, Some(EquilibriumEntry::Rest)),
+        EquilibriumSource::StepMidrange => (None, Some(EquilibriumEntry::StepMidrange)),
+    };
+    SpringEntry {
+        stiffness_nm_per_rad: s.stiffness,
+        equilibrium_rad,
+        equilibrium,
+    }
+}
