@@ -5,6 +5,7 @@ pub mod analysis;
 pub mod bus;
 pub mod config;
 pub mod dynamics;
+pub mod files;
 pub mod gait;
 pub mod kinematics;
 pub mod link;
