@@ -18,6 +18,7 @@ mod error;
 mod file;
 mod file_write;
 mod query;
+mod ranges;
 mod urdf;
 
 pub use aproj::{ImportOptions, anim_to_rep, import_aproj, import_aproj_file, parse_joint_name};

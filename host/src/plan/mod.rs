@@ -3,6 +3,7 @@
 //! reaction forces to a [`Plan`] afterwards.
 
 mod derivatives;
+pub mod finite;
 pub mod table;
 
 pub use derivatives::periodic_central_difference;
