@@ -4,6 +4,7 @@
 //! and a `run(self)` that does the work.
 
 mod board_args;
+mod bounds;
 mod compare;
 mod demo;
 mod devices;

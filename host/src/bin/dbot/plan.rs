@@ -70,9 +70,18 @@ impl Args {
         if self.backward {
             p.translation_m = -p.translation_m.abs();
         }
+        crate::bounds::check_slices("slices", p.slices, crate::bounds::table_joints(&model))?;
+        if p.slices > crate::bounds::TELL_ABOVE_SLICES {
+            eprintln!(
+                "planning {} slices of {} (the inverse dynamics solves one QP per slice)",
+                p.slices, model.name
+            );
+        }
         let bar = ProgressBar::new(6);
         bar.set_message("planning");
         let plan = host::plan::plan(&model, &p)
+            .with_context(|| format!("planning a step of {}", model.name))?;
+        host::plan::finite::check_plan(&plan)
             .with_context(|| format!("planning a step of {}", model.name))?;
         bar.inc(1);
         let dynamics = self.dynamics.solve(&plan)?;
@@ -139,34 +148,21 @@ impl Args {
     }
 }
 
-/// Writes the output `name` in `dir` through a scratch file next to it (`.partial-NAME`, same
-/// extension, so plotters picks the same format), renamed over `name` only once complete: a run
-/// that fails or is killed leaves the previous file whole (and at worst a scratch file). The error
-/// names the file.
+/// Writes the output `name` in `dir` through [`host::files::write_atomically`] (a scratch file
+/// `.partial-NAME` beside it, same extension, so plotters picks the same format, renamed over
+/// `name` only once complete): a run that fails or is killed leaves the previous file whole (and
+/// at worst a scratch file). The error names the file.
 pub(crate) fn replace(
     dir: &Path,
     name: &str,
     write: impl FnOnce(&Path) -> Result<()>,
 ) -> Result<()> {
-    let path = dir.join(name);
-    let scratch = dir.join(format!(".partial-{name}"));
-    let done = write(&scratch).and_then(|()| Ok(std::fs::rename(&scratch, &path)?));
-    if done.is_err() {
-        let _ = std::fs::remove_file(&scratch);
-    }
-    done.with_context(|| format!("writing {}", path.display()))
+    replace_file(&dir.join(name), write)
 }
 
 /// [`replace`] for an output named by its whole path (`--out FILE`): the scratch file sits next to it.
 pub(crate) fn replace_file(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file name", path.display()))?
-        .to_string_lossy()
-        .into_owned();
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    replace(dir, &name, write)
+    Ok(host::files::write_atomically(path, |p| {
+        write(p).map_err(|e| e.into())
+    })?)
 }

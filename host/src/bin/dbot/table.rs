@@ -95,7 +95,9 @@ impl Args {
             let num = |c: usize| {
                 rec[c]
                     .parse::<f64>()
-                    .with_context(|| format!("{at}: `{}` is not a number", &rec[c]))
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .with_context(|| format!("{at}: `{}` is not a finite number", &rec[c]))
             };
             q[slice].push(num(ac)?);
             torque[slice].push(num(tc)?);
@@ -139,6 +141,11 @@ impl Args {
             }
             full[..end].to_string()
         });
+        crate::bounds::check_slices(
+            &format!("{}: slices", jpath.display()),
+            q.len(),
+            crate::bounds::table_joints(&model),
+        )?;
         let bytes = gait_table(&model, &name, period, duty, &q, &torque, &stance)
             .with_context(|| format!("building the step table of {}", dir.display()))?;
         crate::plan::replace_file(&self.out, |p| Ok(std::fs::write(p, &bytes)?))?;
