@@ -6,7 +6,14 @@
 use std::path::Path;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
-const CRATES: [&str; 6] = ["host", "dynamixel", "protocol", "firmware", "hil-tests", "python"];
+const CRATES: [&str; 6] = [
+    "host",
+    "dynamixel",
+    "protocol",
+    "firmware",
+    "hil-tests",
+    "python",
+];
 
 /// `(file, kind, name)` of every `--example NAME` / `--bench NAME` in `text`.
 fn targets<'a>(file: &'a str, text: &'a str) -> Vec<(&'a str, &'static str, String)> {
@@ -32,7 +39,10 @@ fn every_example_and_bench_the_docs_name_exists() {
         for e in std::fs::read_dir(Path::new(ROOT).join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "md") {
-                files.push(format!("{dir}/{}", p.file_name().unwrap().to_string_lossy()));
+                files.push(format!(
+                    "{dir}/{}",
+                    p.file_name().unwrap().to_string_lossy()
+                ));
             }
         }
     }
@@ -40,23 +50,40 @@ fn every_example_and_bench_the_docs_name_exists() {
     for f in &files {
         let text = std::fs::read_to_string(Path::new(ROOT).join(f)).unwrap();
         for (file, kind, name) in targets(f, &text) {
-            let found = CRATES
-                .iter()
-                .any(|c| Path::new(ROOT).join(c).join(kind).join(format!("{name}.rs")).is_file());
-            assert!(found, "{file} names `{kind}` target `{name}`, which no crate has");
+            let found = CRATES.iter().any(|c| {
+                Path::new(ROOT)
+                    .join(c)
+                    .join(kind)
+                    .join(format!("{name}.rs"))
+                    .is_file()
+            });
+            assert!(
+                found,
+                "{file} names `{kind}` target `{name}`, which no crate has"
+            );
             checked += 1;
         }
     }
     // bench_export, the dynamics, ik and cycle benches at least.
-    assert!(checked >= 4, "only {checked} targets found: the search is broken");
+    assert!(
+        checked >= 4,
+        "only {checked} targets found: the search is broken"
+    );
 }
 
 #[test]
 fn the_target_search_finds_what_it_should() {
-    let t = targets("x", "cargo build -p host --example bench_schur --example a_b\n`--bench cycle`");
+    let t = targets(
+        "x",
+        "cargo build -p host --example bench_schur --example a_b\n`--bench cycle`",
+    );
     let names: Vec<_> = t.iter().map(|(_, k, n)| (*k, n.as_str())).collect();
     assert_eq!(
         names,
-        [("examples", "bench_schur"), ("examples", "a_b"), ("benches", "cycle")]
+        [
+            ("examples", "bench_schur"),
+            ("examples", "a_b"),
+            ("benches", "cycle")
+        ]
     );
 }

@@ -40,7 +40,8 @@ impl Model {
                 return Err(field(file, place, "inertia", "not finite"));
             }
         }
-        if !(total > 0.0) {
+        // Each mass is finite and >= 0 here, so the sum is too.
+        if total <= 0.0 {
             return Err(field(file, "model", "mass", "the bodies weigh nothing"));
         }
         for j in &self.joints {
