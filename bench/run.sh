@@ -5,23 +5,46 @@
 # everything (export.json, URDFs, results.json, logs) lands in bench/out/.
 #
 # Usage: bench/run.sh [--slsqp-slices N] [--no-scaling] [--no-firmware] [--firmware-log FILE]
+#        bench/run.sh --quick
 #   --firmware-log FILE: use the output of an earlier run of the firmware's simulated-wire test
 #   (e.g. on a branch that has it) instead of running it here.
+#   --quick: the Rust half only, in the dev profile, into a scratch directory: bench_export and
+#   every criterion bench the docs cite, each run once (criterion's test mode). No figures: it
+#   checks that the commands still run. scripts/test.sh runs it, so they cannot rot unseen (the
+#   removed bench_schur example broke this script for a while).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SLSQP_SLICES=5
 SCALING=--scaling
 FIRMWARE=1
 FW_GIVEN=""
+QUICK=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --slsqp-slices) SLSQP_SLICES="$2"; shift 2 ;;
     --no-scaling) SCALING=""; shift ;;
     --no-firmware) FIRMWARE=0; shift ;;
     --firmware-log) FIRMWARE=0; FW_GIVEN="$2"; shift 2 ;;
+    --quick) QUICK=1; shift ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
+TARGET_DIR=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
+
+if [ "$QUICK" = 1 ]; then
+  OUT=$(mktemp -d)
+  trap 'rm -rf "$OUT"' EXIT
+  echo "== quick: bench_export (dev profile, no scaling study)" >&2
+  cargo build --quiet --locked -p host --example bench_export
+  "$TARGET_DIR/debug/examples/bench_export" "$OUT" >/dev/null
+  [ -s "$OUT/export.json" ] || { echo "bench_export wrote no export.json" >&2; exit 1; }
+  echo "== quick: criterion benches once each (cargo bench -p host --bench dynamics / ik; -p dynamixel --bench cycle)" >&2
+  cargo test --quiet --locked -p host --bench dynamics --bench ik
+  cargo test --quiet --locked -p dynamixel --features std --bench cycle
+  echo "bench/run.sh --quick: every reproduction command ran" >&2
+  exit 0
+fi
+
 OUT=bench/out
 mkdir -p "$OUT"
 
@@ -37,7 +60,7 @@ fi
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 RAYON_NUM_THREADS=1
 
 echo "== ours: build and export (cargo --release)" >&2
-cargo build --release --quiet -p planner --example bench_export --example bench_schur
+cargo build --release --quiet -p planner --example bench_export
 TARGET_DIR=$(cargo metadata --format-version 1 --no-deps | bench/.venv/bin/python -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
 "$TARGET_DIR/release/examples/bench_export" "$OUT" $SCALING
 
@@ -55,6 +78,3 @@ fi
 
 echo "== peers (Python)" >&2
 bench/.venv/bin/python bench/peers.py "$OUT" --slsqp-slices "$SLSQP_SLICES" ${FW_LOG:+--firmware "$FW_LOG"} | tee "$OUT/table.txt"
-echo | tee -a "$OUT/table.txt"
-echo "prototype from the profile (block-diagonal Schur solve of the reduced QP, host/planner/examples/bench_schur.rs):" | tee -a "$OUT/table.txt"
-"$TARGET_DIR/release/examples/bench_schur" | tee -a "$OUT/table.txt"

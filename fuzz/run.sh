@@ -3,8 +3,10 @@
 #   fuzz/run.sh [seconds] [target...]
 # Targets: frame_decode gait_table upload (protocol), dxl_status (Dynamixel status parser),
 # model_toml (model TOML loader), aproj (AnimatLab importer), plan_params (planner parameters).
-# Seeds: the new targets start from valid inputs (the repo's model files, the shared AnimatLab
-# projects when ../shared exists, a parameter file, the e-manual's ping status packet).
+# Seeds: the new targets start from valid inputs (the repo's model files, the three AnimatLab
+# projects stripped to what the importer reads (fuzz/seeds/aproj, made by fuzz/seeds/strip_aproj.py
+# from ../shared), a parameter file, the e-manual's ping status packet). Targets with a dictionary
+# in fuzz/dicts/ run with it. DBOT_FUZZ_CMIN=1 minimises the corpus after the run (cargo fuzz cmin).
 # Needs the nightly toolchain and cargo-fuzz (installed here from crates.io when missing). Not part
 # of scripts/test.sh: the bounded proptest versions of the same checks run there
 # (protocol/tests/robustness.rs, host/planner/tests/reliability_inputs.rs). Figures: docs/reliability.md.
@@ -22,7 +24,7 @@ seed() {
     [ -z "$(ls -A "corpus/$t")" ] || return 0
     case "$t" in
         model_toml) cp ../host/planner/models/*.toml "corpus/$t/" ;;
-        aproj) cp ../../shared/models/animatlab/*.aproj "corpus/$t/" 2>/dev/null || true ;;
+        aproj) cp seeds/aproj/*.aproj "corpus/$t/" ;;
         plan_params)
             printf 'swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\nterrain = "ball:0.1:0.02"\nstep_height_m = { hind = 0.02, middle = 0.02, front = 0.02 }\n' \
                 >"corpus/$t/seed.toml" ;;
@@ -34,5 +36,10 @@ seed() {
 for t in "${targets[@]}"; do
     seed "$t"
     printf '\n==> fuzz %s for %s s\n' "$t" "$secs"
-    nice -n 19 cargo +nightly fuzz run "$t" "corpus/$t" -- -max_total_time="$secs" -print_final_stats=1
+    dict=()
+    [ -f "dicts/$t.dict" ] && dict=(-dict="dicts/$t.dict")
+    nice -n 19 cargo +nightly fuzz run "$t" "corpus/$t" -- -max_total_time="$secs" -print_final_stats=1 "${dict[@]}"
+    if [ "${DBOT_FUZZ_CMIN:-0}" = 1 ]; then
+        nice -n 19 cargo +nightly fuzz cmin "$t" "corpus/$t"
+    fi
 done

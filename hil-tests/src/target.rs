@@ -36,7 +36,7 @@ impl Target {
             return RealBoard::start(PathBuf::from(port)).map(|b| Some(Self::Real(b)));
         }
         if let Some(why) = emulator_missing(&opts) {
-            return skip(test, &why).map(|()| None);
+            return missing(test, &why).map(|()| None);
         }
         Emulator::start(opts).map(|e| Some(Self::Emulator(e)))
     }
@@ -67,14 +67,33 @@ impl Target {
     }
 }
 
-/// Prints the skip notice, or fails under CI where the emulator must run.
+/// Prints why a test does not apply to the real board named by `DBOT_HIL_PORT` (an opt-in run:
+/// emulator-only tests cannot inject their faults there). Never used for a missing emulator:
+/// that is [`missing`].
 pub fn skip(test: &str, why: &str) -> Result<()> {
-    if std::env::var_os("CI").is_some() {
-        bail!("{test}: cannot run the HIL test under CI: {why}");
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "SKIPPED {test} on the real board (DBOT_HIL_PORT): {why}"
+    );
+    Ok(())
+}
+
+/// Opt-out for a developer's machine without the emulator's prerequisites: `DBOT_HIL_OPTIONAL=1`
+/// turns a missing prerequisite into a printed skip. The test command (scripts/test.sh) unsets it.
+pub const OPTIONAL_ENV: &str = "DBOT_HIL_OPTIONAL";
+
+/// A prerequisite of the emulator is missing: an error (the test command must run the emulator
+/// tests or fail, issue #19), unless [`OPTIONAL_ENV`] is set.
+pub fn missing(test: &str, why: &str) -> Result<()> {
+    if std::env::var_os(OPTIONAL_ENV).is_none_or(|v| v.is_empty() || v == "0") {
+        bail!(
+            "{test}: cannot run on the emulated board: {why} (scripts/setup.d/30-hil.sh installs \
+             the prerequisites; {OPTIONAL_ENV}=1 skips these tests instead)"
+        );
     }
     let _ = writeln!(
         std::io::stderr().lock(),
-        "SKIPPED {test}: {why} (set DBOT_HIL_PORT=/dev/ttyACM0 for a real board)"
+        "SKIPPED {test} ({OPTIONAL_ENV} is set): {why}"
     );
     Ok(())
 }

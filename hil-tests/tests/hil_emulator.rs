@@ -28,7 +28,7 @@ enum Stop {
 fn serves_the_board_on_its_pty_and_stops_cleanly_on_eof_and_sigterm() -> Result<()> {
     let test = "hil_emulator";
     if let Some(why) = hil_tests::target::emulator_missing(&Options::default()) {
-        return hil_tests::target::skip(test, &why);
+        return hil_tests::target::missing(test, &why);
     }
     if std::env::var_os("DBOT_HIL_PORT").is_some() {
         return hil_tests::target::skip(test, "hil-emulator is the emulator, not a real board");

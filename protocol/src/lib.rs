@@ -106,6 +106,7 @@ pub mod client;
 pub mod crc32;
 pub mod frame;
 pub mod gait;
+pub mod limits;
 pub mod message;
 pub mod units;
 pub mod upload;

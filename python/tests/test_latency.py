@@ -79,7 +79,10 @@ def test_setpoint_reaches_the_bus_within_two_cycles(tripod_plan, model, cycle_hz
     assert lat.max() <= 2 * period
 
 
-@pytest.mark.skipif(not os.environ.get("DBOT_TEST_PORT"), reason="DBOT_TEST_PORT not set")
+@pytest.mark.skipif(
+    not os.environ.get("DBOT_TEST_PORT"),
+    reason="opt-in: runs on a real board only, set DBOT_TEST_PORT=/dev/ttyACM0",
+)
 @pytest.mark.parametrize("cycle_hz", [100, 200])
 def test_latency_on_a_port_within_two_cycles(tripod_plan, model, cycle_hz: int) -> None:
     """On a board or the emulator the host's clock is not the board's, so latency is bounded

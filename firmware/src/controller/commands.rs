@@ -46,6 +46,7 @@ pub enum Setting {
     StepCount,
     SetpointJoints,
     StreamTimeout,
+    Stiffness,
 }
 
 impl From<StoreError> for CommandError {
@@ -232,6 +233,13 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// from the next cycle, also while walking.
     pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), CommandError> {
         self.check_joint(joint)?;
+        // 0 switches the bias off; above the limit the bias could not move a servo by a tick.
+        if stiffness > protocol::limits::MAX_STIFFNESS_UNITS {
+            return Err(CommandError::OutOfRange {
+                what: Setting::Stiffness,
+                value: stiffness.into(),
+            });
+        }
         self.stiffness[joint as usize] = stiffness;
         Ok(())
     }
@@ -259,21 +267,25 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         Ok(())
     }
 
-    /// Bus cycle rate (Hz) and baud; only while nothing moves.
+    /// Bus cycle rate (Hz) and baud; only while nothing moves. Checked against
+    /// `protocol::limits` (an MX baud, a rate whose cycles fit the wire for the robot's servos or
+    /// the joint map's, whichever is larger), the same rule the host's flags and setup file use.
     pub fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), CommandError> {
+        use protocol::limits::{LimitError, ROBOT_SERVOS, check_bus};
         self.not_moving()?;
-        if !(50..=1000).contains(&cycle_hz) {
-            return Err(CommandError::OutOfRange {
-                what: Setting::CycleRate,
-                value: cycle_hz.into(),
-            });
-        }
-        if !(9600..=4_500_000).contains(&baud) {
-            return Err(CommandError::OutOfRange {
+        let servos = self.joints.len().max(ROBOT_SERVOS);
+        check_bus(baud, cycle_hz, servos).map_err(|e| match e {
+            LimitError::Baud { .. } => CommandError::OutOfRange {
                 what: Setting::Baud,
                 value: baud.into(),
-            });
-        }
+            },
+            LimitError::CycleRate { .. }
+            | LimitError::Wire { .. }
+            | LimitError::Stiffness { .. } => CommandError::OutOfRange {
+                what: Setting::CycleRate,
+                value: cycle_hz.into(),
+            },
+        })?;
         self.config.cycle_hz = cycle_hz;
         self.config.baud = baud;
         Ok(())

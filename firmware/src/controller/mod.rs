@@ -8,6 +8,8 @@ mod commands;
 mod cycle;
 mod feedback;
 #[cfg(test)]
+mod limits_tests;
+#[cfg(test)]
 mod tests;
 
 use dynamixel::master::{Feedback, Goal};

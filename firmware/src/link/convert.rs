@@ -155,6 +155,7 @@ pub fn command_error(e: CommandError) -> ProtocolError {
                 Setting::StepCount => PSetting::StepCount,
                 Setting::SetpointJoints => PSetting::SetpointJoints,
                 Setting::StreamTimeout => PSetting::StreamTimeout,
+                Setting::Stiffness => PSetting::Stiffness,
             },
             value: value.clamp(i32::MIN.into(), i32::MAX.into()) as i32,
         },

@@ -3,6 +3,7 @@
 //! (capture, per-step statistics, telemetry CSV) and the in-process virtual robot.
 
 pub mod bus;
+pub mod files;
 pub mod link;
 pub mod record;
 pub mod robot;

@@ -106,7 +106,9 @@ fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
         let num = |c: usize| {
             rec[c]
                 .parse::<f64>()
-                .with_context(|| format!("{}: `{}` is not a number", at(), &rec[c]))
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("{}: `{}` is not a finite number", at(), &rec[c]))
         };
         let e = map.entry((leg, kind)).or_default();
         e.0.push(num(angle_c)?);

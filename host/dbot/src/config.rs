@@ -46,6 +46,13 @@ pub enum ConfigError {
     },
     #[error("{path}: {message}")]
     Parse { path: PathBuf, message: String },
+    #[error("{path}: {field} = {value} is out of range: {why}")]
+    Limit {
+        path: PathBuf,
+        field: &'static str,
+        value: String,
+        why: String,
+    },
     #[error("{path}: {field} = {value} is out of range ({range})")]
     Range {
         path: PathBuf,
@@ -73,20 +80,34 @@ impl RobotConfig {
             value,
             range,
         };
-        if let Some(k) = self.stiffness
-            && !(k.is_finite() && k > 0.0 && k < 4.0e3)
-        {
-            return Err(range("stiffness", k.to_string(), "0 < k < 4000 N m/rad"));
+        // The hardware's limits (protocol::limits), the same `dbot set` and the firmware check.
+        use protocol::limits::{CYCLE_HZ, LimitError, MX_BAUDS, ROBOT_SERVOS, check_bus};
+        let limit = |field, value: String, e: LimitError| ConfigError::Limit {
+            path: path.to_owned(),
+            field,
+            value,
+            why: e.to_string(),
+        };
+        if let Some(k) = self.stiffness {
+            protocol::limits::stiffness_units(k)
+                .map_err(|e| limit("stiffness", k.to_string(), e))?;
         }
         if let Some(r) = self.rate
-            && !(50..=1000).contains(&r)
+            && !CYCLE_HZ.contains(&r)
         {
-            return Err(range("rate", r.to_string(), "50 ..= 1000 Hz"));
+            return Err(limit(
+                "rate",
+                r.to_string(),
+                LimitError::CycleRate { hz: r },
+            ));
         }
         if let Some(b) = self.baud
-            && !(9_600..=4_500_000).contains(&b)
+            && !MX_BAUDS.contains(&b)
         {
-            return Err(range("baud", b.to_string(), "9600 ..= 4500000 bit/s"));
+            return Err(limit("baud", b.to_string(), LimitError::Baud { baud: b }));
+        }
+        if let (Some(b), Some(r)) = (self.baud, self.rate) {
+            check_bus(b, r, ROBOT_SERVOS).map_err(|e| limit("rate", r.to_string(), e))?;
         }
         if let Some(s) = self.slot
             && usize::from(s) >= protocol::MAX_SLOTS
@@ -144,7 +165,7 @@ mod tests {
     fn a_full_file_parses() {
         let c = RobotConfig::parse(
             Path::new("t.toml"),
-            "port = \"virtual\"\nbaud = 1000000\nrate = 200\nstiffness = 8.4\nmodel = \"drosophibot2\"\nslot = 1\n",
+            "port = \"virtual\"\nbaud = 2000000\nrate = 200\nstiffness = 8.4\nmodel = \"drosophibot2\"\nslot = 1\n",
         )
         .unwrap();
         assert_eq!(c.port.as_deref(), Some("virtual"));

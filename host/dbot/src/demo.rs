@@ -208,7 +208,7 @@ fn walk(
         let _ = std::fs::remove_file(&scratch);
         check_interrupt(&format!("while recording into {}", dir.display()))?;
     }
-    std::fs::rename(&scratch, &csv).with_context(|| format!("writing {}", csv.display()))?;
+    board::files::commit_scratch(&csv)?;
     // Only whole walking steps go into the per-step statistics (not the start ramp).
     let walking: Vec<_> = rec
         .rows()

@@ -99,9 +99,18 @@ impl Args {
         if self.backward {
             p.translation_m = -p.translation_m.abs();
         }
+        crate::bounds::check_slices("slices", p.slices, crate::bounds::table_joints(&model))?;
+        if p.slices > crate::bounds::TELL_ABOVE_SLICES {
+            eprintln!(
+                "planning {} slices of {} (the inverse dynamics solves one QP per slice)",
+                p.slices, model.name
+            );
+        }
         let bar = ProgressBar::new(6);
         bar.set_message("planning");
         let plan = planner::plan::plan(&model, &p)
+            .with_context(|| format!("planning a step of {}", model.name))?;
+        planner::plan::finite::check_plan(&plan)
             .with_context(|| format!("planning a step of {}", model.name))?;
         bar.inc(1);
         let dynamics = self.dynamics.solve(&plan)?;

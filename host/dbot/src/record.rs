@@ -48,8 +48,8 @@ pub struct Args {
     /// With --play: step period, s (default: the planned one).
     #[arg(long, requires = "play")]
     pub period: Option<f64>,
-    /// Telemetry every this many bus cycles.
-    #[arg(long, default_value_t = 1)]
+    /// Telemetry every this many bus cycles (1 to 65535: 0 would record nothing).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
     pub every: u16,
     #[command(flatten)]
     pub board: BoardArgs,
@@ -222,15 +222,22 @@ pub fn record_to<T: Transport>(
     ))
 }
 
-/// Renames the finished scratch CSV over `csv` (every row in it is whole: rows are flushed per
-/// bus cycle and a write error never gets here).
+/// Puts the finished scratch CSV in place of `csv` (every row in it is whole: rows are flushed
+/// per bus cycle and a write error never gets here). A recording without a single row is not
+/// kept: it would replace a good recording (and leave its plots beside a header-only CSV).
 fn finish_csv(scratch: &Path, csv: &Path, rec: &Recorder) -> anyhow::Result<()> {
-    std::fs::rename(scratch, csv).with_context(|| {
-        format!(
-            "keeping the recording ({} rows): renaming {} to {}",
-            rec.rows().len(),
-            scratch.display(),
+    if rec.rows().is_empty() {
+        let _ = std::fs::remove_file(scratch);
+        bail!(
+            "no telemetry arrived: nothing recorded, {} is left as it was",
             csv.display()
+        );
+    }
+    board::files::commit_scratch(csv).with_context(|| {
+        format!(
+            "keeping the recording ({} rows in {})",
+            rec.rows().len(),
+            scratch.display()
         )
     })
 }

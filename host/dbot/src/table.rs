@@ -97,7 +97,9 @@ impl Args {
             let num = |c: usize| {
                 rec[c]
                     .parse::<f64>()
-                    .with_context(|| format!("{at}: `{}` is not a number", &rec[c]))
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .with_context(|| format!("{at}: `{}` is not a finite number", &rec[c]))
             };
             q[slice].push(num(ac)?);
             torque[slice].push(num(tc)?);
@@ -141,6 +143,11 @@ impl Args {
             }
             full[..end].to_string()
         });
+        crate::bounds::check_slices(
+            &format!("{}: slices", jpath.display()),
+            q.len(),
+            crate::bounds::table_joints(&model),
+        )?;
         let dt = period / q.len().max(1) as f64;
         let check = planner::plan::feasibility::check(&model, &q, Some(&torque), dt);
         self.feasibility

@@ -68,6 +68,14 @@ impl Args {
             bail!("interrupted: {e}");
         }
         let report = report.with_context(|| format!("uploading into slot {slot}"))?;
+        let before = match report.replaced {
+            None => "  the slot was empty".to_owned(),
+            Some(old) if old == report.stored => "  replaced an identical table".to_owned(),
+            Some(old) => format!("  replaced: {}", describe(&old)),
+        };
+        // The board has committed the table; the virtual robot stores it only when its image is
+        // saved, at close. Success is said once the data is stored, not before.
+        s.close()?;
         println!(
             "slot {slot}: {} ({} bytes in {} chunks, verified: header and CRC {:#010x} read back)",
             describe(&report.stored),
@@ -75,12 +83,8 @@ impl Args {
             report.chunks,
             report.stored.crc
         );
-        match report.replaced {
-            None => println!("  the slot was empty"),
-            Some(old) if old == report.stored => println!("  replaced an identical table"),
-            Some(old) => println!("  replaced: {}", describe(&old)),
-        }
-        s.close()
+        println!("{before}");
+        Ok(())
     }
 }
 

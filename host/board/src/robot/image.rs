@@ -24,6 +24,9 @@ pub enum ImageError {
         #[source]
         source: std::io::Error,
     },
+    /// Read-only, in use by another process, or in a directory where its lock cannot be made.
+    #[error("the virtual robot's flash image: {0}")]
+    File(#[from] crate::files::FileError),
     #[error("{path}: {len} bytes is not a flash image of this virtual robot ({expected} bytes)")]
     Size {
         path: PathBuf,
@@ -34,6 +37,27 @@ pub enum ImageError {
 
 /// Bytes of an image.
 pub const IMAGE_LEN: usize = FLASH_SECTORS * firmware::store::nor_double::SECTOR;
+
+/// How long a command waits for another one using the same image before it gives up.
+pub const LOCK_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
+
+/// Opens the image at `path` for one command: refuses a read-only file (it could not be saved,
+/// and a rename would replace it anyway), takes the image's lock so that commands on the same
+/// image run one after another (each loads the flash the previous one saved; without it the last
+/// to exit overwrote an upload made meanwhile), then loads it. Hold the lock until after [`save`].
+pub fn open(path: &Path) -> Result<(VirtualFlash, crate::files::FileLock), ImageError> {
+    crate::files::check_writable(path)?;
+    let lock = crate::files::lock_beside(path, LOCK_WAIT, |lock| {
+        // The library prints nothing else; a command that seems to hang must say why.
+        eprintln!(
+            "{}: in use by another dbot (lock {}): waiting up to {} s",
+            path.display(),
+            lock.display(),
+            LOCK_WAIT.as_secs()
+        );
+    })?;
+    Ok((load(path)?, lock))
+}
 
 /// The flash stored at `path`, or an erased flash when there is no file yet.
 pub fn load(path: &Path) -> Result<VirtualFlash, ImageError> {
@@ -62,34 +86,18 @@ pub fn load(path: &Path) -> Result<VirtualFlash, ImageError> {
     Ok(flash)
 }
 
-/// Writes `flash` to `path` through a scratch file next to it (`.partial-NAME`), renamed over it
-/// once complete, so a crash or a kill leaves the old image. (The scratch name is derived from the
-/// whole file name: `path.with_extension("tmp")` would be the image itself for `robot.tmp`, and
-/// shared by `robot.flash` and `robot.img`.)
+/// Writes `flash` to `path` through [`crate::files::write_atomically`]: a crash or a kill leaves
+/// the old image, the file keeps its permissions, a read-only file is refused. (The scratch name
+/// is derived from the whole file name: `path.with_extension("tmp")` would be the image itself
+/// for `robot.tmp`, and shared by `robot.flash` and `robot.img`.)
 pub fn save(path: &Path, flash: &VirtualFlash) -> Result<(), ImageError> {
-    let err = |source| ImageError::Write {
-        path: path.to_owned(),
-        source,
-    };
-    let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => {
-            std::fs::create_dir_all(dir).map_err(err)?;
-            dir
-        }
-        None => Path::new("."),
-    };
-    let name = path.file_name().ok_or_else(|| {
-        err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a file name",
-        ))
-    })?;
-    let tmp = dir.join(format!(".partial-{}", name.to_string_lossy()));
-    let written = std::fs::write(&tmp, flash.window()).and_then(|()| std::fs::rename(&tmp, path));
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|source| ImageError::Write {
+            path: path.to_owned(),
+            source,
+        })?;
     }
-    written.map_err(err)
+    Ok(crate::files::write_bytes_atomically(path, flash.window())?)
 }
 
 #[cfg(test)]

@@ -17,6 +17,8 @@ pub struct VirtualTransport {
     robot: VirtualRobot,
     name: String,
     image: Option<PathBuf>,
+    /// Held from load to the last save: one command at a time on an image.
+    image_lock: Option<crate::files::FileLock>,
     cut_after_sent: Option<usize>,
     cut_at_us: Option<u64>,
     sent: usize,
@@ -30,6 +32,7 @@ impl VirtualTransport {
             robot,
             name: "virtual".to_owned(),
             image: None,
+            image_lock: None,
             cut_after_sent: None,
             cut_at_us: None,
             sent: 0,
@@ -40,10 +43,11 @@ impl VirtualTransport {
     /// A robot that boots from the flash image at `path` (an erased flash if the file does not
     /// exist yet); [`Self::save`] writes its flash back there.
     pub fn with_image(path: &Path) -> Result<Self, ImageError> {
-        let flash = image::load(path)?;
+        let (flash, lock) = image::open(path)?;
         let mut t = Self::new(VirtualRobot::with_flash(flash));
         t.name = format!("virtual:{}", path.display());
         t.image = Some(path.to_owned());
+        t.image_lock = Some(lock);
         Ok(t)
     }
 

@@ -49,10 +49,31 @@ impl DynamicsArgs {
         if self.no_dynamics {
             return Ok(None);
         }
+        // mu: a friction coefficient (estimate of the physical range: no real contact exceeds 10).
+        if !(self.mu.is_finite() && self.mu > 0.0 && self.mu <= 10.0) {
+            anyhow::bail!(
+                "--mu {}: must be a friction coefficient in (0, 10]",
+                self.mu
+            );
+        }
+        planner::plan::finite::check_plan(plan)
+            .with_context(|| format!("planning a step of {}", plan.model.name))?;
         let options = self.options();
         let cycle = solve_cycle(&plan.model, &plan_inputs(plan), &options)
             .with_context(|| format!("inverse dynamics of {}", plan.model.name))?;
-        Ok(Some(PlanDynamics::new(plan, options, cycle)))
+        let d = PlanDynamics::new(plan, options, cycle);
+        let joints: Vec<String> = plan.model.joints.iter().map(|j| j.name.clone()).collect();
+        let check = |what, rows: &[Vec<f64>]| {
+            planner::plan::finite::check_rows(what, rows, &joints)
+                .with_context(|| format!("inverse dynamics of {}", plan.model.name))
+        };
+        check("joint torque", &d.torque)?;
+        check("servo command", &d.command)?;
+        for (axis, rows) in ["x", "y", "z"].iter().zip(&d.grf) {
+            planner::plan::finite::check_rows("ground reaction force", rows, &[])
+                .with_context(|| format!("inverse dynamics of {} (GRF {axis})", plan.model.name))?;
+        }
+        Ok(Some(d))
     }
 }
 

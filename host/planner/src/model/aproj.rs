@@ -133,12 +133,35 @@ impl Ctx<'_> {
         place: &str,
     ) -> Result<(f64, Vector3<f64>, Matrix3<f64>), ModelError> {
         let m = self.number(n, place, "Mass")? * self.mass_scale;
+        // Checked here to name the project's own field (the model check names the body's mass).
+        if !(m.is_finite() && (0.0..=super::ranges::MAX_BODY_MASS_KG).contains(&m)) {
+            return Err(field(
+                self.file,
+                place,
+                "Mass",
+                format!(
+                    "{m} kg is not a mass in 0 ..= {} kg",
+                    super::ranges::MAX_BODY_MASS_KG
+                ),
+            ));
+        }
         let com = self.vec3(n, place, "COM")?;
-        let (lx, ly, lz) = (
-            self.number(n, place, "Length")?,
-            self.number(n, place, "Height")?,
-            self.number(n, place, "Width")?,
-        );
+        let length = |tag| -> Result<f64, ModelError> {
+            let l = self.number(n, place, tag)?;
+            if !(l.is_finite() && (0.0..=super::ranges::MAX_LENGTH_M).contains(&l)) {
+                return Err(field(
+                    self.file,
+                    place,
+                    tag,
+                    format!(
+                        "{l} m is not a box size in 0 ..= {} m",
+                        super::ranges::MAX_LENGTH_M
+                    ),
+                ));
+            }
+            Ok(l)
+        };
+        let (lx, ly, lz) = (length("Length")?, length("Height")?, length("Width")?);
         let i = Matrix3::from_diagonal(&Vector3::new(
             ly * ly + lz * lz,
             lx * lx + lz * lz,
@@ -312,6 +335,7 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         feet,
     };
     model.check_legs(file)?;
+    model.check_ranges(file)?;
     Ok(model)
 }
 

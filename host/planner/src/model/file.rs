@@ -386,6 +386,7 @@ impl ModelFile {
             feet,
         };
         model.check_legs(file)?;
+        model.check_ranges(file)?;
         Ok(model)
     }
 }

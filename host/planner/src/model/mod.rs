@@ -18,6 +18,7 @@ mod error;
 mod file;
 mod file_write;
 mod query;
+mod ranges;
 pub mod spring;
 mod urdf;
 

@@ -4,6 +4,7 @@
 
 mod derivatives;
 pub mod feasibility;
+pub mod finite;
 pub mod table;
 
 pub use derivatives::periodic_central_difference;
