@@ -16,7 +16,7 @@ pub enum DynamicsError {
     #[error("slice {slice}: contact normal of foot {leg} has zero length")]
     ZeroNormal { slice: usize, leg: String },
     #[error(
-        "joint {joint}: stiffness {stiffness} N m/rad (actuator + parallel spring) must be positive"
+        "joint {joint}: joint stiffness {stiffness} N m/rad (actuator + parallel spring) must be positive"
     )]
     Stiffness { joint: String, stiffness: f64 },
     #[error(

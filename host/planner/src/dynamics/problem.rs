@@ -12,7 +12,8 @@ use super::{Base, DynamicsError, DynamicsOptions, SliceInput};
 use crate::model::{Actuation, Model};
 use crate::qp::{ConeBlock, QpProblem};
 
-/// Stiffness k = actuator + parallel spring (N m/rad) of every joint; `None` for fixed joints.
+/// Joint stiffness k = actuator stiffness + parallel spring stiffness (N m/rad) of every joint;
+/// `None` for fixed joints. See [`crate::model::spring`] for the names.
 pub fn joint_stiffness(model: &Model) -> Result<Vec<Option<f64>>, DynamicsError> {
     model
         .joints

@@ -41,7 +41,8 @@ pub struct SliceSolution {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CycleSolution {
     pub slices: Vec<SliceSolution>,
-    /// Stiffness k (N m/rad) per joint used in V*; `None` for fixed joints.
+    /// Joint stiffness k = actuator + parallel spring (N m/rad) per joint, used in V*; `None`
+    /// for fixed joints.
     pub stiffness: Vec<Option<f64>>,
     pub report: ConstraintReport,
 }
