@@ -1,4 +1,4 @@
-//! `dbot model`: export a model as URDF or TOML, import an AnimatLab project.
+//! `dbot model`: export a model as URDF, TOML or MJCF, import an AnimatLab project.
 
 use anyhow::{Context, Result};
 use clap::{Args as ClapArgs, Subcommand};
@@ -26,6 +26,14 @@ enum ModelCmd {
         /// TOML model file output.
         #[arg(long)]
         toml: Option<PathBuf>,
+        /// MJCF (MuJoCo) output file: the model standing in the planner's resting posture, with
+        /// servo actuators, foot spheres and the terrain of --scene.
+        #[arg(long)]
+        mjcf: Option<PathBuf>,
+        /// MJCF scene: flat, incline:DEG, ball[:R[:OFFSET]] (thorax held, ball spinning, as in the
+        /// fly rig) or ball-fixed[:R[:OFFSET]].
+        #[arg(long, default_value = "flat")]
+        scene: String,
     },
     /// Print a summary: bodies, joints (limits in degrees), feet, total mass.
     Show {
@@ -51,10 +59,21 @@ pub fn load_model(spec: &str) -> Result<Model> {
 impl Args {
     pub fn run(self) -> Result<()> {
         match self.cmd {
-            ModelCmd::Export { model, urdf, toml } => {
+            ModelCmd::Export {
+                model,
+                urdf,
+                toml,
+                mjcf,
+                scene,
+            } => {
                 let m = load_model(&model)?;
-                if urdf.is_none() && toml.is_none() {
-                    anyhow::bail!("nothing to do: give --urdf FILE and/or --toml FILE");
+                if urdf.is_none() && toml.is_none() && mjcf.is_none() {
+                    anyhow::bail!("nothing to do: give --urdf FILE, --toml FILE and/or --mjcf FILE");
+                }
+                if let Some(p) = mjcf {
+                    let options = model::MjcfOptions::stance(&m, &scene)
+                        .with_context(|| format!("--scene {scene} for model {}", m.name))?;
+                    write_whole(&p, &model::to_mjcf(&m, &options))?;
                 }
                 if let Some(p) = urdf {
                     write_whole(&p, &model::to_urdf(&m))?;
