@@ -131,7 +131,11 @@ fn an_external_plant_sets_what_the_servo_reports_and_its_own_motor_stays_still()
     s.put(ct::TORQUE_ENABLE, 1);
     s.put(ct::GOAL_POSITION, 3000);
     s.step(1.0);
-    assert_eq!(s.get(ct::PRESENT_POSITION), 1000, "its own motor model must not run");
+    assert_eq!(
+        s.get(ct::PRESENT_POSITION),
+        1000,
+        "its own motor model must not run"
+    );
     // 2048.4 ticks, 10 velocity units of 0.229 rpm, 1.25 N m = half the MX-28's 2.5 N m stall
     // torque: load 500 (0.1 % units).
     let tick = crate::units::RAD_PER_TICK as f64;

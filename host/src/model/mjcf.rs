@@ -11,7 +11,7 @@
 
 use std::fmt::Write;
 
-use super::{ActuatorKind, Actuation, Model};
+use super::{Actuation, ActuatorKind, Model};
 use crate::kinematics;
 use crate::terrain::Terrain;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
@@ -119,10 +119,8 @@ impl MjcfOptions {
             None => (scene.to_owned(), false),
         };
         let params = crate::gait::StepParams::table1(&model.name);
-        let terrain =
-            Terrain::parse(&terrain_text, params.ball_radius_m, params.ball_offset_m)?;
-        let posture =
-            kinematics::resting_posture(model, &terrain, &|leg| params.foot_goal(leg))?;
+        let terrain = Terrain::parse(&terrain_text, params.ball_radius_m, params.ball_offset_m)?;
+        let posture = kinematics::resting_posture(model, &terrain, &|leg| params.foot_goal(leg))?;
         Ok(Self {
             scene: Scene::from_terrain(&terrain, posture.ball_centre, !fixed),
             stance_q: posture.q,
@@ -193,7 +191,12 @@ pub fn to_mjcf(model: &Model, options: &MjcfOptions) -> String {
         }
     };
     let held = held && matches!(options.scene, Scene::BallHeld { .. });
-    let _ = writeln!(s, r#"    <body name="{}" pos="{}">"#, model.bodies[0].name, v3(&root));
+    let _ = writeln!(
+        s,
+        r#"    <body name="{}" pos="{}">"#,
+        model.bodies[0].name,
+        v3(&root)
+    );
     if !held {
         s.push_str("      <freejoint name=\"root\"/>\n");
     }
@@ -315,7 +318,10 @@ fn write_actuators(s: &mut String, model: &Model) {
         };
         let servo = servo_actuator(actuator, stiffness);
         let limit = if servo.stall_nm.is_finite() {
-            format!(r#" forcerange="{:e} {:e}""#, -servo.stall_nm, servo.stall_nm)
+            format!(
+                r#" forcerange="{:e} {:e}""#,
+                -servo.stall_nm, servo.stall_nm
+            )
         } else {
             String::new()
         };

@@ -27,8 +27,7 @@ pub use error::ModelError;
 pub use file::{ModelFile, from_toml_str, load};
 pub use file_write::{rpy_of, to_toml_string};
 pub use mjcf::{
-    BALL_MASS_KG, DEFAULT_TIMESTEP_S, FOOT_RADIUS_M, MUJOCO_FLOOR, MjcfOptions, Scene, ServoActuator,
-    hinge_order,
-    servo_actuator, to_mjcf,
+    BALL_MASS_KG, DEFAULT_TIMESTEP_S, FOOT_RADIUS_M, MUJOCO_FLOOR, MjcfOptions, Scene,
+    ServoActuator, hinge_order, servo_actuator, to_mjcf,
 };
 pub use urdf::to_urdf;

@@ -68,7 +68,9 @@ impl Args {
             } => {
                 let m = load_model(&model)?;
                 if urdf.is_none() && toml.is_none() && mjcf.is_none() {
-                    anyhow::bail!("nothing to do: give --urdf FILE, --toml FILE and/or --mjcf FILE");
+                    anyhow::bail!(
+                        "nothing to do: give --urdf FILE, --toml FILE and/or --mjcf FILE"
+                    );
                 }
                 if let Some(p) = mjcf {
                     let options = model::MjcfOptions::stance(&m, &scene)
