@@ -1,0 +1,42 @@
+//! Shared by the physics tests: the planner's tripod gait of Drosophibot II as a step table, and a
+//! physics robot walking it under the firmware.
+
+#![allow(dead_code)]
+
+use host::dynamics::{DynamicsOptions, solve_cycle};
+use host::gait::StepParams;
+use host::link::Board;
+use host::model::Model;
+use host::plan::Plan;
+use physics::{PhysicsRobot, PhysicsTransport};
+use protocol::{Direction, PlayCommand, Steps};
+
+/// The paper's table-1 tripod plan for Drosophibot II, its solved torques and its step table.
+pub fn tripod(model: &Model) -> (Plan, Vec<Vec<f64>>, Vec<u8>) {
+    let params = StepParams::table1(&model.name);
+    let plan = host::plan::plan(model, &params).unwrap();
+    let inputs = host::dynamics::plan_inputs(&plan);
+    let cycle = solve_cycle(model, &inputs, &DynamicsOptions::default()).unwrap();
+    let torques = host::dynamics::output::torque_rows(&cycle);
+    let table = host::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap();
+    (plan, torques, table)
+}
+
+/// A board on `robot` with `table` in slot 0, playing `steps` steps in `direction`.
+pub fn walking(
+    robot: PhysicsRobot,
+    table: &[u8],
+    direction: Direction,
+    steps: u32,
+) -> Board<PhysicsTransport> {
+    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    b.upload(0, table, |_, _| {}).unwrap();
+    b.play(PlayCommand {
+        slot: 0,
+        direction,
+        period_scale: 1000,
+        steps: Steps::Count(steps),
+    })
+    .unwrap();
+    b
+}
