@@ -7,12 +7,14 @@
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
 
 mod error;
+mod figures;
 mod plant;
 mod robot;
 pub mod servo;
 mod transport;
 
 pub use error::PhysicsError;
+pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::PhysicsRobot;
 pub use transport::PhysicsTransport;

@@ -138,6 +138,15 @@ impl Plant {
         j.torque_on = torque_on;
     }
 
+    /// Cuts (or raises) joint `i`'s stall torque to `stall` N m: the P controller's saturation and
+    /// MuJoCo's actuator force limit both follow (e.g. servos too weak for a gait).
+    pub fn set_stall(&mut self, i: usize, stall: f64) {
+        self.joints[i].stall = stall;
+        let a = self.joints[i].actuator;
+        // SAFETY: only a force limit changes; every size, index and address stays as it was.
+        unsafe { self.data.model_mut() }.actuator_forcerange_mut()[a] = [-stall, stall];
+    }
+
     /// Simulated time, s.
     pub fn time(&self) -> f64 {
         self.data.time()

@@ -12,6 +12,7 @@ use host::model::{MjcfOptions, Model};
 use host::robot::VirtualRobot;
 
 use crate::error::PhysicsError;
+use crate::figures::{Figures, Monitor};
 use crate::plant::Plant;
 use crate::servo;
 
@@ -21,6 +22,7 @@ pub struct PhysicsRobot {
     robot: VirtualRobot,
     plant: Plant,
     scene: String,
+    monitor: Monitor,
 }
 
 impl PhysicsRobot {
@@ -54,6 +56,7 @@ impl PhysicsRobot {
             robot: VirtualRobot::new(),
             plant,
             scene: scene.to_owned(),
+            monitor: Monitor::new(),
         };
         r.push_state();
         Ok(r)
@@ -67,6 +70,21 @@ impl PhysicsRobot {
     /// The MuJoCo side.
     pub fn plant(&self) -> &Plant {
         &self.plant
+    }
+
+    /// The MuJoCo side, to change (e.g. cut a servo's stall torque).
+    pub fn plant_mut(&mut self) -> &mut Plant {
+        &mut self.plant
+    }
+
+    /// What the body did since power-on or [`Self::reset_figures`], sampled every bus cycle.
+    pub fn figures(&self) -> Option<&Figures> {
+        self.monitor.figures()
+    }
+
+    /// Starts the figures afresh (e.g. when a walk starts).
+    pub fn reset_figures(&mut self) {
+        self.monitor.reset();
     }
 
     /// The board side (controller, servo chain, timing).
@@ -103,6 +121,7 @@ impl PhysicsRobot {
     pub fn cycle(&mut self) {
         let t = self.robot.next_cycle_us().max(self.robot.now_us());
         self.advance_body(t);
+        self.monitor.sample(&self.plant);
         self.robot.cycle();
     }
 

@@ -40,3 +40,29 @@ pub fn walking(
     .unwrap();
     b
 }
+
+/// Walks `steps` cycles forward from power-on (gravity ramps in over the first second after the
+/// start ramp switches the servos on) and returns what the body did, measured from the planned
+/// stance the robot powers on in.
+pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::Figures {
+    use std::time::Duration;
+    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    b.upload(0, table, |_, _| {}).unwrap();
+    b.play(PlayCommand {
+        slot: 0,
+        direction: Direction::Forward,
+        period_scale: 1000,
+        steps: Steps::Count(steps),
+    })
+    .unwrap();
+    // The walk takes `steps` periods after a start ramp of well under a period; a robot that
+    // faults (e.g. a servo that cannot follow) ends it early.
+    for _ in 0..(steps + 2) * 5 {
+        b.wait(Duration::from_millis(250)).unwrap();
+        let s = b.status().unwrap();
+        if s.fault.is_some() || (s.playback.is_none() && s.state == protocol::RunState::Standing) {
+            break;
+        }
+    }
+    b.transport().robot().figures().unwrap().clone()
+}
