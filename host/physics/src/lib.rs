@@ -17,4 +17,4 @@ pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::PhysicsRobot;
-pub use transport::PhysicsTransport;
+pub use transport::{PhysicsTransport, register_port};

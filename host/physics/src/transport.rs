@@ -77,3 +77,13 @@ impl Transport for PhysicsTransport {
         Ok(())
     }
 }
+
+/// Registers `physics[:SCENE]` with the host's port parser (`host::link::PortSpec`), so every
+/// board command of a program that calls this once works on the physics robot.
+pub fn register_port() {
+    host::link::register_physics(|spec| {
+        PhysicsTransport::open(spec)
+            .map(|t| Box::new(t) as Box<dyn Transport>)
+            .map_err(|e| e.to_string())
+    });
+}

@@ -23,8 +23,12 @@ struct Stance {
 /// Holds the planner's resting posture for `seconds` (gravity ramps in over the first second)
 /// with goals `q + bias * tau / k`, the firmware's torque bias when `bias` is 1.
 fn stand(bias: f64, seconds: f64) -> Stance {
+    stand_on("flat", bias, seconds)
+}
+
+fn stand_on(scene: &str, bias: f64, seconds: f64) -> Stance {
     let model = builtin("drosophibot2").unwrap();
-    let options = MjcfOptions::stance(&model, "flat").unwrap();
+    let options = MjcfOptions::stance(&model, scene).unwrap();
     let q = options.stance_q.clone();
     let still = SliceInput::still(&model, q.clone());
     let planned = solve_slice(&model, &still, &DynamicsOptions::default(), 0)
@@ -77,6 +81,18 @@ fn standing_still_the_feet_carry_the_weight_within_one_percent() {
         .filter(|(_, f)| f[2] > 0.5)
         .count();
     assert_eq!(still, 6);
+}
+
+#[test]
+fn on_an_incline_the_ground_carries_the_weight_times_the_cosine() {
+    // 10 degrees: the normal force is m g cos(10 deg) = 0.9848 m g, the rest is friction.
+    let s = stand_on("incline:10", 1.0, 3.0);
+    let want = s.plant.weight_n() * 10f64.to_radians().cos();
+    let normal = s.plant.contact_normal_total();
+    assert!(
+        (normal - want).abs() < 0.01 * want,
+        "normal {normal} N vs {want} N"
+    );
 }
 
 #[test]
