@@ -52,8 +52,10 @@ fn main() {
             steps: Steps::Count(CYCLES),
         })
         .unwrap();
-        b.wait(Duration::from_secs_f64(plan.period_s * f64::from(CYCLES) + 1.0))
-            .unwrap();
+        b.wait(Duration::from_secs_f64(
+            plan.period_s * f64::from(CYCLES) + 1.0,
+        ))
+        .unwrap();
         let cpu = (cpu_now() - t0).as_secs_f64();
         sim_s = b.transport().robot().now_us() as f64 * 1e-6;
         full.push(sim_s / cpu);
