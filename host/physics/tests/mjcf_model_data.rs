@@ -108,3 +108,18 @@ fn the_fly_model_loads_with_its_massless_bridges_raised_to_mujocos_floor() {
         );
     }
 }
+
+#[test]
+fn a_parallel_spring_becomes_the_hinges_stiffness_and_spring_reference() {
+    // Drosophibot II has no springs; give one joint a 2 N m/rad spring resting at 0.3 rad.
+    let mut model = builtin("drosophibot2").unwrap();
+    let j = model.joint_index("LM_FTi").unwrap();
+    model.joints[j].spring = Some(host::model::ParallelSpring {
+        stiffness: 2.0,
+        equilibrium: 0.3,
+    });
+    let mj = load(&model, "flat");
+    let jid = mj.name_to_id(MjtObjBase::mjOBJ_JOINT, "LM_FTi").unwrap();
+    assert_eq!(mj.jnt_stiffness()[jid], 2.0);
+    assert_eq!(mj.qpos_spring()[mj.jnt_qposadr()[jid] as usize], 0.3);
+}
