@@ -38,6 +38,9 @@ pub struct VirtualServo {
     /// planner's modelled joint torque with its sign flipped.
     pub external_torque_nm: f64,
     pub faults: Faults,
+    /// The output is moved by an external plant (a rigid-body simulation) that sets the motor
+    /// state with [`Self::set_motor_state`]; [`Self::step`] then leaves it alone.
+    pub external_plant: bool,
 }
 
 impl VirtualServo {
@@ -52,6 +55,7 @@ impl VirtualServo {
             },
             external_torque_nm: 0.0,
             faults: Faults::default(),
+            external_plant: false,
         };
         s.factory_defaults();
         s.put(ct::ID, id as u32);
@@ -170,8 +174,19 @@ impl VirtualServo {
         self.refresh_present();
     }
 
-    /// Advances the motor by `dt_s` seconds and updates the Present registers.
+    /// The motor state from an external plant (angle from tick 0, velocity and output torque toward
+    /// increasing ticks, duty); the Present registers follow at once.
+    pub fn set_motor_state(&mut self, state: MotorState) {
+        self.motor = state;
+        self.refresh_present();
+    }
+
+    /// Advances the motor by `dt_s` seconds and updates the Present registers (nothing moves
+    /// under an external plant: the plant sets the state).
     pub fn step(&mut self, dt_s: f64) {
+        if self.external_plant {
+            return;
+        }
         let input = MotorInput {
             model: self.model,
             torque_on: self.torque_enabled(),

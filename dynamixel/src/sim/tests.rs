@@ -122,3 +122,31 @@ fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
     .unwrap();
     assert_eq!(cycle(&wire, &mut m)[1], Err(ReplyFault::Crc));
 }
+
+#[test]
+fn an_external_plant_sets_what_the_servo_reports_and_its_own_motor_stays_still() {
+    use crate::control_table as ct;
+    let mut s = super::VirtualServo::new(1, crate::control_table::Model::Mx28V2, 3, 1000);
+    s.external_plant = true;
+    s.put(ct::TORQUE_ENABLE, 1);
+    s.put(ct::GOAL_POSITION, 3000);
+    s.step(1.0);
+    assert_eq!(
+        s.get(ct::PRESENT_POSITION),
+        1000,
+        "its own motor model must not run"
+    );
+    // 2048.4 ticks, 10 velocity units of 0.229 rpm, 1.25 N m = half the MX-28's 2.5 N m stall
+    // torque: load 500 (0.1 % units).
+    let tick = crate::units::RAD_PER_TICK as f64;
+    let unit = crate::units::RAD_S_PER_VELOCITY_UNIT as f64;
+    s.set_motor_state(crate::sim::physics::MotorState {
+        angle_rad: 2048.4 * tick,
+        velocity_rad_s: -10.0 * unit,
+        torque_nm: 1.25,
+        duty: 0.5,
+    });
+    assert_eq!(s.get(ct::PRESENT_POSITION), 2048);
+    assert_eq!(s.get(ct::PRESENT_VELOCITY) as i32, -10);
+    assert_eq!(s.get(ct::PRESENT_LOAD_OR_CURRENT) as u16 as i16, 500);
+}

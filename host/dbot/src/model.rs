@@ -1,6 +1,6 @@
-//! `dbot model`: export a model as URDF or TOML, import an AnimatLab project.
+//! `dbot model`: export a model as URDF, TOML or MJCF, import an AnimatLab project.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Args as ClapArgs, Subcommand};
 use planner::model;
 
@@ -31,6 +31,14 @@ enum ModelCmd {
         toml: Option<PathBuf>,
         #[command(flatten)]
         springs: crate::spring_args::SpringArgs,
+        /// MJCF (MuJoCo) output file: the model standing in the planner's resting posture, with
+        /// servo actuators, foot spheres and the terrain of --scene.
+        #[arg(long)]
+        mjcf: Option<PathBuf>,
+        /// MJCF scene: flat, incline:DEG, ball[:R[:OFFSET]] (thorax held, ball spinning, as in the
+        /// fly rig) or ball-fixed[:R[:OFFSET]].
+        #[arg(long, default_value = "flat")]
+        scene: String,
     },
     /// Print a summary: bodies, joints (limits in degrees), feet, total mass.
     Show {
@@ -48,10 +56,20 @@ impl Args {
                 urdf,
                 toml,
                 springs,
+                mjcf,
+                scene,
             } => {
                 let m = springs.apply(load_model(&model)?)?;
-                if urdf.is_none() && toml.is_none() {
-                    anyhow::bail!("nothing to do: give --urdf FILE and/or --toml FILE");
+                if urdf.is_none() && toml.is_none() && mjcf.is_none() {
+                    anyhow::bail!(
+                        "nothing to do: give --urdf FILE, --toml FILE and/or --mjcf FILE"
+                    );
+                }
+                if let Some(p) = mjcf {
+                    let options = model::MjcfOptions::stance(&m, &scene)
+                        .with_context(|| format!("--scene {scene} for model {}", m.name))?;
+                    let xml = model::to_mjcf(&m, &options);
+                    replace_file(&p, |f| Ok(std::fs::write(f, &xml)?))?;
                 }
                 if let Some(p) = urdf {
                     let urdf = model::to_urdf(&m);

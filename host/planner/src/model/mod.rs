@@ -17,6 +17,7 @@ mod builtin;
 mod error;
 mod file;
 mod file_write;
+mod mjcf;
 mod query;
 mod ranges;
 pub mod spring;
@@ -27,5 +28,9 @@ pub use builtin::{BUILTIN_NAMES, builtin};
 pub use error::ModelError;
 pub use file::{ModelFile, from_toml_str, load};
 pub use file_write::{rpy_of, to_toml_string};
+pub use mjcf::{
+    BALL_MASS_KG, DEFAULT_TIMESTEP_S, FOOT_RADIUS_M, MUJOCO_FLOOR, MjcfOptions, Scene,
+    ServoActuator, hinge_order, servo_actuator, to_mjcf,
+};
 pub use spring::{SpringPreset, SpringSpec};
 pub use urdf::to_urdf;

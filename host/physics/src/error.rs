@@ -1,0 +1,30 @@
+//! Why a physics robot could not be built.
+
+/// Errors of the physics crate; each names the model, scene or joint at fault.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PhysicsError {
+    #[error("scene `{scene}` for model {model}: {source}")]
+    Scene {
+        model: String,
+        scene: String,
+        #[source]
+        source: planner::plan::PlanError,
+    },
+    #[error("MuJoCo refused the MJCF of model {model}: {message}")]
+    Load { model: String, message: String },
+    #[error("model {model}: MuJoCo's model has no {kind} named `{name}`")]
+    Missing {
+        model: String,
+        kind: &'static str,
+        name: String,
+    },
+    #[error(
+        "model {model}: actuated joint {joint} has no servo (the physics robot needs a servo map)"
+    )]
+    NoServo { model: String, joint: String },
+    #[error(
+        "port `{spec}`: {problem} (expected physics, physics:flat, physics:incline:DEG, physics:ball or physics:ball-fixed)"
+    )]
+    Port { spec: String, problem: String },
+}

@@ -1,0 +1,264 @@
+//! [`Plant`]: a model loaded into MuJoCo with its servos as actuators, stepped at the MJCF's
+//! timestep. Each step sets every actuator's control from its servo's goal ([`crate::servo`]).
+//!
+//! Gravity is ramped in over [`GRAVITY_RAMP_S`] from the moment every servo holds (torque on): a
+//! robot is set down on its feet after its servos are switched on; until then it floats, still.
+//! Ramping avoids the drop transient of a sudden full weight (host-crates.md).
+
+use mujoco_rs::prelude::*;
+use mujoco_rs::wrappers::mj_model::MjtObjBase;
+use planner::model::{Actuation, Leg, MjcfOptions, Model, ServoMap, servo_actuator, to_mjcf};
+
+use crate::error::PhysicsError;
+use crate::servo;
+
+/// Time over which gravity reaches its full value, s.
+pub const GRAVITY_RAMP_S: f64 = 1.0;
+
+/// One actuated joint with its servo.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantJoint {
+    /// Index in the model's joints.
+    pub joint: usize,
+    pub name: String,
+    pub map: ServoMap,
+    /// Stiffness, N m/rad, and stall torque, N m, of the actuator.
+    pub kp: f64,
+    pub stall: f64,
+    /// Goal angle, rad, and whether the servo holds it.
+    pub goal: f64,
+    pub torque_on: bool,
+    qpos: usize,
+    dof: usize,
+    actuator: usize,
+}
+
+/// A model in MuJoCo.
+pub struct Plant {
+    data: MjData<Box<MjModel>>,
+    joints: Vec<PlantJoint>,
+    feet: Vec<(Leg, usize)>,
+    thorax: usize,
+    gravity: [f64; 3],
+    /// Simulated time at which every servo first held, s.
+    held_since: Option<f64>,
+    weight_n: f64,
+}
+
+impl std::fmt::Debug for Plant {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Plant")
+            .field("time", &self.data.time())
+            .field("joints", &self.joints)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Plant {
+    /// Loads `model` as [`to_mjcf`] writes it with `options`, in the stance of the options' keyframe,
+    /// servo goals at the stance and torque off.
+    pub fn new(model: &Model, options: &MjcfOptions) -> Result<Self, PhysicsError> {
+        let xml = to_mjcf(model, options);
+        let mj = MjModel::from_xml_string(&xml).map_err(|e| PhysicsError::Load {
+            model: model.name.clone(),
+            message: e.to_string(),
+        })?;
+        let find = |kind: MjtObjBase, what: &'static str, name: &str| {
+            mj.name_to_id(kind, name)
+                .ok_or_else(|| PhysicsError::Missing {
+                    model: model.name.clone(),
+                    kind: what,
+                    name: name.to_owned(),
+                })
+        };
+        let mut joints = Vec::new();
+        for (j, joint) in model.joints.iter().enumerate() {
+            let Actuation::Actuated {
+                actuator,
+                stiffness,
+            } = joint.actuation
+            else {
+                continue;
+            };
+            let map = joint.servo.ok_or_else(|| PhysicsError::NoServo {
+                model: model.name.clone(),
+                joint: joint.name.clone(),
+            })?;
+            let jid = find(MjtObjBase::mjOBJ_JOINT, "joint", &joint.name)?;
+            let aid = find(MjtObjBase::mjOBJ_ACTUATOR, "actuator", &joint.name)?;
+            joints.push(PlantJoint {
+                joint: j,
+                name: joint.name.clone(),
+                map,
+                kp: stiffness,
+                stall: servo_actuator(actuator, stiffness).stall_nm,
+                goal: options.stance_q[j],
+                torque_on: false,
+                qpos: mj.jnt_qposadr()[jid] as usize,
+                dof: mj.jnt_dofadr()[jid] as usize,
+                actuator: aid,
+            });
+        }
+        let mut feet = Vec::new();
+        for f in &model.feet {
+            let name = format!("{}_foot", f.leg.name());
+            feet.push((f.leg, find(MjtObjBase::mjOBJ_GEOM, "foot sphere", &name)?));
+        }
+        let thorax = find(MjtObjBase::mjOBJ_BODY, "body", &model.bodies[0].name)?;
+        let gravity = mj.opt().gravity;
+        let g = (gravity[0].powi(2) + gravity[1].powi(2) + gravity[2].powi(2)).sqrt();
+        let weight_n = mj.body_subtreemass()[thorax] * g;
+        let mut data = MjData::new(Box::new(mj));
+        data.reset_keyframe(0).map_err(|e| PhysicsError::Load {
+            model: model.name.clone(),
+            message: format!("keyframe `stance`: {e}"),
+        })?;
+        data.model_opt_mut().gravity = [0.0; 3];
+        data.forward();
+        Ok(Self {
+            data,
+            joints,
+            feet,
+            thorax,
+            gravity,
+            held_since: None,
+            weight_n,
+        })
+    }
+
+    /// The actuated joints, in the model's joint order.
+    pub fn joints(&self) -> &[PlantJoint] {
+        &self.joints
+    }
+
+    /// Sets a joint's goal (rad) and torque.
+    pub fn set_goal(&mut self, i: usize, goal: f64, torque_on: bool) {
+        let j = &mut self.joints[i];
+        j.goal = goal;
+        j.torque_on = torque_on;
+    }
+
+    /// Cuts (or raises) joint `i`'s stall torque to `stall` N m: the P controller's saturation and
+    /// MuJoCo's actuator force limit both follow (e.g. servos too weak for a gait).
+    pub fn set_stall(&mut self, i: usize, stall: f64) {
+        self.joints[i].stall = stall;
+        let a = self.joints[i].actuator;
+        // SAFETY: only a force limit changes; every size, index and address stays as it was.
+        unsafe { self.data.model_mut() }.actuator_forcerange_mut()[a] = [-stall, stall];
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.data.time()
+    }
+
+    /// The timestep, s.
+    pub fn timestep(&self) -> f64 {
+        self.data.model_opt().timestep
+    }
+
+    /// One MuJoCo step under the servos' control law.
+    pub fn step(&mut self) {
+        let t = self.data.time();
+        if self.held_since.is_none() && self.joints.iter().all(|j| j.torque_on) {
+            self.held_since = Some(t);
+        }
+        let ramp = self
+            .held_since
+            .map_or(0.0, |t0| ((t - t0) / GRAVITY_RAMP_S).clamp(0.0, 1.0));
+        self.data.model_opt_mut().gravity = self.gravity.map(|g| g * ramp);
+        let qpos = self.data.qpos();
+        let ctrl: Vec<(usize, f64)> = self
+            .joints
+            .iter()
+            .map(|j| {
+                let q = qpos[j.qpos];
+                (
+                    j.actuator,
+                    servo::ctrl(q, j.goal, j.torque_on, j.kp, j.stall),
+                )
+            })
+            .collect();
+        let c = self.data.ctrl_mut();
+        for (a, v) in ctrl {
+            c[a] = v;
+        }
+        self.data.step();
+    }
+
+    /// Steps until simulated time reaches `t_s` (to within half a step).
+    pub fn advance_to(&mut self, t_s: f64) {
+        let h = self.timestep();
+        while self.data.time() + 0.5 * h < t_s {
+            self.step();
+        }
+    }
+
+    /// Angle (rad), velocity (rad/s) and actuator torque (N m) of joint `i`.
+    pub fn joint_state(&self, i: usize) -> (f64, f64, f64) {
+        let j = &self.joints[i];
+        (
+            self.data.qpos()[j.qpos],
+            self.data.qvel()[j.dof],
+            self.data.actuator_force()[j.actuator],
+        )
+    }
+
+    /// Whether every servo has held long enough for the full weight to be on the feet.
+    pub fn full_gravity(&self) -> bool {
+        self.held_since
+            .is_some_and(|t0| self.data.time() - t0 >= GRAVITY_RAMP_S)
+    }
+
+    /// Weight of the robot at full gravity, N.
+    pub fn weight_n(&self) -> f64 {
+        self.weight_n
+    }
+
+    /// Sum of the normal forces of all contacts, N.
+    pub fn contact_normal_total(&self) -> f64 {
+        (0..self.data.ncon() as usize)
+            .map(|i| self.data.contact_force(i)[0])
+            .sum()
+    }
+
+    /// Contact force on each foot in world coordinates, N (zero for a foot in the air).
+    pub fn foot_forces(&self) -> Vec<(Leg, [f64; 3])> {
+        let contacts = self.data.contact();
+        self.feet
+            .iter()
+            .map(|&(leg, geom)| {
+                let mut f = [0.0; 3];
+                for (i, c) in contacts.iter().enumerate() {
+                    let sign = if c.geom[0] as usize == geom {
+                        -1.0
+                    } else if c.geom[1] as usize == geom {
+                        1.0
+                    } else {
+                        continue;
+                    };
+                    // Contact frame rows: normal (from geom 0 to geom 1), then two tangents.
+                    let local = self.data.contact_force(i);
+                    for (k, fk) in f.iter_mut().enumerate() {
+                        *fk += sign * (0..3).map(|r| local[r] * c.frame[3 * r + k]).sum::<f64>();
+                    }
+                }
+                (leg, f)
+            })
+            .collect()
+    }
+
+    /// World position of each foot sphere's centre, m.
+    pub fn foot_positions(&self) -> Vec<(Leg, [f64; 3])> {
+        let xpos = self.data.geom_xpos();
+        self.feet.iter().map(|&(leg, g)| (leg, xpos[g])).collect()
+    }
+
+    /// Thorax position (m) and orientation (quaternion w, x, y, z) in the world.
+    pub fn thorax_pose(&self) -> ([f64; 3], [f64; 4]) {
+        (
+            self.data.xpos()[self.thorax],
+            self.data.xquat()[self.thorax],
+        )
+    }
+}

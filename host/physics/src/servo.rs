@@ -1,0 +1,99 @@
+//! The MX servo as MuJoCo sees it, and the conversions between its control table and the joint.
+//!
+//! The MJCF's position actuator is `kp (ctrl - q) - kv qdot`, limited to the stall torque, with kp
+//! the model's stiffness (the number the firmware's torque bias divides by) and kv the slope of
+//! the DC motor's torque-speed line (stall torque / no-load speed). The MX's P controller saturates
+//! its PWM duty, not its torque: [`ctrl`] clamps the position error to the stall torque's worth
+//! before MuJoCo adds the damping, so the actuator is `stall * (clamp(duty) - qdot / omega_0)`, the
+//! motor model of the dynamixel crate's virtual servo, and a saturated servo cannot outrun its
+//! no-load speed. The velocity term stays inside MuJoCo, integrated implicitly (implicitfast).
+
+use dynamixel::control_table::Model as DxlModel;
+use dynamixel::sim::physics::MotorState;
+use planner::model::{ActuatorKind, ServoMap};
+
+/// Radians per servo tick (4096 ticks a turn), f64.
+pub const RAD_PER_TICK: f64 = std::f64::consts::TAU / 4096.0;
+
+/// The Dynamixel model of an actuator family (the servo map of a generic actuator is read as an
+/// MX-28, the smaller servo).
+pub fn dxl_model(kind: ActuatorKind) -> DxlModel {
+    match kind {
+        ActuatorKind::Mx64 => DxlModel::Mx64V2,
+        ActuatorKind::Mx28 | ActuatorKind::Generic => DxlModel::Mx28V2,
+    }
+}
+
+/// Joint angle (rad) of a goal or present position in ticks, through the model's servo map.
+pub fn ticks_to_angle(map: &ServoMap, ticks: i32) -> f64 {
+    f64::from(map.sign) * f64::from(ticks - 2048) * RAD_PER_TICK + map.zero_offset
+}
+
+/// The motor state a servo reports for its joint's angle, velocity and actuator torque: angle from
+/// tick 0 and velocity and torque toward increasing ticks, as the virtual servo keeps them.
+pub fn motor_state(map: &ServoMap, q: f64, qd: f64, torque: f64, duty: f64) -> MotorState {
+    let sign = f64::from(map.sign);
+    MotorState {
+        angle_rad: sign * (q - map.zero_offset) + 2048.0 * RAD_PER_TICK,
+        velocity_rad_s: sign * qd,
+        torque_nm: sign * torque,
+        duty: sign * duty,
+    }
+}
+
+/// The position actuator's control for one step: the goal, or with torque off the present angle
+/// (no spring; the motor still brakes through kv). The error is clamped to what the stall torque
+/// buys at stiffness `kp`: the P controller's duty saturation.
+pub fn ctrl(q: f64, goal: f64, torque_on: bool, kp: f64, stall: f64) -> f64 {
+    if !torque_on || kp <= 0.0 {
+        return q;
+    }
+    let reach = stall / kp;
+    q + (goal - q).clamp(-reach, reach)
+}
+
+/// PWM duty (-1..=1) the P controller outputs for this error.
+pub fn duty(q: f64, goal: f64, torque_on: bool, kp: f64, stall: f64) -> f64 {
+    if !torque_on {
+        return 0.0;
+    }
+    (kp * (goal - q) / stall).clamp(-1.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn map(sign: i8, zero: f64) -> ServoMap {
+        ServoMap {
+            id: 1,
+            model: ActuatorKind::Mx28,
+            zero_offset: zero,
+            sign,
+        }
+    }
+
+    #[test]
+    fn ticks_and_angles_follow_the_models_servo_map() {
+        // 1024 ticks past the centre is a quarter turn; a reversed servo turns the other way.
+        let m = map(1, 0.1);
+        assert!((ticks_to_angle(&m, 3072) - (std::f64::consts::FRAC_PI_2 + 0.1)).abs() < 1e-12);
+        let r = map(-1, 0.0);
+        assert!((ticks_to_angle(&r, 3072) + std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        // The state the servo reports for that angle lies at 3072 ticks either way.
+        let s = motor_state(&r, -std::f64::consts::FRAC_PI_2, 1.0, 0.5, 0.0);
+        assert!((s.angle_rad / RAD_PER_TICK - 3072.0).abs() < 1e-9);
+        assert_eq!((s.velocity_rad_s, s.torque_nm), (-1.0, -0.5));
+    }
+
+    #[test]
+    fn the_error_saturates_at_the_stall_torque() {
+        // kp 14.3 N m/rad, stall 2.5 N m: at most 0.1748 rad of error counts.
+        let c = ctrl(0.0, 1.0, true, 14.3, 2.5);
+        assert!((c - 2.5 / 14.3).abs() < 1e-12);
+        assert_eq!(ctrl(0.3, 0.35, true, 14.3, 2.5), 0.35);
+        assert_eq!(ctrl(0.3, 1.0, false, 14.3, 2.5), 0.3);
+        assert_eq!(duty(0.0, 1.0, true, 14.3, 2.5), 1.0);
+        assert!((duty(0.0, 0.05, true, 14.3, 2.5) - 0.286).abs() < 1e-12);
+    }
+}

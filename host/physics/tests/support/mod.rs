@@ -1,0 +1,68 @@
+//! Shared by the physics tests: the planner's tripod gait of Drosophibot II as a step table, and a
+//! physics robot walking it under the firmware.
+
+#![allow(dead_code)]
+
+use board::link::Board;
+use physics::{PhysicsRobot, PhysicsTransport};
+use planner::dynamics::{DynamicsOptions, solve_cycle};
+use planner::gait::StepParams;
+use planner::model::Model;
+use planner::plan::Plan;
+use protocol::{Direction, PlayCommand, Steps};
+
+/// The paper's table-1 tripod plan for Drosophibot II, its solved torques and its step table.
+pub fn tripod(model: &Model) -> (Plan, Vec<Vec<f64>>, Vec<u8>) {
+    let params = StepParams::table1(&model.name);
+    let plan = planner::plan::plan(model, &params).unwrap();
+    let inputs = planner::dynamics::plan_inputs(&plan);
+    let cycle = solve_cycle(model, &inputs, &DynamicsOptions::default()).unwrap();
+    let torques = planner::dynamics::output::torque_rows(&cycle);
+    let table = planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap();
+    (plan, torques, table)
+}
+
+/// A board on `robot` with `table` in slot 0, playing `steps` steps in `direction`.
+pub fn walking(
+    robot: PhysicsRobot,
+    table: &[u8],
+    direction: Direction,
+    steps: u32,
+) -> Board<PhysicsTransport> {
+    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    b.upload(0, table, |_, _| {}).unwrap();
+    b.play(PlayCommand {
+        slot: 0,
+        direction,
+        period_scale: 1000,
+        steps: Steps::Count(steps),
+    })
+    .unwrap();
+    b
+}
+
+/// Walks `steps` cycles forward from power-on (gravity ramps in over the first second after the
+/// start ramp switches the servos on) and returns what the body did, measured from the planned
+/// stance the robot powers on in.
+pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::Figures {
+    use std::time::Duration;
+    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    b.upload(0, table, |_, _| {}).unwrap();
+    b.play(PlayCommand {
+        slot: 0,
+        direction: Direction::Forward,
+        period_scale: 1000,
+        steps: Steps::Count(steps),
+    })
+    .unwrap();
+    // The walk takes `steps` periods after a start ramp of well under a period; a robot that
+    // faults (e.g. a servo that cannot follow) ends it early.
+    for _ in 0..(steps + 2) * 5 {
+        b.wait(Duration::from_millis(250)).unwrap();
+        let s = b.status().unwrap();
+        if s.fault.is_some() || (s.playback.is_none() && s.state == protocol::RunState::Standing) {
+            break;
+        }
+    }
+    b.transport().robot().figures().unwrap().clone()
+}
