@@ -71,7 +71,7 @@ pub fn plot_leg_panels(
         path: path.display().to_string(),
         reason: e.to_string(),
     };
-    let root = BitMapBackend::new(path, (1400, 1100)).into_drawing_area();
+    let root = crate::report::Bitmap::new(path, (1400, 1100)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let areas = root.split_evenly((3, 2));
     let t_end = time.last().copied().unwrap_or(1.0) + time.get(1).map_or(0.0, |t1| t1 - time[0]);

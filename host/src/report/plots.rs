@@ -34,7 +34,7 @@ fn stance_spans(plan: &Plan, li: usize) -> Vec<(f64, f64)> {
 /// One panel per leg: actuated joint angles (deg) over the cycle, stance shaded grey.
 pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     register_font();
-    let root = BitMapBackend::new(path, (1400, 1100)).into_drawing_area();
+    let root = crate::report::Bitmap::new(path, (1400, 1100)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
     let panels = root.split_evenly((3, 2));
     for (li, leg) in plan.legs.iter().enumerate() {
@@ -108,7 +108,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
 /// Footfall pattern: a black bar per leg while its foot is down.
 pub fn plot_footfall(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     register_font();
-    let root = BitMapBackend::new(path, (1000, 400)).into_drawing_area();
+    let root = crate::report::Bitmap::new(path, (1000, 400)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
     let n = plan.legs.len() as f64;
     let mut chart = ChartBuilder::on(&root)
@@ -150,7 +150,7 @@ pub fn plot_footfall(plan: &Plan, path: &Path) -> Result<(), ReportError> {
 /// Foot trajectories in the thorax frame: top view (x, y) and side view (x, z).
 pub fn plot_feet(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     register_font();
-    let root = BitMapBackend::new(path, (1400, 650)).into_drawing_area();
+    let root = crate::report::Bitmap::new(path, (1400, 650)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
     let (left, right) = root.split_horizontally(700);
     let all = plan.feet.iter().flatten();
