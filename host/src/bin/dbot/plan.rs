@@ -1,4 +1,5 @@
-//! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf and plots.
+//! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf, plots
+//! and the robot drawn in three views (robot.png, step.gif).
 
 use crate::model::load_model;
 use anyhow::{Context, Result};
@@ -70,7 +71,7 @@ impl Args {
         if self.backward {
             p.translation_m = -p.translation_m.abs();
         }
-        let bar = ProgressBar::new(6);
+        let bar = ProgressBar::new(7);
         bar.set_message("planning");
         let plan = host::plan::plan(&model, &p)
             .with_context(|| format!("planning a step of {}", model.name))?;
@@ -123,13 +124,19 @@ impl Args {
         })?;
         bar.inc(1);
         replace(out, "feet.png", |p| Ok(report::plot_feet(&plan, p)?))?;
+        replace(out, "robot.png", |p| {
+            Ok(report::robot::plot_robot(&plan, p).map(|_| ())?)
+        })?;
+        replace(out, "step.gif", |p| {
+            Ok(report::robot::animate_step(&plan, p).map(|_| ())?)
+        })?;
         if let Some(d) = &dynamics {
             let files = d.write_files(&plan, out)?;
             println!("{}; wrote {}", d.summary(), files.join(" "));
         }
         bar.finish_and_clear();
         println!(
-            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png to {}",
+            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png robot.png step.gif to {}",
             model.name,
             plan.slices(),
             plan.period_s,
