@@ -2,9 +2,13 @@
 
 mod bitmap;
 mod csv_out;
+pub mod number;
 mod plots;
 pub mod robot;
 pub mod style;
+
+/// What each file of a plan directory holds (columns, units, conventions): README.md beside them.
+pub const PLAN_README: &str = include_str!("plan_readme.md");
 
 pub use bitmap::Bitmap;
 pub use csv_out::{ExtraColumn, ReportError, write_feet_csv, write_joints_csv};

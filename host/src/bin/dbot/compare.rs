@@ -284,7 +284,8 @@ fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
     for p in &points {
         let share = p.peak_inertial_torque / p.peak_torque;
         w.write_record(
-            [p.period, p.peak_torque, p.peak_inertial_torque, share].map(|v| format!("{v:.6e}")),
+            [p.period, p.peak_torque, p.peak_inertial_torque, share]
+                .map(|v| host::report::number::plain(v, 7)),
         )?;
         println!(
             "| {:.3} | {:.4e} | {:.4e} | {:.3} |",

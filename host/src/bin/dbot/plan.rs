@@ -112,6 +112,9 @@ impl Args {
         }
         let json = serde_json::to_string_pretty(&json)?;
         replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
+        replace(out, "README.md", |p| {
+            Ok(std::fs::write(p, report::PLAN_README)?)
+        })?;
         let urdf = host::model::to_urdf(&model);
         replace(out, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
         bar.inc(1);
@@ -136,7 +139,7 @@ impl Args {
         }
         bar.finish_and_clear();
         println!(
-            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png robot.png step.gif to {}",
+            "{}: {} slices, period {:.3} s, wrote README.md joints.csv feet.csv plan.json model.urdf joint_angles.png footfall.png feet.png robot.png step.gif to {}",
             model.name,
             plan.slices(),
             plan.period_s,
