@@ -59,11 +59,16 @@ pub fn write_gif(
             draw_legend(&legend).map_err(err)?;
             root.present().map_err(|e| err(e.to_string()))?;
         }
+        // Most pixels repeat their left neighbour (background, lines): look up only changes.
+        let mut last = ([255u8; 3], nearest(&palette, [255; 3]));
         let indices: Vec<u8> = rgb
             .chunks_exact(3)
             .map(|p| {
                 let c = [p[0], p[1], p[2]];
-                *cache.entry(c).or_insert_with(|| nearest(&palette, c))
+                if c != last.0 {
+                    last = (c, *cache.entry(c).or_insert_with(|| nearest(&palette, c)));
+                }
+                last.1
             })
             .collect();
         let frame = gif::Frame {
