@@ -2,6 +2,7 @@
 
 mod bitmap;
 mod csv_out;
+pub mod legend;
 pub mod number;
 mod plots;
 pub mod robot;

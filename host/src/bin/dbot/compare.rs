@@ -158,7 +158,7 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
     }
     let bytes = w.into_inner().context("building compare.csv")?;
     replace(out, "compare.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
-    overlay(&ta, &tb, &rows, out)?;
+    overlay(&ta, &tb, &rows, out, [&folder_name(a), &folder_name(b)])?;
     println!(
         "wrote compare.csv compare_angles.png compare_torques.png to {}",
         out.display()
@@ -166,8 +166,23 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Angle (deg) overlays and torque overlays normalised by each plan's peak torque, A solid, B dashed.
-fn overlay(ta: &[DofTrace], tb: &[DofTrace], rows: &[ComparisonRow], out: &Path) -> Result<()> {
+/// How a plan directory is named in the plots: its last component (`out/walk` -> `walk`).
+fn folder_name(dir: &Path) -> String {
+    dir.file_name().map_or_else(
+        || dir.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// Angle (deg) overlays and torque overlays normalised by each plan's peak torque, A solid, B
+/// dashed, each named by its folder.
+fn overlay(
+    ta: &[DofTrace],
+    tb: &[DofTrace],
+    rows: &[ComparisonRow],
+    out: &Path,
+    names: [&str; 2],
+) -> Result<()> {
     let n = ta
         .iter()
         .chain(tb)
@@ -202,7 +217,7 @@ fn overlay(ta: &[DofTrace], tb: &[DofTrace], rows: &[ComparisonRow], out: &Path)
                             .iter()
                             .map(|x| if torque { x / p } else { x.to_degrees() })
                             .collect();
-                        let label = format!("{} {}", r.dof, if side == 0 { "A" } else { "B" });
+                        let label = format!("{} {}", r.dof, names[side]);
                         traces.push(Trace {
                             label,
                             values,
@@ -215,7 +230,12 @@ fn overlay(ta: &[DofTrace], tb: &[DofTrace], rows: &[ComparisonRow], out: &Path)
             let what = if torque { "torque / peak" } else { "angle" };
             panels.push(Panel {
                 leg,
-                title: format!("{} {what}: A solid, B dashed", leg.name()),
+                title: format!(
+                    "{} {what}: {} solid, {} dashed",
+                    leg.name(),
+                    names[0],
+                    names[1]
+                ),
                 traces,
                 stance: vec![],
             });
