@@ -5,12 +5,12 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use planner::analysis::{ComparisonRow, DofTrace, SweepPoint, classify_sweep, compare};
+use planner::analysis::{DofTrace, SweepPoint, classify_sweep, compare};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::model::{JointKind, Leg};
-use report::legs::{Panel, Trace, plot_leg_panels};
 
 use crate::common::output::replace;
+use crate::common::overlay::{folder_name, overlay};
 
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
@@ -181,88 +181,11 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
     }
     let bytes = w.into_inner().context("building compare.csv")?;
     replace(out, "compare.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
-    overlay(&ta, &tb, &rows, out)?;
+    overlay(&ta, &tb, &rows, out, [&folder_name(a), &folder_name(b)])?;
     println!(
         "wrote compare.csv compare_angles.png compare_torques.png to {}",
         out.display()
     );
-    Ok(())
-}
-
-/// Angle (deg) overlays and torque overlays normalised by each plan's peak torque, A solid, B dashed.
-pub(crate) fn overlay(
-    ta: &[DofTrace],
-    tb: &[DofTrace],
-    rows: &[ComparisonRow],
-    out: &Path,
-) -> Result<()> {
-    let n = ta
-        .iter()
-        .chain(tb)
-        .map(|d| d.angle.len())
-        .max()
-        .unwrap_or(1);
-    let peak = |t: &[DofTrace]| {
-        t.iter()
-            .flat_map(|d| &d.torque)
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            .max(f64::MIN_POSITIVE)
-    };
-    let (pa, pb) = (peak(ta), peak(tb));
-    let phase: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
-    for (file, torque) in [("compare_angles.png", false), ("compare_torques.png", true)] {
-        let mut panels = Vec::new();
-        for leg in Leg::ALL {
-            let mut traces = Vec::new();
-            for (k, r) in rows
-                .iter()
-                .filter(|r| r.leg == leg && r.summed_side.is_none())
-                .enumerate()
-            {
-                for (side, (t, p)) in [(ta, pa), (tb, pb)].into_iter().enumerate() {
-                    if let Some(d) = t
-                        .iter()
-                        .find(|d| d.leg == leg && format!("{:?}", d.kind) == r.dof)
-                    {
-                        let v = if torque { &d.torque } else { &d.angle };
-                        let v = planner::analysis::resample_periodic(v, n);
-                        let values = v
-                            .iter()
-                            .map(|x| if torque { x / p } else { x.to_degrees() })
-                            .collect();
-                        let label = format!("{} {}", r.dof, if side == 0 { "A" } else { "B" });
-                        traces.push(Trace {
-                            label,
-                            values,
-                            dashed: side == 1,
-                            colour: k,
-                        });
-                    }
-                }
-            }
-            let what = if torque { "torque / peak" } else { "angle" };
-            panels.push(Panel {
-                leg,
-                title: format!("{} {what}: A solid, B dashed", leg.name()),
-                traces,
-                stance: vec![],
-            });
-        }
-        let y = if torque {
-            "torque / plan's peak |torque|"
-        } else {
-            "angle (deg)"
-        };
-        replace(out, file, |p| {
-            Ok(plot_leg_panels(
-                p,
-                &panels,
-                &phase,
-                "phase of the step cycle",
-                y,
-            )?)
-        })?;
-    }
     Ok(())
 }
 
@@ -312,7 +235,8 @@ fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
     for p in &points {
         let share = p.peak_inertial_torque / p.peak_torque;
         w.write_record(
-            [p.period, p.peak_torque, p.peak_inertial_torque, share].map(|v| format!("{v:.6e}")),
+            [p.period, p.peak_torque, p.peak_inertial_torque, share]
+                .map(|v| planner::number::plain(v, 7)),
         )?;
         println!(
             "| {:.3} | {:.4e} | {:.4e} | {:.3} |",

@@ -75,7 +75,13 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
             let r = compare(&robot.traces, &fly.traces);
             let dir = out.join(format!("{terrain}-{tag}"));
             std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-            crate::compare::overlay(&robot.traces, &fly.traces, &r, &dir)?;
+            crate::common::overlay::overlay(
+                &robot.traces,
+                &fly.traces,
+                &r,
+                &dir,
+                ["robot", "fly"],
+            )?;
             rows.push((terrain, tag, r));
             grf.push((terrain, tag, mean_grf(&robot), mean_grf(&fly)));
             if tag == "springs" {
@@ -86,11 +92,12 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
     let fly_terrains = compare(&fly_sprung[0].traces, &fly_sprung[1].traces);
     let dir = out.join("fly-flat-vs-ball");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    crate::compare::overlay(
+    crate::common::overlay::overlay(
         &fly_sprung[0].traces,
         &fly_sprung[1].traces,
         &fly_terrains,
         &dir,
+        ["fly flat", "fly ball"],
     )?;
 
     let find = |terrain: &str, tag: &str| {

@@ -1,4 +1,5 @@
-//! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf and plots.
+//! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf, plots
+//! and the robot drawn in three views (robot.png, step.gif).
 
 use crate::common::model_spec::load_model;
 use anyhow::{Context, Result};
@@ -106,7 +107,7 @@ impl Args {
                 p.slices, model.name
             );
         }
-        let bar = ProgressBar::new(6);
+        let bar = ProgressBar::new(7);
         bar.set_message("planning");
         let plan = planner::plan::plan(&model, &p)
             .with_context(|| format!("planning a step of {}", model.name))?;
@@ -159,6 +160,9 @@ impl Args {
         })?;
         let json = serde_json::to_string_pretty(&json)?;
         replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
+        replace(out, "README.md", |p| {
+            Ok(std::fs::write(p, report::PLAN_README)?)
+        })?;
         let urdf = planner::model::to_urdf(&model);
         replace(out, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
         bar.inc(1);
@@ -171,6 +175,12 @@ impl Args {
         })?;
         bar.inc(1);
         replace(out, "feet.png", |p| Ok(report::plan::plot_feet(&plan, p)?))?;
+        replace(out, "robot.png", |p| {
+            Ok(report::robot::plot_robot(&plan, p).map(|_| ())?)
+        })?;
+        replace(out, "step.gif", |p| {
+            Ok(report::robot::animate_step(&plan, p).map(|_| ())?)
+        })?;
         if let Some(d) = &dynamics {
             let files = d.write_files(&plan, out)?;
             println!("{}; wrote {}", d.summary(), files.join(" "));
@@ -178,7 +188,7 @@ impl Args {
         bar.finish_and_clear();
         println!("{}", crate::feasibility_args::summary(&feasible));
         println!(
-            "{}: {} slices, period {:.3} s, wrote joints.csv feet.csv plan.json feasibility.md model.urdf joint_angles.png footfall.png feet.png to {}",
+            "{}: {} slices, period {:.3} s, wrote README.md joints.csv feet.csv plan.json feasibility.md model.urdf joint_angles.png footfall.png feet.png robot.png step.gif to {}",
             model.name,
             plan.slices(),
             plan.period_s,

@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use board::link::{Board, Transport};
 use board::record::{
-    CaptureError, Ended, JointMeta, Recorder, Until, capture_while, joints_of_table,
+    CaptureError, Ended, JointMeta, Recorder, Until, capture_while, joint_names, joints_of_table,
+    missing_cycles,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use report::recording::{plot_angles, plot_torques};
@@ -66,15 +67,11 @@ impl Args {
             Some(p) => Some(std::fs::read(p).with_context(|| format!("reading {}", p.display()))?),
             None => None,
         };
-        let joints = match &table {
-            Some(b) => {
-                let path = self.table.as_deref().unwrap_or(Path::new("?")).display();
-                let t = protocol::GaitTable::parse(b)
-                    .with_context(|| format!("{path} (--table) is not a step table"))?;
-                joints_of_table(&t, &[])
-            }
-            None => Vec::new(),
-        };
+        if let Some(b) = &table {
+            let path = self.table.as_deref().unwrap_or(Path::new("?")).display();
+            protocol::GaitTable::parse(b)
+                .with_context(|| format!("{path} (--table) is not a step table"))?;
+        }
         // A bad --out fails here, before the robot moves.
         std::fs::create_dir_all(&self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
@@ -86,6 +83,7 @@ impl Args {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
         }
         s.board.set_telemetry(self.every)?;
+        let joints = named_joints(&mut s, table.as_deref())?;
         if let Some(slot) = self.play {
             let cmd = crate::common::playback::play_command(
                 &mut s,
@@ -122,6 +120,27 @@ impl Args {
     }
 }
 
+/// The board's joints named from the setup's model (`LF_ThC1`, ...): by the table's servo IDs, or
+/// without a table by the board's joint-map order (see [`board::record::joint_names`]).
+fn named_joints(
+    s: &mut crate::args::board::Session,
+    table: Option<&[u8]>,
+) -> anyhow::Result<Vec<JointMeta>> {
+    let spec = s.setup.model.as_deref().unwrap_or("drosophibot2");
+    let model = crate::common::model_spec::load_model(spec)?;
+    let table = table.and_then(|b| protocol::GaitTable::parse(b).ok());
+    Ok(match &table {
+        Some(t) => joints_of_table(t, &joint_names(&model, Some(t), t.joint_count())),
+        None => {
+            let count = s.board.settings()?.joints.len();
+            joint_names(&model, None, count)
+                .into_iter()
+                .map(JointMeta::named)
+                .collect()
+        }
+    })
+}
+
 /// Records into `dir` (telemetry.csv, then the plots) and returns a short summary. If the board
 /// vanishes or Ctrl-C ends the recording, the rows so far are kept in telemetry.csv, the plots are
 /// drawn from them, and the error says so (after Ctrl-C, once the robot stands).
@@ -138,14 +157,7 @@ pub fn record_to<T: Transport>(
     let mut joints = joints;
     if joints.is_empty() {
         joints = (0..board.settings()?.joints.len())
-            .map(|j| JointMeta {
-                name: format!("J{j}"),
-                model: None,
-                sign: 1,
-                modelled_nm: Vec::new(),
-                planned_rad: Vec::new(),
-                stiffness_nm_per_rad: None,
-            })
+            .map(|j| JointMeta::named(format!("J{j}")))
             .collect();
     }
     let mut rec = Recorder::create(&scratch, joints)
@@ -190,6 +202,9 @@ pub fn record_to<T: Transport>(
         bail!("writing {}: {e}", scratch.display());
     }
     finish_csv(&scratch, &csv, &rec)?;
+    replace(dir, "README.md", |p| {
+        Ok(std::fs::write(p, board::record::TELEMETRY_README)?)
+    })?;
     let plots = draw(dir, &rec, slices);
     if let Err(e) = result {
         return Err(anyhow::Error::new(e)).with_context(|| {
@@ -213,12 +228,18 @@ pub fn record_to<T: Transport>(
             csv.display()
         );
     }
+    let missing = missing_cycles(rec.rows());
     Ok(format!(
-        "recorded {} bus cycles ({:.2} s of board time) x {} joints to {}",
+        "recorded {} bus cycles ({:.2} s of board time) x {} joints to {}; {}",
         rec.cycles(),
         rec.duration_s(),
         rec.joints().len(),
-        csv.display()
+        csv.display(),
+        if missing == 0 {
+            "no telemetry record missing".to_string()
+        } else {
+            format!("{missing} telemetry records missing (skipped cycle numbers)")
+        }
     ))
 }
 
@@ -261,6 +282,13 @@ fn draw(dir: &Path, rec: &Recorder, slices: usize) -> anyhow::Result<()> {
             plot_torques(p, rec.rows(), rec.joints(), slices)
                 .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))
         })?;
+    } else {
+        // A torque plot of an earlier recording must not pass for this one's.
+        let old = dir.join("torque.png");
+        if old.exists() {
+            std::fs::remove_file(&old)
+                .with_context(|| format!("removing {} (of an earlier recording)", old.display()))?;
+        }
     }
     Ok(())
 }

@@ -38,6 +38,8 @@ fn plan_writes_every_output() {
         "joint_angles.png",
         "footfall.png",
         "feet.png",
+        "robot.png",
+        "step.gif",
     ] {
         assert!(dir.path().join(f).metadata().unwrap().len() > 0, "{f}");
     }

@@ -8,6 +8,7 @@ pub mod dynamics;
 pub mod gait;
 pub mod kinematics;
 pub mod model;
+pub mod number;
 pub mod plan;
 pub mod plan_dir;
 pub mod qp;

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use crate::legend::{COLUMN_W, Entry, Swatch, legend_column};
 use crate::style::{colour, register_font};
 use planner::model::Leg;
 
@@ -71,7 +72,7 @@ pub fn plot_leg_panels(
         path: path.display().to_string(),
         reason: e.to_string(),
     };
-    let root = BitMapBackend::new(path, (1400, 1100)).into_drawing_area();
+    let root = crate::Bitmap::new(path, (1400, 1100)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let areas = root.split_evenly((3, 2));
     let t_end = time.last().copied().unwrap_or(1.0) + time.get(1).map_or(0.0, |t1| t1 - time[0]);
@@ -81,7 +82,9 @@ pub fn plot_leg_panels(
             Leg::LM | Leg::RM => 1,
             _ => 2,
         };
-        let area = &areas[row * 2 + usize::from(panel.leg.side() < 0.0)];
+        let (area, key) =
+            areas[row * 2 + usize::from(panel.leg.side() < 0.0)].split_horizontally(700 - COLUMN_W);
+        let area = &area;
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for v in panel.traces.iter().flat_map(|t| &t.values) {
             lo = lo.min(*v);
@@ -123,25 +126,33 @@ pub fn plot_leg_panels(
                 .zip(tr.values.iter().copied())
                 .collect();
             let style = c.stroke_width(2);
-            let series = if tr.dashed {
+            if tr.dashed {
                 chart
                     .draw_series(DashedLineSeries::new(pts, 6, 4, style))
-                    .map_err(|e| err(&e))?
+                    .map_err(|e| err(&e))?;
             } else {
                 chart
                     .draw_series(LineSeries::new(pts, style))
-                    .map_err(|e| err(&e))?
-            };
-            series.label(tr.label.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-            });
+                    .map_err(|e| err(&e))?;
+            }
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| err(&e))?;
+        let mut entries: Vec<Entry> = panel
+            .traces
+            .iter()
+            .map(|tr| {
+                let c = colour(tr.colour);
+                let swatch = if tr.dashed {
+                    Swatch::Dashed(c)
+                } else {
+                    Swatch::Line(c)
+                };
+                Entry::new(tr.label.clone(), swatch)
+            })
+            .collect();
+        if !panel.stance.is_empty() {
+            entries.push(Entry::new("stance", Swatch::Shade(RGBColor(225, 225, 225))));
+        }
+        legend_column(&key, &entries).map_err(|e| err(&e))?;
     }
     root.present().map_err(|e| err(&e))
 }

@@ -2,8 +2,16 @@
 //! (joint angles, footfall, feet), the dynamics' torque and GRF plots, per-leg panels of
 //! comparisons, and the recording's plots. PNG via plotters with an embedded font.
 
+mod bitmap;
 pub mod dynamics;
+pub mod legend;
 pub mod legs;
 pub mod plan;
 pub mod recording;
+pub mod robot;
 pub mod style;
+
+/// What each file of a plan directory holds (columns, units, conventions): README.md beside them.
+pub const PLAN_README: &str = include_str!("plan_readme.md");
+
+pub use bitmap::Bitmap;

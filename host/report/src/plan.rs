@@ -1,9 +1,13 @@
 //! PNG plots of a plan: joint angles per leg with stance shaded (as figure 3 of the paper),
 //! the footfall pattern, and foot trajectories (top and side views).
 
+use crate::legend::{COLUMN_W, Entry, Swatch, legend_column};
 use crate::style::{colour, register_font};
 use planner::plan::Plan;
 use planner::plan_dir::ReportError;
+
+/// The grey that shades stance.
+const STANCE: RGBColor = RGBColor(225, 225, 225);
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -34,7 +38,7 @@ fn stance_spans(plan: &Plan, li: usize) -> Vec<(f64, f64)> {
 /// One panel per leg: actuated joint angles (deg) over the cycle, stance shaded grey.
 pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     register_font();
-    let root = BitMapBackend::new(path, (1400, 1100)).into_drawing_area();
+    let root = crate::Bitmap::new(path, (1400, 1100)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
     let panels = root.split_evenly((3, 2));
     for (li, leg) in plan.legs.iter().enumerate() {
@@ -45,7 +49,8 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
             _ => 2,
         };
         let col = usize::from(leg.side() < 0.0);
-        let area = &panels[row * 2 + col];
+        let (area, key) = panels[row * 2 + col].split_horizontally(700 - COLUMN_W);
+        let area = &area;
         let joints: Vec<usize> = plan
             .model
             .leg_chain(*leg)
@@ -62,7 +67,10 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
         }
         let pad = ((hi - lo) * 0.1).max(1.0);
         let mut chart = ChartBuilder::on(area)
-            .caption(format!("{} joint angles", leg.name()), ("sans-serif", 20))
+            .caption(
+                format!("{} joint angles (shaded: stance)", leg.name()),
+                ("sans-serif", 20),
+            )
             .margin(10)
             .x_label_area_size(35)
             .y_label_area_size(50)
@@ -78,7 +86,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
             chart
                 .draw_series(std::iter::once(Rectangle::new(
                     [(t0, lo - pad), (t1, hi + pad)],
-                    RGBColor(225, 225, 225).filled(),
+                    STANCE.filled(),
                 )))
                 .map_err(perr)?;
         }
@@ -89,18 +97,20 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
                     (0..plan.slices()).map(|s| (plan.time(s), deg(s, j))),
                     c.stroke_width(2),
                 ))
-                .map_err(perr)?
-                .label(format!("{:?}", plan.model.joints[j].kind))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-                });
+                .map_err(perr)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(perr)?;
+        let mut entries: Vec<Entry> = joints
+            .iter()
+            .enumerate()
+            .map(|(k, &j)| {
+                Entry::new(
+                    format!("{:?}", plan.model.joints[j].kind),
+                    Swatch::Line(colour(k)),
+                )
+            })
+            .collect();
+        entries.push(Entry::new("stance", Swatch::Shade(STANCE)));
+        legend_column(&key, &entries).map_err(ReportError::Plot)?;
     }
     root.present().map_err(perr)
 }
@@ -108,7 +118,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
 /// Footfall pattern: a black bar per leg while its foot is down.
 pub fn plot_footfall(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     register_font();
-    let root = BitMapBackend::new(path, (1000, 400)).into_drawing_area();
+    let root = crate::Bitmap::new(path, (1000, 400)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
     let n = plan.legs.len() as f64;
     let mut chart = ChartBuilder::on(&root)
@@ -150,9 +160,10 @@ pub fn plot_footfall(plan: &Plan, path: &Path) -> Result<(), ReportError> {
 /// Foot trajectories in the thorax frame: top view (x, y) and side view (x, z).
 pub fn plot_feet(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     register_font();
-    let root = BitMapBackend::new(path, (1400, 650)).into_drawing_area();
+    let root = crate::Bitmap::new(path, (1400, 650)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
-    let (left, right) = root.split_horizontally(700);
+    let (views, key) = root.split_horizontally(1400 - COLUMN_W);
+    let (left, right) = views.split_horizontally(640);
     let all = plan.feet.iter().flatten();
     let (mut min, mut max) = (
         nalgebra::Vector3::repeat(f64::INFINITY),
@@ -178,7 +189,7 @@ pub fn plot_feet(plan: &Plan, path: &Path) -> Result<(), ReportError> {
             )
             .map_err(perr)?;
         chart.configure_mesh().draw().map_err(perr)?;
-        for (li, leg) in plan.legs.iter().enumerate() {
+        for li in 0..plan.legs.len() {
             let c = colour(li);
             let pts: Vec<(f64, f64)> = (0..=plan.slices())
                 .map(|s| {
@@ -188,18 +199,15 @@ pub fn plot_feet(plan: &Plan, path: &Path) -> Result<(), ReportError> {
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts, c.stroke_width(2)))
-                .map_err(perr)?
-                .label(leg.name())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-                });
+                .map_err(perr)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(perr)?;
     }
+    let entries: Vec<Entry> = plan
+        .legs
+        .iter()
+        .enumerate()
+        .map(|(li, leg)| Entry::new(format!("{} foot", leg.name()), Swatch::Line(colour(li))))
+        .collect();
+    legend_column(&key, &entries).map_err(ReportError::Plot)?;
     root.present().map_err(perr)
 }

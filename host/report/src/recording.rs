@@ -25,7 +25,7 @@ fn grid(n: usize) -> (usize, usize) {
 pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usize) -> PlotResult {
     register_font();
     let (r, c) = grid(joints.len());
-    let root = BitMapBackend::new(path, (420 * c as u32, 260 * r as u32 + 60)).into_drawing_area();
+    let root = crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + 60)).into_drawing_area();
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(60);
     let (l1, l2) = title.split_vertically(30);
@@ -93,7 +93,7 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
 pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResult {
     register_font();
     let (r, c) = grid(joints.len());
-    let root = BitMapBackend::new(path, (420 * c as u32, 260 * r as u32 + 40)).into_drawing_area();
+    let root = crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + 40)).into_drawing_area();
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(40);
     title.titled(

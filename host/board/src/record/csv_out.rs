@@ -54,6 +54,9 @@ pub struct Row {
     pub bus_cycle_us: u32,
 }
 
+/// What the columns of telemetry.csv mean: written as README.md beside it.
+pub const TELEMETRY_README: &str = include_str!("telemetry_readme.md");
+
 /// Writes telemetry to a CSV as it arrives and keeps the rows for the plots.
 #[derive(Debug)]
 pub struct Recorder {
@@ -131,14 +134,15 @@ impl Recorder {
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
             writeln!(
                 self.out,
-                "{:.6},{},{},{},{},{},{:.4},{:.4},{:.3},{},{},{},{},{},{}",
+                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{}",
                 row.time_s,
                 row.cycle,
                 row.step,
                 row.slice,
                 name,
                 opt(row.planned_rad),
-                row.commanded_rad,
+                // Torque off: the goal register holds no command, the cell stays empty.
+                opt(driven.then_some(row.commanded_rad)),
                 row.present_rad,
                 row.velocity_rad_s,
                 row.load_raw,

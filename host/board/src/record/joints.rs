@@ -44,6 +44,18 @@ pub fn joints_of_table(table: &GaitTable<'_>, names: &[String]) -> Vec<JointMeta
 }
 
 impl JointMeta {
+    /// A joint known only by its name (no table: raw registers, no modelled torque).
+    pub fn named(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            model: None,
+            sign: 1,
+            modelled_nm: Vec::new(),
+            planned_rad: Vec::new(),
+            stiffness_nm_per_rad: None,
+        }
+    }
+
     /// Joint torque in N m of a load register value (ESTIMATE, see
     /// `dynamixel::units::load_to_torque_nm`); `None` without a known servo model.
     pub fn torque_estimate_nm(&self, load: i16) -> Option<f64> {

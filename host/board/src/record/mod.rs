@@ -4,10 +4,14 @@
 
 mod capture;
 mod csv_out;
+mod gaps;
 mod joints;
+mod names;
 mod stats;
 
 pub use capture::{CaptureError, Ended, Until, capture, capture_while};
-pub use csv_out::{CSV_HEADER, Recorder, Row};
+pub use csv_out::{CSV_HEADER, Recorder, Row, TELEMETRY_README};
+pub use gaps::missing_cycles;
 pub use joints::{JointMeta, joints_of_table};
+pub use names::joint_names;
 pub use stats::{JointTracking, PhaseStats, phase_stats, tracking};

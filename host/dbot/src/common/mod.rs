@@ -6,5 +6,6 @@ pub mod gait_summary;
 pub mod interrupt;
 pub mod model_spec;
 pub mod output;
+pub mod overlay;
 pub mod playback;
 pub mod step_table;

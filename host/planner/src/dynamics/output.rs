@@ -5,6 +5,7 @@ use std::io::Write;
 
 use super::{CycleSolution, DynamicsOptions};
 use crate::model::{Actuation, Leg, Model};
+use crate::number::{SIGNIFICANT, plain};
 
 /// `torque_nm[slice][joint]` (model joint order).
 pub fn torque_rows(cycle: &CycleSolution) -> Vec<Vec<f64>> {
@@ -74,7 +75,7 @@ pub fn write_joint_forces_csv<W: Write>(
             let (f, m) = (sol.joint_force[j], sol.joint_moment[j]);
             let mut rec = vec![
                 s.to_string(),
-                format!("{:.9}", s as f64 * dt),
+                plain(s as f64 * dt, SIGNIFICANT),
                 joint.leg.name().into(),
                 format!("{:?}", joint.kind),
             ];
@@ -90,7 +91,7 @@ pub fn write_joint_forces_csv<W: Write>(
                     sol.spring_torque[j],
                 ]
                 .iter()
-                .map(|v| format!("{v:.9e}")),
+                .map(|v| plain(*v, SIGNIFICANT)),
             );
             out.write_record(&rec)?;
         }

@@ -4,6 +4,12 @@
 use crate::plan::Plan;
 use std::io::Write;
 
+use crate::number::{SIGNIFICANT, plain};
+
+fn num(x: f64) -> String {
+    plain(x, SIGNIFICANT)
+}
+
 /// An extra column: `values[slice][i]`, `i` over joints (model order) for joints.csv or over
 /// legs ([`Plan::legs`] order) for feet.csv.
 #[derive(Debug, Clone, Copy)]
@@ -83,15 +89,15 @@ pub fn write_joints_csv<W: Write>(
             let stance = li.is_some_and(|li| plan.stance[s][li]);
             let mut rec = vec![
                 s.to_string(),
-                format!("{:.9}", plan.time(s)),
+                num(plan.time(s)),
                 joint.leg.name().to_string(),
                 format!("{:?}", joint.kind),
-                format!("{:.12e}", plan.q[s][j]),
-                format!("{:.9e}", plan.qd[s][j]),
-                format!("{:.9e}", plan.qdd[s][j]),
+                num(plan.q[s][j]),
+                num(plan.qd[s][j]),
+                num(plan.qdd[s][j]),
                 u8::from(stance).to_string(),
             ];
-            rec.extend(extra.iter().map(|c| format!("{:.9e}", c.values[s][j])));
+            rec.extend(extra.iter().map(|c| num(c.values[s][j])));
             out.write_record(&rec)?;
         }
     }
@@ -115,14 +121,14 @@ pub fn write_feet_csv<W: Write>(
             let p = plan.feet[s][li];
             let mut rec = vec![
                 s.to_string(),
-                format!("{:.9}", plan.time(s)),
+                num(plan.time(s)),
                 leg.name().to_string(),
-                format!("{:.12e}", p.x),
-                format!("{:.12e}", p.y),
-                format!("{:.12e}", p.z),
+                num(p.x),
+                num(p.y),
+                num(p.z),
                 u8::from(plan.stance[s][li]).to_string(),
             ];
-            rec.extend(extra.iter().map(|c| format!("{:.9e}", c.values[s][li])));
+            rec.extend(extra.iter().map(|c| num(c.values[s][li])));
             out.write_record(&rec)?;
         }
     }

@@ -1,0 +1,14 @@
+//! Pictures of the robot itself: a stick figure (bodies, joints, feet) in three views, as a
+//! still of a plan's postures (`robot.png`) or an animation (`step.gif`, or the physics robot's
+//! walk). One drawing serves every picture: build [`StickFigure`]s from body poses, then
+//! [`write_gif`] or [`draw_views`].
+
+mod animation;
+mod figure;
+mod plan_views;
+mod views;
+
+pub use animation::{FRAME_SIZE, Frame, write_gif};
+pub use figure::{Bone, FigureError, FootMark, Part, StickFigure};
+pub use plan_views::{MAX_FRAMES, PHASES, animate_step, plan_ground, plot_robot};
+pub use views::{Bounds, Ground, View, ViewLayout, draw_legend, draw_views};
