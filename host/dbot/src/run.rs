@@ -154,5 +154,10 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
             state_name(state.state)
         );
     }
-    Ok(walked)
+    // The board stands again only at the end of a step, and a counted walk ends exactly after its
+    // last step (firmware `controller`), which the 100 ms polls above may not have caught.
+    Ok(match steps {
+        Some(k) => k,
+        None => walked,
+    })
 }
