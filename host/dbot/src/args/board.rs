@@ -76,9 +76,8 @@ impl BoardArgs {
         let chosen = self.port.is_some() || setup.port.is_some();
         if let PortSpec::Virtual { image: Some(path) } = &spec
             && chosen
-            && !self.create
         {
-            check_store_exists(path, self.port.is_some())?;
+            check_store_exists(path, self.port.is_some(), self.create)?;
         }
         let transport = spec.open()?;
         let mut board =
@@ -98,8 +97,9 @@ impl BoardArgs {
     }
 }
 
-/// A typed `virtual:PATH` must name an existing store unless `--create` is given.
-fn check_store_exists(path: &std::path::Path, from_flag: bool) -> anyhow::Result<()> {
+/// A typed `virtual:PATH` must name an existing store unless `--create` is given, and its folder
+/// must exist even then (`--create` makes a robot, not a folder tree from a typo).
+fn check_store_exists(path: &std::path::Path, from_flag: bool, create: bool) -> anyhow::Result<()> {
     if path.exists() {
         return Ok(());
     }
@@ -117,6 +117,9 @@ fn check_store_exists(path: &std::path::Path, from_flag: bool) -> anyhow::Result
             path.display(),
             dir.display()
         );
+    }
+    if create {
+        return Ok(());
     }
     bail!(
         "virtual robot store {} does not exist (from {source}): mistyped? Give --create to start a new, empty robot there",
