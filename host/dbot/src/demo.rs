@@ -39,6 +39,9 @@ fn check_interrupt(stage: &str) -> anyhow::Result<()> {
 
 /// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot demo                      # outputs in out/demo
+  dbot demo --steps 3 --out /tmp/d   # 3 steps each way")]
 pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/demo")]

@@ -6,6 +6,8 @@ use crate::common::words::state_name;
 
 /// Emergency stop: torque off on every servo now (the robot goes limp).
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Example:
+  dbot estop                     # then: dbot set --clear-fault")]
 pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,

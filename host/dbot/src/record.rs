@@ -25,6 +25,9 @@ use crate::common::output::replace;
 /// Ctrl-C stops the walk at the end of its step, records until the robot stands and keeps the
 /// rows so far in OUT/telemetry.csv.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot record --out rec --table walk.dbgt --play 1 --steps 10
+  dbot record --out rec --table walk.dbgt --seconds 20   # whatever the board is doing")]
 pub struct Args {
     /// Output directory.
     #[arg(long)]

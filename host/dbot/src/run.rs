@@ -18,6 +18,9 @@ use crate::common::words::{WalkReport, state_name};
 /// Ctrl-C stops the walk at the end of its step and waits until the robot stands (a second
 /// Ctrl-C exits at once; the board still finishes the step).
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot run --slot 1 --steps 10
+  dbot run --slot 1 --steps 4 --backward --period 2.0   # period in s")]
 pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).
     #[arg(long)]

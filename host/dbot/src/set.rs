@@ -10,6 +10,10 @@ use crate::common::words::state_name;
 
 /// Change run-time settings of the board (only while it is not walking, for the bus ones).
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot set --stiffness 8.4       # N m/rad, all joints
+  dbot set --rate 200 --baud 2000000   # Hz, bit/s; only while not walking
+  dbot set --from-config          # stiffness, rate, baud of the setup file")]
 pub struct Args {
     /// Servo stiffness for the torque bias, N m/rad (all joints, or --joint).
     #[arg(long)]

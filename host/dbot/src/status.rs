@@ -5,6 +5,9 @@ use crate::common::words::{direction_name, state_name};
 
 /// Show the board's state and counters.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot status
+  dbot status --port virtual:lab.flash")]
 pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,

@@ -7,6 +7,8 @@ use crate::args::board::BoardArgs;
 
 /// Stop walking at the end of the current step.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Example:
+  dbot stop")]
 pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,

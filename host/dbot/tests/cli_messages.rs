@@ -172,7 +172,10 @@ fn dxl_scan_at_the_wrong_baud_hints_and_baud_auto_finds_the_servos() {
 #[test]
 fn every_command_has_help_with_an_example_or_defaults() {
     let dir = tempfile::tempdir().unwrap();
-    for cmd in ["plan", "compare", "table", "dxl", "sim-bus"] {
+    for cmd in [
+        "demo", "plan", "model", "table", "compare", "devices", "upload", "gaits", "run", "stop",
+        "estop", "status", "servos", "set", "record", "sim-bus", "dxl",
+    ] {
         let o = dbot(dir.path(), &[cmd, "--help"]);
         let t = text(&o);
         assert!(
