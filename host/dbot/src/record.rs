@@ -205,9 +205,10 @@ pub fn record_to<T: Transport>(
     }
     plots?;
     if interrupted {
-        let state = board
-            .status()
-            .map_or_else(|e| format!("unknown ({e})"), |st| format!("{:?}", st.state));
+        let state = board.status().map_or_else(
+            |e| format!("unknown ({e})"),
+            |st| crate::common::words::state_name(st.state).to_owned(),
+        );
         bail!(
             "interrupted: the walk was stopped at the end of its step and the robot is {state}; \
              {} bus cycles ({:.2} s of board time) kept in {}",
