@@ -20,18 +20,21 @@ use crate::common::overlay::{folder_name, overlay};
 /// With --swing S1,S2,..: plans --model at each swing duration and reports how the peak torque
 /// and its inertial part scale with the step period (quasi-static or inertial regime).
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot compare out/walk out/fly-ball                  # writes out/compare/compare.csv and plots
+  dbot compare --swing 0.4,0.8,1.6 --out out/sweep    # the speed sweep of Drosophibot II")]
 pub struct Args {
     /// Plan directories A and B (each with joints.csv from `dbot plan`).
     #[arg(num_args = 0..=2)]
     plans: Vec<PathBuf>,
     /// Swing durations for a speed sweep, s, comma separated.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     swing: Vec<f64>,
-    /// Model of the sweep: built-in name, .toml or .aproj.
-    #[arg(long, default_value = "drosophibot2")]
-    model: String,
+    /// The model of the sweep (--model, else the setup file's, else drosophibot2).
+    #[command(flatten)]
+    model: crate::args::setup::ModelArgs,
     /// Output directory (created if missing).
-    #[arg(long)]
+    #[arg(long, default_value = "out/compare")]
     out: PathBuf,
     /// The paper's comparison (tables S2 to S8, figures 4 and S7 with and without parallel
     /// springs, ball vs flat GRF) in one run: robot at a 4 s period, fly at table 1's 0.25 s.
@@ -67,7 +70,7 @@ impl Args {
             .with_context(|| format!("creating {}", self.out.display()))?;
         match (self.plans.len(), self.swing.is_empty()) {
             (2, true) => compare_dirs(&self.plans[0], &self.plans[1], &self.out),
-            (0, false) => sweep(&self.model, &self.swing, &self.out),
+            (0, false) => sweep(&self.model.spec()?, &self.swing, &self.out),
             _ => bail!("give either two plan directories or --swing S1,S2,... (not both)"),
         }
     }

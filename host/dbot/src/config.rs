@@ -10,6 +10,9 @@
 //! slot = 1                   # default gait slot
 //! ```
 //!
+//! Paths in the file (`virtual:PATH`, a device or link path, a model .toml/.aproj) are relative to
+//! the file's folder, not to where `dbot` runs.
+//!
 //! Looked up at `--config PATH`, else `$DBOT_CONFIG`, else `./dbot.toml`, else
 //! `$XDG_CONFIG_HOME/dbot/config.toml` (`~/.config/dbot/config.toml`). No file is fine: every field
 //! has a default or a flag.
@@ -123,7 +126,27 @@ impl RobotConfig {
             path: path.to_owned(),
             source,
         })?;
-        Self::parse(path, &text)
+        let mut c = Self::parse(path, &text)?;
+        c.relative_to(path.parent().unwrap_or(Path::new("")));
+        Ok(c)
+    }
+
+    /// Makes the file's relative paths relative to `dir` (the file's folder).
+    fn relative_to(&mut self, dir: &Path) {
+        let join = |p: &str| dir.join(p).to_string_lossy().into_owned();
+        if let Some(port) = &self.port {
+            self.port = Some(match port.strip_prefix("virtual:") {
+                Some(rest) if !rest.is_empty() => format!("virtual:{}", join(rest)),
+                Some(_) => port.clone(),
+                None if port == "virtual" || Path::new(port).is_absolute() => port.clone(),
+                None => join(port),
+            });
+        }
+        if let Some(m) = &self.model
+            && is_model_file(m)
+        {
+            self.model = Some(join(m));
+        }
     }
 
     /// The file named by `explicit`, else the first default path that exists, else an empty setup.
@@ -139,6 +162,15 @@ impl RobotConfig {
         }
         Ok((Self::default(), None))
     }
+}
+
+/// Whether a `model` value names a file (a .toml model or an .aproj project) rather than a
+/// built-in model.
+pub fn is_model_file(spec: &str) -> bool {
+    matches!(
+        Path::new(spec).extension().and_then(|e| e.to_str()),
+        Some("toml" | "aproj")
+    )
 }
 
 /// Where a setup file is looked for, in order.
@@ -172,6 +204,34 @@ mod tests {
         assert_eq!(c.rate, Some(200));
         assert_eq!(c.stiffness, Some(8.4));
         assert_eq!(c.slot, Some(1));
+    }
+
+    #[test]
+    fn paths_in_the_file_are_relative_to_its_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let lab = dir.path().join("lab");
+        std::fs::create_dir(&lab).unwrap();
+        let file = lab.join("dbot.toml");
+        std::fs::write(
+            &file,
+            "port = \"virtual:robot.flash\"\nmodel = \"models/fly.toml\"\n",
+        )
+        .unwrap();
+        let c = RobotConfig::load(&file).unwrap();
+        let want_port = format!("virtual:{}", lab.join("robot.flash").display());
+        assert_eq!(c.port.as_deref(), Some(want_port.as_str()));
+        let want_model = lab.join("models/fly.toml").display().to_string();
+        assert_eq!(c.model.as_deref(), Some(want_model.as_str()));
+        // Built-in names, `virtual` and absolute device paths are not paths to resolve.
+        std::fs::write(&file, "port = \"/dev/ttyACM0\"\nmodel = \"drosophibot2\"\n").unwrap();
+        let c = RobotConfig::load(&file).unwrap();
+        assert_eq!(c.port.as_deref(), Some("/dev/ttyACM0"));
+        assert_eq!(c.model.as_deref(), Some("drosophibot2"));
+        std::fs::write(&file, "port = \"virtual\"\n").unwrap();
+        assert_eq!(
+            RobotConfig::load(&file).unwrap().port.as_deref(),
+            Some("virtual")
+        );
     }
 
     #[test]

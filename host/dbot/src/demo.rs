@@ -39,6 +39,9 @@ fn check_interrupt(stage: &str) -> anyhow::Result<()> {
 
 /// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot demo                      # outputs in out/demo
+  dbot demo --steps 3 --out /tmp/d   # 3 steps each way")]
 pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/demo")]
@@ -230,6 +233,14 @@ fn walk(
 /// RMS tracking error per leg, over the steps after the first (the first starts from the ramp).
 fn print_tracking(rec: &Recorder, names: &[String]) {
     let rows: Vec<_> = rec.rows().iter().filter(|r| r.step >= 1).cloned().collect();
+    // With one step there is no step after the ramp's to measure: say so rather than print
+    // zeros over an empty window.
+    if rows.is_empty() {
+        println!(
+            "  no tracking error: it is measured from the second step on (give --steps 2 or more)"
+        );
+        return;
+    }
     let per_joint = tracking(&rows, names.len());
     for leg in Leg::ALL {
         let mine: Vec<_> = per_joint

@@ -9,6 +9,9 @@ use board::link::{Board, PortSpec, list_boards};
 
 /// List the Drosophibot II boards plugged in over USB and their firmware and protocol versions.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot devices                   # boards on USB
+  dbot devices --port /dev/ttyACM0")]
 pub struct Args {
     /// How long to wait for each board's answer, s.
     #[arg(long, default_value_t = 1.0)]

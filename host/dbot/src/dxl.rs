@@ -1,5 +1,6 @@
 //! `dbot dxl`: direct access to Dynamixel servos through a USB serial adapter (U2D2) for setting
 //! them up: find IDs, read and write registers, change ID, baud and Return Delay Time.
+//! `--baud auto` tries every MX(2.0) rate until servos answer.
 
 use anyhow::{Context as _, bail};
 use board::bus::serial::{SerialMaster, block_on, open_master};
@@ -7,18 +8,26 @@ use dynamixel::control_table::{self as ct, Field, Model};
 use dynamixel::master::{BusError, MasterConfig, ReplyFault};
 use std::path::PathBuf;
 
+use crate::common::baud::{BaudChoice, FACTORY_BAUD};
+use crate::common::serial_path::check_serial_path;
+
 /// Talk to Dynamixel servos through a USB serial adapter (U2D2) or `dbot sim-bus`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot dxl scan -p /dev/ttyUSB0                     # every ID at the factory 57600 bit/s
+  dbot dxl scan -p /dev/ttyUSB0 --baud auto         # try every MX rate until servos answer
+  dbot dxl setup -p /dev/ttyUSB0 --id 1 --new-id 7 --new-baud 1000000 --return-delay-us 0")]
 pub struct Args {
     #[command(subcommand)]
     op: Op,
-    /// Serial port of the adapter (e.g. /dev/ttyUSB0, or the link of `dbot sim-bus`)
-    #[arg(long, global = true, default_value = "/dev/ttyUSB0")]
+    /// Serial port of the adapter (e.g. /dev/ttyUSB0, or the --link of `dbot sim-bus`)
+    #[arg(long, short = 'p', global = true, default_value = "/dev/ttyUSB0")]
     port: PathBuf,
-    /// Line rate in bit/s (factory default of the servos: 57600)
-    #[arg(long, global = true, default_value_t = 57_600)]
-    baud: u32,
-    /// Time allowed per reply beyond its wire time, in microseconds (USB adapters add latency)
+    /// Line rate, bit/s, or `auto` to try every MX(2.0) rate (57600 first) until servos answer.
+    /// Default: the servos' factory rate, also the default of `dbot sim-bus`.
+    #[arg(long, global = true, default_value_t = BaudChoice::Rate(FACTORY_BAUD))]
+    baud: BaudChoice,
+    /// Time allowed per reply beyond its wire time, µs (USB adapters add latency)
     #[arg(long, global = true, default_value_t = 20_000)]
     reply_slack_us: u32,
 }
@@ -33,6 +42,7 @@ enum Op {
     },
     /// Read a register by name (e.g. "Present Position") or address
     Read {
+        /// Servo ID (0..=252)
         #[arg(long)]
         id: u8,
         /// Control table field, by e-manual name (spaces or underscores)
@@ -47,12 +57,16 @@ enum Op {
     },
     /// Write a register by name or address (1, 2 or 4 bytes, little endian)
     Write {
+        /// Servo ID (0..=252, 254 = broadcast)
         #[arg(long)]
         id: u8,
+        /// Control table field, by e-manual name (spaces or underscores)
         #[arg(long, conflicts_with = "addr")]
         field: Option<String>,
+        /// Address (with --len) instead of a field name
         #[arg(long, requires = "len")]
         addr: Option<u16>,
+        /// Number of bytes at --addr (1, 2 or 4)
         #[arg(long)]
         len: Option<u16>,
         /// Value to write (signed values are written as two's complement)
@@ -61,6 +75,7 @@ enum Op {
     },
     /// Torque off, then set Return Delay Time, ID and baud (in that order) and check the servo answers
     Setup {
+        /// ID the servo has now
         #[arg(long)]
         id: u8,
         /// New ID (0..=252)
@@ -69,19 +84,25 @@ enum Op {
         /// New line rate in bit/s (57600, 115200, 1000000, 2000000, 3000000, 4000000, 4500000, 9600)
         #[arg(long)]
         new_baud: Option<u32>,
-        /// New Return Delay Time in microseconds (0..=508, even)
-        #[arg(long)]
+        /// New Return Delay Time, µs (0..=508, even; the robot's bus wants 0)
+        #[arg(long, alias = "return-delay")]
         return_delay_us: Option<u32>,
     },
 }
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
+        check_serial_path(&self.port)?;
         let port = self.port.to_string_lossy().into_owned();
-        let mut m = open_master(&port, self.baud, self.reply_slack_us)
-            .with_context(|| format!("cannot open the bus on {port}"))?;
+        if let Op::Scan { max_id } = self.op {
+            return scan(&port, self.baud, self.reply_slack_us, max_id);
+        }
+        let mut m = match self.baud {
+            BaudChoice::Rate(b) => open(&port, b, self.reply_slack_us)?,
+            BaudChoice::Auto => find_baud(&port, self.op.id(), self.reply_slack_us)?,
+        };
         match self.op {
-            Op::Scan { max_id } => scan(&mut m, max_id, &port, self.baud),
+            Op::Scan { .. } => Ok(()),
             Op::Read {
                 id,
                 field,
@@ -139,8 +160,80 @@ impl Args {
     }
 }
 
-fn scan(m: &mut SerialMaster, max_id: u8, port: &str, baud: u32) -> anyhow::Result<()> {
+impl Op {
+    /// The servo a read, write or setup addresses (none for a scan).
+    fn id(&self) -> u8 {
+        match self {
+            Op::Scan { .. } => dynamixel::instruction::BROADCAST_ID,
+            Op::Read { id, .. } | Op::Write { id, .. } | Op::Setup { id, .. } => *id,
+        }
+    }
+}
+
+fn open(port: &str, baud: u32, slack: u32) -> anyhow::Result<SerialMaster> {
+    open_master(port, baud, slack).with_context(|| format!("cannot open the bus on {port}"))
+}
+
+/// `--baud auto` for read, write and setup: the first MX rate at which servo `id` answers a ping.
+fn find_baud(port: &str, id: u8, slack: u32) -> anyhow::Result<SerialMaster> {
+    for b in BaudChoice::Auto.candidates() {
+        let mut m = open(port, b, slack)?;
+        if block_on(m.ping(id)).is_ok() {
+            eprintln!("ID {id} answers at {b} bit/s");
+            return Ok(m);
+        }
+    }
+    bail!(
+        "no servo with ID {id} answers on {port} at any MX rate ({}); check power and wiring",
+        rates(&BaudChoice::Auto.candidates())
+    )
+}
+
+fn rates(list: &[u32]) -> String {
+    list.iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Pings IDs 0..=max_id at each rate of `choice`; with `auto`, stops at the first rate where
+/// servos answer. Nothing answering is an error that says which rates to try next.
+fn scan(port: &str, choice: BaudChoice, slack: u32, max_id: u8) -> anyhow::Result<()> {
+    let tried = choice.candidates();
+    for &baud in &tried {
+        let mut m = open(port, baud, slack)?;
+        let found = scan_at(&mut m, max_id, port, baud)?;
+        if found > 0 {
+            return Ok(());
+        }
+    }
+    let others: Vec<u32> = BaudChoice::Auto
+        .candidates()
+        .into_iter()
+        .filter(|b| !tried.contains(b))
+        .collect();
+    if others.is_empty() {
+        bail!(
+            "no servo answers on {port} at any MX rate ({}): check the servos' power and wiring",
+            rates(&tried)
+        );
+    }
+    bail!(
+        "no servo answers on {port} at {} bit/s: try another rate (--baud {}) or --baud auto, and check power and wiring",
+        rates(&tried),
+        others[0]
+    )
+}
+
+/// Pings IDs 0..=max_id at one rate, printing each servo that answers; returns how many did.
+fn scan_at(m: &mut SerialMaster, max_id: u8, port: &str, baud: u32) -> anyhow::Result<usize> {
+    // On a terminal: a bar with the ID reached and the time left (253 IDs at 57600 bit/s take
+    // about 6 s, each silent ID waiting out its reply slack).
     let bar = indicatif::ProgressBar::new(max_id as u64 + 1)
+        .with_style(
+            indicatif::ProgressStyle::with_template("{msg} {bar:30} ID {pos}/{len}, {eta} left")
+                .expect("template is valid"),
+        )
         .with_message(format!("pinging {port} at {baud} bit/s"));
     let mut found = 0;
     for id in 0..=max_id {
@@ -166,8 +259,10 @@ fn scan(m: &mut SerialMaster, max_id: u8, port: &str, baud: u32) -> anyhow::Resu
         }
     }
     bar.finish_and_clear();
-    println!("{found} servo(s) found on {port} at {baud} bit/s");
-    Ok(())
+    if found > 0 {
+        println!("{found} servo(s) found on {port} at {baud} bit/s");
+    }
+    Ok(found)
 }
 
 fn setup(

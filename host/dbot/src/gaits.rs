@@ -4,6 +4,9 @@ use crate::args::board::BoardArgs;
 
 /// List the board's gait slots.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot gaits
+  dbot gaits --port virtual:lab.flash")]
 pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,

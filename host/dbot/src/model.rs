@@ -11,6 +11,9 @@ use std::path::PathBuf;
 
 /// Work with organism models (built-in names: drosophibot2, scale-drosophila).
 #[derive(Debug, ClapArgs)]
+#[command(after_help = "Examples:
+  dbot model show --model drosophibot2
+  dbot model export --model scale-drosophila --urdf fly.urdf")]
 pub struct Args {
     #[command(subcommand)]
     cmd: ModelCmd,

@@ -15,20 +15,24 @@ use crate::common::output::replace;
 /// Stepping parameters default to table 1 of the paper for the model; a --params TOML file
 /// overrides any of them, and the flags below override the file.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot plan --out out/walk                                   # Drosophibot II, tripod, flat ground, table 1
+  dbot plan --model scale-drosophila --terrain ball --out out/fly-ball   # the fly on the ball
+  dbot plan --params lab-step.toml --no-dynamics --out out/quick")]
 pub struct Args {
-    /// Built-in model name (drosophibot2, scale-drosophila), a .toml model or an .aproj file.
-    #[arg(long, default_value = "drosophibot2")]
-    model: String,
-    /// flat, ball[:RADIUS_M[:OFFSET_M]] or incline:DEG.
+    #[command(flatten)]
+    model: crate::args::setup::ModelArgs,
+    /// flat, ball[:RADIUS_M[:OFFSET_M]] (m) or incline:DEG (degrees). Default: table 1 (flat).
     #[arg(long)]
     terrain: Option<String>,
-    /// tripod, tetrapod, wave or PHI_I:PHI_C (fractions of the cycle).
+    /// tripod, tetrapod, wave or PHI_I:PHI_C (fractions of the cycle). Default: table 1 (tripod).
     #[arg(long)]
     gait: Option<String>,
-    /// Swing duration, s.
-    #[arg(long)]
+    /// Swing duration, s. Default: table 1 of the paper for the model (drosophibot2 0.5 s,
+    /// scale-drosophila 0.1 s).
+    #[arg(long, allow_negative_numbers = true)]
     swing: Option<f64>,
-    /// Time slices per step cycle.
+    /// Time slices per step cycle. Default: table 1 (100).
     #[arg(long)]
     slices: Option<usize>,
     /// Body height offsets per leg pair, HIND,MIDDLE,FRONT in m, added to the preset's (table 1's
@@ -60,7 +64,8 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> Result<()> {
-        let model = self.springs.apply(load_model(&self.model)?)?;
+        let spec = self.model.spec()?;
+        let model = self.springs.apply(load_model(&spec)?)?;
         let mut p = StepParams::preset(&self.preset, &model.name).with_context(|| {
             format!(
                 "--preset {}: expected one of {} (physical-robot is for drosophibot2)",
@@ -130,7 +135,7 @@ impl Args {
         bar.inc(1);
         let mut json = serde_json::json!({
             "model": model.name,
-            "model_source": self.model,
+            "model_source": spec,
             "spring_args": self.springs.json(),
             "parameters": plan.params,
             "terrain": plan.terrain,

@@ -26,6 +26,9 @@ use crate::common::output::replace;
 /// Ctrl-C stops the walk at the end of its step, records until the robot stands and keeps the
 /// rows so far in OUT/telemetry.csv.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot record --out rec --table walk.dbgt --play 1 --steps 10
+  dbot record --out rec --table walk.dbgt --seconds 20   # whatever the board is doing")]
 pub struct Args {
     /// Output directory.
     #[arg(long)]
@@ -217,9 +220,10 @@ pub fn record_to<T: Transport>(
     }
     plots?;
     if interrupted {
-        let state = board
-            .status()
-            .map_or_else(|e| format!("unknown ({e})"), |st| format!("{:?}", st.state));
+        let state = board.status().map_or_else(
+            |e| format!("unknown ({e})"),
+            |st| crate::common::words::state_name(st.state).to_owned(),
+        );
         bail!(
             "interrupted: the walk was stopped at the end of its step and the robot is {state}; \
              {} bus cycles ({:.2} s of board time) kept in {}",

@@ -11,12 +11,16 @@ use protocol::RunState;
 use crate::args::board::{BoardArgs, Session};
 use crate::common::interrupt;
 use crate::common::playback::{play_command, stop_walk};
+use crate::common::words::{WalkReport, state_name};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
 ///
 /// Ctrl-C stops the walk at the end of its step and waits until the robot stands (a second
 /// Ctrl-C exits at once; the board still finishes the step).
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot run --slot 1 --steps 10
+  dbot run --slot 1 --steps 4 --backward --period 2.0   # period in s")]
 pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).
     #[arg(long)]
@@ -55,6 +59,7 @@ impl Args {
         if interrupt::requested() {
             bail!("interrupted before the walk started: nothing was played");
         }
+        let before = (s.board.now().as_secs_f64(), s.board.status()?.counters);
         s.board
             .play(command)
             .with_context(|| format!("playing slot {slot}"))?;
@@ -62,15 +67,34 @@ impl Args {
             println!("slot {slot}: playing");
             return s.close();
         }
-        follow(&mut s, self.steps)?;
+        let steps = follow(&mut s, self.steps)?;
+        println!("{}", report(&mut s, before, steps)?.line());
         s.close()
     }
 }
 
-/// Follows playback until the robot stands again (or a fault), with a progress bar over the steps.
-/// On Ctrl-C: asks the board to stop at the end of the step, follows it until it stands and fails
-/// with a message saying so.
-pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
+/// What the walk did: steps, board time and the counters' growth since `before` (board time, s,
+/// and counters read just before the play command).
+fn report(
+    s: &mut Session,
+    before: (f64, protocol::Counters),
+    steps: u32,
+) -> anyhow::Result<WalkReport> {
+    let (t0, c0) = before;
+    let c = s.board.status()?.counters;
+    Ok(WalkReport {
+        steps,
+        seconds: s.board.now().as_secs_f64() - t0,
+        overruns: c.missed_deadlines.wrapping_sub(c0.missed_deadlines),
+        bus_errors: (c.bus_timeouts.wrapping_sub(c0.bus_timeouts))
+            .wrapping_add(c.crc_errors.wrapping_sub(c0.crc_errors)),
+    })
+}
+
+/// Follows playback until the robot stands again (or a fault), with a progress bar over the steps;
+/// returns the steps completed. On Ctrl-C: asks the board to stop at the end of the step, follows
+/// it until it stands and fails with a message saying so.
+pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
     let bar = match steps {
         Some(k) => ProgressBar::new(u64::from(k)).with_style(
             ProgressStyle::with_template("walking {bar:40} step {pos}/{len} {msg}")
@@ -79,6 +103,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         None => ProgressBar::new_spinner(),
     };
     let mut started = false;
+    let mut walked = 0;
     // After Ctrl-C: the board's state right after it was asked to stop (Stopping: it finishes
     // the step; Standing: it was still ramping to the first slice and holds where it got to).
     let mut stopped_in: Option<RunState> = None;
@@ -96,14 +121,20 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
         let st = s.board.status()?;
         if let Some(p) = st.playback {
             bar.set_position(u64::from(p.step));
+            walked = walked.max(p.step);
         }
-        bar.set_message(format!("{:?}", st.state));
+        bar.set_message(state_name(st.state));
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
             RunState::Standing | RunState::Idle if started || stopped_in.is_some() => break st,
             RunState::Fault => {
                 bar.abandon();
-                bail!("the board stopped with a fault: {:?}", st.fault);
+                let fault = st
+                    .fault
+                    .map_or("no fault recorded".to_owned(), |f| f.to_string());
+                bail!(
+                    "the board stopped with a fault after {walked} step(s): {fault} (see `dbot status`)"
+                );
             }
             _ => {}
         }
@@ -122,10 +153,14 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<()> {
             format!("the walk was stopped at the end of its step{step}")
         };
         bail!(
-            "interrupted: {what}; the robot is {:?} (board clock {t:.2} s)",
-            state.state
+            "interrupted: {what}; the robot is {} (board clock {t:.2} s)",
+            state_name(state.state)
         );
     }
-    println!("done: the robot stands (board clock {t:.2} s)");
-    Ok(())
+    // The board stands again only at the end of a step, and a counted walk ends exactly after its
+    // last step (firmware `controller`), which the 100 ms polls above may not have caught.
+    Ok(match steps {
+        Some(k) => k,
+        None => walked,
+    })
 }

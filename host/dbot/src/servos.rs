@@ -11,6 +11,8 @@ use crate::args::board::BoardArgs;
 
 /// Show the joints the board drives: servo IDs and models, stiffness, limits, torque, errors.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Example:
+  dbot servos --table walk.dbgt")]
 pub struct Args {
     /// Step table whose joint map names the servos (IDs, models); the protocol does not carry it.
     #[arg(long)]

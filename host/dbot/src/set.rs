@@ -2,12 +2,18 @@
 //! baud, telemetry rate, torque, fault clearing. Flags override the setup file's values.
 
 use anyhow::{Context, bail};
-use protocol::ServoSelect;
+use board::link::LinkError;
+use protocol::{ProtocolError, RunState, ServoSelect};
 
 use crate::args::board::BoardArgs;
+use crate::common::words::state_name;
 
 /// Change run-time settings of the board (only while it is not walking, for the bus ones).
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot set --stiffness 8.4       # N m/rad, all joints
+  dbot set --rate 200 --baud 2000000   # Hz, bit/s; only while not walking
+  dbot set --from-config          # stiffness, rate, baud of the setup file")]
 pub struct Args {
     /// Servo stiffness for the torque bias, N m/rad (all joints, or --joint): 0.0005 to 3911 (the
     /// MX-64's stall torque over one encoder tick).
@@ -98,8 +104,21 @@ impl Args {
         let mut s = self.board.connect()?;
         let mut did = Vec::new();
         if self.clear_fault {
-            s.board.clear_fault()?;
-            did.push("fault cleared".to_owned());
+            // A board that is not in a fault (the virtual robot boots afresh at every command)
+            // has nothing to clear: say so instead of failing, so `estop`'s advice always works.
+            match s.board.clear_fault() {
+                Ok(()) => did.push("fault cleared".to_owned()),
+                Err(LinkError::Device {
+                    error: ProtocolError::WrongState { state },
+                    ..
+                }) if state != RunState::Fault => {
+                    did.push(format!(
+                        "no fault to clear (the board is in state {})",
+                        state_name(state)
+                    ));
+                }
+                Err(e) => return Err(anyhow::Error::new(e).context("clearing the fault")),
+            }
         }
         if let (Some(k), Some(units)) = (k, units) {
             let joints = s.board.settings()?.joints.len() as u8;
@@ -132,7 +151,19 @@ impl Args {
         }
         if let Some(t) = self.torque {
             s.board.set_torque(ServoSelect::All, t == OnOff::On)?;
-            did.push(format!("torque {t:?}"));
+            did.push(match t {
+                OnOff::On => "torque on".to_owned(),
+                OnOff::Off => "torque off".to_owned(),
+            });
+        }
+        let changed =
+            k.is_some() || rate.is_some() || baud.is_some() || self.telemetry_every.is_some();
+        if let Some(store) = s.store.clone().filter(|_| changed) {
+            crate::args::virtual_settings::save(&mut s.board, &store)?;
+            did.push(format!(
+                "kept in {} for later commands",
+                crate::args::virtual_settings::settings_path(&store).display()
+            ));
         }
         println!("{}", did.join(", "));
         s.close()

@@ -8,6 +8,8 @@ use dynamixel::instruction::Instruction;
 use dynamixel::sim::{DROSOPHIBOT_CTR_IDS, VirtualChain};
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
 use std::io::Write as _;
+
+use crate::common::baud::FACTORY_BAUD;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -22,19 +24,27 @@ extern "C" fn on_signal(_: nix::libc::c_int) {
 /// Servos have IDs 1..=N; IDs 3, 6, 9, 14, 17, 20 (the CTr joints of the default layout) are
 /// MX-64(2.0), the others MX-28(2.0). Replies are paced at wall-clock wire time.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot sim-bus --link /tmp/dxl                       # 22 servos at 57600 bit/s, as from the factory
+  dbot dxl scan -p /tmp/dxl --max-id 30              # (in another shell) finds them
+  dbot sim-bus --link /tmp/dxl --baud 1000000 --return-delay-us 0 --quiet   # as on the robot's bus")]
 pub struct Args {
     /// Number of servos (IDs 1..=N)
     #[arg(long, default_value_t = 22, value_parser = clap::value_parser!(u8).range(1..=252))]
     servos: u8,
-    /// Line rate the servos are set to, in bit/s (9600, 57600, 115200, 1000000, 2000000, 3000000, 4000000, 4500000)
-    #[arg(long, default_value_t = 1_000_000)]
+    /// Line rate the servos are set to, bit/s (9600, 57600, 115200, 1000000, 2000000, 3000000,
+    /// 4000000, 4500000). Default: the servos' factory rate, also the default of `dbot dxl`.
+    #[arg(long, default_value_t = FACTORY_BAUD)]
     baud: u32,
     /// Path of the symlink to the pseudo-terminal: what clients open as their serial port
     #[arg(long)]
     link: PathBuf,
-    /// Return Delay Time register of every servo, in units of 2 us (factory default 250 = 500 us)
-    #[arg(long, default_value_t = 250)]
-    return_delay: u8,
+    /// Return Delay Time of every servo, µs (0..=508, even; factory default 500)
+    #[arg(long, default_value_t = 500, value_parser = parse_return_delay_us)]
+    return_delay_us: u16,
+    /// The same in register units of 2 µs (the old flag; kept so scripts keep working)
+    #[arg(long, hide = true, conflicts_with = "return_delay_us", value_parser = clap::value_parser!(u8))]
+    return_delay: Option<u8>,
     /// Print only the start-up line, not every request
     #[arg(long)]
     quiet: bool,
@@ -48,7 +58,10 @@ impl Args {
                 self.servos, self.baud
             )
         })?;
-        chain.set_return_delay_all(self.return_delay);
+        let rdt = self
+            .return_delay
+            .unwrap_or((self.return_delay_us / 2) as u8);
+        chain.set_return_delay_all(rdt);
         let mut server = PtyServer::open(chain, self.baud, &self.link)
             .with_context(|| format!("cannot serve the virtual bus at {}", self.link.display()))?;
         let handler = SigAction::new(
@@ -73,7 +86,7 @@ impl Args {
             mx64,
             Model::Mx28V2.name(),
             self.baud,
-            self.return_delay as u32 * 2,
+            u32::from(rdt) * 2,
             server.slave_path(),
             self.link.display()
         );
@@ -89,6 +102,19 @@ impl Args {
         println!("stopped");
         Ok(())
     }
+}
+
+/// `--return-delay-us`: even and at most 508 µs (the register holds units of 2 µs, up to 254).
+fn parse_return_delay_us(s: &str) -> Result<u16, String> {
+    let us: u16 = s
+        .parse()
+        .map_err(|_| format!("`{s}` is not a whole number of µs"))?;
+    if us > 508 || !us.is_multiple_of(2) {
+        return Err(format!(
+            "{us} µs: must be even and at most 508 (register unit 2 µs, max 254)"
+        ));
+    }
+    Ok(us)
 }
 
 fn describe(s: &Served) -> String {

@@ -1,9 +1,13 @@
 //! `dbot status`: the board's state, fault, playback position, upload in progress and counters.
 
 use crate::args::board::BoardArgs;
+use crate::common::words::{direction_name, state_name};
 
 /// Show the board's state and counters.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot status
+  dbot status --port virtual:lab.flash")]
 pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,
@@ -24,15 +28,15 @@ impl Args {
             i.protocol_version,
             i.table_format_version
         );
-        println!("state     {:?}", st.state);
+        println!("state     {}", state_name(st.state));
         if let Some(f) = st.fault {
             println!("fault     {f}");
         }
         if let Some(p) = st.playback {
             println!(
-                "playback  slot {} {:?}, step {} slice {}, period x{:.3}",
+                "playback  slot {} {}, step {} slice {}, period x{:.3}",
                 p.slot,
-                p.direction,
+                direction_name(p.direction),
                 p.step,
                 p.slice,
                 f64::from(p.period_scale) / 1000.0

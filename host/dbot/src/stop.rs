@@ -4,9 +4,12 @@ use board::link::LinkError;
 use protocol::ProtocolError;
 
 use crate::args::board::BoardArgs;
+use crate::common::words::state_name;
 
 /// Stop walking at the end of the current step.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Example:
+  dbot stop")]
 pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,
@@ -18,13 +21,19 @@ impl Args {
         match s.board.stop() {
             Ok(()) => {
                 let st = s.board.status()?;
-                println!("stop accepted; the board is {:?}", st.state);
+                println!(
+                    "stop accepted; the board is in state {}",
+                    state_name(st.state)
+                );
             }
             // Stopping a robot that is not walking is not an error for the person asking.
             Err(LinkError::Device {
                 error: ProtocolError::WrongState { state },
                 ..
-            }) => println!("nothing to stop: the board is {state:?}"),
+            }) => println!(
+                "nothing to stop: the board is in state {}",
+                state_name(state)
+            ),
             Err(e) => return Err(e.into()),
         }
         s.close()

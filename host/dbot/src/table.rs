@@ -11,8 +11,11 @@ use planner::model::Leg;
 ///
 /// The table holds the planned angle (rad) and modelled actuator torque (N m) of every servo per
 /// slice, stance flags, step period and duty; the firmware adds the torque bias (torque / servo
-/// stiffness) to each command.
+/// stiffness) to each command. The model is the plan's (plan.json); a setup file naming another
+/// model gets a warning, since the table would not fit that robot.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Example:
+  dbot table --plan out/walk --out walk.dbgt          # then: dbot upload --table walk.dbgt --slot 1")]
 pub struct Args {
     /// Plan directory written by `dbot plan` (plan.json, joints.csv with torque_nm, feet.csv).
     #[arg(long)]
@@ -25,6 +28,10 @@ pub struct Args {
     name: Option<String>,
     #[command(flatten)]
     feasibility: crate::feasibility_args::FeasibilityArgs,
+    /// Robot setup file (TOML) whose `model` the plan's is checked against. Default:
+    /// $DBOT_CONFIG, ./dbot.toml, ~/.config/dbot/config.toml.
+    #[arg(long)]
+    config: Option<PathBuf>,
 }
 
 impl Args {
@@ -49,6 +56,19 @@ impl Args {
             .as_f64()
             .with_context(|| format!("{}: no number `parameters.duty`", json_path.display()))?;
         let model = crate::common::model_spec::load_model(source)?;
+        let (setup, setup_path) = crate::config::RobotConfig::find(self.config.as_deref())?;
+        if let (Some(want), Some(file)) = (&setup.model, &setup_path)
+            && want != source
+            && *want != model.name
+        {
+            eprintln!(
+                "warning: {} was planned for model {} but {} names model {want}: this table fits {}",
+                dir.display(),
+                model.name,
+                file.display(),
+                model.name
+            );
+        }
         let n = model.joints.len();
 
         let jpath = dir.join("joints.csv");

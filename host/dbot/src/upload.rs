@@ -16,6 +16,9 @@ use crate::common::interrupt;
 ///
 /// Ctrl-C before the upload commits aborts it: the slot keeps its previous table.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot upload --table walk.dbgt --slot 1
+  dbot upload --plan out/walk --slot 2 --port virtual:lab.flash --create")]
 #[group(id = "source", required = true, multiple = false)]
 pub struct Args {
     /// Step table file (as written by `dbot table`).

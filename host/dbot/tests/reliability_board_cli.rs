@@ -313,7 +313,11 @@ fn an_upload_interrupted_or_killed_midway_leaves_the_stored_gait_intact() {
     // A large table (about 90 KB in 177 chunks), so that its chunks take a while to send even to
     // the virtual robot.
     let new = table(dir.path(), "new.dbgt", 1000, 2.0);
-    let up = |t: &str| strings(&["upload", "--table", t, "--slot", "1", "--port", &image]);
+    let up = |t: &str| {
+        strings(&[
+            "upload", "--table", t, "--slot", "1", "--port", &image, "--create",
+        ])
+    };
     assert!(run(dir.path(), &up(&new)).status.success());
     let new_line = slot1(dir.path(), &image);
     // Timed over an existing flash image, as in the rounds below.
@@ -396,7 +400,7 @@ fn a_recording_killed_leaves_whole_files() {
     let t = table(dir.path(), "g.dbgt", 40, 0.4);
     let d = run(
         dir.path(),
-        &strings(&["upload", "--table", &t, "--port", &image]),
+        &strings(&["upload", "--table", &t, "--port", &image, "--create"]),
     );
     assert!(d.status.success(), "{}", d.stderr);
     let rec = dir.path().join("rec");

@@ -12,6 +12,8 @@ fn dbot(dir: &Path, args: &[&str]) -> Output {
         .args(args)
         .arg("--port")
         .arg(format!("virtual:{}", image.display()))
+        // Each test starts with no store: the first command creates it.
+        .arg("--create")
         .current_dir(dir)
         .env_remove("DBOT_CONFIG")
         .env("XDG_CONFIG_HOME", dir)
@@ -74,9 +76,14 @@ fn run_walks_the_steps_and_status_estop_set_work() {
     let t = table(dir.path(), "a.dbgt", 100, 0.5);
     ok(dir.path(), &["upload", "--table", &t, "--slot", "0"]);
     let out = ok(dir.path(), &["run", "--slot", "0", "--steps", "4"]);
-    // 4 steps of 0.5 s after a ramp of at least 0.5 s: the board clock shows at least 2.5 s.
+    // 4 steps of 0.5 s after a ramp of at least 0.5 s: at least 2.5 s on the board's clock.
+    assert!(out.contains("done: 4 steps walked in "), "{out}");
+    assert!(
+        out.contains("0 overrun(s), 0 bus error(s), no fault"),
+        "{out}"
+    );
     let t_end: f64 = out
-        .split("board clock ")
+        .split("walked in ")
         .nth(1)
         .and_then(|s| s.split(' ').next())
         .unwrap()
@@ -98,16 +105,27 @@ fn run_walks_the_steps_and_status_estop_set_work() {
     );
     assert!(out.contains("the robot stands"), "{out}");
     let out = ok(dir.path(), &["status"]);
-    assert!(out.contains("state     Idle"), "{out}");
+    assert!(out.contains("state     Idle (torque off)"), "{out}");
     let out = ok(dir.path(), &["estop"]);
     assert!(
-        out.contains("Fault") && out.contains("EmergencyStop"),
+        out.contains("in state Fault (torque off)") && out.contains("emergency stop by the host"),
+        "{out}"
+    );
+    assert!(!out.contains("Some("), "no debug text: {out}");
+    // Its advice works: the virtual robot has booted afresh, so there is no fault left.
+    assert!(out.contains("starts afresh"), "{out}");
+    let out = ok(dir.path(), &["set", "--clear-fault"]);
+    assert!(
+        out.contains("no fault to clear (the board is in state Idle"),
         "{out}"
     );
     let out = ok(dir.path(), &["stop"]);
     assert!(out.contains("nothing to stop"), "{out}");
     let out = ok(dir.path(), &["set", "--rate", "200", "--baud", "2000000"]);
     assert!(out.contains("bus 2000000 bit/s at 200 Hz"), "{out}");
+    // Kept as a board keeps it: the next command (a fresh boot of the virtual robot) sees it.
+    let out = ok(dir.path(), &["status"]);
+    assert!(out.contains("bus       2000000 bit/s, 200 Hz"), "{out}");
     let out = ok(dir.path(), &["servos", "--table", &t]);
     assert!(out.contains("    0      1   Mx28"), "{out}");
 }
@@ -151,7 +169,7 @@ fn the_setup_file_names_port_and_slot_and_flags_override_it() {
             .output()
             .unwrap()
     };
-    let o = plain(&["upload", "--table", &t]);
+    let o = plain(&["upload", "--table", &t, "--create"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("slot 2:"), "{}", stdout(&o));
     assert!(dir.path().join("setup.flash").is_file());
@@ -159,7 +177,7 @@ fn the_setup_file_names_port_and_slot_and_flags_override_it() {
     let o = plain(&["run", "--steps", "1"]);
     assert!(o.status.success(), "{}", stderr(&o));
     // A flag wins over the file: another flash image has nothing in slot 2.
-    let o = plain(&["gaits", "--port", "virtual:other.flash"]);
+    let o = plain(&["gaits", "--port", "virtual:other.flash", "--create"]);
     assert!(stdout(&o).contains("slot 2: empty"), "{}", stdout(&o));
     // A bad setup file is named with the problem.
     std::fs::write(dir.path().join("dbot.toml"), "rate = 5\n").unwrap();

@@ -141,7 +141,7 @@ fn the_cli_records_a_played_gait_with_plots() {
     let run = |args: &[&str]| {
         std::process::Command::new(env!("CARGO_BIN_EXE_dbot"))
             .args(args)
-            .args(["--port", &image])
+            .args(["--port", &image, "--create"])
             .current_dir(dir.path())
             .output()
             .unwrap()

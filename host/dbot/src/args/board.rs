@@ -21,6 +21,10 @@ pub struct BoardArgs {
     /// Robot setup file (TOML). Default: $DBOT_CONFIG, ./dbot.toml, ~/.config/dbot/config.toml.
     #[arg(long, global = true)]
     pub config: Option<PathBuf>,
+    /// Start a new, empty virtual robot if the `virtual:PATH` store does not exist yet (without
+    /// it a missing store is an error, so that a mistyped path is not a silent new robot).
+    #[arg(long, global = true)]
+    pub create: bool,
 }
 
 /// An open board and the setup it was opened with.
@@ -28,6 +32,8 @@ pub struct BoardArgs {
 pub struct Session {
     pub board: Board<Box<dyn Transport>>,
     pub setup: RobotConfig,
+    /// The store file of a `virtual:PATH` robot (its settings are kept beside it).
+    pub store: Option<PathBuf>,
 }
 
 impl BoardArgs {
@@ -65,10 +71,61 @@ impl BoardArgs {
     pub fn connect(&self) -> anyhow::Result<Session> {
         let setup = self.setup()?;
         let port = self.port(&setup)?;
-        let transport = PortSpec::parse(&port).open()?;
-        let board = Board::connect(transport).with_context(|| format!("connecting to {port}"))?;
-        Ok(Session { board, setup })
+        let spec = PortSpec::parse(&port);
+        // The fallback robot is dbot's own choice, not a path anyone typed: it is created freely.
+        let chosen = self.port.is_some() || setup.port.is_some();
+        if let PortSpec::Virtual { image: Some(path) } = &spec
+            && chosen
+        {
+            check_store_exists(path, self.port.is_some(), self.create)?;
+        }
+        let transport = spec.open()?;
+        let mut board =
+            Board::connect(transport).with_context(|| format!("connecting to {port}"))?;
+        let store = match spec {
+            PortSpec::Virtual { image } => image,
+            // The physics robot starts afresh at every command (its scene is in the port name).
+            PortSpec::Serial(_) | PortSpec::Physics(_) => None,
+        };
+        if let Some(path) = &store {
+            super::virtual_settings::apply(&mut board, path)?;
+        }
+        Ok(Session {
+            board,
+            setup,
+            store,
+        })
     }
+}
+
+/// A typed `virtual:PATH` must name an existing store unless `--create` is given, and its folder
+/// must exist even then (`--create` makes a robot, not a folder tree from a typo).
+fn check_store_exists(path: &std::path::Path, from_flag: bool, create: bool) -> anyhow::Result<()> {
+    if path.exists() {
+        return Ok(());
+    }
+    let source = if from_flag {
+        "--port"
+    } else {
+        "the setup file's port"
+    };
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
+    if let Some(dir) = parent
+        && !dir.is_dir()
+    {
+        bail!(
+            "virtual robot store {}: no such folder {} (from {source}; mistyped?)",
+            path.display(),
+            dir.display()
+        );
+    }
+    if create {
+        return Ok(());
+    }
+    bail!(
+        "virtual robot store {} does not exist (from {source}): mistyped? Give --create to start a new, empty robot there",
+        path.display()
+    )
 }
 
 impl Session {

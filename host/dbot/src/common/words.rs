@@ -1,0 +1,98 @@
+//! The words `dbot` prints for the board's states and directions (never Rust debug text), and the
+//! line `dbot run` ends with.
+
+use protocol::{Direction, RunState};
+
+/// A run state as the user reads it: the firmware's state name, with what it means for the robot
+/// where that is not obvious.
+pub fn state_name(s: RunState) -> &'static str {
+    match s {
+        RunState::Idle => "Idle (torque off)",
+        RunState::Standing => "Standing",
+        RunState::Ramping => "Ramping (to the first slice)",
+        RunState::Walking => "Walking",
+        RunState::Stopping => "Stopping (at the end of the step)",
+        RunState::Streaming => "Streaming",
+        RunState::Fault => "Fault (torque off)",
+        // `RunState` is `#[non_exhaustive]`: a newer firmware may report a state this dbot
+        // does not know.
+        _ => "unknown (a state this dbot does not know: newer firmware?)",
+    }
+}
+
+/// Forward or backward.
+pub fn direction_name(d: Direction) -> &'static str {
+    match d {
+        Direction::Forward => "forward",
+        Direction::Backward => "backward",
+    }
+}
+
+/// What a finished walk did, from the board's counters before and after it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WalkReport {
+    /// Whole steps completed.
+    pub steps: u32,
+    /// Board time from the play command to standing, s.
+    pub seconds: f64,
+    /// Bus cycles that missed their deadline during the walk.
+    pub overruns: u32,
+    /// Bus replies that timed out or failed their CRC during the walk.
+    pub bus_errors: u32,
+}
+
+impl WalkReport {
+    /// The closing line of `dbot run`.
+    pub fn line(&self) -> String {
+        let steps = match self.steps {
+            1 => "1 step".to_owned(),
+            n => format!("{n} steps"),
+        };
+        format!(
+            "done: {steps} walked in {:.2} s (board clock); {} overrun(s), {} bus error(s), no fault; the robot stands",
+            self.seconds, self.overruns, self.bus_errors
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_closing_line_names_steps_time_and_counters() {
+        let r = WalkReport {
+            steps: 10,
+            seconds: 12.5,
+            overruns: 0,
+            bus_errors: 2,
+        };
+        assert_eq!(
+            r.line(),
+            "done: 10 steps walked in 12.50 s (board clock); 0 overrun(s), 2 bus error(s), no fault; the robot stands"
+        );
+        let one = WalkReport { steps: 1, ..r };
+        assert!(
+            one.line().starts_with("done: 1 step walked"),
+            "{}",
+            one.line()
+        );
+    }
+
+    #[test]
+    fn states_read_as_the_firmware_names_them() {
+        let want = [
+            (RunState::Idle, "Idle (torque off)"),
+            (RunState::Standing, "Standing"),
+            (RunState::Ramping, "Ramping (to the first slice)"),
+            (RunState::Walking, "Walking"),
+            (RunState::Stopping, "Stopping (at the end of the step)"),
+            (RunState::Streaming, "Streaming"),
+            (RunState::Fault, "Fault (torque off)"),
+        ];
+        for (s, name) in want {
+            assert_eq!(state_name(s), name);
+        }
+        assert_eq!(direction_name(Direction::Backward), "backward");
+    }
+}
