@@ -7,7 +7,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use planner::dynamics::{CycleSolution, DynamicsOptions, output, plan_inputs, solve_cycle};
 use planner::plan::Plan;
-use planner::plan_dir::ExtraColumn;
+use planner::plan_dir::{ExtraColumn, columns};
 
 /// Inverse dynamics options (section 2.2.2 of the paper, solved as a QP per slice).
 #[derive(Debug, Clone, clap::Args)]
@@ -89,11 +89,11 @@ impl PlanDynamics {
     pub fn joint_columns(&self) -> Vec<ExtraColumn<'_>> {
         vec![
             ExtraColumn {
-                name: "torque_nm",
+                name: columns::TORQUE_NM,
                 values: &self.torque,
             },
             ExtraColumn {
-                name: "command_rad",
+                name: columns::COMMAND_RAD,
                 values: &self.command,
             },
         ]
@@ -103,15 +103,15 @@ impl PlanDynamics {
     pub fn feet_columns(&self) -> Vec<ExtraColumn<'_>> {
         vec![
             ExtraColumn {
-                name: "grf_x_n",
+                name: columns::GRF_XYZ_N[0],
                 values: &self.grf[0],
             },
             ExtraColumn {
-                name: "grf_y_n",
+                name: columns::GRF_XYZ_N[1],
                 values: &self.grf[1],
             },
             ExtraColumn {
-                name: "grf_z_n",
+                name: columns::GRF_XYZ_N[2],
                 values: &self.grf[2],
             },
         ]
@@ -127,7 +127,7 @@ impl PlanDynamics {
     /// previous file whole.
     pub fn write_files(&self, plan: &Plan, out: &Path) -> Result<Vec<&'static str>> {
         use crate::common::output::replace;
-        replace(out, "joint_forces.csv", |p| {
+        replace(out, columns::JOINT_FORCES_CSV, |p| {
             let f = std::fs::File::create(p)?;
             Ok(output::write_joint_forces_csv(
                 f,
@@ -142,7 +142,7 @@ impl PlanDynamics {
         replace(out, "grf.png", |p| {
             Ok(report::dynamics::plot_grf(plan, &self.cycle, p)?)
         })?;
-        Ok(vec!["joint_forces.csv", "torques.png", "grf.png"])
+        Ok(vec![columns::JOINT_FORCES_CSV, "torques.png", "grf.png"])
     }
 
     /// One line for the terminal: peak torque and what would slip or saturate.
