@@ -4,5 +4,6 @@
 
 pub mod bus;
 pub mod link;
+pub mod port;
 pub mod record;
 pub mod robot;

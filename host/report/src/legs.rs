@@ -6,8 +6,24 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::style::{colour, register_font};
 use planner::model::Leg;
+
+use crate::style::{colour, register_font};
+
+/// The leg's panel in a 3 x 2 grid, row-major: left legs in the left column, front to hind from
+/// the top.
+pub(crate) fn panel_index(leg: Leg) -> usize {
+    let row = match leg {
+        Leg::LF | Leg::RF => 0,
+        Leg::LM | Leg::RM => 1,
+        Leg::LH | Leg::RH => 2,
+    };
+    let col = match leg {
+        Leg::LF | Leg::LM | Leg::LH => 0,
+        Leg::RF | Leg::RM | Leg::RH => 1,
+    };
+    row * 2 + col
+}
 
 /// A line of a panel.
 #[derive(Debug, Clone, PartialEq)]
@@ -76,12 +92,7 @@ pub fn plot_leg_panels(
     let areas = root.split_evenly((3, 2));
     let t_end = time.last().copied().unwrap_or(1.0) + time.get(1).map_or(0.0, |t1| t1 - time[0]);
     for panel in panels {
-        let row = match panel.leg {
-            Leg::LF | Leg::RF => 0,
-            Leg::LM | Leg::RM => 1,
-            _ => 2,
-        };
-        let area = &areas[row * 2 + usize::from(panel.leg.side() < 0.0)];
+        let area = &areas[panel_index(panel.leg)];
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for v in panel.traces.iter().flat_map(|t| &t.values) {
             lo = lo.min(*v);

@@ -1,6 +1,7 @@
 //! PNG plots of a plan: joint angles per leg with stance shaded (as figure 3 of the paper),
 //! the footfall pattern, and foot trajectories (top and side views).
 
+use crate::legs::panel_index;
 use crate::style::{colour, register_font};
 use planner::plan::Plan;
 use planner::plan_dir::ReportError;
@@ -38,14 +39,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     root.fill(&WHITE).map_err(perr)?;
     let panels = root.split_evenly((3, 2));
     for (li, leg) in plan.legs.iter().enumerate() {
-        // Left legs in the left column, front to hind from the top.
-        let row = match leg.name().as_bytes()[1] {
-            b'F' => 0,
-            b'M' => 1,
-            _ => 2,
-        };
-        let col = usize::from(leg.side() < 0.0);
-        let area = &panels[row * 2 + col];
+        let area = &panels[panel_index(*leg)];
         let joints: Vec<usize> = plan
             .model
             .leg_chain(*leg)

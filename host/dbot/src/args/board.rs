@@ -2,9 +2,11 @@
 
 use std::path::PathBuf;
 
+use crate::common::session::Session;
 use crate::config::RobotConfig;
 use anyhow::{Context, bail};
-use board::link::{Board, PortSpec, Transport, list_boards};
+use board::link::{Board, list_boards};
+use board::port::PortSpec;
 
 /// Where the default virtual robot keeps its flash between commands.
 pub const DEFAULT_IMAGE: &str = "out/virtual-robot.flash";
@@ -21,13 +23,6 @@ pub struct BoardArgs {
     /// Robot setup file (TOML). Default: $DBOT_CONFIG, ./dbot.toml, ~/.config/dbot/config.toml.
     #[arg(long, global = true)]
     pub config: Option<PathBuf>,
-}
-
-/// An open board and the setup it was opened with.
-#[derive(Debug)]
-pub struct Session {
-    pub board: Board<Box<dyn Transport>>,
-    pub setup: RobotConfig,
 }
 
 impl BoardArgs {
@@ -68,21 +63,5 @@ impl BoardArgs {
         let transport = PortSpec::parse(&port).open()?;
         let board = Board::connect(transport).with_context(|| format!("connecting to {port}"))?;
         Ok(Session { board, setup })
-    }
-}
-
-impl Session {
-    /// Whether the board is the in-process virtual robot (it lives only as long as this process).
-    pub fn is_virtual(&self) -> bool {
-        matches!(PortSpec::parse(self.board.port()), PortSpec::Virtual { .. })
-    }
-
-    /// Ends the session (the virtual robot writes its flash image).
-    pub fn close(mut self) -> anyhow::Result<()> {
-        let port = self.board.port().to_owned();
-        self.board
-            .transport_mut()
-            .shutdown()
-            .with_context(|| format!("closing {port}"))
     }
 }

@@ -6,5 +6,7 @@ pub mod gait_summary;
 pub mod interrupt;
 pub mod model_spec;
 pub mod output;
+pub mod plan_dynamics;
 pub mod plan_output;
 pub mod playback;
+pub mod session;

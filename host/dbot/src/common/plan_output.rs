@@ -8,8 +8,8 @@ use anyhow::{Context, Result};
 use planner::plan::Plan;
 use planner::plan_dir::{self, PlanJson};
 
-use crate::args::dynamics::PlanDynamics;
 use crate::common::output::replace;
+use crate::common::plan_dynamics::PlanDynamics;
 
 /// Writes `plan` (planned from the model `model_source`, its step table to be named `table_name`,
 /// else after the directory) and its solved dynamics into `dir`; returns the names of the files

@@ -26,3 +26,7 @@ pub use error::ModelError;
 pub use file::{ModelFile, from_toml_str, load};
 pub use file_write::{rpy_of, to_toml_string};
 pub use urdf::to_urdf;
+
+/// Longest leg chain (joints from thorax to foot) a model may have: the kinematics' fixed-size
+/// solver handles up to this many.
+pub const MAX_CHAIN: usize = 8;

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use super::ReportError;
-use crate::dynamics::table::TableError;
 use crate::model::ModelError;
+use crate::plan::gait_table::TableError;
 
 /// A plan directory that could not be read.
 #[derive(Debug, thiserror::Error)]

@@ -3,7 +3,7 @@
 //! the same directory always gives the same gait name and CRC.
 
 use super::{PlanDir, PlanDirError, columns};
-use crate::dynamics::table::{gait_table, stance_bits};
+use crate::plan::gait_table::{gait_table, stance_bits};
 
 impl PlanDir {
     /// The names of the joints the step table holds, in table order.
