@@ -35,6 +35,9 @@ cargo run --quiet --locked -p hil-tests --bin firmware-size -- target/thumbv6m-n
 step "emulated board for pytest: hil-emulator and hil-bus (the firmware image is built above)"
 cargo build --quiet --locked -p hil-tests --bins
 
+step "the dbot CLI for pytest (plan directories it writes, read from Python)"
+cargo build --quiet --locked -p dbot --bin dbot
+
 step "Python package tests (pytest, .venv; closed loop on the virtual robot and the emulated board; exported MJCF read by the mujoco package)"
 .venv/bin/python -m pytest -q python/tests host/physics/tests
 

@@ -1,9 +1,11 @@
 """Drosophibot II from Python: models, gait planning, boards, streaming setpoints.
 
-Thin typed bindings over the Rust host library (``host`` crate) built with PyO3:
+Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates) built with PyO3:
 
 * :class:`Model` - an organism model (``Model.builtin("drosophibot2")``, ``Model.load(path)``).
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
+* :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
+  with the same step table bytes as ``dbot table --plan``.
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal or the virtual robot
   (``Board.open("virtual")``), with upload, playback, telemetry and the streaming mode
   (``enter_streaming``, ``send_setpoint``, ``next_proprioception``).
@@ -18,8 +20,10 @@ from ._native import (
     DbotError,
     Model,
     Plan,
+    PlanDir,
     __version__,
     plan,
+    read_plan_dir,
 )
 
 __all__ = [
@@ -29,6 +33,8 @@ __all__ = [
     "DbotError",
     "Model",
     "Plan",
+    "PlanDir",
     "__version__",
     "plan",
+    "read_plan_dir",
 ]

@@ -103,6 +103,43 @@ def plan(
     """Plans one step cycle; keyword arguments override the paper's table 1 values
     (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c})."""
 
+class PlanDir:
+    """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /
+    [slice, leg]."""
+
+    @property
+    def angles(self) -> npt.NDArray[np.float64]:
+        """Joint angles, rad: [slice, joint] in ``joint_names`` order."""
+    @property
+    def torques(self) -> npt.NDArray[np.float64] | None:
+        """Actuator torques, N m: [slice, joint]; None when planned without dynamics."""
+    @property
+    def stance(self) -> npt.NDArray[np.bool_]:
+        """[slice, leg] in ``legs`` order."""
+    @property
+    def legs(self) -> list[str]: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def period_s(self) -> float: ...
+    @property
+    def duty(self) -> float: ...
+    @property
+    def slices(self) -> int: ...
+    @property
+    def format_version(self) -> int:
+        """The plan directory format version (plan.json's ``format_version``)."""
+    @property
+    def table_name(self) -> str:
+        """The gait name its step table gets by default."""
+    @property
+    def model(self) -> Model: ...
+    def step_table(self, name: str | None = None) -> bytes:
+        """The board's step table: the bytes ``dbot table --plan DIR`` writes."""
+
+def read_plan_dir(path: str | PathLike[str]) -> PlanDir:
+    """Reads a plan directory; ValueError naming the file, line or format version."""
+
 class Fault(TypedDict):
     kind: str
     """The fault with its numbers, e.g. ``ServoStuck { goal_range: 312, present_range: 0 }``."""

@@ -4,7 +4,8 @@
 use std::sync::Mutex;
 use std::time::Duration;
 
-use ::board::link::{PortSpec, Transport};
+use ::board::link::Transport;
+use ::board::port::PortSpec;
 use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};

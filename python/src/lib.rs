@@ -1,11 +1,12 @@
 //! `dbot._native`: the PyO3 module behind the `dbot` Python package. Thin bindings over the host
-//! library (models, planning, the board link, streaming); every rule lives in Rust, this crate only
+//! libraries `planner` (models, planning, plan directories) and `board` (the link, streaming); every rule lives in Rust, this crate only
 //! converts between Python/NumPy values and the host types.
 
 mod board;
 mod errors;
 mod model;
 mod plan;
+mod plan_dir;
 mod records;
 mod stream;
 
@@ -21,6 +22,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::Model>()?;
     m.add_class::<plan::Plan>()?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
+    m.add_class::<plan_dir::PlanDir>()?;
+    m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
     Ok(())
 }

@@ -5,5 +5,6 @@
 pub mod bus;
 pub mod files;
 pub mod link;
+pub mod port;
 pub mod record;
 pub mod robot;

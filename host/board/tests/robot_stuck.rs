@@ -7,8 +7,8 @@ use std::time::Duration;
 use board::link::Board;
 use board::robot::{VirtualRobot, VirtualTransport};
 use dynamixel::sim::Faults;
-use planner::dynamics::table::{gait_table, stance_bits};
 use planner::dynamics::{DynamicsOptions, output, plan_inputs, solve_cycle};
+use planner::plan::gait_table::{gait_table, stance_bits};
 use protocol::{Direction, FaultKind, PlayCommand, RunState, Steps, Telemetry};
 
 /// The step table `dbot demo` builds: the paper's table 1 parameters on flat ground.

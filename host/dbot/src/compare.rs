@@ -8,6 +8,7 @@ use anyhow::{Context, Result, bail};
 use planner::analysis::{DofTrace, SweepPoint, classify_sweep, compare};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::model::{JointKind, Leg};
+use planner::plan_dir::{self, columns};
 
 use crate::common::output::replace;
 use crate::common::overlay::{folder_name, overlay};
@@ -24,7 +25,7 @@ use crate::common::overlay::{folder_name, overlay};
   dbot compare out/walk out/fly-ball                  # writes out/compare/compare.csv and plots
   dbot compare --swing 0.4,0.8,1.6 --out out/sweep    # the speed sweep of Drosophibot II")]
 pub struct Args {
-    /// Plan directories A and B (each with joints.csv from `dbot plan`).
+    /// Plan directories A and B (from `dbot plan` or `dbot demo`, with torques).
     #[arg(num_args = 0..=2)]
     plans: Vec<PathBuf>,
     /// Swing durations for a speed sweep, s, comma separated.
@@ -76,46 +77,23 @@ impl Args {
     }
 }
 
-/// DoF traces of a plan directory, from joints.csv (`torque_nm` required).
+/// DoF traces of a plan directory (torques required): one per model joint, keyed by leg and kind.
 fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
-    let path = dir.join("joints.csv");
-    let mut rd =
-        csv::Reader::from_path(&path).with_context(|| format!("opening {}", path.display()))?;
-    let headers = rd.headers()?.clone();
-    let col = |name: &str| {
-        headers.iter().position(|h| h == name).with_context(|| {
-            format!(
-                "{}: no `{name}` column (plan with dynamics?)",
-                path.display()
-            )
-        })
-    };
-    let (leg_c, joint_c, angle_c, torque_c) = (
-        col("leg")?,
-        col("joint")?,
-        col("angle_rad")?,
-        col("torque_nm")?,
-    );
+    let plan = plan_dir::read(dir)?;
+    let torque = plan.torque.as_ref().with_context(|| {
+        format!(
+            "{}: no `{}` column (planned with --no-dynamics?)",
+            dir.join(columns::JOINTS_CSV).display(),
+            columns::TORQUE_NM
+        )
+    })?;
     let mut map: BTreeMap<(Leg, JointKind), (Vec<f64>, Vec<f64>)> = BTreeMap::new();
-    for (line, rec) in rd.records().enumerate() {
-        let rec = rec.with_context(|| format!("{} line {}", path.display(), line + 2))?;
-        let at = || format!("{} line {}", path.display(), line + 2);
-        let leg = Leg::ALL
-            .into_iter()
-            .find(|l| l.name() == &rec[leg_c])
-            .with_context(|| format!("{}: leg `{}`", at(), &rec[leg_c]))?;
-        let kind = kind_of(&rec[joint_c])
-            .with_context(|| format!("{}: joint `{}`", at(), &rec[joint_c]))?;
-        let num = |c: usize| {
-            rec[c]
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .with_context(|| format!("{}: `{}` is not a finite number", at(), &rec[c]))
-        };
-        let e = map.entry((leg, kind)).or_default();
-        e.0.push(num(angle_c)?);
-        e.1.push(num(torque_c)?);
+    for (angles, torques) in plan.angle.iter().zip(torque) {
+        for (joint, (a, t)) in plan.model.joints.iter().zip(angles.iter().zip(torques)) {
+            let e = map.entry((joint.leg, joint.kind)).or_default();
+            e.0.push(*a);
+            e.1.push(*t);
+        }
     }
     Ok(map
         .into_iter()
@@ -134,13 +112,6 @@ fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
             }
         })
         .collect())
-}
-
-fn kind_of(name: &str) -> Option<JointKind> {
-    use JointKind::*;
-    [ThC1, ThC2, ThC3, CTr, TrF1, TrF2, FTi, TiTar]
-        .into_iter()
-        .find(|k| format!("{k:?}") == name)
 }
 
 fn fmt(v: Option<f64>) -> String {

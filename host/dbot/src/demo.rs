@@ -18,14 +18,17 @@ use board::record::{Ended, JointMeta, Recorder, Until, capture_while, joints_of_
 use board::robot::{VirtualRobot, VirtualTransport};
 use planner::gait::StepParams;
 use planner::model::Leg;
-use planner::plan::Plan;
+use planner::plan_dir;
 use protocol::{Direction, PlayCommand, Steps};
 use report::recording::{plot_angles, plot_torques};
 
-use crate::args::dynamics::{DynamicsArgs, PlanDynamics};
+use crate::args::dynamics::DynamicsArgs;
 use crate::common::interrupt;
 use crate::common::output::replace;
-use crate::common::step_table::step_table;
+use crate::common::plan_output::write_plan_dir;
+
+/// The demo's gait name in its plan directory and step table.
+const GAIT_NAME: &str = "dbII tripod";
 
 /// Fails with a message saying where the demo was when Ctrl-C arrived.
 fn check_interrupt(stage: &str) -> anyhow::Result<()> {
@@ -79,11 +82,22 @@ impl Args {
         // Until here a Ctrl-C simply ends the process: nothing has been written yet.
         interrupt::catch()?;
         let plan_dir = out.join("plan");
-        write_plan(&plan, &dynamics, &plan_dir)?;
+        write_plan_dir(
+            &plan_dir,
+            &plan,
+            "drosophibot2",
+            Some(GAIT_NAME),
+            Some(&dynamics),
+            serde_json::Value::Null,
+        )?;
         check_interrupt("after writing the plan")?;
 
         println!("[2/5] building the step table");
-        let (table, names) = step_table(&plan, &dynamics)?;
+        // From the plan directory as written: the table `dbot table --plan` and `dbot upload
+        // --plan` build from it, byte for byte.
+        let written = plan_dir::read(&plan_dir)?;
+        let table = written.step_table(None)?;
+        let names = written.servo_joint_names();
         let table_path = out.join("drosophibot2-tripod.dbgt");
         replace(out, "drosophibot2-tripod.dbgt", |p| {
             Ok(std::fs::write(p, &table)?)
@@ -269,46 +283,4 @@ fn print_tracking(rec: &Recorder, names: &[String]) {
             mine.len()
         );
     }
-}
-
-/// The plan's CSVs, JSON summary, URDF and plots, as `dbot plan` writes them (each through a
-/// scratch file).
-fn write_plan(plan: &Plan, d: &PlanDynamics, dir: &Path) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let create = |p: &Path| std::fs::File::create(p).map_err(anyhow::Error::from);
-    replace(dir, "joints.csv", |p| {
-        Ok(planner::plan_dir::write_joints_csv(
-            create(p)?,
-            plan,
-            &d.joint_columns(),
-        )?)
-    })?;
-    replace(dir, "feet.csv", |p| {
-        Ok(planner::plan_dir::write_feet_csv(
-            create(p)?,
-            plan,
-            &d.feet_columns(),
-        )?)
-    })?;
-    let json = serde_json::json!({
-        "model": plan.model.name,
-        "parameters": plan.params,
-        "period_s": plan.period_s,
-        "slices": plan.slices(),
-        "dynamics": d.json(plan),
-        "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
-    });
-    let json = serde_json::to_string_pretty(&json)?;
-    replace(dir, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
-    let urdf = planner::model::to_urdf(&plan.model);
-    replace(dir, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
-    replace(dir, "joint_angles.png", |p| {
-        Ok(report::plan::plot_joint_angles(plan, p)?)
-    })?;
-    replace(dir, "footfall.png", |p| {
-        Ok(report::plan::plot_footfall(plan, p)?)
-    })?;
-    replace(dir, "feet.png", |p| Ok(report::plan::plot_feet(plan, p)?))?;
-    d.write_files(plan, dir)?;
-    Ok(())
 }

@@ -5,7 +5,8 @@
 use std::time::Duration;
 
 use anyhow::bail;
-use board::link::{Board, PortSpec, list_boards};
+use board::link::{Board, list_boards};
+use board::port::PortSpec;
 
 /// List the Drosophibot II boards plugged in over USB and their firmware and protocol versions.
 #[derive(Debug, clap::Args)]

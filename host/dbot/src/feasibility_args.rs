@@ -14,6 +14,18 @@ pub struct FeasibilityArgs {
 }
 
 impl FeasibilityArgs {
+    /// Checks a plan directory's planned angles and torques against the servos before a step
+    /// table is built from it (`table --plan`, `upload --plan`).
+    pub fn enforce_plan_dir(&self, plan: &planner::plan_dir::PlanDir) -> Result<()> {
+        let check = planner::plan::feasibility::check(
+            &plan.model,
+            &plan.angle,
+            plan.torque.as_deref(),
+            plan.json.dt_s,
+        );
+        self.enforce(&check, &format!("plan {}", plan.path.display()))
+    }
+
     /// Refuses an infeasible plan (naming every joint, slice and margin) unless overridden; with
     /// the override, warns on stderr.
     pub fn enforce(&self, f: &Feasibility, what: &str) -> Result<()> {

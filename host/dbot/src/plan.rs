@@ -1,14 +1,14 @@
-//! `dbot plan`: plan one step cycle and write joints.csv, feet.csv, plan.json, model.urdf, plots
-//! and the robot drawn in three views (robot.png, step.gif).
+//! `dbot plan`: plan one step cycle and write it as a plan directory (plan.json, model.toml,
+//! joints.csv, feet.csv, feasibility.md, model.urdf, plots, the robot drawn in three views and a
+//! step animation; with the inverse dynamics its columns and files too).
 
 use crate::common::model_spec::load_model;
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use indicatif::ProgressBar;
 use planner::gait::{Gait, ParamsFile, StepParams};
-use planner::plan_dir;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use crate::common::output::replace;
+use crate::common::plan_output::write_plan_dir;
 
 /// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
 ///
@@ -53,9 +53,14 @@ pub struct Args {
     /// placement ({ forward_m = {..}, outward_m = {..} }, foot offsets from each ThC, m).
     #[arg(long)]
     params: Option<PathBuf>,
-    /// Output directory (created if missing).
+    /// Output directory (created if missing): the plan directory that `table`, `compare` and
+    /// `upload --plan` read.
     #[arg(long)]
     out: PathBuf,
+    /// Gait name of the step tables built from this plan (at most 16 bytes); default: the plan
+    /// directory's name when a table is built from it.
+    #[arg(long)]
+    name: Option<String>,
     #[command(flatten)]
     dynamics: crate::args::dynamics::DynamicsArgs,
     #[command(flatten)]
@@ -112,7 +117,7 @@ impl Args {
                 p.slices, model.name
             );
         }
-        let bar = ProgressBar::new(7);
+        let bar = ProgressBar::new(2);
         bar.set_message("planning");
         let plan = planner::plan::plan(&model, &p)
             .with_context(|| format!("planning a step of {}", model.name))?;
@@ -120,83 +125,37 @@ impl Args {
             .with_context(|| format!("planning a step of {}", model.name))?;
         bar.inc(1);
         let dynamics = self.dynamics.solve(&plan)?;
+        bar.inc(1);
         let out = &self.out;
-        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        let (joint_cols, feet_cols) = dynamics
+        if let Some(n) = self
+            .name
             .as_ref()
-            .map_or((vec![], vec![]), |d| (d.joint_columns(), d.feet_columns()));
-        let file = |p: &Path| std::fs::File::create(p).map_err(anyhow::Error::from);
-        replace(out, "joints.csv", |p| {
-            Ok(plan_dir::write_joints_csv(file(p)?, &plan, &joint_cols)?)
-        })?;
-        replace(out, "feet.csv", |p| {
-            Ok(plan_dir::write_feet_csv(file(p)?, &plan, &feet_cols)?)
-        })?;
-        bar.inc(1);
-        let mut json = serde_json::json!({
-            "model": model.name,
-            "model_source": spec,
-            "spring_args": self.springs.json(),
-            "parameters": plan.params,
-            "terrain": plan.terrain,
-            "gravity_m_s2": plan.gravity,
-            "ball_centre_m": plan.ball_centre,
-            "period_s": plan.period_s,
-            "dt_s": plan.dt,
-            "slices": plan.slices(),
-            "legs": plan.legs,
-            "leg_phases": plan.phases,
-            "thorax_velocity_m_s": plan.thorax_velocity,
-            "thorax_angular_velocity_rad_s": plan.thorax_angular_velocity,
-            "resting_posture_rad": model.joints.iter().zip(&plan.posture.q).map(|(j, q)| (j.name.clone(), *q)).collect::<std::collections::BTreeMap<_, _>>(),
-            "frames": "thorax frame, REP-103: x forward, y left, z up; SI units",
-        });
-        if let Some(d) = &dynamics {
-            json["dynamics"] = d.json(&plan);
+            .filter(|n| n.len() > protocol::gait::NAME_LEN)
+        {
+            bail!(
+                "--name `{n}`: a gait name has at most {} bytes",
+                protocol::gait::NAME_LEN
+            );
         }
-        let torque = dynamics
-            .as_ref()
-            .map(|d| planner::dynamics::output::torque_rows(&d.cycle));
-        let feasible =
-            planner::plan::feasibility::check(&plan.model, &plan.q, torque.as_deref(), plan.dt);
-        json["feasibility"] = crate::feasibility_args::json(&feasible);
-        replace(out, "feasibility.md", |p| {
-            Ok(std::fs::write(p, feasible.table())?)
-        })?;
-        let json = serde_json::to_string_pretty(&json)?;
-        replace(out, "plan.json", |p| Ok(std::fs::write(p, &json)?))?;
-        replace(out, "README.md", |p| {
-            Ok(std::fs::write(p, report::PLAN_README)?)
-        })?;
-        let urdf = planner::model::to_urdf(&model);
-        replace(out, "model.urdf", |p| Ok(std::fs::write(p, &urdf)?))?;
-        bar.inc(1);
-        replace(out, "joint_angles.png", |p| {
-            Ok(report::plan::plot_joint_angles(&plan, p)?)
-        })?;
-        bar.inc(1);
-        replace(out, "footfall.png", |p| {
-            Ok(report::plan::plot_footfall(&plan, p)?)
-        })?;
-        bar.inc(1);
-        replace(out, "feet.png", |p| Ok(report::plan::plot_feet(&plan, p)?))?;
-        replace(out, "robot.png", |p| {
-            Ok(report::robot::plot_robot(&plan, p).map(|_| ())?)
-        })?;
-        replace(out, "step.gif", |p| {
-            Ok(report::robot::animate_step(&plan, p).map(|_| ())?)
-        })?;
-        if let Some(d) = &dynamics {
-            let files = d.write_files(&plan, out)?;
-            println!("{}; wrote {}", d.summary(), files.join(" "));
-        }
+        let (files, feasible) = write_plan_dir(
+            out,
+            &plan,
+            &spec,
+            self.name.as_deref(),
+            dynamics.as_ref(),
+            self.springs.json(),
+        )?;
         bar.finish_and_clear();
         println!("{}", crate::feasibility_args::summary(&feasible));
+        if let Some(d) = &dynamics {
+            println!("{}", d.summary());
+        }
         println!(
-            "{}: {} slices, period {:.3} s, wrote README.md joints.csv feet.csv plan.json feasibility.md model.urdf joint_angles.png footfall.png feet.png robot.png step.gif to {}",
+            "{}: {} slices, period {:.3} s, wrote {} to {}",
             model.name,
             plan.slices(),
             plan.period_s,
+            files.join(" "),
             out.display()
         );
         Ok(())

@@ -126,7 +126,7 @@ impl Args {
 /// The board's joints named from the setup's model (`LF_ThC1`, ...): by the table's servo IDs, or
 /// without a table by the board's joint-map order (see [`board::record::joint_names`]).
 fn named_joints(
-    s: &mut crate::args::board::Session,
+    s: &mut crate::common::session::Session,
     table: Option<&[u8]>,
 ) -> anyhow::Result<Vec<JointMeta>> {
     let spec = s.setup.model.as_deref().unwrap_or("drosophibot2");

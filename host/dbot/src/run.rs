@@ -8,9 +8,10 @@ use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol::RunState;
 
-use crate::args::board::{BoardArgs, Session};
+use crate::args::board::BoardArgs;
 use crate::common::interrupt;
 use crate::common::playback::{play_command, stop_walk};
+use crate::common::session::Session;
 use crate::common::words::{WalkReport, state_name};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).

@@ -44,14 +44,6 @@ pub struct SpringArgs {
 }
 
 impl SpringArgs {
-    /// Flags that leave the model's springs as they are.
-    pub fn model_default() -> Self {
-        Self {
-            spring: None,
-            spring_equilibrium: Equilibrium::Rest,
-        }
-    }
-
     /// `model` with the springs these flags ask for.
     pub fn apply(&self, model: Model) -> Result<Model> {
         match &self.spring {
@@ -73,27 +65,5 @@ impl SpringArgs {
                 "spring_equilibrium": self.spring_equilibrium.name(),
             }),
         }
-    }
-
-    /// The flags recorded by [`SpringArgs::json`].
-    pub fn from_json(v: Option<&serde_json::Value>) -> Result<Self> {
-        let Some(v) = v.filter(|v| !v.is_null()) else {
-            return Ok(Self::model_default());
-        };
-        let spring = v["spring"]
-            .as_str()
-            .context("plan.json `spring_args.spring` is not a string")?
-            .to_string();
-        let spring_equilibrium = match v["spring_equilibrium"].as_str() {
-            Some("rest") | None => Equilibrium::Rest,
-            Some("step-midrange") => Equilibrium::StepMidrange,
-            Some(other) => anyhow::bail!(
-                "plan.json `spring_args.spring_equilibrium` is `{other}`, expected rest or step-midrange"
-            ),
-        };
-        Ok(Self {
-            spring: Some(spring),
-            spring_equilibrium,
-        })
     }
 }

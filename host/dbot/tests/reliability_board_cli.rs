@@ -452,6 +452,7 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
         "plan/feet.csv",
         "plan/plan.json",
         "plan/model.urdf",
+        "plan/model.toml",
         "plan/joint_angles.png",
         "plan/footfall.png",
         "plan/feet.png",
@@ -595,9 +596,11 @@ fn missing_or_bad_input_files_are_named_with_the_place() {
     // The file commands (no port).
     let out = p("out.dbgt");
     let file_cases: Vec<(Vec<&str>, Vec<String>)> = vec![
+        // A plan.json of no plan directory format version (damaged rows of a current one:
+        // plan_dir_roundtrip.rs).
         (
             vec!["table", "--plan", &f_plan2, "--out", &out],
-            vec![p("plan2/joints.csv"), "line 2".into(), "slice `x`".into()],
+            vec![p("plan2/plan.json"), "format_version".into()],
         ),
         (
             vec!["table", "--plan", &f_gone, "--out", &out],
@@ -605,7 +608,11 @@ fn missing_or_bad_input_files_are_named_with_the_place() {
         ),
         (
             vec!["compare", &f_plan2, &f_gone, "--out", &f_cmp],
-            vec![p("gone/joints.csv")],
+            vec![p("plan2/plan.json"), "format_version".into()],
+        ),
+        (
+            vec!["compare", &f_gone, &f_plan2, "--out", &f_cmp],
+            vec![p("gone/plan.json")],
         ),
         (
             vec!["compare", &f_plan, "--out", &f_cmp],

@@ -233,9 +233,10 @@ fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
         dir.path(),
         &["upload", "--plan", "p", "--slot", "3", "--allow-infeasible"],
     );
-    // 22 servos of Drosophibot II, the 50 slices asked for, table 1's 1.25 s step period.
+    // 22 servos of Drosophibot II, the 50 slices asked for, table 1's 1.25 s step period; named
+    // as `dbot table --plan p` names it (the plan directory's name).
     assert!(
-        out.contains("slot 3: \"dbII tripod\" 22 joints x 50 slices, step 1.250 s, duty 0.60"),
+        out.contains("slot 3: \"p\" 22 joints x 50 slices, step 1.250 s, duty 0.60"),
         "{out}"
     );
     let o = dbot(dir.path(), &["upload", "--plan", "nowhere"]);

@@ -78,10 +78,10 @@ impl Transport for PhysicsTransport {
     }
 }
 
-/// Registers `physics[:SCENE]` with the host's port parser (`board::link::PortSpec`), so every
+/// Registers `physics[:SCENE]` with the host's port parser (`board::port::PortSpec`), so every
 /// board command of a program that calls this once works on the physics robot.
 pub fn register_port() {
-    board::link::register_physics(|spec| {
+    board::port::register_physics(|spec| {
         PhysicsTransport::open(spec)
             .map(|t| Box::new(t) as Box<dyn Transport>)
             .map_err(|e| e.to_string())

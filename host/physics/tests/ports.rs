@@ -3,7 +3,8 @@
 
 use std::time::Duration;
 
-use board::link::{Board, PortSpec};
+use board::link::Board;
+use board::port::PortSpec;
 
 #[test]
 fn board_commands_work_on_every_physics_scene_and_a_bad_scene_is_named() {

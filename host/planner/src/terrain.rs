@@ -1,6 +1,5 @@
 //! Terrains the planner walks on, in the thorax frame (REP-103), and the gravity vector each gives.
 
-use crate::model::Model;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -91,22 +90,7 @@ impl Terrain {
             Terrain::Incline { angle_rad } => {
                 Vector3::new(-angle_rad.sin(), 0.0, -angle_rad.cos()) * G
             }
-            _ => Vector3::new(0.0, 0.0, -G),
+            Terrain::Flat | Terrain::Ball { .. } => Vector3::new(0.0, 0.0, -G),
         }
-    }
-
-    /// Centre of a ball terrain: under the whole-body centre of mass at joint vector `q`.
-    pub fn ball_centre(&self, model: &Model, q: &[f64]) -> Option<Vector3<f64>> {
-        let Terrain::Ball { offset_m, .. } = self else {
-            return None;
-        };
-        let poses = crate::kinematics::forward(model, q);
-        let mut c = Vector3::zeros();
-        for (b, pose) in model.bodies.iter().zip(&poses.bodies) {
-            c += (pose * nalgebra::Point3::from(b.com)).coords * b.mass;
-        }
-        let m = model.total_mass();
-        let c = if m > 0.0 { c / m } else { c };
-        Some(Vector3::new(c.x, c.y, c.z - offset_m))
     }
 }

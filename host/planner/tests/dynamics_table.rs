@@ -5,9 +5,9 @@
 mod dynamics_support;
 
 use dynamics_support::{standing_pose, toy_hexapod, trajectory};
-use planner::dynamics::table::{TableError, gait_table, stance_bits};
 use planner::dynamics::{DynamicsOptions, SliceInput, solve_slice};
 use planner::model::{ActuatorKind, Leg, ServoMap};
+use planner::plan::gait_table::{TableError, gait_table, stance_bits};
 use protocol::GaitTable;
 
 fn with_servos(mut model: planner::model::Model) -> planner::model::Model {

@@ -10,6 +10,21 @@ use crate::legend::{COLUMN_W, Entry, Swatch, legend_column};
 use crate::style::{colour, register_font};
 use planner::model::Leg;
 
+/// The leg's panel in a 3 x 2 grid, row-major: left legs in the left column, front to hind from
+/// the top.
+pub(crate) fn panel_index(leg: Leg) -> usize {
+    let row = match leg {
+        Leg::LF | Leg::RF => 0,
+        Leg::LM | Leg::RM => 1,
+        Leg::LH | Leg::RH => 2,
+    };
+    let col = match leg {
+        Leg::LF | Leg::LM | Leg::LH => 0,
+        Leg::RF | Leg::RM | Leg::RH => 1,
+    };
+    row * 2 + col
+}
+
 /// A line of a panel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trace {
@@ -77,13 +92,7 @@ pub fn plot_leg_panels(
     let areas = root.split_evenly((3, 2));
     let t_end = time.last().copied().unwrap_or(1.0) + time.get(1).map_or(0.0, |t1| t1 - time[0]);
     for panel in panels {
-        let row = match panel.leg {
-            Leg::LF | Leg::RF => 0,
-            Leg::LM | Leg::RM => 1,
-            _ => 2,
-        };
-        let (area, key) =
-            areas[row * 2 + usize::from(panel.leg.side() < 0.0)].split_horizontally(700 - COLUMN_W);
+        let (area, key) = areas[panel_index(panel.leg)].split_horizontally(700 - COLUMN_W);
         let area = &area;
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for v in panel.traces.iter().flat_map(|t| &t.values) {

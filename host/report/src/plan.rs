@@ -2,6 +2,7 @@
 //! the footfall pattern, and foot trajectories (top and side views).
 
 use crate::legend::{COLUMN_W, Entry, Swatch, legend_column};
+use crate::legs::panel_index;
 use crate::style::{colour, register_font};
 use planner::plan::Plan;
 use planner::plan_dir::ReportError;
@@ -42,14 +43,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
     root.fill(&WHITE).map_err(perr)?;
     let panels = root.split_evenly((3, 2));
     for (li, leg) in plan.legs.iter().enumerate() {
-        // Left legs in the left column, front to hind from the top.
-        let row = match leg.name().as_bytes()[1] {
-            b'F' => 0,
-            b'M' => 1,
-            _ => 2,
-        };
-        let col = usize::from(leg.side() < 0.0);
-        let (area, key) = panels[row * 2 + col].split_horizontally(700 - COLUMN_W);
+        let (area, key) = panels[panel_index(*leg)].split_horizontally(700 - COLUMN_W);
         let area = &area;
         let joints: Vec<usize> = plan
             .model

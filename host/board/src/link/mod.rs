@@ -7,7 +7,6 @@
 mod board;
 mod devices;
 mod error;
-mod port;
 mod serial;
 mod stream;
 mod transport;
@@ -17,7 +16,6 @@ mod version;
 pub use board::{BOOT_WAIT, Board, DEFAULT_REPLY_TIMEOUT, request_name};
 pub use devices::{BoardPort, list_boards};
 pub use error::LinkError;
-pub use port::{PhysicsOpener, PortSpec, register_physics};
 pub use serial::SerialTransport;
 pub use stream::{SetpointError, setpoint_from_si};
 pub use transport::{Transport, TransportError};

@@ -2,9 +2,11 @@
 
 use std::path::PathBuf;
 
+use crate::common::session::Session;
 use crate::config::RobotConfig;
 use anyhow::{Context, bail};
-use board::link::{Board, PortSpec, Transport, list_boards};
+use board::link::{Board, list_boards};
+use board::port::PortSpec;
 
 /// Where the default virtual robot keeps its flash between commands.
 pub const DEFAULT_IMAGE: &str = "out/virtual-robot.flash";
@@ -25,15 +27,6 @@ pub struct BoardArgs {
     /// it a missing store is an error, so that a mistyped path is not a silent new robot).
     #[arg(long, global = true)]
     pub create: bool,
-}
-
-/// An open board and the setup it was opened with.
-#[derive(Debug)]
-pub struct Session {
-    pub board: Board<Box<dyn Transport>>,
-    pub setup: RobotConfig,
-    /// The store file of a `virtual:PATH` robot (its settings are kept beside it).
-    pub store: Option<PathBuf>,
 }
 
 impl BoardArgs {
@@ -126,20 +119,4 @@ fn check_store_exists(path: &std::path::Path, from_flag: bool, create: bool) -> 
         "virtual robot store {} does not exist (from {source}): mistyped? Give --create to start a new, empty robot there",
         path.display()
     )
-}
-
-impl Session {
-    /// Whether the board is the in-process virtual robot (it lives only as long as this process).
-    pub fn is_virtual(&self) -> bool {
-        matches!(PortSpec::parse(self.board.port()), PortSpec::Virtual { .. })
-    }
-
-    /// Ends the session (the virtual robot writes its flash image).
-    pub fn close(mut self) -> anyhow::Result<()> {
-        let port = self.board.port().to_owned();
-        self.board
-            .transport_mut()
-            .shutdown()
-            .with_context(|| format!("closing {port}"))
-    }
 }

@@ -1,13 +1,11 @@
-//! The inverse-dynamics flags of `dbot plan` and what the dynamics adds to a plan's outputs:
-//! torque and servo-command columns in joints.csv, GRF columns in feet.csv, joint_forces.csv,
-//! the plan.json summary and the torque / GRF plots.
-
-use std::path::Path;
+//! The inverse-dynamics flags of `dbot plan` (and the demo's fixed choice of them); what the
+//! solved dynamics adds to the outputs is `common::plan_dynamics`.
 
 use anyhow::{Context, Result};
-use planner::dynamics::{CycleSolution, DynamicsOptions, output, plan_inputs, solve_cycle};
+use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::plan::Plan;
-use planner::plan_dir::ExtraColumn;
+
+use crate::common::plan_dynamics::PlanDynamics;
 
 /// Inverse dynamics options (section 2.2.2 of the paper, solved as a QP per slice).
 #[derive(Debug, Clone, clap::Args)]
@@ -74,117 +72,5 @@ impl DynamicsArgs {
                 .with_context(|| format!("inverse dynamics of {} (GRF {axis})", plan.model.name))?;
         }
         Ok(Some(d))
-    }
-}
-
-/// A solved cycle with its report columns.
-#[derive(Debug, Clone)]
-pub struct PlanDynamics {
-    pub options: DynamicsOptions,
-    pub cycle: CycleSolution,
-    torque: Vec<Vec<f64>>,
-    command: Vec<Vec<f64>>,
-    grf: [Vec<Vec<f64>>; 3],
-}
-
-impl PlanDynamics {
-    fn new(plan: &Plan, options: DynamicsOptions, cycle: CycleSolution) -> Self {
-        let torque = output::torque_rows(&cycle);
-        let command = plan
-            .q
-            .iter()
-            .zip(&torque)
-            .map(|(q, t)| output::biased_commands(&plan.model, q, t))
-            .collect();
-        let grf = output::grf_rows(&plan.model, &plan.legs, &cycle);
-        Self {
-            options,
-            cycle,
-            torque,
-            command,
-            grf,
-        }
-    }
-
-    /// `torque_nm` and `command_rad` (angle + torque / servo stiffness) for joints.csv.
-    pub fn joint_columns(&self) -> Vec<ExtraColumn<'_>> {
-        vec![
-            ExtraColumn {
-                name: "torque_nm",
-                values: &self.torque,
-            },
-            ExtraColumn {
-                name: "command_rad",
-                values: &self.command,
-            },
-        ]
-    }
-
-    /// `grf_x_n`, `grf_y_n`, `grf_z_n` for feet.csv.
-    pub fn feet_columns(&self) -> Vec<ExtraColumn<'_>> {
-        vec![
-            ExtraColumn {
-                name: "grf_x_n",
-                values: &self.grf[0],
-            },
-            ExtraColumn {
-                name: "grf_y_n",
-                values: &self.grf[1],
-            },
-            ExtraColumn {
-                name: "grf_z_n",
-                values: &self.grf[2],
-            },
-        ]
-    }
-
-    /// The `dynamics` object of plan.json.
-    pub fn json(&self, plan: &Plan) -> serde_json::Value {
-        output::json_summary(&plan.model, &self.options, &self.cycle)
-    }
-
-    /// joint_forces.csv, torques.png, grf.png in `out`; returns the file names.
-    /// Each file is written through [`crate::common::output::replace`]: a run that is killed leaves the
-    /// previous file whole.
-    pub fn write_files(&self, plan: &Plan, out: &Path) -> Result<Vec<&'static str>> {
-        use crate::common::output::replace;
-        replace(out, "joint_forces.csv", |p| {
-            let f = std::fs::File::create(p)?;
-            Ok(output::write_joint_forces_csv(
-                f,
-                &plan.model,
-                plan.dt,
-                &self.cycle,
-            )?)
-        })?;
-        replace(out, "torques.png", |p| {
-            Ok(report::dynamics::plot_torques(plan, &self.cycle, p)?)
-        })?;
-        replace(out, "grf.png", |p| {
-            Ok(report::dynamics::plot_grf(plan, &self.cycle, p)?)
-        })?;
-        Ok(vec!["joint_forces.csv", "torques.png", "grf.png"])
-    }
-
-    /// One line for the terminal: peak torque and what would slip or saturate.
-    pub fn summary(&self) -> String {
-        let peak = self
-            .torque
-            .iter()
-            .flatten()
-            .fold(0.0f64, |m, t| m.max(t.abs()));
-        let r = &self.cycle.report;
-        // The robot's torques are N m, the scale fly's are nano to micro N m.
-        let peak = if peak >= 1e-2 {
-            format!("{peak:.3}")
-        } else {
-            format!("{peak:.3e}")
-        };
-        format!(
-            "peak actuated torque {peak} N m; {} foot-slices outside the mu = {} cone or pulling; {} joint-slices over the torque limit",
-            r.slips.len(),
-            self.options.mu,
-            r.saturations.len()
-        )
     }
 }

@@ -1,6 +1,6 @@
 //! Helpers that several subcommands use (Ctrl-C handling, whole-file outputs, `--model` specs, the
 //! gait summary line, the Dynamixel default baud, serial-port path checks, the
-//! words for board states, starting and stopping playback, the step table of a solved plan).
+//! words for board states, starting and stopping playback, writing a plan directory).
 //! Subcommands share these instead of importing each other; nothing here imports a subcommand.
 
 pub mod baud;
@@ -9,7 +9,9 @@ pub mod interrupt;
 pub mod model_spec;
 pub mod output;
 pub mod overlay;
+pub mod plan_dynamics;
+pub mod plan_output;
 pub mod playback;
 pub mod serial_path;
-pub mod step_table;
+pub mod session;
 pub mod words;

@@ -4,7 +4,7 @@ use anyhow::bail;
 use board::link::{Board, LinkError, Transport};
 use protocol::{Direction, PlayCommand, ProtocolError, Steps};
 
-use crate::args::board::Session;
+use crate::common::session::Session;
 
 /// The play command for `slot`: the period (s) becomes a scale of the slot's planned period.
 pub fn play_command(

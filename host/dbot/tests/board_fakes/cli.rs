@@ -211,6 +211,7 @@ pub fn whole_output(name: &str, bytes: &[u8]) -> bool {
         }),
         Some("json") => serde_json::from_slice::<serde_json::Value>(bytes).is_ok(),
         Some("urdf") => text().is_some_and(|t| t.trim_end().ends_with("</robot>")),
+        Some("toml") => text().is_some_and(|t| t.parse::<toml::Table>().is_ok()),
         Some("dbgt") => protocol::GaitTable::parse(bytes).is_ok(),
         _ => false,
     }

@@ -29,7 +29,6 @@ pub mod output;
 pub mod problem;
 mod report;
 mod solve;
-pub mod table;
 pub mod wrench;
 
 pub use error::DynamicsError;

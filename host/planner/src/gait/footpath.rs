@@ -32,16 +32,20 @@ impl GroundMotion {
         let t_st = params.stance_s();
         let v = params.translation_m / t_st;
         let w = params.rotation_rad / t_st;
-        match (terrain, ball_centre) {
-            (Terrain::Ball { radius_m, .. }, Some(c)) => GroundMotion::Rotation {
+        let ball = match terrain {
+            Terrain::Ball { radius_m, .. } => ball_centre.map(|c| (c, *radius_m)),
+            Terrain::Flat | Terrain::Incline { .. } => None,
+        };
+        match ball {
+            Some((c, radius_m)) => GroundMotion::Rotation {
                 centre: c,
                 // The ball's top moves backward at the walking speed; yaw turns it about z.
                 omega: Vector3::new(0.0, -v / radius_m, -w),
             },
-            _ if w.abs() < 1e-12 => GroundMotion::Translation {
+            None if w.abs() < 1e-12 => GroundMotion::Translation {
                 velocity: Vector3::new(-v, 0.0, 0.0),
             },
-            _ => GroundMotion::Rotation {
+            None => GroundMotion::Rotation {
                 // Instantaneous centre of rotation of the thorax, left of it for a left turn.
                 centre: Vector3::new(0.0, v / w, 0.0),
                 omega: Vector3::new(0.0, 0.0, -w),

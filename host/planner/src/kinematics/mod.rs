@@ -14,5 +14,4 @@ pub use error::KinematicsError;
 pub use fk::{Poses, forward, joint_angle, leg_jacobian};
 pub use posture::{FootGoal, Posture, resting_posture};
 
-/// Longest leg chain (joints from thorax to foot) the fixed-size solver handles.
-pub const MAX_CHAIN: usize = 8;
+pub use crate::model::MAX_CHAIN;

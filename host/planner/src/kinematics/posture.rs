@@ -109,7 +109,7 @@ pub fn resting_posture(
         feet.push((leg, chain.foot_position(&qa)));
         chains.push((chain, qa));
     }
-    let ball_centre = terrain.ball_centre(model, &q);
+    let ball_centre = ball_centre(terrain, model, &q);
     if let (Terrain::Ball { radius_m, .. }, Some(centre)) = (terrain, ball_centre) {
         for ((chain, qa), (leg, foot)) in chains.iter_mut().zip(feet.iter_mut()) {
             let d = Vector3::new(foot.x - centre.x, foot.y - centre.y, 0.0);
@@ -143,4 +143,20 @@ pub fn resting_posture(
         feet,
         ball_centre,
     })
+}
+
+/// Centre of a ball terrain: under the whole-body centre of mass at joint vector `q` (`None` on
+/// other terrains).
+fn ball_centre(terrain: &Terrain, model: &Model, q: &[f64]) -> Option<Vector3<f64>> {
+    let Terrain::Ball { offset_m, .. } = terrain else {
+        return None;
+    };
+    let poses = super::forward(model, q);
+    let mut c = Vector3::zeros();
+    for (b, pose) in model.bodies.iter().zip(&poses.bodies) {
+        c += (pose * nalgebra::Point3::from(b.com)).coords * b.mass;
+    }
+    let m = model.total_mass();
+    let c = if m > 0.0 { c / m } else { c };
+    Some(Vector3::new(c.x, c.y, c.z - offset_m))
 }

@@ -34,3 +34,7 @@ pub use mjcf::{
 };
 pub use spring::{SpringPreset, SpringSpec};
 pub use urdf::to_urdf;
+
+/// Longest leg chain (joints from thorax to foot) a model may have: the kinematics' fixed-size
+/// solver handles up to this many.
+pub const MAX_CHAIN: usize = 8;

@@ -101,7 +101,7 @@ impl Model {
                     ),
                 ));
             }
-            if chain.len() > crate::kinematics::MAX_CHAIN {
+            if chain.len() > super::MAX_CHAIN {
                 return Err(field(
                     file,
                     place,
@@ -109,7 +109,7 @@ impl Model {
                     format!(
                         "chain of {} joints; at most {} supported",
                         chain.len(),
-                        crate::kinematics::MAX_CHAIN
+                        super::MAX_CHAIN
                     ),
                 ));
             }

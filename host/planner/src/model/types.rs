@@ -22,7 +22,7 @@ impl Leg {
     pub fn side(self) -> f64 {
         match self {
             Leg::LF | Leg::LM | Leg::LH => 1.0,
-            _ => -1.0,
+            Leg::RF | Leg::RM | Leg::RH => -1.0,
         }
     }
 

@@ -5,6 +5,7 @@
 mod derivatives;
 pub mod feasibility;
 pub mod finite;
+pub mod gait_table;
 pub mod table;
 
 pub use derivatives::periodic_central_difference;
@@ -126,7 +127,7 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
     let qdd = periodic_central_difference(&qd, dt);
     let (thorax_velocity, thorax_angular_velocity) = match terrain {
         Terrain::Ball { .. } => (Vector3::zeros(), Vector3::zeros()),
-        _ => (
+        Terrain::Flat | Terrain::Incline { .. } => (
             Vector3::new(params.translation_m / params.stance_s(), 0.0, 0.0),
             Vector3::new(0.0, 0.0, params.rotation_rad / params.stance_s()),
         ),

@@ -1,12 +1,12 @@
 //! A [`Plan`] as a step table for the board (`protocol::GaitTable`): the plan's angles, stance and
-//! (optionally) its solved torques fed to [`crate::dynamics::table::gait_table`], the one place where
+//! (optionally) its solved torques fed to [`super::gait_table::gait_table`], the one place where
 //! the servo map becomes the table's joint records.
 
 use super::Plan;
-use crate::dynamics::table::{gait_table, joint_specs};
+use super::gait_table::{gait_table, joint_specs};
 use crate::model::Model;
 
-pub use crate::dynamics::table::{TableError, stance_bits};
+pub use super::gait_table::{TableError, stance_bits};
 
 /// Indices (model order) of the joints that drive a servo: the table's joints, in table order.
 pub fn servo_joints(model: &Model) -> Vec<usize> {

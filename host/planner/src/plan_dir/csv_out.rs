@@ -1,6 +1,8 @@
-//! CSV writers: `joints.csv` (one row per slice and joint) and `feet.csv` (one row per slice and
-//! leg). Extra columns (torques, ground reaction forces) are appended after the standard ones.
+//! CSV writers of the plan directory: `joints.csv` (one row per slice and joint) and `feet.csv` (one
+//! row per slice and leg), headers from [`super::columns`]. Extra columns (torques, ground reaction
+//! forces) are appended after the standard ones.
 
+use super::columns::{FEET_BASE, JOINTS_BASE};
 use crate::plan::Plan;
 use std::io::Write;
 
@@ -71,16 +73,7 @@ pub fn write_joints_csv<W: Write>(
     let model = &plan.model;
     check(extra, plan.slices(), model.joints.len())?;
     let mut out = csv::Writer::from_writer(w);
-    let mut header: Vec<&str> = vec![
-        "slice",
-        "time_s",
-        "leg",
-        "joint",
-        "angle_rad",
-        "velocity_rad_s",
-        "accel_rad_s2",
-        "stance",
-    ];
+    let mut header: Vec<&str> = JOINTS_BASE.to_vec();
     header.extend(extra.iter().map(|c| c.name));
     out.write_record(&header)?;
     for s in 0..plan.slices() {
@@ -113,7 +106,7 @@ pub fn write_feet_csv<W: Write>(
 ) -> Result<(), ReportError> {
     check(extra, plan.slices(), plan.legs.len())?;
     let mut out = csv::Writer::from_writer(w);
-    let mut header: Vec<&str> = vec!["slice", "time_s", "leg", "x_m", "y_m", "z_m", "stance"];
+    let mut header: Vec<&str> = FEET_BASE.to_vec();
     header.extend(extra.iter().map(|c| c.name));
     out.write_record(&header)?;
     for s in 0..plan.slices() {

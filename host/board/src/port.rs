@@ -6,9 +6,7 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use super::error::LinkError;
-use super::serial::SerialTransport;
-use super::transport::{Transport, TransportError};
+use crate::link::{LinkError, SerialTransport, Transport, TransportError};
 use crate::robot::{VirtualRobot, VirtualTransport};
 
 /// A port named on the command line or in the setup file.

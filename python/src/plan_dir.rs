@@ -1,0 +1,127 @@
+//! `dbot.read_plan_dir(path)` and `dbot.PlanDir`: a plan directory written by `dbot plan` or
+//! `dbot demo`, read by the planner's one reader (`planner::plan_dir`), as NumPy arrays; its step
+//! table is the same bytes `dbot table --plan` writes.
+
+use std::path::PathBuf;
+
+use numpy::ndarray::Array2;
+use numpy::{PyArray2, ToPyArray};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use crate::errors::value_error;
+use crate::model::Model;
+
+/// A plan directory as read: angles, torques and stance per slice, timing, the model.
+#[pyclass(frozen, module = "dbot._native")]
+#[derive(Debug)]
+pub struct PlanDir {
+    inner: planner::plan_dir::PlanDir,
+}
+
+/// Reads the plan directory `path` (ValueError naming the file, line or format version).
+#[pyfunction]
+pub fn read_plan_dir(path: PathBuf) -> PyResult<PlanDir> {
+    let inner = planner::plan_dir::read(&path).map_err(value_error)?;
+    Ok(PlanDir { inner })
+}
+
+fn rows<'py>(py: Python<'py>, v: &[Vec<f64>]) -> Bound<'py, PyArray2<f64>> {
+    let cols = v.first().map_or(0, Vec::len);
+    Array2::from_shape_fn((v.len(), cols), |(i, j)| v[i][j]).to_pyarray(py)
+}
+
+#[pymethods]
+impl PlanDir {
+    /// Joint angles, rad: array [slice, joint] in `joint_names` order.
+    #[getter]
+    fn angles<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(py, &self.inner.angle)
+    }
+
+    /// Actuator torques, N m: array [slice, joint]; None when planned without dynamics.
+    #[getter]
+    fn torques<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        self.inner.torque.as_ref().map(|t| rows(py, t))
+    }
+
+    /// Stance flags: bool array [slice, leg] in `legs` order.
+    #[getter]
+    fn stance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<bool>> {
+        let s = &self.inner.stance;
+        let cols = s.first().map_or(0, Vec::len);
+        Array2::from_shape_fn((s.len(), cols), |(i, j)| s[i][j]).to_pyarray(py)
+    }
+
+    #[getter]
+    fn legs(&self) -> Vec<&'static str> {
+        self.inner.json.legs.iter().map(|l| l.name()).collect()
+    }
+
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.inner
+            .model
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect()
+    }
+
+    /// Step period, s.
+    #[getter]
+    fn period_s(&self) -> f64 {
+        self.inner.json.period_s
+    }
+
+    #[getter]
+    fn duty(&self) -> f64 {
+        self.inner.json.parameters.duty
+    }
+
+    #[getter]
+    fn slices(&self) -> usize {
+        self.inner.json.slices
+    }
+
+    /// The plan directory format version of the directory.
+    #[getter]
+    fn format_version(&self) -> u32 {
+        self.inner.json.format_version
+    }
+
+    /// The gait name its step table gets by default.
+    #[getter]
+    fn table_name(&self) -> String {
+        self.inner.table_name()
+    }
+
+    #[getter]
+    fn model(&self) -> Model {
+        Model {
+            inner: self.inner.model.clone(),
+        }
+    }
+
+    /// The step table for the board (bytes), named `name` or else `table_name`: the bytes
+    /// `dbot table --plan DIR` writes.
+    #[pyo3(signature = (name = None))]
+    fn step_table<'py>(
+        &self,
+        py: Python<'py>,
+        name: Option<&str>,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let bytes = self.inner.step_table(name).map_err(value_error)?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "PlanDir(path={:?}, model={:?}, slices={}, period_s={:.4})",
+            self.inner.path,
+            self.inner.model.name,
+            self.inner.json.slices,
+            self.inner.json.period_s
+        )
+    }
+}
