@@ -146,10 +146,6 @@ impl Args {
             self.springs.json(),
         )?;
         bar.finish_and_clear();
-        println!("{}", crate::feasibility_args::summary(&feasible));
-        if let Some(d) = &dynamics {
-            println!("{}", d.summary());
-        }
         println!(
             "{}: {} slices, period {:.3} s, wrote {} to {}",
             model.name,
@@ -158,6 +154,10 @@ impl Args {
             files.join(" "),
             out.display()
         );
+        if let Some(d) = &dynamics {
+            println!("{}", d.summary());
+        }
+        println!("{}", crate::feasibility_args::summary(&feasible));
         Ok(())
     }
 }

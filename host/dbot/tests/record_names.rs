@@ -28,7 +28,7 @@ fn record_names_joints_with_and_without_a_table() {
     let run = |args: &[&str]| {
         std::process::Command::new(env!("CARGO_BIN_EXE_dbot"))
             .args(args)
-            .args(["--port", &image])
+            .args(["--port", &image, "--create"])
             .current_dir(dir.path())
             .output()
             .unwrap()

@@ -422,7 +422,12 @@ fn a_recording_killed_leaves_whole_files() {
     assert!(d.status.success(), "{}", d.stderr);
     let took = d.took;
     let (old, new) = (outputs(&rec), outputs(&fresh));
-    assert_eq!(old.len(), 2, "telemetry.csv, angles.png: {:?}", old.keys());
+    assert_eq!(
+        old.len(),
+        3,
+        "telemetry.csv, angles.png, README.md: {:?}",
+        old.keys()
+    );
     assert_ne!(old["telemetry.csv"], new["telemetry.csv"]);
     // SIGKILL (no chance to clean up) at moments spread over a run. Ctrl-C during a recording
     // is checked on a board in real time (ctrl_c_while_walking_...) and in the demo.
@@ -459,6 +464,10 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
         "plan/joint_forces.csv",
         "plan/torques.png",
         "plan/grf.png",
+        "plan/robot.png",
+        "plan/step.gif",
+        "plan/feasibility.md",
+        "plan/README.md",
         "drosophibot2-tripod.dbgt",
         "record/forward/telemetry.csv",
         "record/forward/torque.png",
@@ -503,7 +512,12 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
         // What was written before the Ctrl-C is new; the interrupted recording is the old one.
         assert_eq!(old, name.starts_with("record/backward"), "{name}");
     }
-    assert_eq!(files.len(), names.len(), "{files:?}");
+    assert_eq!(
+        files.len(),
+        names.len(),
+        "{:?}",
+        files.iter().map(|(n, _)| n).collect::<Vec<_>>()
+    );
 }
 
 #[test]

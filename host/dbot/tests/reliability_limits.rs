@@ -15,7 +15,7 @@ const NO_PORT: &str = "/dev/does-not-exist";
 fn model_toml() -> String {
     std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/models/drosophibot2.toml"
+        "/../planner/models/drosophibot2.toml"
     ))
     .unwrap()
 }
@@ -80,7 +80,7 @@ fn absurd_model_numbers_are_refused_naming_the_field() {
 fn absurd_aproj_masses_and_sizes_are_refused_naming_the_field() {
     let source = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/models/animatlab/Drosobot2.aproj"
+        "/../../../shared/models/animatlab/Drosobot2.aproj"
     );
     let text = std::fs::read_to_string(source)
         .unwrap_or_else(|e| panic!("{source}: {e} (the shared models are needed here)"));
@@ -127,6 +127,9 @@ fn compare_against_a_plan_with_nan_is_refused_naming_the_line() {
     f[col] = "NaN".into();
     lines[1] = f.join(",");
     std::fs::write(b.join("joints.csv"), lines.join("\n") + "\n").unwrap();
+    for f in ["plan.json", "model.toml", "feet.csv"] {
+        std::fs::copy(a.join(f), b.join(f)).unwrap();
+    }
     let out = dir.path().join("cmp").display().to_string();
     let d = run(
         dir.path(),

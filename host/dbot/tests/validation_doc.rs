@@ -10,7 +10,7 @@ fn validation_md_matches_a_fresh_run_and_drift_is_named() {
     // One run (the check plans and solves about 15 cycles): the document with one figure changed
     // (the old drift, 49.48 N for the robot's 49.06 N weight) must fail naming that block only,
     // so every other block matches the fresh run.
-    let doc = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/validation.md");
+    let doc = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/validation.md");
     let text = std::fs::read_to_string(doc).unwrap();
     assert!(
         text.contains("weight 49.06 N"),

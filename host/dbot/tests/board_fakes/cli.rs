@@ -33,8 +33,12 @@ pub fn spawn(dir: &Path, tag: &str, args: &[String], uid: Option<u32>) -> Run {
     let out = dir.join(format!("{tag}.stdout"));
     let err = dir.join(format!("{tag}.stderr"));
     let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
-    c.args(args)
-        .current_dir(dir)
+    c.args(args);
+    // A `virtual:PATH` store must exist unless --create is given: these tests make their robots.
+    if args.iter().any(|a| a.starts_with("virtual:")) && !args.iter().any(|a| a == "--create") {
+        c.arg("--create");
+    }
+    c.current_dir(dir)
         .env_remove("DBOT_CONFIG")
         .env("XDG_CONFIG_HOME", dir)
         .env("HOME", dir)
@@ -213,6 +217,10 @@ pub fn whole_output(name: &str, bytes: &[u8]) -> bool {
         Some("urdf") => text().is_some_and(|t| t.trim_end().ends_with("</robot>")),
         Some("toml") => text().is_some_and(|t| t.parse::<toml::Table>().is_ok()),
         Some("dbgt") => protocol::GaitTable::parse(bytes).is_ok(),
+        // A GIF ends with its trailer byte; the READMEs and feasibility.md are whole when they
+        // end with a newline (each is written in one piece through a scratch file).
+        Some("gif") => bytes.starts_with(b"GIF89a") && bytes.ends_with(&[0x3B]),
+        Some("md") => text().is_some_and(|t| t.ends_with('\n')),
         _ => false,
     }
 }

@@ -122,6 +122,21 @@ fn number<T: std::str::FromStr>(
     })
 }
 
+/// A number that must be finite (angles, torques): NaN or infinity in a plan is refused, naming the
+/// file and line, instead of turning every result computed from it into NaN.
+fn finite(path: &Path, line: usize, what: &str, text: &str) -> Result<f64, PlanDirError> {
+    let v: f64 = number(path, line, what, text)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(PlanDirError::Row {
+            file: path.to_path_buf(),
+            line,
+            problem: format!("{what} `{text}` is not a finite number"),
+        })
+    }
+}
+
 type JointColumns = (Vec<Vec<f64>>, Option<Vec<Vec<f64>>>);
 
 /// joints.csv: rows in model joint order per slice; angles and, if present, torques.
@@ -163,9 +178,9 @@ fn read_joints(path: &Path, model: &Model, slices: usize) -> Result<JointColumns
                 ),
             });
         }
-        angle[s].push(number(path, line, ANGLE_RAD, &rec[ac])?);
+        angle[s].push(finite(path, line, ANGLE_RAD, &rec[ac])?);
         if let (Some(t), Some(tc)) = (torque.as_mut(), tc) {
-            t[s].push(number(path, line, TORQUE_NM, &rec[tc])?);
+            t[s].push(finite(path, line, TORQUE_NM, &rec[tc])?);
         }
         rows += 1;
     }
