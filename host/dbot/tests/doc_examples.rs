@@ -86,6 +86,14 @@ fn on_virtual_robot(args: &[String]) -> Vec<String> {
 #[test]
 fn every_documented_dbot_command_runs_on_the_virtual_robot() {
     let dir = tempfile::tempdir().unwrap();
+    // The commands run as from the repository's root: `dbot validate --check docs/validation.md`
+    // reads the document (a copy, so that nothing here writes into the checkout).
+    std::fs::create_dir(dir.path().join("docs")).unwrap();
+    std::fs::copy(
+        repo().join("docs/validation.md"),
+        dir.path().join("docs/validation.md"),
+    )
+    .unwrap();
     let all: Vec<Example> = ["README.md", "docs/usage.md"]
         .iter()
         .flat_map(|f| examples(f))
