@@ -36,7 +36,7 @@ if [ "$QUICK" = 1 ]; then
   trap 'rm -rf "$OUT"' EXIT
   echo "== quick: bench_export (dev profile, no scaling study)" >&2
   cargo build --quiet --locked -p host --example bench_export
-  "$TARGET_DIR/debug/examples/bench_export" "$OUT" >/dev/null
+  "$TARGET_DIR/debug/examples/bench_export" "$OUT" --quick >/dev/null
   [ -s "$OUT/export.json" ] || { echo "bench_export wrote no export.json" >&2; exit 1; }
   echo "== quick: criterion benches once each (cargo bench -p host --bench dynamics / ik; -p dynamixel --bench cycle)" >&2
   cargo test --quiet --locked -p host --bench dynamics --bench ik
