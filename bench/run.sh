@@ -35,11 +35,11 @@ if [ "$QUICK" = 1 ]; then
   OUT=$(mktemp -d)
   trap 'rm -rf "$OUT"' EXIT
   echo "== quick: bench_export (dev profile, no scaling study)" >&2
-  cargo build --quiet --locked -p host --example bench_export
-  "$TARGET_DIR/debug/examples/bench_export" "$OUT" >/dev/null
+  cargo build --quiet --locked -p planner --example bench_export
+  "$TARGET_DIR/debug/examples/bench_export" "$OUT" --quick >/dev/null
   [ -s "$OUT/export.json" ] || { echo "bench_export wrote no export.json" >&2; exit 1; }
-  echo "== quick: criterion benches once each (cargo bench -p host --bench dynamics / ik; -p dynamixel --bench cycle)" >&2
-  cargo test --quiet --locked -p host --bench dynamics --bench ik
+  echo "== quick: criterion benches once each (cargo bench -p planner --bench dynamics / ik; -p dynamixel --bench cycle)" >&2
+  cargo test --quiet --locked -p planner --bench dynamics --bench ik
   cargo test --quiet --locked -p dynamixel --features std --bench cycle
   echo "bench/run.sh --quick: every reproduction command ran" >&2
   exit 0

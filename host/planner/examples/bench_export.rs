@@ -3,7 +3,7 @@
 //! the same inputs for the Python peers: the URDFs, every slice's state, our answers, and the
 //! paper's full per-body equation system (6 rows per body, 6 unknowns per joint + 3 per foot).
 //!
-//! Usage: `cargo run --release -p planner --example bench_export -- OUT_DIR [--scaling] [--profile N]`
+//! Usage: `cargo run --release -p planner --example bench_export -- OUT_DIR [--scaling] [--profile N] [--quick]`
 //! (`--profile N`: only solve the step cycle N times, for callgrind / perf; nothing written).
 
 use std::hint::black_box;
@@ -44,8 +44,17 @@ fn thread_cpu_s() -> f64 {
     t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
 }
 
+/// `--quick` (bench/run.sh --quick, in the test command): one round of one call per timing, so
+/// the whole export runs in a debug build in seconds; its times are not figures.
+static QUICK: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// Median thread CPU seconds per call of `f`, over `rounds` rounds of `reps` calls each.
 fn time_per_call(rounds: usize, reps: usize, mut f: impl FnMut()) -> f64 {
+    let (rounds, reps) = if QUICK.load(std::sync::atomic::Ordering::Relaxed) {
+        (1, 1)
+    } else {
+        (rounds, reps)
+    };
     f();
     let mut t: Vec<f64> = (0..rounds)
         .map(|_| {
@@ -203,6 +212,10 @@ fn main() -> Result<()> {
     );
     let rest: Vec<String> = args.collect();
     let scaling = rest.iter().any(|a| a == "--scaling");
+    QUICK.store(
+        rest.iter().any(|a| a == "--quick"),
+        std::sync::atomic::Ordering::Relaxed,
+    );
     let model = planner::model::builtin("drosophibot2")?;
     let params = planner::gait::StepParams::table1("drosophibot2");
     let plan = planner::plan::plan(&model, &params)?;
