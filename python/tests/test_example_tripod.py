@@ -50,7 +50,7 @@ def pattern(phase_of_leg: dict[str, float], duty: float = 0.6, period: int = 100
     )
 
 
-MODEL_FILE = pathlib.Path(__file__).resolve().parents[2] / "host" / "models" / "drosophibot2.toml"
+MODEL_FILE = pathlib.Path(__file__).resolve().parents[2] / "host" / "planner" / "models" / "drosophibot2.toml"
 #: No-load speed at 12 V, rad/s (e-manual datasheets: MX-28 55 rpm, MX-64 63 rpm).
 NO_LOAD_RAD_S = {"mx28": 55 * 2 * np.pi / 60, "mx64": 63 * 2 * np.pi / 60}
 

@@ -68,14 +68,16 @@ def test_plan_dir_numbers_are_the_files(walk: pathlib.Path) -> None:
     assert math.isclose(p.period_s, 1.25, rel_tol=1e-12)
     assert math.isclose(p.duty, 0.6, rel_tol=1e-12)
     assert np.all(np.abs(p.stance.sum(axis=0) - 24) <= 1)
-    # The planner from Python plans the same gait: the file holds its angles to 13 digits.
+    # The planner from Python plans the same gait: the file holds its angles to 10 significant
+    # digits (planner::number), so they agree to 1e-9 rad (angles are below 4 rad).
     fresh = dbot.plan(p.model, slices=40)
-    assert np.allclose(p.angles, fresh.angles, rtol=0, atol=1e-11)
+    assert np.allclose(p.angles, fresh.angles, rtol=0, atol=1e-9)
 
 
 def test_step_table_is_the_cli_table(walk: pathlib.Path) -> None:
     out = walk.parent / "walk.dbgt"
-    run("table", "--plan", str(walk), "--out", str(out), cwd=walk.parent)
+    # Table 1's 0.5 s swing is at the front FTi servos' no-load speed: this test is about the format.
+    run("table", "--plan", str(walk), "--out", str(out), "--allow-infeasible", cwd=walk.parent)
     table = dbot.read_plan_dir(walk).step_table()
     assert table == out.read_bytes()
     # The gait name sits in the 40-byte table header (protocol crate, NUL-padded UTF-8).

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
-MODEL = ROOT / "host" / "models" / "drosophibot2.toml"
+MODEL = ROOT / "host" / "planner" / "models" / "drosophibot2.toml"
 
 
 def export(tmp_path, scene):

@@ -35,7 +35,7 @@ impl StepParams {
                 // (-0.025, 0.200, -0.165) middle, (0.114, 0.065, -0.203) m front; feet at
                 // z = -0.175 / -0.190 / -0.165 m below that figure's thorax origin. Its thorax
                 // origin sits 0.0196 m higher relative to the ThCs than ours (ThC z -0.0246 and
-                // 0.0377 m there, -0.0050 and 0.0573 m in host/models/drosophibot2.toml), so the
+                // 0.0377 m there, -0.0050 and 0.0573 m in host/planner/models/drosophibot2.toml), so the
                 // body heights here are the original's minus 0.0196 m: the feet then land at the
                 // original's offsets from each ThC in x, y and z.
                 p.swing_s = 1.6;
