@@ -20,7 +20,7 @@ MODEL = ROOT / "host" / "planner" / "models" / "drosophibot2.toml"
 def export(tmp_path, scene):
     out = tmp_path / f"robot-{scene.replace(':', '_')}.xml"
     subprocess.run(
-        ["cargo", "run", "--quiet", "--locked", "-p", "host", "--bin", "dbot", "--",
+        ["cargo", "run", "--quiet", "--locked", "-p", "dbot", "--bin", "dbot", "--",
          "model", "export", "--model", str(MODEL), "--mjcf", str(out), "--scene", scene],
         cwd=ROOT, check=True)
     return mujoco.MjModel.from_xml_path(str(out))
