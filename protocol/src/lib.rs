@@ -84,10 +84,11 @@
 //! | load / current (feedback) | `i16` | raw register 126: MX-28 0.1 % of max load, MX-64 about 3.36 mA | |
 //!
 //! Angles are in the joint frame (the planner's angle); a servo's goal is
-//! `zero_offset + sign * angle * 4096 / 2 pi` ticks ([`JointMap::angle_to_ticks`]). The torque bias of
-//! the firmware is `angle + torque / stiffness` (mN m over mN m/rad gives rad), in these units
-//! `angle + torque * 10_000 / stiffness` 1e-4 rad, computed in `i32` (|torque| * 10 000 < 2^31)
-//! and clamped to the joint limits before the tick conversion.
+//! `zero_offset + sign * angle * 4096 / 2 pi` ticks, computed by [`Calibration`] (the one angle <->
+//! ticks converter, shared by the table's [`JointMap::angle_to_ticks`], the firmware and the host).
+//! The firmware's torque bias is `angle + torque / stiffness` (mN m over mN m/rad gives rad),
+//! computed in microradians in `i64` (`firmware::bias`), turned into ticks by the same
+//! [`Calibration`] and clamped to the joint's limits in ticks.
 //!
 //! # Versioning
 //!
@@ -102,6 +103,7 @@
 
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod calibration;
 pub mod client;
 pub mod crc32;
 pub mod frame;
@@ -110,6 +112,7 @@ pub mod message;
 pub mod units;
 pub mod upload;
 
+pub use calibration::Calibration;
 pub use client::{Client, ReplyError};
 pub use frame::{FrameAccumulator, FrameError, decode_message, encode_frame};
 #[cfg(feature = "std")]

@@ -11,9 +11,7 @@ use protocol::{
     Status, Steps, UploadLimits, UploadTracker,
 };
 
-use super::convert::{
-    angle_to_ticks, command_error, fault, run_state, store_error, ticks_to_angle,
-};
+use super::convert::{command_error, fault, run_state, store_error};
 use crate::controller::{Controller, PlayParams};
 use crate::gait_view::URAD_PER_ANGLE_UNIT;
 use crate::playback::Direction;
@@ -212,8 +210,8 @@ pub fn handle<F: NorFlash + FlashWindow>(
         Request::GetSettings => {
             let mut joints = heapless::Vec::new();
             for (cal, &k) in c.joints().iter().zip(c.stiffness()) {
-                let a = ticks_to_angle(cal, cal.min_ticks);
-                let b = ticks_to_angle(cal, cal.max_ticks);
+                let a = cal.calibration.ticks_to_angle(cal.min_ticks);
+                let b = cal.calibration.ticks_to_angle(cal.max_ticks);
                 let _ = joints.push(JointSettings {
                     stiffness: k,
                     min: a.min(b),
@@ -240,8 +238,8 @@ pub fn handle<F: NorFlash + FlashWindow>(
                     joints: c.joints().len() as u8,
                 });
             };
-            let a = angle_to_ticks(&cal, min);
-            let b = angle_to_ticks(&cal, max);
+            let a = cal.calibration.angle_to_ticks(min.into());
+            let b = cal.calibration.angle_to_ticks(max.into());
             if min > max {
                 return Response::Error(ProtocolError::InvalidSetting {
                     setting: protocol::Setting::Limits,

@@ -10,7 +10,6 @@
 use std::cell::RefCell;
 use std::collections::VecDeque;
 
-use dynamixel::control_table::Model;
 use dynamixel::master::{AutoDirection, BusMaster, MasterConfig};
 use dynamixel::sim::{SimWire, VirtualChain, VirtualServo, WireConfig};
 use firmware::bus_loop::BusLoop;
@@ -215,11 +214,11 @@ impl VirtualRobot {
         let Some(code) = dynamixel::control_table::baud_code(baud) else {
             return;
         };
-        let wanted: Vec<(u8, Model, i32)> = (0..table.joint_count())
+        let wanted: Vec<(u8, ServoModel, i32)> = (0..table.joint_count())
             .filter_map(|j| table.joint(j).map(|m| (j, m)))
             .map(|(j, m)| {
                 let rest = i32::from(m.zero_offset) + (j as i32 * 37) % 61 - 30;
-                (m.servo_id, dxl_model(m.model), rest)
+                (m.servo_id, m.model, rest)
             })
             .collect();
         self.wire.with_chain(|chain| {
@@ -229,7 +228,7 @@ impl VirtualRobot {
             if fits {
                 return;
             }
-            let list: Vec<(u8, Model)> = wanted.iter().map(|&(id, m, _)| (id, m)).collect();
+            let list: Vec<(u8, ServoModel)> = wanted.iter().map(|&(id, m, _)| (id, m)).collect();
             let Ok(mut fresh) = VirtualChain::new(&list, baud) else {
                 return;
             };
@@ -268,12 +267,5 @@ impl VirtualRobot {
                 let _ = chain.set_external_torque(map.servo_id, -nm);
             }
         });
-    }
-}
-
-fn dxl_model(m: ServoModel) -> Model {
-    match m {
-        ServoModel::Mx64 => Model::Mx64V2,
-        _ => Model::Mx28V2,
     }
 }

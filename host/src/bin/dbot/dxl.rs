@@ -2,7 +2,8 @@
 //! them up: find IDs, read and write registers, change ID, baud and Return Delay Time.
 
 use anyhow::{Context as _, bail};
-use dynamixel::control_table::{self as ct, Field, Model};
+use dynamixel::ServoModel;
+use dynamixel::control_table::{self as ct, Field};
 use dynamixel::master::{BusError, MasterConfig, ReplyFault};
 use host::bus::serial::{SerialMaster, block_on, open_master};
 use std::path::PathBuf;
@@ -148,7 +149,8 @@ fn scan(m: &mut SerialMaster, max_id: u8, port: &str, baud: u32) -> anyhow::Resu
         match block_on(m.ping(id)) {
             Ok(p) => {
                 found += 1;
-                let name = Model::from_number(p.model_number).map_or("unknown model", |m| m.name());
+                let name =
+                    ServoModel::from_number(p.model_number).map_or("unknown model", |m| m.name());
                 bar.suspend(|| {
                     println!(
                         "ID {id:3}: model {} ({name}), firmware {}{}",

@@ -2,7 +2,7 @@
 //! interrupted, printing every request it answers.
 
 use anyhow::Context as _;
-use dynamixel::control_table::Model;
+use dynamixel::ServoModel;
 use dynamixel::instruction::Instruction;
 use dynamixel::sim::{DROSOPHIBOT_CTR_IDS, VirtualChain};
 use host::bus::pty::{PtyServer, Served};
@@ -69,9 +69,9 @@ impl Args {
             "serving {} virtual servos (IDs 1..={}, {} on {:?}, {} elsewhere) at {} bit/s, return delay {} us, on {} linked at {}; Ctrl-C stops",
             self.servos,
             self.servos,
-            Model::Mx64V2.name(),
+            ServoModel::Mx64.name(),
             mx64,
-            Model::Mx28V2.name(),
+            ServoModel::Mx28.name(),
             self.baud,
             self.return_delay as u32 * 2,
             server.slave_path(),
