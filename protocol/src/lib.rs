@@ -68,7 +68,8 @@
 //! This project needs CDC-ACM (the board shows up as a serial port, the emulator bridges it to a
 //! pseudo-terminal, `dbot --port` works the same for both), a frame layout that can be derived by hand
 //! for the golden tests, and no second dependency pinned to a particular embassy-usb. So the protocol is
-//! two enums and a frame codec; the firmware matches on [`Request`] and the host uses [`Client`].
+//! two enums and a frame codec; the firmware implements [`endpoint::Handler`] (one typed method per request, reached through
+//! [`endpoint::dispatch`]) and the host calls [`endpoint`]'s typed requests through [`Client`].
 //!
 //! # Units (fixed point on the device)
 //!
@@ -106,6 +107,7 @@
 pub mod calibration;
 pub mod client;
 pub mod crc32;
+pub mod endpoint;
 pub mod frame;
 pub mod gait;
 pub mod message;
@@ -114,6 +116,7 @@ pub mod upload;
 
 pub use calibration::Calibration;
 pub use client::{Client, ReplyError};
+pub use endpoint::Endpoint;
 pub use frame::{FrameAccumulator, FrameError, decode_message, encode_frame};
 #[cfg(feature = "std")]
 pub use gait::{BuildError, GaitTableBuilder, JointSpec};
