@@ -329,6 +329,7 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
 
 /// A streamed setpoint (no reply: the proprioception stream names the last one taken).
 pub fn setpoint<F: NorFlash + FlashWindow>(c: &mut Controller<F>, sp: &Setpoint) {
+    c.host_contact();
     let mut joints: heapless::Vec<(i32, Option<i32>), { protocol::MAX_JOINTS }> =
         heapless::Vec::new();
     for j in &sp.joints {
