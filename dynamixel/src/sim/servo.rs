@@ -77,7 +77,8 @@ impl VirtualServo {
         self.put(ct::MAX_VOLTAGE_LIMIT, 160);
         self.put(ct::MIN_VOLTAGE_LIMIT, 95);
         self.put(ct::PWM_LIMIT, 885);
-        if self.model == ServoModel::Mx64 {
+        // Current Limit exists only where register 126 is a current (MX-64).
+        if self.model.reports_current() {
             self.put(ct::CURRENT_LIMIT, 1941);
         }
         self.put(ct::ACCELERATION_LIMIT, 32767);

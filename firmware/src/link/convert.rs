@@ -49,7 +49,13 @@ pub fn fault(s: State) -> Option<Fault> {
         ),
         State::Safe(SafeReason::SetpointTimeout) => (FaultKind::SetpointTimeout, None),
         State::Safe(SafeReason::Watchdog) => (FaultKind::Watchdog, None),
-        _ => return None,
+        State::Boot
+        | State::Idle
+        | State::Standing
+        | State::Ramping
+        | State::Walking
+        | State::Stopping
+        | State::Streaming => return None,
     };
     Some(Fault { kind, joint })
 }
