@@ -16,6 +16,9 @@
 //! - [`safety`]: the state machine; [`controller`]: what to do each bus cycle and on each command.
 //! - [`bus_loop`]: the fixed-rate loop over the bus master; [`link`]: the protocol dispatcher.
 //! - [`board`]: all of it over the four seams, for in-process use (host virtual robot, tests).
+//! - [`testkit`] (feature `std`): the synthetic gait and the whole-board rig on the simulated wire,
+//!   shared by the unit tests, the integration tests in `tests/` (a walk on the wire, the fault
+//!   campaign, streaming) and the host's virtual-robot tests.
 
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 
@@ -26,18 +29,12 @@ pub mod bias;
 pub mod board;
 pub mod bus_loop;
 pub mod controller;
-#[cfg(test)]
-mod fault_tests;
 pub mod gait_view;
 pub mod link;
 pub mod memory_map;
 pub mod playback;
 pub mod safety;
-#[cfg(test)]
-mod sim_tests;
 pub mod store;
-#[cfg(test)]
-mod stream_tests;
 pub mod telemetry;
 #[cfg(any(test, feature = "std"))]
 pub mod testkit;

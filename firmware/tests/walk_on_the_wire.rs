@@ -2,133 +2,10 @@
 //! virtual servo chain on its simulated half-duplex wire, on simulated time: a 10-step walk with all
 //! 22 servos following, and the bus cycle rate and start jitter at 1 and 4 Mbit/s.
 
-use dynamixel::master::AutoDirection;
-use dynamixel::sim::{SimWire, VirtualChain, WireConfig};
-use embedded_io_async::{Read, ReadReady, Write};
-use protocol::{Client, DeviceMessage, FrameAccumulator, Request, Response};
-
-use crate::board::Board;
-use crate::controller::Config;
-use crate::safety::State;
-use crate::store::nor_double::NorDouble;
-use crate::testkit::{JOINTS, SyntheticGait};
-
-/// A board on the simulated wire, its bus reached through `IO` (the wire, or a tap on it).
-pub(crate) type SimBoardOn<IO> = Board<NorDouble<4>, IO, AutoDirection, SimWire>;
-type SimBoard = SimBoardOn<SimWire>;
-
-/// A board on a fresh NOR double, wired to 22 virtual servos at `baud` with Return Delay Time 0.
-fn rig(baud: u32, cycle_hz: u16) -> (SimBoard, SimWire) {
-    let chain = VirtualChain::drosophibot(JOINTS as u8, baud).unwrap();
-    let wire = SimWire::new(chain, WireConfig { baud, echo: true });
-    wire.with_chain(|c| c.set_return_delay_all(0));
-    let config = Config {
-        cycle_hz,
-        baud,
-        ..Config::default()
-    };
-    // Replies come back to back at return delay 0; 100 us of slack covers the parser's chunking.
-    let board = Board::new(
-        NorDouble::new(128),
-        4,
-        config,
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        100,
-    );
-    (board, wire)
-}
-
-/// Sends one request through the link and returns its response.
-pub(crate) fn ask<IO: Read + ReadReady + Write>(
-    board: &mut SimBoardOn<IO>,
-    client: &mut Client,
-    request: Request,
-) -> Response {
-    let (seq, frame) = client.request_frame(&request).unwrap();
-    let mut out = Vec::new();
-    board.receive(&frame, |f| out.extend_from_slice(f));
-    let mut acc = FrameAccumulator::new();
-    for &b in &out {
-        if let Some(Ok(DeviceMessage::Reply { seq: s, response })) =
-            acc.push_message::<DeviceMessage>(b)
-        {
-            assert_eq!(s, seq);
-            return response;
-        }
-    }
-    panic!("no reply to {request:?}");
-}
-
-/// Uploads `table` into `slot` through the link, in protocol-sized chunks.
-pub(crate) fn upload<IO: Read + ReadReady + Write>(
-    board: &mut SimBoardOn<IO>,
-    client: &mut Client,
-    slot: u8,
-    table: &[u8],
-) {
-    let header = protocol::GaitTable::parse(table).unwrap().header();
-    let begin = Request::UploadBegin {
-        slot,
-        header,
-        total_len: table.len() as u32,
-    };
-    assert_eq!(ask(board, client, begin), Response::Ack);
-    for (i, c) in table.chunks(protocol::MAX_CHUNK_LEN).enumerate() {
-        let r = ask(
-            board,
-            client,
-            Request::UploadChunk {
-                offset: (i * protocol::MAX_CHUNK_LEN) as u32,
-                data: heapless::Vec::from_slice(c).unwrap(),
-            },
-        );
-        assert!(matches!(r, Response::ChunkAccepted { .. }), "{r:?}");
-    }
-    let crc = protocol::crc32::checksum(table);
-    assert_eq!(
-        ask(board, client, Request::UploadCommit { crc }),
-        Response::Committed { slot, crc }
-    );
-}
-
-pub(crate) fn play<IO: Read + ReadReady + Write>(
-    board: &mut SimBoardOn<IO>,
-    client: &mut Client,
-    steps: protocol::Steps,
-) {
-    let r = ask(
-        board,
-        client,
-        Request::Play(protocol::PlayCommand {
-            slot: 0,
-            direction: protocol::Direction::Forward,
-            period_scale: 1000,
-            steps,
-        }),
-    );
-    assert_eq!(r, Response::Ack);
-}
-
-/// Runs bus cycles until `done` or `max` cycles; returns how many ran.
-pub(crate) fn run_until<IO: Read + ReadReady + Write>(
-    board: &mut SimBoardOn<IO>,
-    wire: &SimWire,
-    max: usize,
-    done: impl Fn(&SimBoardOn<IO>) -> bool,
-) -> usize {
-    for i in 0..max {
-        if done(board) {
-            return i;
-        }
-        wire.block_on(board.run_cycle());
-    }
-    panic!(
-        "not done after {max} cycles: {:?}",
-        board.controller.borrow().state()
-    );
-}
+use firmware::safety::State;
+use firmware::testkit::rig::{ask, play, rig, run_until, upload};
+use firmware::testkit::{JOINTS, STIFFNESS, SyntheticGait};
+use protocol::{Client, Request, Response};
 
 #[test]
 fn ten_steps_with_all_22_virtual_servos_following() {
@@ -136,19 +13,13 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     let mut client = Client::new();
     let gait = SyntheticGait::new(100, 1.0);
     // Boot finds no map (empty store), then the upload brings one: Boot again finds all 22.
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     upload(&mut board, &mut client, 0, &gait.build());
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     assert_eq!(board.controller.borrow().joints().len(), JOINTS);
 
     play(&mut board, &mut client, protocol::Steps::Count(10));
-    run_until(&mut board, &wire, 500, |b| {
-        b.controller.borrow().state() == State::Walking
-    });
+    run_until(&mut board, &wire, 500, |s| s == State::Walking);
     wire.with_chain(|c| assert!(c.servos().iter().all(|s| s.torque_enabled())));
 
     // Walk: after each cycle, record every servo's position and the goal it was sent that cycle.
@@ -217,7 +88,7 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     }
     let goals = board.controller.borrow().goals().to_vec();
     for (j, g) in goals.iter().enumerate() {
-        let want = gait.goal(0.0, j, crate::testkit::STIFFNESS);
+        let want = gait.goal(0.0, j, STIFFNESS);
         assert!(
             (f64::from(*g) - want).abs() <= 1.0,
             "joint {j} rests at {g}, slice 0 is {want:.1}"
@@ -239,22 +110,16 @@ fn ten_steps_with_all_22_virtual_servos_following() {
 fn measure(baud: u32, cycle_hz: u16) -> (f64, u32, u32, u64) {
     let (mut board, wire) = rig(baud, cycle_hz);
     let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     upload(
         &mut board,
         &mut client,
         0,
         &SyntheticGait::new(100, 1.0).build(),
     );
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     play(&mut board, &mut client, protocol::Steps::Continuous);
-    run_until(&mut board, &wire, 5000, |b| {
-        b.controller.borrow().state() == State::Walking
-    });
+    run_until(&mut board, &wire, 5000, |s| s == State::Walking);
     // Measure walking cycles only: every one a Sync Write of 22 goals + Sync Read of 22 x 10 bytes.
     board.schedule.timing = Default::default();
     let cycles = 2 * usize::from(cycle_hz);
@@ -303,30 +168,22 @@ fn a_rate_above_the_wire_limit_counts_every_missed_start() {
 fn an_overloaded_servo_stops_the_walk_naming_it_and_a_reboot_of_that_servo_recovers() {
     let (mut board, wire) = rig(1_000_000, 100);
     let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     upload(
         &mut board,
         &mut client,
         0,
         &SyntheticGait::new(100, 1.0).build(),
     );
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     play(&mut board, &mut client, protocol::Steps::Continuous);
-    run_until(&mut board, &wire, 500, |b| {
-        b.controller.borrow().state() == State::Walking
-    });
+    run_until(&mut board, &wire, 500, |s| s == State::Walking);
     for _ in 0..30 {
         wire.block_on(board.run_cycle());
     }
     // Servo 5 (joint 4) overloads: it drops its torque and flags Alert in every status.
     wire.with_chain(|c| c.trigger_overload(5)).unwrap();
-    run_until(&mut board, &wire, 5, |b| {
-        matches!(b.controller.borrow().state(), State::Safe(_))
-    });
+    run_until(&mut board, &wire, 5, |s| matches!(s, State::Safe(_)));
     // One more cycle reads its Hardware Error Status (bit 5 = overload).
     wire.block_on(board.run_cycle());
     let Response::Status(s) = ask(&mut board, &mut client, Request::GetStatus) else {
@@ -355,9 +212,7 @@ fn an_overloaded_servo_stops_the_walk_naming_it_and_a_reboot_of_that_servo_recov
         },
     );
     assert_eq!(r, Response::Ack);
-    run_until(&mut board, &wire, 10, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 10, |s| s == State::Idle);
     for _ in 0..3 {
         wire.block_on(board.run_cycle());
     }

@@ -1,173 +1,25 @@
 //! Fault campaign on the whole firmware library (link, controller, bus loop, bus master, gait store)
 //! against the dynamixel crate's virtual servo chain on its simulated half-duplex wire and the NOR
 //! flash double: one test per fault of docs/reliability.md, each checking the behaviour written
-//! there. Faults already covered elsewhere (overload: `sim_tests`; power loss at every flash tick:
+//! there. Faults already covered elsewhere (overload: `walk_on_the_wire`; power loss at every flash tick:
 //! `store::tests`) are referenced in that table, not repeated here.
 
-use dynamixel::master::AutoDirection;
-use dynamixel::sim::{Faults, SimWire, VirtualChain, WireConfig};
+use dynamixel::sim::{Faults, SimWire};
+use firmware::controller::Config;
+use firmware::safety::{SafeReason, State};
+use firmware::testkit::rig::{
+    SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state, status, upload,
+    upload_requests, wire,
+};
+use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
     Client, DeviceMessage, FaultKind, FrameAccumulator, ProtocolError, Request, Response, RunState,
     Telemetry,
 };
 
-use crate::board::Board;
-use crate::controller::Config;
-use crate::safety::{SafeReason, State};
-use crate::store::nor_double::NorDouble;
-use crate::testkit::{JOINTS, SyntheticGait};
-
-type SimBoard = Board<NorDouble<4>, SimWire, AutoDirection, SimWire>;
-
-/// Flash sectors of the double: 4 slots of two banks, each bank large enough for the synthetic gait.
-const SECTORS: usize = 128;
-
-/// A board on `flash`, wired to 22 virtual servos at 1 Mbit/s, 100 Hz, Return Delay Time 0.
-fn board_on(flash: NorDouble<4>, wire: &SimWire) -> SimBoard {
-    let config = Config::default();
-    Board::new(
-        flash,
-        4,
-        config,
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        100,
-    )
-}
-
-fn rig() -> (SimBoard, SimWire) {
-    let chain = VirtualChain::drosophibot(JOINTS as u8, 1_000_000).unwrap();
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
-    wire.with_chain(|c| c.set_return_delay_all(0));
-    (board_on(NorDouble::new(SECTORS), &wire), wire)
-}
-
-/// Every message the board sends for `bytes` from the host.
-fn exchange(board: &mut SimBoard, bytes: &[u8]) -> Vec<DeviceMessage> {
-    let mut out = Vec::new();
-    board.receive(bytes, |f| out.extend_from_slice(f));
-    let mut acc = FrameAccumulator::new();
-    acc.messages::<DeviceMessage>(&out)
-        .map(|m| m.expect("the board sends valid frames"))
-        .collect()
-}
-
-fn ask(board: &mut SimBoard, client: &mut Client, request: Request) -> Response {
-    let (seq, frame) = client.request_frame(&request).unwrap();
-    for m in exchange(board, &frame) {
-        if let DeviceMessage::Reply { seq: s, response } = m {
-            assert_eq!(s, seq);
-            return response;
-        }
-    }
-    panic!("no reply to {request:?}");
-}
-
-fn status(board: &mut SimBoard, client: &mut Client) -> protocol::Status {
-    match ask(board, client, Request::GetStatus) {
-        Response::Status(s) => s,
-        other => panic!("GetStatus answered {other:?}"),
-    }
-}
-
-fn slots(board: &mut SimBoard, client: &mut Client) -> Vec<Option<u32>> {
-    match ask(board, client, Request::ListGaits) {
-        Response::Slots(s) => s.iter().map(|i| i.gait.map(|g| g.crc)).collect(),
-        other => panic!("ListGaits answered {other:?}"),
-    }
-}
-
-/// The upload requests for `table` into `slot`, begin to commit.
-fn upload_requests(slot: u8, table: &[u8]) -> Vec<Request> {
-    let header = protocol::GaitTable::parse(table).unwrap().header();
-    let mut r = vec![Request::UploadBegin {
-        slot,
-        header,
-        total_len: table.len() as u32,
-    }];
-    for (i, c) in table.chunks(protocol::MAX_CHUNK_LEN).enumerate() {
-        r.push(Request::UploadChunk {
-            offset: (i * protocol::MAX_CHUNK_LEN) as u32,
-            data: heapless::Vec::from_slice(c).unwrap(),
-        });
-    }
-    r.push(Request::UploadCommit {
-        crc: protocol::crc32::checksum(table),
-    });
-    r
-}
-
-fn upload(board: &mut SimBoard, client: &mut Client, slot: u8, table: &[u8]) {
-    for req in upload_requests(slot, table) {
-        let r = ask(board, client, req);
-        assert!(
-            matches!(
-                r,
-                Response::Ack | Response::ChunkAccepted { .. } | Response::Committed { .. }
-            ),
-            "{r:?}"
-        );
-    }
-}
-
-fn play(board: &mut SimBoard, client: &mut Client, steps: protocol::Steps) {
-    let r = ask(
-        board,
-        client,
-        Request::Play(protocol::PlayCommand {
-            slot: 0,
-            direction: protocol::Direction::Forward,
-            period_scale: 1000,
-            steps,
-        }),
-    );
-    assert_eq!(r, Response::Ack);
-}
-
-/// One bus cycle; the telemetry it produced.
-fn cycle(board: &mut SimBoard, wire: &SimWire) -> Vec<Telemetry> {
-    wire.block_on(board.run_cycle());
-    let mut out = Vec::new();
-    board.drain_telemetry(|f| out.extend_from_slice(f));
-    let mut acc = FrameAccumulator::new();
-    acc.messages::<DeviceMessage>(&out)
-        .filter_map(|m| match m {
-            Ok(DeviceMessage::Telemetry(t)) => Some(t),
-            _ => None,
-        })
-        .collect()
-}
-
-fn state(board: &SimBoard) -> State {
-    board.controller.borrow().state()
-}
-
-/// Cycles until `done`; panics after `max`. Returns the cycles run.
-fn run_until(
-    board: &mut SimBoard,
-    wire: &SimWire,
-    max: usize,
-    done: impl Fn(State) -> bool,
-) -> usize {
-    for i in 0..max {
-        if done(state(board)) {
-            return i;
-        }
-        cycle(board, wire);
-    }
-    panic!("not done after {max} cycles: {:?}", state(board));
-}
-
 /// A rig walking continuously with the synthetic gait in slot 0 (100 slices, 1 s per step).
 fn walking() -> (SimBoard, SimWire, Client, Vec<u8>) {
-    let (mut board, wire) = rig();
+    let (mut board, wire) = rig(1_000_000, 100);
     let mut client = Client::new();
     run_until(&mut board, &wire, 5, |s| s == State::Idle);
     let table = SyntheticGait::new(100, 1.0).build();
@@ -382,7 +234,7 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
     // The case the stuck rule must not mistake for a jam: the goals carry the torque bias and every
     // servo carries the planned torque of the slice being played as its load (as on a robot whose
     // legs meet the planned forces), so the servos sit near the planned angle, off their goals.
-    let (mut board, wire) = rig();
+    let (mut board, wire) = rig(1_000_000, 100);
     let mut client = Client::new();
     run_until(&mut board, &wire, 5, |s| s == State::Idle);
     let gait = SyntheticGait::new(100, 1.0);
@@ -587,7 +439,7 @@ fn a_lost_host_link_does_not_stop_the_walk_and_the_link_comes_back() {
     assert_eq!(board.controller.borrow().playback().unwrap().0 - step0, 5);
     // The queue holds the last records; the rest were dropped and counted.
     let dropped = board.controller.borrow().telemetry_dropped() - dropped0;
-    assert_eq!(dropped, 500 - crate::controller::TELEMETRY_QUEUE as u32);
+    assert_eq!(dropped, 500 - firmware::controller::TELEMETRY_QUEUE as u32);
     // Back: the half frame is rejected as one bad frame, the next request is answered.
     let reconnect = exchange(&mut board, &[0]);
     assert!(
@@ -652,14 +504,14 @@ fn a_reset_during_an_upload_keeps_the_stored_gait_at_every_cut() {
     let new = SyntheticGait::new(60, 0.8).build();
     let (old_crc, new_crc) = (table_crc(&old), table_crc(&new));
     let (flash, total) = {
-        let (mut board, wire) = rig();
+        let (mut board, wire) = rig(1_000_000, 100);
         let mut client = Client::new();
         run_until(&mut board, &wire, 5, |s| s == State::Idle);
         upload(&mut board, &mut client, 0, &old);
         assert_eq!(slots(&mut board, &mut client)[0], Some(old_crc));
         let flash = board.controller.into_inner().into_flash();
         let t0 = flash.ticks;
-        let mut board = board_on(flash.clone(), &wire);
+        let mut board = board_on(flash.clone(), Config::default(), wire.clone(), &wire);
         let mut client = Client::new();
         upload(&mut board, &mut client, 0, &new);
         assert_eq!(slots(&mut board, &mut client)[0], Some(new_crc));
@@ -671,25 +523,17 @@ fn a_reset_during_an_upload_keeps_the_stored_gait_at_every_cut() {
         .step_by((total / 40).max(1) as usize)
         .chain([total - 1, total]);
     for n in cuts {
-        let chain = VirtualChain::drosophibot(JOINTS as u8, 1_000_000).unwrap();
-        let wire = SimWire::new(
-            chain,
-            WireConfig {
-                baud: 1_000_000,
-                echo: true,
-            },
-        );
-        wire.with_chain(|c| c.set_return_delay_all(0));
+        let wire = wire(1_000_000);
         let mut f = flash.clone();
         f.lose_power_after(n);
-        let mut board = board_on(f, &wire);
+        let mut board = board_on(f, Config::default(), wire.clone(), &wire);
         let mut client = Client::new();
         for req in upload_requests(0, &new) {
             let _ = ask(&mut board, &mut client, req);
         }
         let mut f = board.controller.into_inner().into_flash();
         f.power_cycle();
-        let mut board = board_on(f, &wire);
+        let mut board = board_on(f, Config::default(), wire.clone(), &wire);
         let mut client = Client::new();
         run_until(&mut board, &wire, 5, |s| s == State::Idle);
         let crc = slots(&mut board, &mut client)[0];
@@ -714,7 +558,7 @@ fn a_reset_during_walking_comes_up_idle_with_the_gait_kept() {
     let stored = slots(&mut board, &mut client);
     // The controller resets (watchdog, brown-out of the board alone): the servos keep their power.
     let flash = board.controller.into_inner().into_flash();
-    let mut board = board_on(flash, &wire);
+    let mut board = board_on(flash, Config::default(), wire.clone(), &wire);
     let mut client = Client::new();
     run_until(&mut board, &wire, 10, |s| s == State::Idle);
     // Nothing moves on its own after a reset.
@@ -736,7 +580,7 @@ fn after_a_reset_during_walking_torque_off_and_emergency_stop_reach_the_servos()
         cycle(&mut board, &wire);
     }
     let flash = board.controller.into_inner().into_flash();
-    let mut board = board_on(flash, &wire);
+    let mut board = board_on(flash, Config::default(), wire.clone(), &wire);
     let mut client = Client::new();
     run_until(&mut board, &wire, 10, |s| s == State::Idle);
     assert_eq!(
@@ -759,7 +603,7 @@ fn after_a_reset_during_walking_torque_off_and_emergency_stop_reach_the_servos()
 
 #[test]
 fn a_table_larger_than_the_flash_bank_is_refused_and_the_stored_gait_stays() {
-    let (mut board, wire) = rig();
+    let (mut board, wire) = rig(1_000_000, 100);
     let mut client = Client::new();
     run_until(&mut board, &wire, 5, |s| s == State::Idle);
     let table = SyntheticGait::new(100, 1.0).build();

@@ -1,6 +1,5 @@
-//! Synthetic gaits for tests and demos (feature `std`): a 22-joint table built with the protocol's
-//! builder, and its expected goals computed in f64 straight from the physics, independent of the
-//! firmware's fixed-point path.
+//! The synthetic gait: a 22-joint table built with the protocol's builder, and its expected goals
+//! computed in f64 straight from the physics, independent of the firmware's fixed-point path.
 
 use std::f64::consts::PI;
 use std::vec::Vec;

@@ -10,24 +10,22 @@ use core::task::Poll;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::rc::Rc;
-use std::vec::Vec;
 
 use dynamixel::control_table::{FEEDBACK_ADDR, GOAL_POSITION, PRESENT_POSITION};
 use dynamixel::instruction::{Instruction, STATUS};
-use dynamixel::master::{AutoDirection, Clock};
+use dynamixel::master::Clock;
 use dynamixel::parser::Parser;
-use dynamixel::sim::{SimIoError, SimWire, VirtualChain, WireConfig};
+use dynamixel::sim::{SimIoError, SimWire};
+use firmware::board::Board;
+use firmware::controller::Config;
+use firmware::safety::State;
+use firmware::store::nor_double::NorDouble;
+use firmware::testkit::rig::{SECTORS, SimBoardOn, ask, board_on, play, run_until, upload, wire};
+use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
     Client, DeviceMessage, FrameAccumulator, JointSetpoint, MAX_FRAME_LEN, Proprioception, Request,
     Response, Setpoint, StreamConfig,
 };
-
-use crate::board::Board;
-use crate::controller::Config;
-use crate::safety::State;
-use crate::sim_tests::{SimBoardOn, ask, play, run_until, upload};
-use crate::store::nor_double::NorDouble;
-use crate::testkit::{JOINTS, SyntheticGait};
 
 /// The bus side of the simulated wire with a copy of every byte the master sends and hears.
 #[derive(Debug, Clone)]
@@ -124,9 +122,7 @@ type TapBoard = SimBoardOn<Tap>;
 
 /// 22 virtual servos on a tapped wire at `baud`, Return Delay Time 0.
 fn rig(baud: u32, cycle_hz: u16) -> (TapBoard, SimWire, Tap) {
-    let chain = VirtualChain::drosophibot(JOINTS as u8, baud).unwrap();
-    let wire = SimWire::new(chain, WireConfig { baud, echo: true });
-    wire.with_chain(|c| c.set_return_delay_all(0));
+    let wire = wire(baud);
     let tap = Tap {
         wire: wire.clone(),
         sent: Rc::default(),
@@ -137,15 +133,7 @@ fn rig(baud: u32, cycle_hz: u16) -> (TapBoard, SimWire, Tap) {
         baud,
         ..Config::default()
     };
-    let board = Board::new(
-        NorDouble::new(128),
-        4,
-        config,
-        tap.clone(),
-        AutoDirection,
-        wire.clone(),
-        100,
-    );
+    let board = board_on(NorDouble::new(SECTORS), config, tap.clone(), &wire);
     (board, wire, tap)
 }
 
@@ -240,18 +228,12 @@ fn standing_then_streaming(baud: u32, cycle_hz: u16) -> (TapBoard, SimWire, Tap,
     let (mut board, wire, tap) = rig(baud, cycle_hz);
     let mut client = Client::new();
     let gait = SyntheticGait::new(100, 1.0);
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     upload(&mut board, &mut client, 0, &gait.build());
     // Boot again with the upload's joint map: all 22 found.
-    run_until(&mut board, &wire, 5, |b| {
-        b.controller.borrow().state() == State::Idle
-    });
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     play(&mut board, &mut client, protocol::Steps::Count(1));
-    run_until(&mut board, &wire, 2000, |b| {
-        b.controller.borrow().state() == State::Standing
-    });
+    run_until(&mut board, &wire, 2000, |s| s == State::Standing);
     let off = ask(&mut board, &mut client, Request::SetTelemetry { every: 0 });
     assert_eq!(off, Response::Ack);
     let enter = Request::EnterStreaming(StreamConfig {
