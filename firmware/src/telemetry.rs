@@ -7,19 +7,8 @@ use heapless::Deque;
 use crate::playback::MAX_JOINTS;
 use crate::safety::State;
 
-/// Per-joint flags of a record.
-pub mod flags {
-    /// No usable reply this cycle (timeout, CRC, malformed).
-    pub const NO_REPLY: u8 = 1 << 0;
-    /// The reply failed its CRC.
-    pub const CRC_ERROR: u8 = 1 << 1;
-    /// The goal was clamped to the joint's limits.
-    pub const CLAMPED: u8 = 1 << 2;
-    /// Torque is off.
-    pub const TORQUE_OFF: u8 = 1 << 3;
-    /// The servo's status carried the Alert bit (hardware error latched).
-    pub const ALERT: u8 = 1 << 4;
-}
+/// Per-joint flag bits: the protocol's own, so a record's flags go on the link as they are.
+pub use protocol::feedback_flags as flags;
 
 /// One joint in a record. Positions in servo ticks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -222,3 +222,41 @@ fn an_overloaded_servo_stops_the_walk_naming_it_and_a_reboot_of_that_servo_recov
         assert!(c.servos().iter().all(|s| !s.torque_enabled()));
     });
 }
+
+#[test]
+fn a_board_looking_for_its_servos_says_boot_and_refuses_to_move_until_idle() {
+    let (mut board, wire) = rig(1_000_000, 100);
+    let mut client = Client::new();
+    let table = SyntheticGait::new(100, 1.0).build();
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
+    upload(&mut board, &mut client, 0, &table);
+    // The upload brings a joint map with 22 servos: the board boots again to find them.
+    assert_eq!(firmware::testkit::rig::state(&board), State::Boot);
+    let Response::Status(s) = ask(&mut board, &mut client, Request::GetStatus) else {
+        panic!("GetStatus")
+    };
+    assert_eq!(
+        s.state,
+        protocol::RunState::Boot,
+        "reported as itself, not Idle"
+    );
+    let refused = ask(
+        &mut board,
+        &mut client,
+        Request::SetTorque {
+            servos: protocol::ServoSelect::All,
+            enable: true,
+        },
+    );
+    assert_eq!(
+        refused,
+        Response::Error(protocol::ProtocolError::WrongState {
+            state: protocol::RunState::Boot
+        })
+    );
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
+    let Response::Status(s) = ask(&mut board, &mut client, Request::GetStatus) else {
+        panic!("GetStatus")
+    };
+    assert_eq!(s.state, protocol::RunState::Idle);
+}

@@ -42,7 +42,8 @@ where
 #[test]
 fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 2: FaultKind::ServoStuck appended (no existing byte changed; see the crate's Versioning).
-    assert_eq!(PROTOCOL_VERSION, 2);
+    // 3: RunState::Boot appended (a board still looking for its servos no longer reads as Idle).
+    assert_eq!(PROTOCOL_VERSION, 3);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 

@@ -35,19 +35,8 @@ pub enum CommandError {
     Store(StoreError),
 }
 
-/// Which setting was out of range.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Setting {
-    CycleRate,
-    Baud,
-    PeriodScale,
-    Limits,
-    StepCount,
-    SetpointJoints,
-    StreamTimeout,
-    Stiffness,
-}
+/// Which setting was out of range: the protocol's own names.
+pub use protocol::Setting;
 
 impl From<StoreError> for CommandError {
     fn from(e: StoreError) -> Self {

@@ -4,18 +4,19 @@
 use embedded_storage::nor_flash::NorFlash;
 use protocol::{
     BusStats, DeviceMessage, Fault, FaultKind, JointFeedback, Proprioception, ProtocolError,
-    RunState, Setting as PSetting, Telemetry, UploadError, feedback_flags,
+    RunState, Telemetry, UploadError,
 };
 
-use crate::controller::{CommandError, Controller, Setting};
+use crate::controller::{CommandError, Controller};
 use crate::safety::{SafeReason, State};
 use crate::store::StoreError;
-use crate::telemetry::{Record, flags};
+use crate::telemetry::Record;
 
 /// The protocol's view of a state.
 pub fn run_state(s: State) -> RunState {
     match s {
-        State::Boot | State::Idle => RunState::Idle,
+        State::Boot => RunState::Boot,
+        State::Idle => RunState::Idle,
         State::Standing => RunState::Standing,
         State::Ramping => RunState::Ramping,
         State::Walking => RunState::Walking,
@@ -73,26 +74,13 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
 ) -> DeviceMessage {
     let mut joints = heapless::Vec::new();
     for (s, cal) in r.joints.iter().zip(c.joints()).take(r.joint_count.into()) {
-        let mut f = 0;
-        if s.flags & flags::NO_REPLY != 0 {
-            f |= feedback_flags::NO_REPLY;
-        }
-        if s.flags & flags::CRC_ERROR != 0 {
-            f |= feedback_flags::CRC_ERROR;
-        }
-        if s.flags & flags::CLAMPED != 0 {
-            f |= feedback_flags::CLAMPED;
-        }
-        if s.flags & flags::TORQUE_OFF != 0 {
-            f |= feedback_flags::TORQUE_OFF;
-        }
         let _ = joints.push(JointFeedback {
             commanded: cal.calibration.ticks_to_angle(s.commanded),
             present: cal.calibration.ticks_to_angle(s.present),
             velocity: velocity(s.velocity) * cal.calibration.sign.as_i32() as i16,
             load: s.load,
             error: s.error,
-            flags: f,
+            flags: s.flags,
         });
     }
     let bus = BusStats {
@@ -138,16 +126,7 @@ pub fn command_error(e: CommandError) -> ProtocolError {
         CommandError::NoSuchSlot { slot, slots } => ProtocolError::NoSuchSlot { slot, slots },
         CommandError::NoSuchJoint { joint, joints } => ProtocolError::NoSuchJoint { joint, joints },
         CommandError::OutOfRange { what, value } => ProtocolError::InvalidSetting {
-            setting: match what {
-                Setting::CycleRate => PSetting::CycleRate,
-                Setting::Baud => PSetting::Baud,
-                Setting::PeriodScale => PSetting::PeriodScale,
-                Setting::Limits => PSetting::Limits,
-                Setting::StepCount => PSetting::StepCount,
-                Setting::SetpointJoints => PSetting::SetpointJoints,
-                Setting::StreamTimeout => PSetting::StreamTimeout,
-                Setting::Stiffness => PSetting::Stiffness,
-            },
+            setting: what,
             value: value.clamp(i32::MIN.into(), i32::MAX.into()) as i32,
         },
         CommandError::Store(e) => store_error(e),

@@ -165,6 +165,24 @@ fn estop_drops_torque_on_every_servo_at_once() {
     assert_eq!(b.status().unwrap().state, RunState::Idle);
 }
 
+#[test]
+fn torque_on_right_after_an_upload_waits_for_the_board_to_find_its_servos() {
+    // The upload brings a joint map, so the board boots again (RunState::Boot) and refuses
+    // SetTorque until it has found the 22 servos: the host waits that out instead of failing
+    // with "not allowed in state ...".
+    let mut b = board();
+    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
+        .unwrap();
+    assert_eq!(b.status().unwrap().state, RunState::Boot);
+    b.set_torque(protocol::ServoSelect::All, true).unwrap();
+    assert_eq!(b.status().unwrap().state, RunState::Standing);
+    b.wait(Duration::from_millis(50)).unwrap();
+    b.transport().robot().with_chain(|c| {
+        assert_eq!(c.servos().len(), 22);
+        assert!(c.servos().iter().all(|s| s.torque_enabled()));
+    });
+}
+
 /// A board that answers every request with `answer(seq)` (or never, with `None`), on a clock that
 /// moves by the timeout each time the client waits in vain.
 #[derive(Debug)]

@@ -22,6 +22,9 @@ pub enum RunState {
     Streaming,
     /// Stopped by a fault (see [`Status::fault`]) until `ClearFault`.
     Fault,
+    /// Starting up: pinging the servos of the stored joint map and reading the gait store; Idle
+    /// follows within a few bus cycles. (Last, so the older states keep their wire indices.)
+    Boot,
 }
 
 /// Where playback is.

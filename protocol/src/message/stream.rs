@@ -33,6 +33,8 @@ pub mod feedback_flags {
     pub const CLAMPED: u8 = 1 << 2;
     /// Torque is off.
     pub const TORQUE_OFF: u8 = 1 << 3;
+    /// The servo's status carried the Alert bit: a hardware error is latched (`GetStatus` names it).
+    pub const ALERT: u8 = 1 << 4;
 }
 
 /// One joint's state in one bus cycle.

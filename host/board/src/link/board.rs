@@ -20,7 +20,7 @@ use super::version::{ForeignInfo, device_info_prefix};
 /// per chunk) stays well below it.
 pub const DEFAULT_REPLY_TIMEOUT: Duration = Duration::from_secs(2);
 
-/// How long [`Board::play`] waits for a board that is still looking for its servos.
+/// How long a request waits for a board that is still booting (looking for its servos).
 pub const BOOT_WAIT: Duration = Duration::from_secs(1);
 
 /// Telemetry records kept while nobody reads them; older ones are dropped (and counted).
@@ -141,10 +141,25 @@ impl<T: Transport> Board<T> {
         self.request(&request.into())
     }
 
-    /// Sends `request` and returns the reply's value of type `R`.
+    /// Sends `request` and returns the reply's value of type `R`. A board still booting (it has
+    /// just started, or just taken a gait with other servos, and is looking for them) refuses
+    /// what needs the servos: such a request is retried for up to [`BOOT_WAIT`] on the
+    /// transport's clock before the board's refusal is returned.
     pub fn request<R: Reply>(&mut self, request: &Request) -> Result<R, LinkError> {
         let name = request_name(request);
-        let response = self.request_response(request)?;
+        let give_up = self.transport.now() + BOOT_WAIT;
+        let response = loop {
+            match self.request_response(request) {
+                Err(LinkError::Device {
+                    error:
+                        ProtocolError::WrongState {
+                            state: RunState::Boot,
+                        },
+                    ..
+                }) if self.transport.now() < give_up => self.wait(Duration::from_millis(50))?,
+                r => break r?,
+            }
+        };
         let got = format!("{response:?}");
         R::from_response(response).ok_or_else(|| LinkError::Unexpected {
             port: self.port().to_owned(),
@@ -246,23 +261,9 @@ impl<T: Transport> Board<T> {
         Ok(slots.into_iter().collect())
     }
 
-    /// Starts playback. A board that has just taken a gait with other servos first looks for
-    /// them (it reports `Idle` meanwhile and refuses `Play`): this retries for up to
-    /// [`BOOT_WAIT`] on the transport's clock before giving up with the board's refusal.
+    /// Starts playback.
     pub fn play(&mut self, command: PlayCommand) -> Result<(), LinkError> {
-        let give_up = self.transport.now() + BOOT_WAIT;
-        loop {
-            match self.call(command) {
-                Err(LinkError::Device {
-                    error:
-                        ProtocolError::WrongState {
-                            state: RunState::Idle,
-                        },
-                    ..
-                }) if self.transport.now() < give_up => self.wait(Duration::from_millis(50))?,
-                r => return r,
-            }
-        }
+        self.call(command)
     }
 
     /// Lets `duration` pass on the transport's clock, keeping telemetry that arrives.

@@ -14,6 +14,7 @@ pub fn state_name(s: RunState) -> &'static str {
         RunState::Stopping => "Stopping (at the end of the step)",
         RunState::Streaming => "Streaming",
         RunState::Fault => "Fault (torque off)",
+        RunState::Boot => "Boot (finding the servos, reading the gait store)",
         // `RunState` is `#[non_exhaustive]`: a newer firmware may report a state this dbot
         // does not know.
         _ => "unknown (a state this dbot does not know: newer firmware?)",
@@ -89,6 +90,10 @@ mod tests {
             (RunState::Stopping, "Stopping (at the end of the step)"),
             (RunState::Streaming, "Streaming"),
             (RunState::Fault, "Fault (torque off)"),
+            (
+                RunState::Boot,
+                "Boot (finding the servos, reading the gait store)",
+            ),
         ];
         for (s, name) in want {
             assert_eq!(state_name(s), name);
