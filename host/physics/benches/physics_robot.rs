@@ -13,7 +13,7 @@ use nix::time::{ClockId, clock_gettime};
 use physics::{PhysicsRobot, PhysicsTransport, Plant};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
-use planner::model::{MjcfOptions, builtin};
+use planner::model::builtin;
 use protocol::{Direction, PlayCommand, Steps};
 
 const CYCLES: u32 = 8;
@@ -36,7 +36,7 @@ fn main() {
     let cycle = solve_cycle(&model, &plan_inputs(&plan), &DynamicsOptions::default()).unwrap();
     let torques = planner::dynamics::output::torque_rows(&cycle);
     let table = planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap();
-    let options = MjcfOptions::stance(&model, "flat").unwrap();
+    let options = PhysicsRobot::options(&model, "flat").unwrap();
 
     let mut full = Vec::new();
     let mut sim_s = 0.0;

@@ -16,5 +16,5 @@ mod transport;
 pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
-pub use robot::PhysicsRobot;
+pub use robot::{PhysicsRobot, TIMESTEP_S};
 pub use transport::{PhysicsTransport, register_port};

@@ -16,6 +16,11 @@ use crate::figures::{Figures, Monitor};
 use crate::plant::Plant;
 use crate::servo;
 
+/// The physics robot's MuJoCo timestep, s: 1 ms, twice the MJCF export's default, for speed (the
+/// contact's 2 ms time constant is still two steps). Halving it changes the walk's figures by
+/// less than the bounds of tests/walk_figures.rs.
+pub const TIMESTEP_S: f64 = 0.001;
+
 /// A simulated board with a simulated body.
 #[derive(Debug)]
 pub struct PhysicsRobot {
@@ -35,14 +40,22 @@ impl PhysicsRobot {
         Self::new(&model, scene)
     }
 
-    /// `model` on `scene`, standing in the planner's resting posture, its servos switched off.
+    /// `model` on `scene`, standing in the planner's resting posture, its servos switched off,
+    /// stepped at [`TIMESTEP_S`].
     pub fn new(model: &Model, scene: &str) -> Result<Self, PhysicsError> {
-        let options = MjcfOptions::stance(model, scene).map_err(|source| PhysicsError::Scene {
-            model: model.name.clone(),
-            scene: scene.to_owned(),
-            source,
-        })?;
-        Self::with_options(model, &options, scene)
+        Self::with_options(model, &Self::options(model, scene)?, scene)
+    }
+
+    /// The MJCF options [`Self::new`] uses: the planner's stance on `scene`, at [`TIMESTEP_S`].
+    pub fn options(model: &Model, scene: &str) -> Result<MjcfOptions, PhysicsError> {
+        let mut options =
+            MjcfOptions::stance(model, scene).map_err(|source| PhysicsError::Scene {
+                model: model.name.clone(),
+                scene: scene.to_owned(),
+                source,
+            })?;
+        options.timestep_s = TIMESTEP_S;
+        Ok(options)
     }
 
     /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it in messages.
