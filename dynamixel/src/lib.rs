@@ -4,6 +4,7 @@
 //!
 //! - [`encode`] / [`parser`]: packets with CRC and byte stuffing; a streaming, resynchronising parser.
 //! - [`master`]: [`master::BusMaster`] over `embedded_io_async` + [`master::DirectionPin`] + [`master::Clock`].
+//! - [`model`]: [`ServoModel`], each servo model's constants in one place.
 //! - [`control_table`], [`units`]: register map and SI conversions (torque ones are estimates).
 //! - [`sim`] (feature `std`): [`sim::VirtualChain`] and [`sim::SimWire`] on a simulated clock.
 //!
@@ -35,8 +36,11 @@ pub mod crc;
 pub mod encode;
 pub mod instruction;
 pub mod master;
+pub mod model;
 pub mod parser;
 pub mod units;
+
+pub use model::ServoModel;
 
 #[cfg(feature = "std")]
 pub mod sim;

@@ -1,12 +1,14 @@
-//! Unit conversions between servo registers and SI: positions (ticks <-> rad with a per-joint
-//! zero offset and direction), velocity, and load/current -> torque. The torque conversions and
+//! Unit conversions between servo registers and SI: velocity and load/current -> torque. (Joint
+//! angle <-> ticks, with the joint's zero and direction, is `protocol::Calibration`; the model's
+//! constants are [`ServoModel`]'s.) The torque conversions and
 //! the stiffness of the P controller are ESTIMATES: ROBOTIS publishes no current-to-torque or
 //! gain-to-stiffness model, only performance graphs.
 
-use crate::control_table::Model;
+use crate::model::ServoModel;
 use core::f32::consts::TAU;
 
-/// Encoder ticks per revolution (0.088 deg per tick).
+/// Encoder ticks per revolution of every MX(2.0) model (0.088 deg per tick; per model:
+/// [`ServoModel::ticks_per_rev`]).
 pub const TICKS_PER_REV: i32 = 4096;
 /// Radians per tick.
 pub const RAD_PER_TICK: f32 = TAU / TICKS_PER_REV as f32;
@@ -28,50 +30,9 @@ fn round_i32(x: f32) -> i32 {
     }
 }
 
-/// Where a joint's zero is on the servo and which way is positive.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct JointCalibration {
-    /// Servo position (ticks) at joint angle 0.
-    pub zero_ticks: i32,
-    /// True when a positive joint angle is a decreasing tick count.
-    pub reversed: bool,
-}
-
-impl Default for JointCalibration {
-    /// Zero at the middle of the range (2048), same direction.
-    fn default() -> Self {
-        Self {
-            zero_ticks: TICKS_PER_REV / 2,
-            reversed: false,
-        }
-    }
-}
-
-impl JointCalibration {
-    fn sign(self) -> f32 {
-        if self.reversed { -1.0 } else { 1.0 }
-    }
-
-    /// Joint angle in rad of a servo position in ticks.
-    pub fn ticks_to_rad(self, ticks: i32) -> f32 {
-        self.sign() * (ticks - self.zero_ticks) as f32 * RAD_PER_TICK
-    }
-
-    /// Servo position in ticks (nearest) of a joint angle in rad.
-    pub fn rad_to_ticks(self, rad: f32) -> i32 {
-        self.zero_ticks + round_i32(self.sign() * rad / RAD_PER_TICK)
-    }
-
-    /// Joint velocity in rad/s of a Present Velocity value.
-    pub fn velocity_to_rad_s(self, raw: i32) -> f32 {
-        self.sign() * raw as f32 * RAD_S_PER_VELOCITY_UNIT
-    }
-
-    /// Joint torque in N m (ESTIMATE, see [`load_to_torque_nm`]) in the joint's direction.
-    pub fn load_to_torque_nm(self, model: Model, raw: i16) -> f32 {
-        self.sign() * load_to_torque_nm(model, raw)
-    }
+/// Joint velocity in rad/s of a Present Velocity value (servo direction).
+pub fn velocity_to_rad_s(raw: i32) -> f32 {
+    raw as f32 * RAD_S_PER_VELOCITY_UNIT
 }
 
 /// Servo output torque in N m from register 126 (ESTIMATE). MX-28: Present Load is 0.1 % of
@@ -79,47 +40,43 @@ impl JointCalibration {
 /// MX-64: Present Current (3.36 mA/unit) times the stall torque/stall current ratio
 /// (6.0 N m / 4.1 A = 1.46 N m/A), a linear model through the origin that ignores no-load current
 /// and friction. Positive means the servo pushes toward increasing ticks.
-pub fn load_to_torque_nm(model: Model, raw: i16) -> f32 {
+pub fn load_to_torque_nm(model: ServoModel, raw: i16) -> f32 {
     match model {
-        Model::Mx28V2 => raw as f32 * 0.001 * model.stall_torque_nm(),
-        Model::Mx64V2 => {
+        ServoModel::Mx28 => raw as f32 * 0.001 * model.stall_torque_nm(),
+        ServoModel::Mx64 => {
             raw as f32 * CURRENT_UNIT_MA * 0.001 * model.stall_torque_nm() / model.stall_current_a()
         }
     }
 }
 
 /// The same ESTIMATE in integer mN m for the firmware (no float on the hot path).
-pub fn load_to_torque_mnm(model: Model, raw: i16) -> i32 {
+pub fn load_to_torque_mnm(model: ServoModel, raw: i16) -> i32 {
     let raw = raw as i32;
     match model {
         // raw * 0.1 % * 2500 mN m
-        Model::Mx28V2 => raw * 5 / 2,
+        ServoModel::Mx28 => raw * 5 / 2,
         // raw * 3.36 mA * 6000 mN m / 4100 mA
-        Model::Mx64V2 => raw * 20_160 / 4_100,
+        ServoModel::Mx64 => raw * 20_160 / 4_100,
     }
 }
 
 /// Register 126 value the servo would report for an output torque in N m (inverse of
 /// [`load_to_torque_nm`], same ESTIMATE; clamped to +-1000 for the MX-28's load).
-pub fn torque_to_load(model: Model, torque_nm: f32) -> i16 {
+pub fn torque_to_load(model: ServoModel, torque_nm: f32) -> i16 {
     match model {
-        Model::Mx28V2 => {
+        ServoModel::Mx28 => {
             round_i32(torque_nm / model.stall_torque_nm() * 1000.0).clamp(-1000, 1000) as i16
         }
-        Model::Mx64V2 => {
+        ServoModel::Mx64 => {
             let ma = torque_nm * model.stall_current_a() / model.stall_torque_nm() * 1000.0;
             round_i32(ma / CURRENT_UNIT_MA).clamp(i16::MIN as i32, i16::MAX as i32) as i16
         }
     }
 }
 
-/// Position-loop stiffness in N m/rad for a Position P Gain register value (ESTIMATE).
-///
-/// The e-manual gives Kp = P / 128 acting on the position error in ticks and producing PWM
-/// (885 = 100 %). Assuming torque proportional to PWM up to the stall torque (no back-EMF, no
-/// friction, i.e. a servo holding still), k = (P/128) / 885 * stall torque * 4096 / (2 pi).
-/// Default P = 850 gives about 12.2 N m/rad for the MX-28 (the original solver used 8.4) and
-/// 29.4 N m/rad for the MX-64.
-pub fn stiffness_nm_per_rad(model: Model, p_gain: u16) -> f32 {
-    (p_gain as f32 / 128.0) / PWM_FULL_SCALE * model.stall_torque_nm() / RAD_PER_TICK
+/// Position-loop stiffness in N m/rad for a Position P Gain register value (ESTIMATE, see
+/// [`ServoModel::stiffness_per_p_gain`]). Default P = 850 gives about 12.2 N m/rad for the MX-28
+/// (the original solver used 8.4) and 29.4 N m/rad for the MX-64.
+pub fn stiffness_nm_per_rad(model: ServoModel, p_gain: u16) -> f32 {
+    p_gain as f32 * model.stiffness_per_p_gain()
 }

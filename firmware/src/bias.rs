@@ -2,11 +2,10 @@
 //! planned torque, it ends at the planned angle. A servo's P controller acts as a spring of stiffness
 //! k, so goal = angle + torque / k, then into ticks with the joint's zero offset and sign, clamped to
 //! the joint's limits. Units: angles in microradians, torques in mN m, stiffness in mN m / rad.
+//! Angle -> ticks is the protocol's [`Calibration`], the same converter the host builds tables with.
 
-/// Servo ticks per revolution (MX-28 / MX-64 2.0).
-pub const TICKS_PER_REV: i64 = 4096;
-/// 2 pi x 1e9, rounded (relative error 5e-11): ticks = urad x 4096 x 1000 / this.
-const TWO_PI_NANO: i64 = 6_283_185_307;
+use protocol::Calibration;
+use protocol::units::div_round;
 
 /// Where a joint's servo sits and how far it may go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,25 +13,12 @@ const TWO_PI_NANO: i64 = 6_283_185_307;
 pub struct JointCal {
     /// Dynamixel ID.
     pub id: u8,
-    /// Servo ticks at joint angle 0.
-    pub zero_ticks: i32,
-    /// +1 if the servo turns with the joint angle, -1 if against it.
-    pub sign: i8,
+    /// Angle <-> ticks (zero, direction, ticks per turn).
+    pub calibration: Calibration,
     /// Lowest allowed goal, in ticks.
     pub min_ticks: i32,
     /// Highest allowed goal, in ticks.
     pub max_ticks: i32,
-}
-
-/// Integer division rounding half away from zero.
-fn div_round(n: i64, d: i64) -> i64 {
-    let q = n / d;
-    let r = n % d;
-    if 2 * r.abs() >= d.abs() {
-        q + if (n < 0) == (d < 0) { 1 } else { -1 }
-    } else {
-        q
-    }
 }
 
 /// Bias angle torque / k in microradians; no bias when `stiffness` is 0 (bias switched off).
@@ -41,20 +27,6 @@ pub fn bias_urad(torque_mnm: i32, stiffness_mnm_per_rad: u32) -> i64 {
         return 0;
     }
     div_round(torque_mnm as i64 * 1_000_000, stiffness_mnm_per_rad as i64)
-}
-
-/// A joint angle (microradians) in servo ticks relative to the joint's zero, unclamped.
-pub fn urad_to_ticks(urad: i64) -> i64 {
-    // ticks = urad * 4096 / (2 pi 1e6) = urad * 4096 * 1000 / (2 pi 1e9).
-    div_round(
-        urad.clamp(-1 << 40, 1 << 40) * TICKS_PER_REV * 1000,
-        TWO_PI_NANO,
-    )
-}
-
-/// Servo ticks back to a joint angle in microradians (inverse of the above, for telemetry).
-pub fn ticks_to_urad(ticks: i64) -> i64 {
-    div_round(ticks * TWO_PI_NANO, TICKS_PER_REV * 1000)
 }
 
 /// Goal position in ticks for the planned `angle_urad` and `torque_mnm` at `stiffness`, clamped to
@@ -66,7 +38,7 @@ pub fn goal_ticks(
     stiffness_mnm_per_rad: u32,
 ) -> (i32, bool) {
     let joint = angle_urad as i64 + bias_urad(torque_mnm, stiffness_mnm_per_rad);
-    let ticks = cal.zero_ticks as i64 + cal.sign.signum() as i64 * urad_to_ticks(joint);
+    let ticks = cal.calibration.goal_of_urad(joint);
     let clamped = ticks.clamp(cal.min_ticks as i64, cal.max_ticks as i64);
     (clamped as i32, clamped != ticks)
 }
@@ -74,6 +46,16 @@ pub fn goal_ticks(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use protocol::{ServoModel, Sign};
+
+    fn calibration(zero_ticks: i32, sign: i8) -> Calibration {
+        let sign = if sign < 0 {
+            Sign::Negative
+        } else {
+            Sign::Positive
+        };
+        Calibration::new(ServoModel::Mx28, zero_ticks, sign)
+    }
 
     /// The same formula in f64, written from the physics: theta + tau / k, in revolutions x 4096.
     /// Unclamped goal in ticks.
@@ -84,8 +66,9 @@ mod tests {
         } else {
             (torque_mnm as f64 * 1e-3) / (k as f64 * 1e-3)
         };
-        cal.zero_ticks as f64
-            + cal.sign as f64 * (theta + bias) * 4096.0 / (2.0 * std::f64::consts::PI)
+        cal.calibration.zero_ticks as f64
+            + cal.calibration.sign.as_i32() as f64 * (theta + bias) * 4096.0
+                / (2.0 * std::f64::consts::PI)
     }
 
     /// xorshift64*: deterministic random inputs without a dependency.
@@ -106,8 +89,7 @@ mod tests {
     fn hand_calculated_cases() {
         let cal = JointCal {
             id: 1,
-            zero_ticks: 2048,
-            sign: 1,
+            calibration: calibration(2048, 1),
             min_ticks: 0,
             max_ticks: 4095,
         };
@@ -116,7 +98,10 @@ mod tests {
         // 0.84 N m on an 8.4 N m/rad spring deflects 0.1 rad = 65.19 ticks -> 65.
         assert_eq!(goal_ticks(&cal, 0, 840, 8400), (2048 + 65, false));
         // Reversed servo, negative torque: -(-0.1 rad) = +65 ticks.
-        let rev = JointCal { sign: -1, ..cal };
+        let rev = JointCal {
+            calibration: calibration(2048, -1),
+            ..cal
+        };
         assert_eq!(goal_ticks(&rev, 0, -840, 8400), (2048 + 65, false));
         // Stiffness 0 switches the bias off.
         assert_eq!(goal_ticks(&cal, 0, 840, 0), (2048, false));
@@ -134,8 +119,10 @@ mod tests {
             let min = rng.range(0, 2047) as i32;
             let cal = JointCal {
                 id: 1,
-                zero_ticks: rng.range(0, 4095) as i32,
-                sign: if rng.next() & 1 == 0 { 1 } else { -1 },
+                calibration: calibration(
+                    rng.range(0, 4095) as i32,
+                    if rng.next() & 1 == 0 { 1 } else { -1 },
+                ),
                 min_ticks: min,
                 max_ticks: min + rng.range(1, 2048) as i32,
             };
@@ -180,10 +167,11 @@ mod tests {
 
     #[test]
     fn ticks_and_microradians_round_trip_within_half_a_tick() {
+        let c = calibration(0, 1);
         for t in [-4096i64, -1, 0, 1, 1024, 2048, 4095] {
-            assert_eq!(urad_to_ticks(ticks_to_urad(t)), t);
+            assert_eq!(c.urad_to_ticks(c.ticks_to_urad(t)), t);
         }
         // 1 tick = 2 pi / 4096 rad = 1533.98 urad.
-        assert_eq!(ticks_to_urad(1), 1534);
+        assert_eq!(c.ticks_to_urad(1), 1534);
     }
 }

@@ -188,12 +188,10 @@ where
 
 #[cfg(test)]
 mod tests {
-    use core::future::Future;
-    use core::pin::pin;
-    use core::task::{Context, Poll, Waker};
     use std::cell::Cell;
 
     use dynamixel::master::{AutoDirection, MasterConfig};
+    use embassy_futures::block_on;
 
     use super::*;
     use crate::controller::Config;
@@ -233,16 +231,6 @@ mod tests {
         }
         async fn flush(&mut self) -> Result<(), Self::Error> {
             Ok(())
-        }
-    }
-
-    fn block_on<F: Future>(f: F) -> F::Output {
-        let mut f = pin!(f);
-        let mut cx = Context::from_waker(Waker::noop());
-        loop {
-            if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
-                return v;
-            }
         }
     }
 

@@ -10,7 +10,7 @@ use crate::bias::JointCal;
 use crate::playback::{Gait, MAX_JOINTS};
 
 /// Micro-radians per protocol angle unit (1e-4 rad).
-pub const URAD_PER_ANGLE_UNIT: i32 = 100;
+pub use protocol::calibration::URAD_PER_ANGLE_UNIT;
 
 /// Shape of a checked table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,12 +42,12 @@ pub fn check(bytes: &[u8]) -> Result<Checked, TableError> {
     for (j, k) in stiffness.iter_mut().enumerate().take(layout.joints) {
         let Some(m) = t.joint(j) else { break };
         // A reversed servo turns the angle limits around in ticks.
-        let a = m.angle_to_ticks(m.min.into());
-        let b = m.angle_to_ticks(m.max.into());
+        let calibration = m.calibration();
+        let a = calibration.angle_to_ticks(m.min.into());
+        let b = calibration.angle_to_ticks(m.max.into());
         let cal = JointCal {
             id: m.servo_id,
-            zero_ticks: m.zero_offset.into(),
-            sign: m.sign.as_i32() as i8,
+            calibration,
             min_ticks: a.min(b),
             max_ticks: a.max(b),
         };

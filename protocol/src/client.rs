@@ -3,6 +3,7 @@
 
 use core::fmt;
 
+use crate::endpoint::{ChunkAccepted, Committed};
 use crate::frame::{FrameError, encode_frame};
 use crate::message::{
     DeviceInfo, DeviceMessage, HostMessage, Request, Response, Settings, SlotInfo, Status,
@@ -109,10 +110,56 @@ impl Reply for Response {
     }
 }
 
+/// A value the board sends back as a [`Response`] (the inverse of [`Reply`]).
+pub trait IntoResponse {
+    fn into_response(self) -> Response;
+}
+
 /// `Response::Ack`.
 impl Reply for () {
     fn from_response(response: Response) -> Option<Self> {
         matches!(response, Response::Ack).then_some(())
+    }
+}
+
+impl IntoResponse for () {
+    fn into_response(self) -> Response {
+        Response::Ack
+    }
+}
+
+impl Reply for ChunkAccepted {
+    fn from_response(response: Response) -> Option<Self> {
+        match response {
+            Response::ChunkAccepted { received } => Some(Self { received }),
+            _ => None,
+        }
+    }
+}
+
+impl IntoResponse for ChunkAccepted {
+    fn into_response(self) -> Response {
+        Response::ChunkAccepted {
+            received: self.received,
+        }
+    }
+}
+
+impl Reply for Committed {
+    fn from_response(response: Response) -> Option<Self> {
+        match response {
+            Response::Committed { slot, crc } => Some(Self { slot, crc }),
+            _ => None,
+        }
+    }
+}
+
+impl IntoResponse for Committed {
+    fn into_response(self) -> Response {
+        Response::Committed {
+            slot: self.slot,
+            crc: self.crc,
+        }
     }
 }
 
@@ -124,6 +171,11 @@ macro_rules! reply_variant {
                     Response::$variant(v) => Some(v),
                     _ => None,
                 }
+            }
+        }
+        impl IntoResponse for $ty {
+            fn into_response(self) -> Response {
+                Response::$variant(self)
             }
         }
     };

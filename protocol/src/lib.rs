@@ -68,7 +68,8 @@
 //! This project needs CDC-ACM (the board shows up as a serial port, the emulator bridges it to a
 //! pseudo-terminal, `dbot --port` works the same for both), a frame layout that can be derived by hand
 //! for the golden tests, and no second dependency pinned to a particular embassy-usb. So the protocol is
-//! two enums and a frame codec; the firmware matches on [`Request`] and the host uses [`Client`].
+//! two enums and a frame codec; the firmware implements [`endpoint::Handler`] (one typed method per request, reached through
+//! [`endpoint::dispatch`]) and the host calls [`endpoint`]'s typed requests through [`Client`].
 //!
 //! # Units (fixed point on the device)
 //!
@@ -84,10 +85,11 @@
 //! | load / current (feedback) | `i16` | raw register 126: MX-28 0.1 % of max load, MX-64 about 3.36 mA | |
 //!
 //! Angles are in the joint frame (the planner's angle); a servo's goal is
-//! `zero_offset + sign * angle * 4096 / 2 pi` ticks ([`JointMap::angle_to_ticks`]). The torque bias of
-//! the firmware is `angle + torque / stiffness` (mN m over mN m/rad gives rad), in these units
-//! `angle + torque * 10_000 / stiffness` 1e-4 rad, computed in `i32` (|torque| * 10 000 < 2^31)
-//! and clamped to the joint limits before the tick conversion.
+//! `zero_offset + sign * angle * 4096 / 2 pi` ticks, computed by [`Calibration`] (the one angle <->
+//! ticks converter, shared by the table's [`JointMap::angle_to_ticks`], the firmware and the host).
+//! The firmware's torque bias is `angle + torque / stiffness` (mN m over mN m/rad gives rad),
+//! computed in microradians in `i64` (`firmware::bias`), turned into ticks by the same
+//! [`Calibration`] and clamped to the joint's limits in ticks.
 //!
 //! # Versioning
 //!
@@ -102,8 +104,10 @@
 
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod calibration;
 pub mod client;
 pub mod crc32;
+pub mod endpoint;
 pub mod frame;
 pub mod gait;
 pub mod limits;
@@ -111,7 +115,9 @@ pub mod message;
 pub mod units;
 pub mod upload;
 
+pub use calibration::Calibration;
 pub use client::{Client, ReplyError};
+pub use endpoint::Endpoint;
 pub use frame::{FrameAccumulator, FrameError, decode_message, encode_frame};
 #[cfg(feature = "std")]
 pub use gait::{BuildError, GaitTableBuilder, JointSpec};

@@ -4,9 +4,10 @@
 //! pseudo-terminal server of `dbot sim-bus` put these on a timeline.
 
 use super::servo::{Faults, VirtualServo};
-use crate::control_table::{self as ct, Model};
+use crate::control_table as ct;
 use crate::encode;
 use crate::instruction::{BROADCAST_ID, Instruction, StatusError};
+use crate::model::ServoModel;
 use crate::parser::Frame;
 
 /// One status packet a servo sends (or would send, if it has the no-reply fault).
@@ -47,7 +48,7 @@ pub const DROSOPHIBOT_CTR_IDS: [u8; 6] = [3, 6, 9, 14, 17, 20];
 
 impl VirtualChain {
     /// Servos `(id, model)` at factory defaults except the baud, resting at 2048 ticks.
-    pub fn new(servos: &[(u8, Model)], baud: u32) -> Result<Self, ChainError> {
+    pub fn new(servos: &[(u8, ServoModel)], baud: u32) -> Result<Self, ChainError> {
         let code = ct::baud_code(baud).ok_or(ChainError::UnsupportedBaud { baud })?;
         let mut out: Vec<VirtualServo> = Vec::with_capacity(servos.len());
         for &(id, model) in servos {
@@ -61,14 +62,14 @@ impl VirtualChain {
 
     /// `n` servos with IDs 1..=n; IDs in [`DROSOPHIBOT_CTR_IDS`] are MX-64(2.0), others MX-28(2.0).
     pub fn drosophibot(n: u8, baud: u32) -> Result<Self, ChainError> {
-        let list: Vec<(u8, Model)> = (1..=n)
+        let list: Vec<(u8, ServoModel)> = (1..=n)
             .map(|id| {
                 (
                     id,
                     if DROSOPHIBOT_CTR_IDS.contains(&id) {
-                        Model::Mx64V2
+                        ServoModel::Mx64
                     } else {
-                        Model::Mx28V2
+                        ServoModel::Mx28
                     },
                 )
             })

@@ -13,7 +13,7 @@
 //! - Torque off: d = 0, the output is back-driven through the motor's back-EMF.
 //! - Stuck: omega = 0 and the motor delivers tau_stall * d (what a stalled motor does).
 
-use crate::control_table::Model;
+use crate::model::ServoModel;
 use crate::units::{PWM_FULL_SCALE, RAD_PER_TICK};
 
 /// Motor state of one servo, SI units, angle measured from tick 0.
@@ -30,7 +30,7 @@ pub struct MotorState {
 /// Inputs of one integration step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotorInput {
-    pub model: Model,
+    pub model: ServoModel,
     pub torque_on: bool,
     pub goal_ticks: i32,
     pub p_gain: u16,

@@ -2,8 +2,9 @@
 //! model of [`super::physics`], and the faults a test can switch on.
 
 use super::physics::{self, MotorInput, MotorState};
-use crate::control_table::{self as ct, Field, Model, hardware_error};
+use crate::control_table::{self as ct, Field, hardware_error};
 use crate::instruction::StatusError;
+use crate::model::ServoModel;
 use crate::units::{self, RAD_PER_TICK, RAD_S_PER_VELOCITY_UNIT};
 
 /// Size of the modelled control table (through Present Temperature at 146; indirect addressing
@@ -31,7 +32,7 @@ pub struct Faults {
 /// A virtual servo.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VirtualServo {
-    model: Model,
+    model: ServoModel,
     mem: [u8; TABLE_SIZE],
     motor: MotorState,
     /// External load torque at the output in N m (positive toward increasing ticks), e.g. the
@@ -45,7 +46,7 @@ pub struct VirtualServo {
 
 impl VirtualServo {
     /// A servo with factory defaults except `id` and `baud_code`, resting at `position` ticks.
-    pub fn new(id: u8, model: Model, baud_code: u8, position: i32) -> Self {
+    pub fn new(id: u8, model: ServoModel, baud_code: u8, position: i32) -> Self {
         let mut s = Self {
             model,
             mem: [0; TABLE_SIZE],
@@ -80,7 +81,8 @@ impl VirtualServo {
         self.put(ct::MAX_VOLTAGE_LIMIT, 160);
         self.put(ct::MIN_VOLTAGE_LIMIT, 95);
         self.put(ct::PWM_LIMIT, 885);
-        if self.model == Model::Mx64V2 {
+        // Current Limit exists only where register 126 is a current (MX-64).
+        if self.model.reports_current() {
             self.put(ct::CURRENT_LIMIT, 1941);
         }
         self.put(ct::ACCELERATION_LIMIT, 32767);
@@ -103,7 +105,7 @@ impl VirtualServo {
         self.put(ct::PRESENT_TEMPERATURE, 36);
     }
 
-    pub fn model(&self) -> Model {
+    pub fn model(&self) -> ServoModel {
         self.model
     }
 

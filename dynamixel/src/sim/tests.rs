@@ -126,7 +126,7 @@ fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
 #[test]
 fn an_external_plant_sets_what_the_servo_reports_and_its_own_motor_stays_still() {
     use crate::control_table as ct;
-    let mut s = super::VirtualServo::new(1, crate::control_table::Model::Mx28V2, 3, 1000);
+    let mut s = super::VirtualServo::new(1, crate::ServoModel::Mx28, 3, 1000);
     s.external_plant = true;
     s.put(ct::TORQUE_ENABLE, 1);
     s.put(ct::GOAL_POSITION, 3000);

@@ -172,7 +172,13 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let mut clock = PlayClock::new(sel.layout.period_us, p.direction, p.steps);
         clock.set_scale(p.period_scale.into());
         self.play = Some(clock);
+        self.host_quiet = 0;
         self.apply(Event::Start)
+    }
+
+    /// The host was heard from (any frame): restarts the host-loss count of an endless run.
+    pub fn host_contact(&mut self) {
+        self.host_quiet = 0;
     }
 
     /// Stops at the end of the current step.

@@ -159,7 +159,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         }
         match self.state {
             State::Ramping => self.ramp_goals(dt),
-            State::Walking | State::Stopping => self.walk_goals(dt),
+            State::Walking => {
+                self.check_host();
+                self.walk_goals(dt);
+            }
+            State::Stopping => self.walk_goals(dt),
             State::Streaming => {
                 self.stream.age = self.stream.age.saturating_add(1);
                 if self.stream.age > self.stream.timeout_cycles {
@@ -170,6 +174,20 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             _ => {}
         }
         BusAction::Cycle
+    }
+
+    /// The host-loss rule: an endless run whose host has been silent for
+    /// `host_timeout_cycles` cycles stops at the end of the step (finite runs end by themselves).
+    fn check_host(&mut self) {
+        let limit = self.config.host_timeout_cycles;
+        let endless = self.play.as_ref().is_some_and(|p| p.endless());
+        if limit == 0 || !endless {
+            return;
+        }
+        self.host_quiet = self.host_quiet.saturating_add(1);
+        if self.host_quiet > limit && self.event(Event::Stop) {
+            self.counters.host_lost = self.counters.host_lost.wrapping_add(1);
+        }
     }
 
     fn ramp_goals(&mut self, dt: u32) {

@@ -45,6 +45,11 @@ pub struct Config {
     pub ramp_min_us: u32,
     /// Stuck-servo detection (no message sets it: the defaults are argued in [`StuckLimits`]).
     pub stuck: StuckLimits,
+    /// Host-loss rule for endless runs: bus cycles without any frame from the host after which an
+    /// endless run (`Steps::Continuous`) stops at the end of its step, as if `Stop` had come
+    /// (0 = no rule). A host that dies (`dbot run` killed) no longer leaves the robot walking.
+    /// Finite runs finish their steps and stop on their own, host or not.
+    pub host_timeout_cycles: u32,
 }
 
 impl Default for Config {
@@ -58,6 +63,8 @@ impl Default for Config {
             ramp_ticks_per_s: 400,
             ramp_min_us: 500_000,
             stuck: StuckLimits::default(),
+            // Off by default: the tests and the image set it (see `HOST_TIMEOUT_CYCLES`).
+            host_timeout_cycles: 0,
         }
     }
 }
@@ -74,6 +81,8 @@ pub struct Counters {
     pub timeouts: u32,
     /// Replies that came but were unusable: a failed CRC, or malformed (not the status asked for).
     pub crc_errors: u32,
+    /// Endless runs stopped because the host fell silent (`Config::host_timeout_cycles`).
+    pub host_lost: u32,
     /// Whole bus operations that failed (UART errors).
     pub bus_errors: u32,
     /// Goals clamped to a joint limit.
@@ -132,6 +141,8 @@ pub struct Controller<F> {
     hw_error_pending: Option<u8>,
     last_plan_us: Option<u64>,
     stream: cycle::Stream,
+    /// Bus cycles of an endless run since the host was last heard from.
+    host_quiet: u32,
     counters: Counters,
     telemetry: DropQueue<Record, TELEMETRY_QUEUE>,
     telemetry_countdown: u16,
@@ -167,6 +178,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             hw_error_pending: None,
             last_plan_us: None,
             stream: cycle::Stream::default(),
+            host_quiet: 0,
             counters: Counters::default(),
             telemetry: DropQueue::new(),
             telemetry_countdown: 0,

@@ -110,14 +110,18 @@ struct Rig {
 impl Rig {
     /// A board whose slot 0 holds the synthetic gait (100 slices, 1 s), booted at 100 Hz.
     fn new() -> Self {
+        Self::with_config(Config::default())
+    }
+
+    fn with_config(config: Config) -> Self {
         let gait = SyntheticGait::new(100, 1.0);
         let table = gait.build();
-        let mut c = Controller::new(Flash::new(64), 4, Config::default());
+        let mut c = Controller::new(Flash::new(64), 4, config);
         c.upload_begin(0, table.len() as u32).unwrap();
         c.upload_chunk(0, &table).unwrap();
         c.upload_commit(CRC32.checksum(&table)).unwrap();
         // Power cycle: the joint map comes from the stored table.
-        let c = Controller::new(c.into_flash(), 4, Config::default());
+        let c = Controller::new(c.into_flash(), 4, config);
         assert_eq!(c.joints().len(), JOINTS);
         Self {
             c,
@@ -711,4 +715,45 @@ fn a_jammed_servo_is_reported_at_the_end_of_the_first_whole_window_after_the_jam
         r.cycle();
         assert_eq!(r.c.state(), State::Walking);
     }
+}
+
+#[test]
+fn an_endless_run_without_its_host_stops_at_the_end_of_the_step() {
+    // 50 silent cycles (0.5 s at 100 Hz) allowed; the step is 100 cycles (1 s).
+    let mut r = Rig::with_config(Config {
+        host_timeout_cycles: 50,
+        ..Config::default()
+    });
+    r.cycle();
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    // A host that keeps talking keeps the robot walking: 3 steps with contact every 40 cycles.
+    for i in 0..300 {
+        if i % 40 == 0 {
+            r.c.host_contact();
+        }
+        r.cycle();
+        assert_eq!(r.c.state(), State::Walking, "cycle {i} with a live host");
+    }
+    // The host falls silent: the 51st silent cycle asks for a stop, which ends the step.
+    r.c.host_contact();
+    let n = r.cycles_until(60, |r| r.c.state() == State::Stopping);
+    assert_eq!(n, 51);
+    assert_eq!(r.c.counters().host_lost, 1);
+    r.cycles_until(200, |r| r.c.state() == State::Standing);
+    assert_eq!(r.c.play_clock().unwrap().phase_us(), 0, "never mid-step");
+}
+
+#[test]
+fn a_finite_run_finishes_its_steps_without_a_host() {
+    let mut r = Rig::with_config(Config {
+        host_timeout_cycles: 50,
+        ..Config::default()
+    });
+    r.cycle();
+    r.play(Some(3));
+    // Ramp plus 3 steps of 100 cycles, no host contact at all: all three steps are walked.
+    r.cycles_until(2000, |r| r.c.state() == State::Standing);
+    assert_eq!(r.c.play_clock().unwrap().steps_done(), 3);
+    assert_eq!(r.c.counters().host_lost, 0);
 }

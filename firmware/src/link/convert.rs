@@ -7,9 +7,7 @@ use protocol::{
     RunState, Setting as PSetting, Telemetry, UploadError, feedback_flags,
 };
 
-use crate::bias::{JointCal, ticks_to_urad, urad_to_ticks};
 use crate::controller::{CommandError, Controller, Setting};
-use crate::gait_view::URAD_PER_ANGLE_UNIT;
 use crate::safety::{SafeReason, State};
 use crate::store::StoreError;
 use crate::telemetry::{Record, flags};
@@ -51,22 +49,15 @@ pub fn fault(s: State) -> Option<Fault> {
         ),
         State::Safe(SafeReason::SetpointTimeout) => (FaultKind::SetpointTimeout, None),
         State::Safe(SafeReason::Watchdog) => (FaultKind::Watchdog, None),
-        _ => return None,
+        State::Boot
+        | State::Idle
+        | State::Standing
+        | State::Ramping
+        | State::Walking
+        | State::Stopping
+        | State::Streaming => return None,
     };
     Some(Fault { kind, joint })
-}
-
-/// Joint angle (1e-4 rad) of a servo position, wrapped to +-pi around the zero offset.
-pub fn ticks_to_angle(cal: &JointCal, ticks: i32) -> i16 {
-    let delta = (ticks.wrapping_sub(cal.zero_ticks) + 2048).rem_euclid(4096) - 2048;
-    let urad = ticks_to_urad(i64::from(cal.sign.signum()) * i64::from(delta));
-    (urad / i64::from(URAD_PER_ANGLE_UNIT)) as i16
-}
-
-/// Servo ticks of a joint angle (1e-4 rad), not clamped.
-pub fn angle_to_ticks(cal: &JointCal, angle: i16) -> i32 {
-    let t = urad_to_ticks(i64::from(angle) * i64::from(URAD_PER_ANGLE_UNIT));
-    cal.zero_ticks + i32::from(cal.sign.signum()) * t as i32
 }
 
 /// Present Velocity (0.229 rev/min) in 1e-3 rad/s: x 0.229 x 2 pi / 60 x 1000 = x 23.981.
@@ -96,9 +87,9 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
             f |= feedback_flags::TORQUE_OFF;
         }
         let _ = joints.push(JointFeedback {
-            commanded: ticks_to_angle(cal, s.commanded),
-            present: ticks_to_angle(cal, s.present),
-            velocity: velocity(s.velocity) * cal.sign.signum() as i16,
+            commanded: cal.calibration.ticks_to_angle(s.commanded),
+            present: cal.calibration.ticks_to_angle(s.present),
+            velocity: velocity(s.velocity) * cal.calibration.sign.as_i32() as i16,
             load: s.load,
             error: s.error,
             flags: f,

@@ -1,19 +1,20 @@
-//! One request to the controller and its response. Upload steps go through the protocol's
-//! `UploadTracker` first (so board and host share one set of rules and error names), then to the
-//! gait store, which verifies the bytes in flash before it commits.
+//! The board's [`Handler`]: one short method per typed request (`protocol::endpoint`), each
+//! returning its reply type or the error that travels back as data; [`handle`] is the protocol's
+//! `dispatch` over them. Upload steps go through the protocol's `UploadTracker` first (so board
+//! and host share one set of rules and error names), then to the gait store, which verifies the
+//! bytes in flash before it commits.
 
 use embedded_storage::nor_flash::NorFlash;
+use protocol::endpoint::{self as ep, ChunkAccepted, Committed, Handler, Slots};
 use protocol::gait::{FORMAT_VERSION, GaitTable};
 use protocol::upload::verify_stored;
 use protocol::{
     Capabilities, DeviceInfo, FirmwareVersion, GaitSummary, JointSettings, PROTOCOL_VERSION,
-    PlaybackPosition, ProtocolError, Request, Response, ServoSelect, Setpoint, Settings, SlotInfo,
-    Status, Steps, UploadLimits, UploadTracker,
+    PlayCommand, PlaybackPosition, ProtocolError, Request, Response, ServoSelect, Setpoint,
+    Settings, SlotInfo, Status, Steps, StreamConfig, UploadLimits, UploadTracker,
 };
 
-use super::convert::{
-    angle_to_ticks, command_error, fault, run_state, store_error, ticks_to_angle,
-};
+use super::convert::{command_error, fault, run_state, store_error};
 use crate::controller::{Controller, PlayParams};
 use crate::gait_view::URAD_PER_ANGLE_UNIT;
 use crate::playback::Direction;
@@ -26,13 +27,6 @@ pub const CAPABILITIES: Capabilities = Capabilities::GAIT_STORE
     .union(Capabilities::STREAMING)
     .union(Capabilities::TORQUE_FEED_FORWARD)
     .union(Capabilities::BUS_SETTINGS);
-
-fn ack<E>(r: Result<(), E>, f: impl FnOnce(E) -> ProtocolError) -> Response {
-    match r {
-        Ok(()) => Response::Ack,
-        Err(e) => Response::Error(f(e)),
-    }
-}
 
 fn version() -> FirmwareVersion {
     let n = |s: &str| s.parse().unwrap_or(0);
@@ -69,131 +63,155 @@ pub fn handle<F: NorFlash + FlashWindow>(
     request: Request,
     rejected: u32,
 ) -> Response {
-    let limits = UploadLimits {
-        slots: c.store().slots(),
-        slot_capacity: c.store().max_table_len(),
-    };
-    match request {
-        Request::GetDeviceInfo => Response::DeviceInfo(DeviceInfo {
+    protocol::endpoint::dispatch(
+        &mut Service {
+            upload,
+            c,
+            rejected,
+        },
+        request,
+    )
+}
+
+/// What a request may touch: the upload in progress and the controller.
+struct Service<'a, F: NorFlash + FlashWindow> {
+    upload: &'a mut UploadTracker,
+    c: &'a mut Controller<F>,
+    rejected: u32,
+}
+
+impl<F: NorFlash + FlashWindow> Service<'_, F> {
+    fn limits(&self) -> UploadLimits {
+        UploadLimits {
+            slots: self.c.store().slots(),
+            slot_capacity: self.c.store().max_table_len(),
+        }
+    }
+
+    /// Flash is written only while nothing moves; refused before the tracker counts anything.
+    fn flash_writable(&self) -> Result<(), ProtocolError> {
+        if self.c.state().allows_flash_writes() {
+            Ok(())
+        } else {
+            Err(ProtocolError::WrongState {
+                state: run_state(self.c.state()),
+            })
+        }
+    }
+}
+
+impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
+    fn get_device_info(&mut self, _: ep::GetDeviceInfo) -> Result<DeviceInfo, ProtocolError> {
+        Ok(DeviceInfo {
             firmware: version(),
             protocol_version: PROTOCOL_VERSION,
             table_format_version: FORMAT_VERSION,
             build_id: 0,
             capabilities: CAPABILITIES,
-            slot_capacity: limits.slot_capacity,
+            slot_capacity: self.limits().slot_capacity,
             max_chunk_len: protocol::MAX_CHUNK_LEN as u16,
-            slots: slots(c),
-        }),
-        Request::GetStatus => {
-            let k = c.counters();
-            let playback = match (c.selected_slot(), c.play_clock(), c.playback()) {
-                (Some(slot), Some(p), Some((step, slice))) if c.state().plays() => {
-                    Some(PlaybackPosition {
-                        slot,
-                        direction: match p.direction() {
-                            Direction::Forward => protocol::Direction::Forward,
-                            Direction::Backward => protocol::Direction::Backward,
-                        },
-                        period_scale: p.scale().min(u16::MAX.into()) as u16,
-                        step,
-                        slice,
-                    })
-                }
-                _ => None,
-            };
-            let torque = if c.torque_on() {
-                (1u64 << c.joints().len()).wrapping_sub(1) as u32
-            } else {
-                0
-            };
-            Response::Status(Status {
-                state: run_state(c.state()),
-                fault: fault(c.state()),
-                playback,
-                upload: upload.progress(),
-                torque_enabled: torque,
-                counters: protocol::Counters {
-                    cycles: k.cycles,
-                    missed_deadlines: k.overruns,
-                    bus_timeouts: k.timeouts,
-                    crc_errors: k.crc_errors,
-                    rejected_frames: rejected,
-                    telemetry_dropped: c.telemetry_dropped(),
-                },
-            })
-        }
-        Request::ListGaits => Response::Slots(slots(c)),
-        Request::UploadBegin {
-            slot,
-            header,
-            total_len,
-        } => {
-            if let Err(e) = upload.begin(slot, &header, total_len, &limits) {
-                return Response::Error(e.into());
+            slots: slots(self.c),
+        })
+    }
+
+    fn get_status(&mut self, _: ep::GetStatus) -> Result<Status, ProtocolError> {
+        let c = &*self.c;
+        let k = c.counters();
+        let playback = match (c.selected_slot(), c.play_clock(), c.playback()) {
+            (Some(slot), Some(p), Some((step, slice))) if c.state().plays() => {
+                Some(PlaybackPosition {
+                    slot,
+                    direction: match p.direction() {
+                        Direction::Forward => protocol::Direction::Forward,
+                        Direction::Backward => protocol::Direction::Backward,
+                    },
+                    period_scale: p.scale().min(u16::MAX.into()) as u16,
+                    step,
+                    slice,
+                })
             }
-            match c.upload_begin(slot, total_len) {
-                Ok(()) => Response::Ack,
-                Err(e) => {
-                    let _ = upload.abort();
-                    Response::Error(command_error(e))
-                }
-            }
-        }
-        Request::UploadChunk { offset, data } => {
-            // Refuse while moving before the tracker counts the chunk.
-            if !c.state().allows_flash_writes() {
-                return Response::Error(ProtocolError::WrongState {
-                    state: run_state(c.state()),
-                });
-            }
-            let received = match upload.chunk(offset, &data) {
-                Ok(r) => r,
-                Err(e) => return Response::Error(e.into()),
-            };
-            match c.upload_chunk(offset, &data) {
-                Ok(()) => Response::ChunkAccepted { received },
-                Err(e) => {
-                    // The store lost the upload (flash error): the tracker must not go on.
-                    let _ = upload.abort();
-                    Response::Error(command_error(e))
-                }
+            _ => None,
+        };
+        let torque = if c.torque_on() {
+            (1u64 << c.joints().len()).wrapping_sub(1) as u32
+        } else {
+            0
+        };
+        Ok(Status {
+            state: run_state(c.state()),
+            fault: fault(c.state()),
+            playback,
+            upload: self.upload.progress(),
+            torque_enabled: torque,
+            counters: protocol::Counters {
+                cycles: k.cycles,
+                missed_deadlines: k.overruns,
+                bus_timeouts: k.timeouts,
+                crc_errors: k.crc_errors,
+                rejected_frames: self.rejected,
+                telemetry_dropped: c.telemetry_dropped(),
+            },
+        })
+    }
+
+    fn list_gaits(&mut self, _: ep::ListGaits) -> Result<Slots, ProtocolError> {
+        Ok(slots(self.c))
+    }
+
+    fn upload_begin(&mut self, r: ep::UploadBegin) -> Result<(), ProtocolError> {
+        let limits = self.limits();
+        self.upload.begin(r.slot, &r.header, r.total_len, &limits)?;
+        self.c.upload_begin(r.slot, r.total_len).map_err(|e| {
+            let _ = self.upload.abort();
+            command_error(e)
+        })
+    }
+
+    fn upload_chunk(&mut self, r: ep::UploadChunk) -> Result<ChunkAccepted, ProtocolError> {
+        self.flash_writable()?;
+        let received = self.upload.chunk(r.offset, &r.data)?;
+        match self.c.upload_chunk(r.offset, &r.data) {
+            Ok(()) => Ok(ChunkAccepted { received }),
+            Err(e) => {
+                // The store lost the upload (flash error): the tracker must not go on.
+                let _ = self.upload.abort();
+                Err(command_error(e))
             }
         }
-        Request::UploadCommit { crc } => {
-            if !c.state().allows_flash_writes() {
-                return Response::Error(ProtocolError::WrongState {
-                    state: run_state(c.state()),
-                });
+    }
+
+    fn upload_commit(&mut self, r: ep::UploadCommit) -> Result<Committed, ProtocolError> {
+        self.flash_writable()?;
+        let finished = self.upload.commit(r.crc).inspect_err(|e| {
+            if matches!(e, protocol::UploadError::ChecksumMismatch { .. }) {
+                self.c.upload_abort();
             }
-            let finished = match upload.commit(crc) {
-                Ok(f) => f,
-                Err(e) => {
-                    if matches!(e, protocol::UploadError::ChecksumMismatch { .. }) {
-                        c.upload_abort();
-                    }
-                    return Response::Error(e.into());
-                }
-            };
-            match c.upload_commit_verified(crc, |bytes| verify_stored(&finished, bytes).map(|_| ()))
-            {
-                Ok(info) => Response::Committed {
-                    slot: info.slot,
-                    crc: info.crc,
-                },
-                Err(CommitError::Rejected(e)) => Response::Error(e.into()),
-                Err(CommitError::Store(e)) => Response::Error(store_error(e)),
-            }
+        })?;
+        match self
+            .c
+            .upload_commit_verified(r.crc, |bytes| verify_stored(&finished, bytes).map(|_| ()))
+        {
+            Ok(info) => Ok(Committed {
+                slot: info.slot,
+                crc: info.crc,
+            }),
+            Err(CommitError::Rejected(e)) => Err(e.into()),
+            Err(CommitError::Store(e)) => Err(store_error(e)),
         }
-        Request::UploadAbort => {
-            c.upload_abort();
-            match upload.abort() {
-                Ok(_) => Response::Ack,
-                Err(e) => Response::Error(e.into()),
-            }
-        }
-        Request::DeleteGait { slot } => ack(c.delete_gait(slot), command_error),
-        Request::Play(p) => ack(
-            c.play(PlayParams {
+    }
+
+    fn upload_abort(&mut self, _: ep::UploadAbort) -> Result<(), ProtocolError> {
+        self.c.upload_abort();
+        self.upload.abort().map(|_| ()).map_err(Into::into)
+    }
+
+    fn delete_gait(&mut self, r: ep::DeleteGait) -> Result<(), ProtocolError> {
+        self.c.delete_gait(r.slot).map_err(command_error)
+    }
+
+    fn play(&mut self, p: PlayCommand) -> Result<(), ProtocolError> {
+        self.c
+            .play(PlayParams {
                 slot: p.slot,
                 direction: match p.direction {
                     protocol::Direction::Forward => Direction::Forward,
@@ -204,85 +222,114 @@ pub fn handle<F: NorFlash + FlashWindow>(
                     Steps::Continuous => None,
                     Steps::Count(n) => Some(n),
                 },
-            }),
-            command_error,
-        ),
-        Request::Stop => ack(c.stop(), command_error),
-        Request::SetPeriodScale { scale } => ack(c.set_period_scale(scale), command_error),
-        Request::GetSettings => {
-            let mut joints = heapless::Vec::new();
-            for (cal, &k) in c.joints().iter().zip(c.stiffness()) {
-                let a = ticks_to_angle(cal, cal.min_ticks);
-                let b = ticks_to_angle(cal, cal.max_ticks);
-                let _ = joints.push(JointSettings {
-                    stiffness: k,
-                    min: a.min(b),
-                    max: a.max(b),
-                    torque_enabled: c.torque_on(),
-                });
-            }
-            let cfg = c.config();
-            Response::Settings(Settings {
-                baud: cfg.baud,
-                cycle_hz: cfg.cycle_hz,
-                telemetry_every: cfg.telemetry_every,
-                joints,
             })
+            .map_err(command_error)
+    }
+
+    fn stop(&mut self, _: ep::Stop) -> Result<(), ProtocolError> {
+        self.c.stop().map_err(command_error)
+    }
+
+    fn set_period_scale(&mut self, r: ep::SetPeriodScale) -> Result<(), ProtocolError> {
+        self.c.set_period_scale(r.scale).map_err(command_error)
+    }
+
+    fn get_settings(&mut self, _: ep::GetSettings) -> Result<Settings, ProtocolError> {
+        let c = &*self.c;
+        let mut joints = heapless::Vec::new();
+        for (cal, &k) in c.joints().iter().zip(c.stiffness()) {
+            let a = cal.calibration.ticks_to_angle(cal.min_ticks);
+            let b = cal.calibration.ticks_to_angle(cal.max_ticks);
+            let _ = joints.push(JointSettings {
+                stiffness: k,
+                min: a.min(b),
+                max: a.max(b),
+                torque_enabled: c.torque_on(),
+            });
         }
-        Request::SetBus { baud, cycle_hz } => ack(c.set_bus(baud, cycle_hz), command_error),
-        Request::SetStiffness { joint, stiffness } => {
-            ack(c.set_stiffness(joint, stiffness), command_error)
+        let cfg = c.config();
+        Ok(Settings {
+            baud: cfg.baud,
+            cycle_hz: cfg.cycle_hz,
+            telemetry_every: cfg.telemetry_every,
+            joints,
+        })
+    }
+
+    fn set_bus(&mut self, r: ep::SetBus) -> Result<(), ProtocolError> {
+        self.c.set_bus(r.baud, r.cycle_hz).map_err(command_error)
+    }
+
+    fn set_stiffness(&mut self, r: ep::SetStiffness) -> Result<(), ProtocolError> {
+        self.c
+            .set_stiffness(r.joint, r.stiffness)
+            .map_err(command_error)
+    }
+
+    fn set_limits(&mut self, r: ep::SetLimits) -> Result<(), ProtocolError> {
+        let Some(cal) = self.c.joints().get(usize::from(r.joint)).copied() else {
+            return Err(ProtocolError::NoSuchJoint {
+                joint: r.joint,
+                joints: self.c.joints().len() as u8,
+            });
+        };
+        if r.min > r.max {
+            return Err(ProtocolError::InvalidSetting {
+                setting: protocol::Setting::Limits,
+                value: r.min.into(),
+            });
         }
-        Request::SetLimits { joint, min, max } => {
-            let Some(cal) = c.joints().get(usize::from(joint)).copied() else {
-                return Response::Error(ProtocolError::NoSuchJoint {
-                    joint,
-                    joints: c.joints().len() as u8,
-                });
-            };
-            let a = angle_to_ticks(&cal, min);
-            let b = angle_to_ticks(&cal, max);
-            if min > max {
-                return Response::Error(ProtocolError::InvalidSetting {
-                    setting: protocol::Setting::Limits,
-                    value: min.into(),
-                });
-            }
-            ack(c.set_limits(joint, a.min(b), a.max(b)), command_error)
+        let a = cal.calibration.angle_to_ticks(r.min.into());
+        let b = cal.calibration.angle_to_ticks(r.max.into());
+        self.c
+            .set_limits(r.joint, a.min(b), a.max(b))
+            .map_err(command_error)
+    }
+
+    fn set_torque(&mut self, r: ep::SetTorque) -> Result<(), ProtocolError> {
+        match r.servos {
+            ServoSelect::All => self.c.set_torque(r.enable).map_err(command_error),
+            // Torque acts on the whole robot: the state machine has no per-servo torque.
+            ServoSelect::Joint(_) => Err(ProtocolError::Unsupported),
         }
-        Request::SetTorque {
-            servos: ServoSelect::All,
-            enable,
-        } => ack(c.set_torque(enable), command_error),
-        Request::RebootServos { servos } => ack(
-            c.reboot_servos(match servos {
-                ServoSelect::All => None,
-                ServoSelect::Joint(j) => Some(j),
-            }),
-            command_error,
-        ),
-        // Torque acts on the whole robot: the state machine has no per-servo torque.
-        Request::SetTorque { .. } => Response::Error(ProtocolError::Unsupported),
-        Request::EmergencyStop => {
-            c.emergency_stop();
-            Response::Ack
-        }
-        Request::ClearFault => ack(c.clear_fault(), command_error),
-        Request::SetTelemetry { every } => {
-            c.set_telemetry(every);
-            Response::Ack
-        }
-        Request::EnterStreaming(s) => ack(
-            c.enter_streaming(s.timeout_cycles, s.feedback_every),
-            command_error,
-        ),
-        Request::LeaveStreaming => ack(c.leave_streaming(), command_error),
-        _ => Response::Error(ProtocolError::Unsupported),
+    }
+
+    fn reboot_servos(&mut self, r: ep::RebootServos) -> Result<(), ProtocolError> {
+        let joint = match r.servos {
+            ServoSelect::All => None,
+            ServoSelect::Joint(j) => Some(j),
+        };
+        self.c.reboot_servos(joint).map_err(command_error)
+    }
+
+    fn emergency_stop(&mut self, _: ep::EmergencyStop) -> Result<(), ProtocolError> {
+        self.c.emergency_stop();
+        Ok(())
+    }
+
+    fn clear_fault(&mut self, _: ep::ClearFault) -> Result<(), ProtocolError> {
+        self.c.clear_fault().map_err(command_error)
+    }
+
+    fn set_telemetry(&mut self, r: ep::SetTelemetry) -> Result<(), ProtocolError> {
+        self.c.set_telemetry(r.every);
+        Ok(())
+    }
+
+    fn enter_streaming(&mut self, s: StreamConfig) -> Result<(), ProtocolError> {
+        self.c
+            .enter_streaming(s.timeout_cycles, s.feedback_every)
+            .map_err(command_error)
+    }
+
+    fn leave_streaming(&mut self, _: ep::LeaveStreaming) -> Result<(), ProtocolError> {
+        self.c.leave_streaming().map_err(command_error)
     }
 }
 
 /// A streamed setpoint (no reply: the proprioception stream names the last one taken).
 pub fn setpoint<F: NorFlash + FlashWindow>(c: &mut Controller<F>, sp: &Setpoint) {
+    c.host_contact();
     let mut joints: heapless::Vec<(i32, Option<i32>), { protocol::MAX_JOINTS }> =
         heapless::Vec::new();
     for j in &sp.joints {

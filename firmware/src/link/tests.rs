@@ -3,13 +3,11 @@
 //! garbage, telemetry, and a link that drops mid-frame and comes back.
 
 use core::cell::RefCell;
-use core::future::Future;
-use core::pin::pin;
-use core::task::{Context, Poll, Waker};
 use std::cell::Cell;
 use std::collections::VecDeque;
 
 use dynamixel::master::Clock;
+use embassy_futures::block_on;
 use protocol::{
     Client, DeviceMessage, FrameAccumulator, ProtocolError, Request, Response, UploadError,
 };
@@ -370,16 +368,6 @@ impl embedded_io_async::Write for Pipe {
     }
     async fn flush(&mut self) -> Result<(), Gone> {
         Ok(())
-    }
-}
-
-fn block_on<F: Future>(f: F) -> F::Output {
-    let mut f = pin!(f);
-    let mut cx = Context::from_waker(Waker::noop());
-    loop {
-        if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
-            return v;
-        }
     }
 }
 

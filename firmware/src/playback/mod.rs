@@ -90,6 +90,11 @@ impl PlayClock {
         self.direction
     }
 
+    /// Whether the run goes on until stopped (no step count).
+    pub fn endless(&self) -> bool {
+        self.steps.is_none()
+    }
+
     /// Steps completed since start.
     pub fn steps_done(&self) -> u32 {
         self.done

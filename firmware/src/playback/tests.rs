@@ -159,8 +159,15 @@ fn goals_bias_and_clamp_every_joint() {
     }
     let cal = |joint: usize| JointCal {
         id: joint as u8 + 1,
-        zero_ticks: 2048,
-        sign: if joint == 0 { 1 } else { -1 },
+        calibration: protocol::Calibration::new(
+            protocol::ServoModel::Mx28,
+            2048,
+            if joint == 0 {
+                protocol::Sign::Positive
+            } else {
+                protocol::Sign::Negative
+            },
+        ),
         min_ticks: 1000,
         max_ticks: 3500,
     };

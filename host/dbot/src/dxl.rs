@@ -4,7 +4,8 @@
 
 use anyhow::{Context as _, bail};
 use board::bus::serial::{SerialMaster, block_on, open_master};
-use dynamixel::control_table::{self as ct, Field, Model};
+use dynamixel::ServoModel;
+use dynamixel::control_table::{self as ct, Field};
 use dynamixel::master::{BusError, MasterConfig, ReplyFault};
 use std::path::PathBuf;
 
@@ -241,7 +242,8 @@ fn scan_at(m: &mut SerialMaster, max_id: u8, port: &str, baud: u32) -> anyhow::R
         match block_on(m.ping(id)) {
             Ok(p) => {
                 found += 1;
-                let name = Model::from_number(p.model_number).map_or("unknown model", |m| m.name());
+                let name =
+                    ServoModel::from_number(p.model_number).map_or("unknown model", |m| m.name());
                 bar.suspend(|| {
                     println!(
                         "ID {id:3}: model {} ({name}), firmware {}{}",

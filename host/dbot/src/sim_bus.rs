@@ -3,7 +3,7 @@
 
 use anyhow::Context as _;
 use board::bus::pty::{PtyServer, Served};
-use dynamixel::control_table::Model;
+use dynamixel::ServoModel;
 use dynamixel::instruction::Instruction;
 use dynamixel::sim::{DROSOPHIBOT_CTR_IDS, VirtualChain};
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
@@ -82,9 +82,9 @@ impl Args {
             "serving {} virtual servos (IDs 1..={}, {} on {:?}, {} elsewhere) at {} bit/s, return delay {} us, on {} linked at {}; Ctrl-C stops",
             self.servos,
             self.servos,
-            Model::Mx64V2.name(),
+            ServoModel::Mx64.name(),
             mx64,
-            Model::Mx28V2.name(),
+            ServoModel::Mx28.name(),
             self.baud,
             u32::from(rdt) * 2,
             server.slave_path(),

@@ -8,7 +8,7 @@
 //! motor model of the dynamixel crate's virtual servo, and a saturated servo cannot outrun its
 //! no-load speed. The velocity term stays inside MuJoCo, integrated implicitly (implicitfast).
 
-use dynamixel::control_table::Model as DxlModel;
+use dynamixel::ServoModel;
 use dynamixel::sim::physics::MotorState;
 use planner::model::{ActuatorKind, ServoMap};
 
@@ -17,11 +17,8 @@ pub const RAD_PER_TICK: f64 = std::f64::consts::TAU / 4096.0;
 
 /// The Dynamixel model of an actuator family (the servo map of a generic actuator is read as an
 /// MX-28, the smaller servo).
-pub fn dxl_model(kind: ActuatorKind) -> DxlModel {
-    match kind {
-        ActuatorKind::Mx64 => DxlModel::Mx64V2,
-        ActuatorKind::Mx28 | ActuatorKind::Generic => DxlModel::Mx28V2,
-    }
+pub fn dxl_model(kind: ActuatorKind) -> ServoModel {
+    ServoModel::try_from(kind).unwrap_or(ServoModel::Mx28)
 }
 
 /// Joint angle (rad) of a goal or present position in ticks, through the model's servo map.

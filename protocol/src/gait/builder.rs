@@ -306,7 +306,7 @@ fn write_joint(out: &mut Vec<u8>, spec: &JointSpec) -> Result<(i16, i16), BuildE
         )
     })?;
     out.push(spec.servo_id);
-    out.push(spec.model.code());
+    out.push(spec.model.table_code());
     out.push(spec.sign.as_i32() as i8 as u8);
     out.push(0);
     out.extend_from_slice(&spec.zero_offset.to_le_bytes());

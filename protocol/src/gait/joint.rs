@@ -1,36 +1,9 @@
 //! The per-joint map of a table: which servo drives the joint and how its angle maps to ticks.
 
-use crate::units::{TICKS_PER_REV, angle_units_to_ticks, ticks_to_angle_units};
+use crate::calibration::Calibration;
 
-/// Servo model of a joint.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum ServoModel {
-    /// Dynamixel MX-28 (protocol 2.0 firmware), 2.5 N m stall at 12 V.
-    Mx28,
-    /// Dynamixel MX-64 (protocol 2.0 firmware), 6.0 N m stall at 12 V.
-    Mx64,
-}
-
-impl ServoModel {
-    /// Code of the model in a table.
-    pub fn code(self) -> u8 {
-        match self {
-            Self::Mx28 => 0,
-            Self::Mx64 => 1,
-        }
-    }
-
-    /// The model of a table code.
-    pub fn from_code(code: u8) -> Option<Self> {
-        match code {
-            0 => Some(Self::Mx28),
-            1 => Some(Self::Mx64),
-            _ => None,
-        }
-    }
-}
+/// The servo model of a joint: the bus crate's, one enum for table, bus and host.
+pub use dynamixel::ServoModel;
 
 /// Whether servo ticks grow with the joint angle or against it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -74,21 +47,20 @@ pub struct JointMap {
 }
 
 impl JointMap {
-    /// Goal ticks of a joint angle (1e-4 rad): `zero + sign * angle * 4096 / 2 pi`, rounded.
-    ///
-    /// Takes an `i32` so that a biased angle beyond the `i16` range still converts; clamp to the
-    /// limits first.
+    /// The joint's angle <-> ticks calibration.
+    pub fn calibration(&self) -> Calibration {
+        Calibration::new(self.model, i32::from(self.zero_offset), self.sign)
+    }
+
+    /// Goal ticks of a joint angle (1e-4 rad): `zero + sign * angle * 4096 / 2 pi`, rounded
+    /// ([`Calibration::angle_to_ticks`]).
     pub fn angle_to_ticks(&self, angle: i32) -> i32 {
-        i32::from(self.zero_offset) + self.sign.as_i32() * angle_units_to_ticks(angle)
+        self.calibration().angle_to_ticks(angle)
     }
 
     /// Joint angle (1e-4 rad) of a present position in ticks, wrapped to one turn around the zero
-    /// (+-pi) so that it always fits an `i16`.
+    /// ([`Calibration::ticks_to_angle`]).
     pub fn ticks_to_angle(&self, ticks: i32) -> i16 {
-        let half = TICKS_PER_REV / 2;
-        let delta = (ticks.wrapping_sub(i32::from(self.zero_offset)) + half)
-            .rem_euclid(TICKS_PER_REV)
-            - half;
-        ticks_to_angle_units(self.sign.as_i32() * delta) as i16
+        self.calibration().ticks_to_angle(ticks)
     }
 }

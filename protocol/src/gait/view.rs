@@ -188,7 +188,7 @@ impl<'a> GaitTable<'a> {
         JointMap {
             servo_id: r[0],
             // Validated in `parse`.
-            model: ServoModel::from_code(r[1]).unwrap_or(ServoModel::Mx28),
+            model: ServoModel::from_table_code(r[1]).unwrap_or(ServoModel::Mx28),
             sign: if r[2] as i8 == -1 {
                 Sign::Negative
             } else {
@@ -276,7 +276,7 @@ fn check_joint(r: &[u8], joint: u8) -> Result<(), TableError> {
     if r[0] > 252 {
         return bad(JointField::ServoId);
     }
-    if ServoModel::from_code(r[1]).is_none() {
+    if ServoModel::from_table_code(r[1]).is_none() {
         return bad(JointField::Model);
     }
     if r[2] != 1 && r[2] as i8 != -1 {

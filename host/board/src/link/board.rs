@@ -6,6 +6,7 @@ use std::collections::VecDeque;
 use std::time::Duration;
 
 use protocol::client::Reply;
+use protocol::endpoint::{self as ep, Endpoint};
 use protocol::{
     Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Proprioception,
     ProtocolError, Request, Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
@@ -70,7 +71,7 @@ impl<T: Transport> Board<T> {
         // A lone delimiter ends whatever partial frame an earlier session left in the board's
         // receiver, so our first request is not glued to garbage.
         board.send_raw(&[0])?;
-        let info: DeviceInfo = board.request(&Request::GetDeviceInfo)?;
+        let info = board.call(ep::GetDeviceInfo)?;
         let port = board.port().to_owned();
         if info.protocol_version != protocol::PROTOCOL_VERSION {
             return Err(LinkError::ProtocolVersion {
@@ -132,6 +133,12 @@ impl<T: Transport> Board<T> {
     /// Telemetry records dropped because nobody read them, since connecting.
     pub fn telemetry_dropped(&self) -> u64 {
         self.telemetry_dropped
+    }
+
+    /// Sends a typed request and returns its reply: `board.call(GetStatus)` is a `Status`,
+    /// `board.call(SetBus { .. })` a `()`.
+    pub fn call<E: Endpoint>(&mut self, request: E) -> Result<E::Reply, LinkError> {
+        self.request(&request.into())
     }
 
     /// Sends `request` and returns the reply's value of type `R`.
@@ -227,16 +234,15 @@ impl<T: Transport> Board<T> {
     }
 
     pub fn status(&mut self) -> Result<Status, LinkError> {
-        self.request(&Request::GetStatus)
+        self.call(ep::GetStatus)
     }
 
     pub fn settings(&mut self) -> Result<Settings, LinkError> {
-        self.request(&Request::GetSettings)
+        self.call(ep::GetSettings)
     }
 
     pub fn gaits(&mut self) -> Result<Vec<SlotInfo>, LinkError> {
-        let slots: heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }> =
-            self.request(&Request::ListGaits)?;
+        let slots: heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }> = self.call(ep::ListGaits)?;
         Ok(slots.into_iter().collect())
     }
 
@@ -246,7 +252,7 @@ impl<T: Transport> Board<T> {
     pub fn play(&mut self, command: PlayCommand) -> Result<(), LinkError> {
         let give_up = self.transport.now() + BOOT_WAIT;
         loop {
-            match self.request(&Request::Play(command)) {
+            match self.call(command) {
                 Err(LinkError::Device {
                     error:
                         ProtocolError::WrongState {
@@ -273,33 +279,33 @@ impl<T: Transport> Board<T> {
     }
 
     pub fn stop(&mut self) -> Result<(), LinkError> {
-        self.request(&Request::Stop)
+        self.call(ep::Stop)
     }
 
     pub fn emergency_stop(&mut self) -> Result<(), LinkError> {
-        self.request(&Request::EmergencyStop)
+        self.call(ep::EmergencyStop)
     }
 
     pub fn clear_fault(&mut self) -> Result<(), LinkError> {
-        self.request(&Request::ClearFault)
+        self.call(ep::ClearFault)
     }
 
     pub fn set_torque(&mut self, servos: ServoSelect, enable: bool) -> Result<(), LinkError> {
-        self.request(&Request::SetTorque { servos, enable })
+        self.call(ep::SetTorque { servos, enable })
     }
 
     pub fn set_telemetry(&mut self, every: u16) -> Result<(), LinkError> {
-        self.request(&Request::SetTelemetry { every })
+        self.call(ep::SetTelemetry { every })
     }
 
     /// Bus baud (bit/s) and cycle rate (Hz).
     pub fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), LinkError> {
-        self.request(&Request::SetBus { baud, cycle_hz })
+        self.call(ep::SetBus { baud, cycle_hz })
     }
 
     /// Stiffness of `joint` for the torque bias, mN m/rad.
     pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), LinkError> {
-        self.request(&Request::SetStiffness { joint, stiffness })
+        self.call(ep::SetStiffness { joint, stiffness })
     }
 
     pub(super) fn send_raw(&mut self, bytes: &[u8]) -> Result<(), LinkError> {
@@ -382,31 +388,7 @@ fn placeholder_info() -> DeviceInfo {
     }
 }
 
-/// A short name of a request for messages.
+/// A short name of a request for messages (the protocol's endpoint name).
 pub fn request_name(request: &Request) -> &'static str {
-    match request {
-        Request::GetDeviceInfo => "GetDeviceInfo",
-        Request::GetStatus => "GetStatus",
-        Request::ListGaits => "ListGaits",
-        Request::UploadBegin { .. } => "UploadBegin",
-        Request::UploadChunk { .. } => "UploadChunk",
-        Request::UploadCommit { .. } => "UploadCommit",
-        Request::UploadAbort => "UploadAbort",
-        Request::DeleteGait { .. } => "DeleteGait",
-        Request::Play(_) => "Play",
-        Request::Stop => "Stop",
-        Request::SetPeriodScale { .. } => "SetPeriodScale",
-        Request::GetSettings => "GetSettings",
-        Request::SetBus { .. } => "SetBus",
-        Request::SetStiffness { .. } => "SetStiffness",
-        Request::SetLimits { .. } => "SetLimits",
-        Request::SetTorque { .. } => "SetTorque",
-        Request::RebootServos { .. } => "RebootServos",
-        Request::EmergencyStop => "EmergencyStop",
-        Request::ClearFault => "ClearFault",
-        Request::SetTelemetry { .. } => "SetTelemetry",
-        Request::EnterStreaming(_) => "EnterStreaming",
-        Request::LeaveStreaming => "LeaveStreaming",
-        _ => "request",
-    }
+    request.name()
 }

@@ -5,8 +5,8 @@
 use std::time::Duration;
 
 use protocol::{
-    Client, DeviceMessage, JointSetpoint, MAX_FRAME_LEN, MAX_JOINTS, Proprioception, Request,
-    Setpoint, StreamConfig,
+    Client, DeviceMessage, JointSetpoint, MAX_FRAME_LEN, MAX_JOINTS, Proprioception, Setpoint,
+    StreamConfig,
 };
 
 use super::board::Board;
@@ -87,12 +87,12 @@ impl<T: Transport> Board<T> {
     /// Switches from a standing posture to streaming (the board refuses it otherwise).
     pub fn enter_streaming(&mut self, config: StreamConfig) -> Result<(), LinkError> {
         self.proprioception.clear();
-        self.request(&Request::EnterStreaming(config))
+        self.call(config)
     }
 
     /// Back to standing, holding the last setpoint.
     pub fn leave_streaming(&mut self) -> Result<(), LinkError> {
-        self.request(&Request::LeaveStreaming)
+        self.call(protocol::endpoint::LeaveStreaming)
     }
 
     /// Sends one setpoint (not answered: its `seq` comes back in [`Proprioception::setpoint_seq`]).

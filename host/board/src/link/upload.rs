@@ -1,7 +1,8 @@
 //! Uploading a gait table: begin, chunks in order, commit with the CRC, then read the slot back to
 //! verify. Any failure midway aborts the upload (best effort) so the slot keeps its old table.
 
-use protocol::{GaitSummary, GaitTable, Request, Response};
+use protocol::endpoint as ep;
+use protocol::{GaitSummary, GaitTable};
 
 use super::board::Board;
 use super::error::LinkError;
@@ -48,7 +49,7 @@ impl<T: Transport> Board<T> {
             .into_iter()
             .find(|s| s.slot == slot)
             .and_then(|s| s.gait);
-        self.request::<()>(&Request::UploadBegin {
+        self.call(ep::UploadBegin {
             slot,
             header,
             total_len,
@@ -60,15 +61,15 @@ impl<T: Transport> Board<T> {
                 if !e.is_vanished() {
                     // Leaves the slot as it was; if even this fails the board drops the unfinished
                     // upload at the next UploadBegin anyway.
-                    let _ = self.request::<()>(&Request::UploadAbort);
+                    let _ = self.call(ep::UploadAbort);
                 }
                 return Err(e);
             }
         };
         let port = self.port().to_owned();
         let crc = protocol::crc32::checksum(table);
-        match self.request_response(&Request::UploadCommit { crc })? {
-            Response::Committed { slot: s, crc: c } if s == slot && c == crc => {}
+        match self.call(ep::UploadCommit { crc })? {
+            ep::Committed { slot: s, crc: c } if s == slot && c == crc => {}
             other => {
                 return Err(LinkError::Verify {
                     port,
@@ -130,8 +131,8 @@ impl<T: Transport> Board<T> {
             }
             let data = heapless::Vec::from_slice(piece).expect("chunk is at most MAX_CHUNK_LEN");
             let expect = offset + piece.len() as u32;
-            match self.request_response(&Request::UploadChunk { offset, data })? {
-                Response::ChunkAccepted { received } if received == expect => {}
+            match self.call(ep::UploadChunk { offset, data })? {
+                ep::ChunkAccepted { received } if received == expect => {}
                 other => {
                     return Err(LinkError::Verify {
                         port: self.port().to_owned(),

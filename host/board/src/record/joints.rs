@@ -59,10 +59,7 @@ impl JointMeta {
     /// Joint torque in N m of a load register value (ESTIMATE, see
     /// `dynamixel::units::load_to_torque_nm`); `None` without a known servo model.
     pub fn torque_estimate_nm(&self, load: i16) -> Option<f64> {
-        let model = match self.model? {
-            ServoModel::Mx64 => dynamixel::control_table::Model::Mx64V2,
-            _ => dynamixel::control_table::Model::Mx28V2,
-        };
+        let model = self.model?;
         Some(f64::from(dynamixel::units::load_to_torque_nm(model, load)) * f64::from(self.sign))
     }
 }

@@ -1,12 +1,16 @@
-//! The in-process virtual robot: the firmware library's controller and link dispatcher (the same
-//! code the RP2040 runs) on a NOR flash double, simulated servos carrying the planned torques as
-//! their loads, and a simulated clock. `--port virtual` talks to it through [`VirtualTransport`];
+//! The in-process virtual robot: the firmware library's `Board` (the same controller, bus loop and
+//! link dispatcher the RP2040 runs) on a NOR flash double, the robot's fixed servo chain carrying
+//! the planned torques as their loads, and a simulated clock. `--port virtual` talks to it through [`VirtualTransport`];
 //! `--port virtual:PATH` keeps its flash in a file between commands.
 
 mod board;
 mod image;
+mod servos;
 mod transport;
 
-pub use board::{FLASH_SECTORS, SLOTS, VirtualFlash, VirtualRobot};
+pub use board::{
+    FLASH_SECTORS, ROBOT_SERVOS, SLOTS, VirtualBoard, VirtualFlash, VirtualRobot, robot_chain,
+};
 pub use image::{IMAGE_LEN, ImageError};
+pub use servos::{PlannedLoads, ServoDynamics};
 pub use transport::VirtualTransport;

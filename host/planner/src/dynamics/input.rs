@@ -90,13 +90,12 @@ impl TorqueLimits {
     }
 }
 
-/// Stall torque at 12 V from the Dynamixel e-manuals.
+/// Stall torque at 12 V from the Dynamixel e-manuals ([`protocol::ServoModel`]'s); none for a
+/// generic actuator.
 pub fn stall_torque(kind: ActuatorKind) -> Option<f64> {
-    match kind {
-        ActuatorKind::Mx28 => Some(2.5),
-        ActuatorKind::Mx64 => Some(6.0),
-        ActuatorKind::Generic => None,
-    }
+    protocol::ServoModel::try_from(kind)
+        .ok()
+        .map(|m| f64::from(m.stall_torque_nm()))
 }
 
 /// Options of the inverse dynamics. The default is the paper's problem: no contact constraints,

@@ -75,7 +75,7 @@ pub struct ServoActuator {
 /// 2 g cm^2 (MX-64) times the gear ratio squared (193 and 200). A generic actuator (a fly's
 /// muscles) gets no force limit and a light damping of 1 % of its stiffness per second.
 pub fn servo_actuator(kind: ActuatorKind, stiffness: f64) -> ServoActuator {
-    let dxl = |m: dynamixel::control_table::Model, rotor: f64, gear: f64| {
+    let dxl = |m: dynamixel::ServoModel, rotor: f64, gear: f64| {
         let stall = f64::from(m.stall_torque_nm());
         ServoActuator {
             stall_nm: stall,
@@ -84,8 +84,8 @@ pub fn servo_actuator(kind: ActuatorKind, stiffness: f64) -> ServoActuator {
         }
     };
     match kind {
-        ActuatorKind::Mx28 => dxl(dynamixel::control_table::Model::Mx28V2, 0.9e-7, 193.0),
-        ActuatorKind::Mx64 => dxl(dynamixel::control_table::Model::Mx64V2, 2.0e-7, 200.0),
+        ActuatorKind::Mx28 => dxl(dynamixel::ServoModel::Mx28, 0.9e-7, 193.0),
+        ActuatorKind::Mx64 => dxl(dynamixel::ServoModel::Mx64, 2.0e-7, 200.0),
         ActuatorKind::Generic => ServoActuator {
             stall_nm: f64::INFINITY,
             damping: 0.01 * stiffness,

@@ -83,6 +83,28 @@ pub enum ActuatorKind {
     Generic,
 }
 
+impl From<protocol::ServoModel> for ActuatorKind {
+    fn from(model: protocol::ServoModel) -> Self {
+        match model {
+            protocol::ServoModel::Mx28 => Self::Mx28,
+            protocol::ServoModel::Mx64 => Self::Mx64,
+        }
+    }
+}
+
+/// The servo model behind an actuator; a generic actuator (no servo) is given back as the error.
+impl TryFrom<ActuatorKind> for protocol::ServoModel {
+    type Error = ActuatorKind;
+
+    fn try_from(kind: ActuatorKind) -> Result<Self, ActuatorKind> {
+        match kind {
+            ActuatorKind::Mx28 => Ok(Self::Mx28),
+            ActuatorKind::Mx64 => Ok(Self::Mx64),
+            ActuatorKind::Generic => Err(kind),
+        }
+    }
+}
+
 /// A spring in parallel with a joint: torque = -stiffness (q - equilibrium). Its stiffness is
 /// the parallel spring's alone; the joint's total stiffness adds the actuator's (see
 /// [`crate::model::spring`]).

@@ -21,14 +21,9 @@ pub struct ServoLimits {
 }
 
 /// The servo limits of an actuator family (none for a generic actuator such as the fly's muscles).
-/// The one place the planner reads the servo constants (dynamixel's control-table models).
+/// The one place the planner reads the servo constants ([`dynamixel::ServoModel`]).
 pub fn servo_limits(kind: ActuatorKind) -> Option<ServoLimits> {
-    use dynamixel::control_table::Model as Servo;
-    let servo = match kind {
-        ActuatorKind::Mx28 => Servo::Mx28V2,
-        ActuatorKind::Mx64 => Servo::Mx64V2,
-        ActuatorKind::Generic => return None,
-    };
+    let servo = dynamixel::ServoModel::try_from(kind).ok()?;
     Some(ServoLimits {
         name: servo.name(),
         no_load_speed: f64::from(servo.no_load_speed_rad_s()),

@@ -49,10 +49,9 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
         let servo = joint.servo.ok_or_else(|| TableError::NoServo {
             joint: name.clone(),
         })?;
-        let model_code = match servo.model {
-            ActuatorKind::Mx28 => ServoModel::Mx28,
-            ActuatorKind::Mx64 => ServoModel::Mx64,
-            other => {
+        let model_code = match ServoModel::try_from(servo.model) {
+            Ok(m) => m,
+            Err(other) => {
                 return Err(TableError::NotDynamixel {
                     joint: name,
                     model: other,
@@ -69,10 +68,11 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
                 });
             }
         };
-        // Model: angle = sign (ticks - 2048) 2 pi / 4096 + zero_offset, so angle 0 sits at
-        // ticks = 2048 - sign zero_offset 4096 / 2 pi.
+        // Model: angle = sign (ticks - centre) 2 pi / tpr + zero_offset, so angle 0 sits at
+        // ticks = centre - sign zero_offset tpr / 2 pi (centre = half a turn, 2048 on an MX).
+        let tpr = f64::from(model_code.ticks_per_rev());
         let ticks =
-            2048.0 - f64::from(servo.sign) * servo.zero_offset * 4096.0 / std::f64::consts::TAU;
+            tpr / 2.0 - f64::from(servo.sign) * servo.zero_offset * tpr / std::f64::consts::TAU;
         if !(0.0..=4095.0).contains(&ticks.round()) {
             return Err(TableError::ZeroOffset {
                 joint: name,

@@ -1,0 +1,59 @@
+//! The virtual robot's servo chain is fixed, as a robot's is (issue #19 item 8): a table naming a
+//! servo the robot does not have must not walk, and the chain must not grow the missing servo.
+
+use std::time::Duration;
+
+use board::link::Board;
+use board::robot::{VirtualRobot, VirtualTransport};
+use firmware::testkit::SyntheticGait;
+use protocol::{Direction, PlayCommand, RunState, Steps};
+
+fn play() -> PlayCommand {
+    PlayCommand {
+        slot: 0,
+        direction: Direction::Forward,
+        period_scale: 1000,
+        steps: Steps::Count(2),
+    }
+}
+
+fn chain_ids(b: &Board<VirtualTransport>) -> Vec<u8> {
+    b.transport()
+        .robot()
+        .with_chain(|c| c.servos().iter().map(|s| s.id()).collect())
+}
+
+#[test]
+fn a_table_naming_a_servo_the_robot_lacks_does_not_walk() {
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let mut gait = SyntheticGait::new(100, 1.0);
+    // Joint 4 (LF_FTi) on servo 40: no such servo on the bus (IDs 1..=22).
+    gait.joints[4].servo_id = 40;
+    b.upload(0, &gait.build(), |_, _| {}).unwrap();
+    let refused = b.play(play());
+    b.wait(Duration::from_secs(1)).unwrap();
+    let status = b.status().unwrap();
+    assert!(
+        refused.is_err() || status.state == RunState::Fault,
+        "play {refused:?}, then {:?}: a robot without servo 40 must not walk",
+        status.state
+    );
+    assert_ne!(status.state, RunState::Walking);
+    assert_eq!(
+        chain_ids(&b),
+        (1..=22).collect::<Vec<u8>>(),
+        "the chain is fixed"
+    );
+}
+
+#[test]
+fn the_robots_own_table_walks_on_the_same_chain() {
+    // The control case: the same gait with the robot's IDs plays.
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
+        .unwrap();
+    b.play(play()).unwrap();
+    b.wait(Duration::from_millis(1500)).unwrap();
+    assert_eq!(b.status().unwrap().state, RunState::Walking);
+    assert_eq!(chain_ids(&b), (1..=22).collect::<Vec<u8>>());
+}
