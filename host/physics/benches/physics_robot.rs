@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use board::link::Board;
 use nix::time::{ClockId, clock_gettime};
-use physics::{PhysicsRobot, PhysicsTransport, Plant};
+use physics::{PhysicsRobot, Plant};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
 use planner::model::builtin;
@@ -43,7 +43,7 @@ fn main() {
     for _ in 0..REPEATS {
         let robot = PhysicsRobot::with_options(&model, &options, "flat").unwrap();
         let t0 = cpu_now();
-        let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+        let mut b = Board::connect(robot.into_transport()).unwrap();
         b.upload(0, &table, |_, _| {}).unwrap();
         b.play(PlayCommand {
             slot: 0,

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use board::link::Board;
 use nix::time::{ClockId, clock_gettime};
-use physics::{PhysicsRobot, PhysicsTransport};
+use physics::PhysicsRobot;
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
 use planner::model::builtin;
@@ -63,7 +63,7 @@ fn main() {
         }
     }
     let t0 = cpu_now();
-    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    let mut b = Board::connect(robot.into_transport()).unwrap();
     b.upload(0, &table, |_, _| {}).unwrap();
     b.play(PlayCommand {
         slot: 0,
@@ -79,7 +79,7 @@ fn main() {
     let cpu = (cpu_now() - t0).as_secs_f64();
     let r = b.transport().robot();
     let sim = r.now_us() as f64 * 1e-6;
-    let f = r.figures().unwrap();
+    let f = r.servos().figures().unwrap();
     let slip: Vec<String> = f
         .slip_m
         .iter()

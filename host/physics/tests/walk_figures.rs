@@ -22,13 +22,14 @@ fn halving_the_timestep_changes_the_walk_figures_little() {
     eprintln!("1 ms: {a:?}\n0.5 ms: {b:?}");
     // The robot carries the planned gait: no sag beyond 1 cm, no fall.
     assert_eq!(a.verdict(0.01), None, "{a:?}");
-    // Bounds (measured differences, 1 ms against 0.5 ms, in brackets): distance 2 % (0.27 %),
-    // heading 0.01 rad (0.0065), lowest thorax height 1.5 mm (0.98), largest tilt 1 deg (0.61),
-    // slip per foot 4 mm (2.9, RM). 0.5 ms against 0.25 ms differed by 0.06 %, 0.005 rad,
-    // 0.35 mm, 0.2 deg and 0.7 mm: the 1 ms step is coarser in the transient figures (largest
-    // tilt, slip, lowest height), not in distance or heading.
+    // Bounds (measured differences, 1 ms against 0.5 ms, in brackets): distance 2 % (0.5 %),
+    // heading 0.02 rad (0.014), lowest thorax height 1.5 mm (1.1), largest tilt 1 deg (0.62),
+    // slip per foot 4 mm (2.3, LH). Before the embed merge 0.5 ms against 0.25 ms differed by
+    // 0.06 %, 0.005 rad, 0.35 mm, 0.2 deg and 0.7 mm: the 1 ms step is coarser in the transient
+    // figures (heading, largest tilt, slip, lowest height), not in distance; the heading after two
+    // cycles also moved by 0.013 rad at 0.5 ms when the merge changed the firmware's timing.
     assert!((a.forward_m - b.forward_m).abs() < 0.02 * a.forward_m.abs());
-    assert!((a.heading_rad - b.heading_rad).abs() < 0.01);
+    assert!((a.heading_rad - b.heading_rad).abs() < 0.02);
     assert!((a.height_min_m - b.height_min_m).abs() < 0.0015);
     assert!((a.tilt_max_rad - b.tilt_max_rad).abs() < 1f64.to_radians());
     for ((leg, sa), (_, sb)) in a.slip_m.iter().zip(&b.slip_m) {
