@@ -1,8 +1,10 @@
-//! `dbot demo`: the whole path on the virtual robot. Plans the tripod gait of the built-in
-//! Drosophibot II on flat ground with the paper's parameters (table 1), solves its inverse dynamics,
-//! writes the plan's CSVs and plots, builds the step table, uploads it to the in-process virtual
-//! robot, walks 10 steps forward and 10 backward while recording, and prints a summary whose numbers
-//! all come from this run.
+//! `dbot demo`: the whole path on the physics robot (MuJoCo body under the firmware loop; or the
+//! plain virtual robot with `--port virtual`). Plans the tripod gait of the built-in Drosophibot II
+//! on flat ground with the paper's parameters (table 1), solves its inverse dynamics, writes the
+//! plan's CSVs and plots, builds the step table, uploads it to the in-process robot, walks 10 steps
+//! forward and 10 backward while recording, and prints a summary whose numbers all come from this
+//! run; on the physics robot also what each walk did to the body (distance per step against the
+//! plan, heading drift, thorax height and tilt, slip per foot).
 //!
 //! Every output goes through a scratch file renamed when complete, so a demo that is killed or
 //! interrupted leaves each file either as the previous run wrote it or complete from this run.
@@ -15,7 +17,8 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use board::link::Board;
 use board::record::{Ended, JointMeta, Recorder, Until, capture_while, joints_of_table, tracking};
-use board::robot::{VirtualRobot, VirtualTransport};
+use board::robot::{PlannedLoads, ServoDynamics, VirtualRobot, VirtualTransport};
+use physics::{Figures, PhysicsRobot};
 use planner::gait::StepParams;
 use planner::model::Leg;
 use planner::plan_dir;
@@ -40,11 +43,33 @@ fn check_interrupt(stage: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Plan, upload, walk and record Drosophibot II's tripod gait on the virtual robot.
+/// What moves the demo robot's servos, and what it can say about the body after a walk.
+trait DemoBody: ServoDynamics + std::fmt::Debug {
+    /// Starts measuring a walk.
+    fn start_walk(&mut self) {}
+    /// What the walk did to the body (`None`: the robot has no body).
+    fn walk_figures(&self) -> Option<Figures> {
+        None
+    }
+}
+
+impl DemoBody for PlannedLoads {}
+
+impl DemoBody for PhysicsRobot {
+    fn start_walk(&mut self) {
+        self.reset_figures();
+    }
+    fn walk_figures(&self) -> Option<Figures> {
+        self.figures().cloned()
+    }
+}
+
+/// Plan, upload, walk and record Drosophibot II's tripod gait on the physics robot.
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot demo                      # outputs in out/demo
-  dbot demo --steps 3 --out /tmp/d   # 3 steps each way")]
+  dbot demo --steps 3 --out /tmp/d   # 3 steps each way
+  dbot demo --port virtual       # the virtual robot without a body (loads = planned torques)")]
 pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/demo")]
@@ -52,6 +77,10 @@ pub struct Args {
     /// Steps to walk in each direction.
     #[arg(long, default_value_t = 10)]
     pub steps: u32,
+    /// Robot to walk: `physics` (MuJoCo body on flat ground, firmware in the loop) or `virtual`
+    /// (servo lags carrying the planned torques, no body).
+    #[arg(long, default_value = "physics")]
+    pub port: String,
 }
 
 impl Args {
@@ -104,11 +133,55 @@ impl Args {
         })?;
         check_interrupt("after writing the step table")?;
 
-        println!("[3/5] uploading to the virtual robot");
-        let mut board = Board::connect(VirtualTransport::new(VirtualRobot::new()))?;
-        let up = board.upload(0, &table, |_, _| {})?;
-        let parsed = protocol::GaitTable::parse(&table)?;
-        let joints = joints_of_table(&parsed, &names);
+        let ctx = Walked {
+            plan: &plan,
+            plan_dir: &plan_dir,
+            table: &table,
+            table_path: &table_path,
+            names: &names,
+            t_plan,
+            t_dyn,
+            dynamics_summary: dynamics.summary(),
+        };
+        match self.port.as_str() {
+            "physics" | "physics:flat" => {
+                println!("[3/5] uploading to the physics robot (MuJoCo, flat ground)");
+                let body = PhysicsRobot::drosophibot("flat")?;
+                self.walk_and_report(body.into_transport(), &ctx, "physics robot")
+            }
+            "virtual" => {
+                println!("[3/5] uploading to the virtual robot");
+                self.walk_and_report(
+                    VirtualTransport::new(VirtualRobot::new()),
+                    &ctx,
+                    "virtual robot",
+                )
+            }
+            other => bail!("--port {other}: the demo walks `physics` or `virtual`"),
+        }
+    }
+
+    fn walk_and_report<S: DemoBody>(
+        &self,
+        transport: VirtualTransport<S>,
+        ctx: &Walked<'_>,
+        robot_name: &str,
+    ) -> anyhow::Result<()> {
+        let out = &self.out;
+        let Walked {
+            plan,
+            plan_dir,
+            table,
+            table_path,
+            names,
+            t_plan,
+            t_dyn,
+            ..
+        } = *ctx;
+        let mut board = Board::connect(transport)?;
+        let up = board.upload(0, table, |_, _| {})?;
+        let parsed = protocol::GaitTable::parse(table)?;
+        let joints = joints_of_table(&parsed, names);
 
         let mut walks = Vec::new();
         for (i, direction) in [Direction::Forward, Direction::Backward]
@@ -127,6 +200,7 @@ impl Args {
             );
             let dir = out.join("record").join(label);
             let wall = Instant::now();
+            board.transport_mut().robot_mut().servos_mut().start_walk();
             let rec = walk(
                 &mut board,
                 direction,
@@ -135,7 +209,8 @@ impl Args {
                 joints.clone(),
                 parsed.slice_count(),
             )?;
-            walks.push((label, dir, rec, wall.elapsed()));
+            let figures = board.transport().robot().servos().walk_figures();
+            walks.push((label, dir, rec, wall.elapsed(), figures));
         }
 
         let robot = board.transport().robot();
@@ -151,7 +226,7 @@ impl Args {
             up.bytes,
             up.stored.crc
         );
-        for (label, dir, _, _) in &walks {
+        for (label, dir, _, _, _) in &walks {
             println!(
                 "  recording {label:<9}            {}/telemetry.csv, torque.png, angles.png",
                 dir.display()
@@ -164,9 +239,9 @@ impl Args {
             plan.period_s,
             t_plan.as_secs_f64() * 1e3,
             t_dyn.as_secs_f64() * 1e3,
-            dynamics.summary()
+            ctx.dynamics_summary
         );
-        println!("bus (virtual robot, simulated time)");
+        println!("bus ({robot_name}, simulated time)");
         println!(
             "  {} cycles in {:.2} s: {:.1} Hz; {} overruns, longest bus transaction {} us; {:.0} bytes per cycle on the wire",
             timing.cycles,
@@ -176,22 +251,77 @@ impl Args {
             timing.max_busy_us,
             (to_servos + to_master) as f64 / timing.cycles.max(1) as f64
         );
-        for (label, _, rec, wall) in &walks {
+        for (label, _, rec, wall, _) in &walks {
             println!(
                 "tracking error {label} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s of wall time)",
                 rec.cycles(),
                 rec.duration_s(),
                 wall.as_secs_f64()
             );
-            print_tracking(rec, &names);
+            print_tracking(rec, names);
+        }
+        for (label, _, rec, _, figures) in &walks {
+            if let Some(f) = figures {
+                print_body(label, f, plan, self.steps, rec.duration_s());
+            }
         }
         Ok(())
     }
 }
 
+/// What the walks need from the planning stages.
+struct Walked<'a> {
+    plan: &'a planner::plan::Plan,
+    plan_dir: &'a Path,
+    table: &'a [u8],
+    table_path: &'a Path,
+    names: &'a [String],
+    t_plan: std::time::Duration,
+    t_dyn: std::time::Duration,
+    dynamics_summary: String,
+}
+
+/// The body's figures of one walk against the plan. The plan moves the thorax at translation /
+/// stance time for the whole cycle (0.085 m / 0.75 s x 1.25 s = 0.142 m per step for table 1;
+/// 0.085 m is each foot's stroke), keeps the resting body height and does not tilt or turn.
+fn print_body(label: &str, f: &Figures, plan: &planner::plan::Plan, steps: u32, seconds: f64) {
+    let planned = plan.thorax_velocity.x * plan.period_s;
+    let sign = if label == "backward" { -1.0 } else { 1.0 };
+    let per_step = sign * f.forward_m / f64::from(steps);
+    println!(
+        "body {label} (physics robot, sampled every bus cycle over the walk's {seconds:.1} s)"
+    );
+    println!(
+        "  distance {:.4} m per step, planned {:.4} m ({:+.1} %; the feet's stroke is {:.3} m); lateral {:+.4} m",
+        per_step,
+        planned,
+        (per_step / planned - 1.0) * 100.0,
+        plan.params.translation_m,
+        f.lateral_m
+    );
+    println!(
+        "  heading drift {:+.2} deg; thorax height {:.1} mm at the start, {:.1} mm lowest, {:.1} mm at the end (plan: constant); tilt up to {:.2} deg (plan: 0)",
+        f.heading_rad.to_degrees(),
+        f.height_start_m * 1e3,
+        f.height_min_m * 1e3,
+        f.height_end_m * 1e3,
+        f.tilt_max_rad.to_degrees()
+    );
+    let slip: Vec<String> = f
+        .slip_m
+        .iter()
+        .map(|(leg, s)| format!("{} {:.1}", leg.name(), s * 1e3))
+        .collect();
+    println!("  slip while loaded, mm: {}", slip.join(", "));
+    match f.verdict(0.01) {
+        None => println!("  the robot carried the gait (no sag over 10 mm, no fall)"),
+        Some(v) => println!("  {v}"),
+    }
+}
+
 /// Plays `steps` steps in `direction` and records them into `dir`.
-fn walk(
-    board: &mut Board<VirtualTransport>,
+fn walk<S: DemoBody>(
+    board: &mut Board<VirtualTransport<S>>,
     direction: Direction,
     steps: u32,
     dir: &Path,

@@ -10,10 +10,10 @@ use std::time::Duration;
 
 use board::link::Board;
 use nix::time::{ClockId, clock_gettime};
-use physics::{PhysicsRobot, PhysicsTransport, Plant};
+use physics::{PhysicsRobot, Plant};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
-use planner::model::{MjcfOptions, builtin};
+use planner::model::builtin;
 use protocol::{Direction, PlayCommand, Steps};
 
 const CYCLES: u32 = 8;
@@ -36,14 +36,14 @@ fn main() {
     let cycle = solve_cycle(&model, &plan_inputs(&plan), &DynamicsOptions::default()).unwrap();
     let torques = planner::dynamics::output::torque_rows(&cycle);
     let table = planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap();
-    let options = MjcfOptions::stance(&model, "flat").unwrap();
+    let options = PhysicsRobot::options(&model, "flat").unwrap();
 
     let mut full = Vec::new();
     let mut sim_s = 0.0;
     for _ in 0..REPEATS {
         let robot = PhysicsRobot::with_options(&model, &options, "flat").unwrap();
         let t0 = cpu_now();
-        let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+        let mut b = Board::connect(robot.into_transport()).unwrap();
         b.upload(0, &table, |_, _| {}).unwrap();
         b.play(PlayCommand {
             slot: 0,

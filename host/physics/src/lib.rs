@@ -1,8 +1,9 @@
 //! Drosophibot II in MuJoCo 3.17.0 (through mujoco-rs 7.0.0): the model's MJCF
 //! (`planner::model::to_mjcf`) loaded as a [`Plant`] whose actuators behave like the MX servos'
 //! position controllers ([`servo`]), and the [`PhysicsRobot`]: the firmware library's board over
-//! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles, behind the
-//! same transport seam as the virtual robot ([`PhysicsTransport`]).
+//! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles: the board's
+//! virtual robot with a [`PhysicsRobot`] as its servo dynamics, behind the virtual robot's
+//! transport ([`PhysicsTransport`]).
 //!
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
 
@@ -16,5 +17,5 @@ mod transport;
 pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
-pub use robot::PhysicsRobot;
-pub use transport::{PhysicsTransport, register_port};
+pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
+pub use transport::{open, register_port};

@@ -6,7 +6,7 @@
 //! Ramping avoids the drop transient of a sudden full weight (host-crates.md).
 
 use mujoco_rs::prelude::*;
-use mujoco_rs::wrappers::mj_model::MjtObjBase;
+use mujoco_rs::wrappers::mj_model::{MjtDisableBit, MjtObjBase};
 use planner::model::{Actuation, Leg, MjcfOptions, Model, ServoMap, servo_actuator, to_mjcf};
 
 use crate::error::PhysicsError;
@@ -114,6 +114,9 @@ impl Plant {
             message: format!("keyframe `stance`: {e}"),
         })?;
         data.model_opt_mut().gravity = [0.0; 3];
+        // One robot is one island: island discovery costs about a quarter of a step and changes
+        // no result (measured with benches/physics_tuning.rs, docs/performance.md).
+        data.model_opt_mut().disableflags |= MjtDisableBit::mjDSBL_ISLAND as i32;
         data.forward();
         Ok(Self {
             data,
@@ -145,6 +148,12 @@ impl Plant {
         let a = self.joints[i].actuator;
         // SAFETY: only a force limit changes; every size, index and address stays as it was.
         unsafe { self.data.model_mut() }.actuator_forcerange_mut()[a] = [-stall, stall];
+    }
+
+    /// MuJoCo's solver and integrator options (e.g. to compare solver settings in a bench); the
+    /// timestep is best changed through the MJCF options, which also place the stance.
+    pub fn option_mut(&mut self) -> &mut MjOption {
+        self.data.model_opt_mut()
     }
 
     /// Simulated time, s.

@@ -30,7 +30,7 @@ fn the_firmware_walks_the_simulated_robot_as_planned_and_its_loads_follow_the_pl
     let status = b.status().unwrap();
     assert_eq!(status.fault, None);
     let r = b.transport().robot();
-    let (end, quat) = r.plant().thorax_pose();
+    let (end, quat) = r.servos().plant().thorax_pose();
 
     // Distance: the plan moves the thorax at translation / stance time for a whole cycle,
     // 0.085 m / 0.75 s * 1.25 s = 0.1417 m per cycle. Measured 0.1456 (+2.8 %): the start ramp

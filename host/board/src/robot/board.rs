@@ -117,6 +117,11 @@ impl<S: ServoDynamics> VirtualRobot<S> {
     }
 
     /// What moves the servos.
+    pub fn servos(&self) -> &S {
+        &self.servos
+    }
+
+    /// What moves the servos, to change.
     pub fn servos_mut(&mut self) -> &mut S {
         &mut self.servos
     }

@@ -9,14 +9,21 @@ use std::time::Duration;
 
 use super::board::VirtualRobot;
 use super::image::{self, ImageError};
+use super::servos::{PlannedLoads, ServoDynamics};
 use crate::link::{Transport, TransportError};
 
-/// A link to an in-process [`VirtualRobot`], optionally backed by a flash image file.
+/// Writes a transport's flash to its image file.
+type SaveFn<S> = fn(&mut VirtualTransport<S>) -> Result<(), ImageError>;
+
+/// A link to an in-process [`VirtualRobot`] (whose servos any [`ServoDynamics`] moves, e.g. the
+/// physics crate's MuJoCo body), optionally backed by a flash image file (planned loads only).
 #[derive(Debug)]
-pub struct VirtualTransport {
-    robot: VirtualRobot,
+pub struct VirtualTransport<S: ServoDynamics = PlannedLoads> {
+    robot: VirtualRobot<S>,
     name: String,
     image: Option<PathBuf>,
+    /// Writes the flash back to `image` at shutdown (set with the image).
+    save_at_shutdown: Option<SaveFn<S>>,
     /// Held from load to the last save: one command at a time on an image.
     image_lock: Option<crate::files::FileLock>,
     cut_after_sent: Option<usize>,
@@ -25,13 +32,19 @@ pub struct VirtualTransport {
     closed: bool,
 }
 
-impl VirtualTransport {
+impl<S: ServoDynamics> VirtualTransport<S> {
     /// A link to `robot`.
-    pub fn new(robot: VirtualRobot) -> Self {
+    pub fn new(robot: VirtualRobot<S>) -> Self {
+        Self::named(robot, "virtual")
+    }
+
+    /// A link to `robot` called `name` in messages.
+    pub fn named(robot: VirtualRobot<S>, name: &str) -> Self {
         Self {
             robot,
-            name: "virtual".to_owned(),
+            name: name.to_owned(),
             image: None,
+            save_at_shutdown: None,
             image_lock: None,
             cut_after_sent: None,
             cut_at_us: None,
@@ -40,38 +53,15 @@ impl VirtualTransport {
         }
     }
 
-    /// A robot that boots from the flash image at `path` (an erased flash if the file does not
-    /// exist yet); [`Self::save`] writes its flash back there.
-    pub fn with_image(path: &Path) -> Result<Self, ImageError> {
-        let (flash, lock) = image::open(path)?;
-        let mut t = Self::new(VirtualRobot::with_flash(flash));
-        t.name = format!("virtual:{}", path.display());
-        t.image = Some(path.to_owned());
-        t.image_lock = Some(lock);
-        Ok(t)
-    }
-
-    /// Writes the robot's flash to its image file, if it has one. The robot reboots from that
-    /// flash afterwards (its run state is lost, as at power-off).
-    pub fn save(&mut self) -> Result<(), ImageError> {
-        let Some(path) = self.image.clone() else {
-            return Ok(());
-        };
-        let flash = std::mem::take(&mut self.robot).into_flash();
-        let result = image::save(&path, &flash);
-        self.robot = VirtualRobot::with_flash(flash);
-        result
-    }
-
-    pub fn robot(&self) -> &VirtualRobot {
+    pub fn robot(&self) -> &VirtualRobot<S> {
         &self.robot
     }
 
-    pub fn robot_mut(&mut self) -> &mut VirtualRobot {
+    pub fn robot_mut(&mut self) -> &mut VirtualRobot<S> {
         &mut self.robot
     }
 
-    pub fn into_robot(self) -> VirtualRobot {
+    pub fn into_robot(self) -> VirtualRobot<S> {
         self.robot
     }
 
@@ -97,7 +87,33 @@ impl VirtualTransport {
     }
 }
 
-impl Transport for VirtualTransport {
+impl VirtualTransport {
+    /// A robot that boots from the flash image at `path` (an erased flash if the file does not
+    /// exist yet); [`Self::save`] writes its flash back there.
+    pub fn with_image(path: &Path) -> Result<Self, ImageError> {
+        let (flash, lock) = image::open(path)?;
+        let mut t = Self::new(VirtualRobot::with_flash(flash));
+        t.name = format!("virtual:{}", path.display());
+        t.image = Some(path.to_owned());
+        t.image_lock = Some(lock);
+        t.save_at_shutdown = Some(Self::save);
+        Ok(t)
+    }
+
+    /// Writes the robot's flash to its image file, if it has one. The robot reboots from that
+    /// flash afterwards (its run state is lost, as at power-off).
+    pub fn save(&mut self) -> Result<(), ImageError> {
+        let Some(path) = self.image.clone() else {
+            return Ok(());
+        };
+        let flash = std::mem::take(&mut self.robot).into_flash();
+        let result = image::save(&path, &flash);
+        self.robot = VirtualRobot::with_flash(flash);
+        result
+    }
+}
+
+impl<S: ServoDynamics + std::fmt::Debug> Transport for VirtualTransport<S> {
     fn send(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
         if self.closed {
             return Err(self.closed_error());
@@ -148,7 +164,9 @@ impl Transport for VirtualTransport {
     }
 
     fn shutdown(&mut self) -> Result<(), TransportError> {
-        self.save()
-            .map_err(|e| TransportError::Io(std::io::Error::other(e.to_string())))
+        let Some(save) = self.save_at_shutdown else {
+            return Ok(());
+        };
+        save(self).map_err(|e| TransportError::Io(std::io::Error::other(e.to_string())))
     }
 }

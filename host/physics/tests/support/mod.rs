@@ -29,7 +29,7 @@ pub fn walking(
     direction: Direction,
     steps: u32,
 ) -> Board<PhysicsTransport> {
-    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    let mut b = Board::connect(robot.into_transport()).unwrap();
     b.upload(0, table, |_, _| {}).unwrap();
     b.play(PlayCommand {
         slot: 0,
@@ -46,7 +46,7 @@ pub fn walking(
 /// stance the robot powers on in.
 pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::Figures {
     use std::time::Duration;
-    let mut b = Board::connect(PhysicsTransport::new(robot)).unwrap();
+    let mut b = Board::connect(robot.into_transport()).unwrap();
     b.upload(0, table, |_, _| {}).unwrap();
     b.play(PlayCommand {
         slot: 0,
@@ -64,5 +64,5 @@ pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::F
             break;
         }
     }
-    b.transport().robot().figures().unwrap().clone()
+    b.transport().robot().servos().figures().unwrap().clone()
 }
