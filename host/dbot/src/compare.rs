@@ -5,8 +5,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use planner::analysis::{DofTrace, SweepPoint, classify_sweep, compare};
-use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
+use planner::analysis::{DofTrace, classify_sweep, compare};
 use planner::model::{JointKind, Leg};
 use planner::plan_dir::{self, columns};
 
@@ -173,28 +172,7 @@ fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
         }
         let mut p = planner::gait::StepParams::table1(&model.name);
         p.swing_s = sw;
-        let plan = planner::plan::plan(&model, &p)
-            .with_context(|| format!("planning with swing {sw} s"))?;
-        let mut inputs = plan_inputs(&plan);
-        let peak_of = |inputs: &[planner::dynamics::SliceInput]| -> Result<f64> {
-            let c = solve_cycle(&model, inputs, &DynamicsOptions::default())
-                .with_context(|| format!("dynamics with swing {sw} s"))?;
-            Ok(c.slices
-                .iter()
-                .flat_map(|s| s.torque.iter())
-                .fold(0.0f64, |m, t| m.max(t.abs())))
-        };
-        let peak_torque = peak_of(&inputs)?;
-        // The same motion without gravity (and without springs' static share): inertia only.
-        for i in &mut inputs {
-            i.gravity = nalgebra::Vector3::zeros();
-        }
-        let peak_inertial_torque = peak_of(&inputs)?;
-        points.push(SweepPoint {
-            period: plan.period_s,
-            peak_torque,
-            peak_inertial_torque,
-        });
+        points.push(planner::analysis::sweep_point(&model, &p)?);
         bar.inc(1);
     }
     bar.finish_and_clear();

@@ -258,3 +258,76 @@ fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
         })
         .collect()
 }
+
+/// Why fewer torques correlate with springs than in the paper (tables S4 / S6): the robot's
+/// torque is a sum of its gravity and inertia share and its spring share k (q - q_eq), the fly's
+/// (3.8e-8 N m/rad, about ten times its gravity torques) mostly spring. The R^2 counts of table
+/// S4 (flat, tripod) with the fly's paper springs and the robot's stiffness raised from the paper's
+/// 1 N m/rad, and each organism's spring share of its peak torque, as a markdown table.
+pub fn spring_sensitivity(slices: usize) -> Result<String> {
+    let fly = run(
+        "scale-drosophila",
+        paper::FLY_SWING_S,
+        "flat",
+        SpringSpec::Paper,
+        slices,
+    )?;
+    let claims = TABLES
+        .iter()
+        .find(|t| t.id == "S4 springs")
+        .context("table S4 springs")?
+        .claims;
+    let mut md = String::from(
+        "| robot stiffness (N m/rad) | robot: peak spring torque / peak axis moment | fly: the same | S4 springs, ours | paper |\n|---|---|---|---|---|\n",
+    );
+    let paper_counts: Vec<String> = claims
+        .iter()
+        .map(|c| format!("{} of {} > {}", c.count, c.of, c.above))
+        .collect();
+    for k in [1.0, 3.0, 10.0] {
+        let robot = run(
+            "drosophibot2",
+            paper::ROBOT_SWING_S,
+            "flat",
+            SpringSpec::Stiffness(k),
+            slices,
+        )?;
+        let r = compare(&robot.traces, &fly.traces);
+        let r2 = paper::r2_of(&r, &TRIPOD, Quantity::Torque);
+        let ours: Vec<String> = claims
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} of {} > {}",
+                    paper::count_above(&r2, c.above),
+                    r2.len(),
+                    c.above
+                )
+            })
+            .collect();
+        writeln!(
+            md,
+            "| {k} | {:.2} | {:.2} | {} | {} |",
+            spring_share(&robot),
+            spring_share(&fly),
+            ours.join(", "),
+            paper_counts.join(", ")
+        )?;
+    }
+    Ok(md)
+}
+
+/// Largest |spring torque| over the largest |axis moment| (actuator + spring), over the tripod's
+/// actuated joints.
+fn spring_share(r: &Run) -> f64 {
+    let (mut spring, mut total) = (0.0f64, 0.0f64);
+    for sl in &r.cycle.slices {
+        for (j, joint) in r.plan.model.joints.iter().enumerate() {
+            if TRIPOD.contains(&joint.leg) {
+                spring = spring.max(sl.spring_torque[j].abs());
+                total = total.max((sl.torque[j] + sl.spring_torque[j]).abs());
+            }
+        }
+    }
+    spring / total
+}

@@ -1,10 +1,11 @@
 //! `dbot demo`: the whole path on the physics robot (MuJoCo body under the firmware loop; or the
 //! plain virtual robot with `--port virtual`). Plans the tripod gait of the built-in Drosophibot II
-//! on flat ground with the paper's parameters (table 1), solves its inverse dynamics, writes the
-//! plan's CSVs and plots, builds the step table, uploads it to the in-process robot, walks 10 steps
-//! forward and 10 backward while recording, and prints a summary whose numbers all come from this
-//! run; on the physics robot also what each walk did to the body (distance per step against the
-//! plan, heading drift, thorax height and tilt, slip per foot).
+//! on flat ground with the paper's parameters (table 1 at the servo-safe 1.0 s swing), solves its
+//! inverse dynamics, says whether the servos can follow it, writes the plan's CSVs and plots,
+//! builds the step table, uploads it to the in-process robot, walks 10 steps forward and 10
+//! backward while recording, and prints a summary whose numbers all come from this run; on the
+//! physics robot also what each walk did to the body (distance per step against the plan, heading
+//! drift, thorax height and tilt, slip per foot).
 //!
 //! Every output goes through a scratch file renamed when complete, so a demo that is killed or
 //! interrupted leaves each file either as the previous run wrote it or complete from this run.
@@ -91,9 +92,12 @@ impl Args {
             bail!("--steps 0: give at least one step");
         }
 
-        println!("[1/5] planning the tripod gait of drosophibot2 (flat, table 1 of the paper)");
+        println!(
+            "[1/5] planning the tripod gait of drosophibot2 (flat, table 1 of the paper, swing {:.1} s)",
+            planner::gait::SERVO_SAFE_SWING_S
+        );
         let model = planner::model::builtin("drosophibot2")?;
-        let params = StepParams::table1(&model.name);
+        let params = StepParams::preset("servo-safe", &model.name).context("servo-safe preset")?;
         let t0 = Instant::now();
         let plan = planner::plan::plan(&model, &params).context("planning the step")?;
         let t_plan = t0.elapsed();
@@ -111,7 +115,7 @@ impl Args {
         // Until here a Ctrl-C simply ends the process: nothing has been written yet.
         interrupt::catch()?;
         let plan_dir = out.join("plan");
-        write_plan_dir(
+        let (_, feasible) = write_plan_dir(
             &plan_dir,
             &plan,
             "drosophibot2",
@@ -119,6 +123,7 @@ impl Args {
             Some(&dynamics),
             serde_json::Value::Null,
         )?;
+        println!("  {}", crate::feasibility_args::summary(&feasible));
         check_interrupt("after writing the plan")?;
 
         println!("[2/5] building the step table");

@@ -12,11 +12,12 @@ use crate::common::plan_output::write_plan_dir;
 
 /// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
 ///
-/// Stepping parameters default to table 1 of the paper for the model; a --params TOML file
-/// overrides any of them, and the flags below override the file.
+/// Stepping parameters default to table 1 of the paper for the model at a swing the servos can
+/// follow (--preset servo-safe); a --params TOML file overrides any of them, and the flags below
+/// override the file.
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
-  dbot plan --out out/walk                                   # Drosophibot II, tripod, flat ground, table 1
+  dbot plan --out out/walk                                   # Drosophibot II, tripod, flat ground, table 1, swing 1.0 s
   dbot plan --model scale-drosophila --terrain ball --out out/fly-ball   # the fly on the ball
   dbot plan --params lab-step.toml --no-dynamics --out out/quick")]
 pub struct Args {
@@ -28,8 +29,8 @@ pub struct Args {
     /// tripod, tetrapod, wave or PHI_I:PHI_C (fractions of the cycle). Default: table 1 (tripod).
     #[arg(long)]
     gait: Option<String>,
-    /// Swing duration, s. Default: table 1 of the paper for the model (drosophibot2 0.5 s,
-    /// scale-drosophila 0.1 s).
+    /// Swing duration, s. Default: the preset's (servo-safe: drosophibot2 1.0 s, scale-drosophila
+    /// 0.1 s; table1: drosophibot2 0.5 s).
     #[arg(long, allow_negative_numbers = true)]
     swing: Option<f64>,
     /// Time slices per step cycle. Default: table 1 (100).
@@ -42,10 +43,12 @@ pub struct Args {
     /// Walk backward (negates the body translation per step).
     #[arg(long)]
     backward: bool,
-    /// Stepping-parameter preset the file and flags below start from: table1 (default),
+    /// Stepping-parameter preset the file and flags below start from: servo-safe (default; table
+    /// 1 at a 1.0 s swing, which the servos follow with at least 26 % speed headroom), table1
+    /// (swing 0.5 s, the original solver's default: too fast for the front servos),
     /// physical-robot (Drosophibot II as the original solver ran it: per-pair body heights and
     /// its resting feet, swing 1.6 s) or paper-comparison (the paper's robot-vs-fly conditions).
-    #[arg(long, default_value = "table1")]
+    #[arg(long, default_value = "servo-safe")]
     preset: String,
     /// TOML file with stepping parameters, any subset of: swing_s (s), duty, step_height_m and
     /// body_height_m ({ hind, middle, front }, m), translation_m and rotation_rad (per stance),
@@ -158,6 +161,15 @@ impl Args {
             println!("{}", d.summary());
         }
         println!("{}", crate::feasibility_args::summary(&feasible));
+        if !plan.ik_gaps.is_empty() {
+            println!(
+                "inverse kinematics: {} run(s) of steps over a joint's speed allowance:",
+                plan.ik_gaps.len()
+            );
+            for g in &plan.ik_gaps {
+                println!("  {g}");
+            }
+        }
         Ok(())
     }
 }

@@ -1,29 +1,37 @@
-//! `dbot validate`: regenerates the numbers of docs/validation.md. The document's prose stays hand
+//! `dbot validate`: regenerates docs/validation.md's run results. The document's prose stays hand
 //! written; every figure it quotes from a run sits in a block between `<!-- generated: NAME -->`
-//! and `<!-- end generated -->`, which `--write` fills and `--check` compares (a test runs
-//! `--check`, so the document cannot drift from the code).
+//! and `<!-- end generated -->`, and every plot it shows is a PNG next to it
+//! (`validation/NAME.png`): `--write` fills the blocks and writes the plots, `--check` compares
+//! both with a fresh run (a test runs `--check`, so the document cannot drift from the code).
+//! Timings (the `performance` block) are compared as ratios, see [`same_up_to_timing`].
+//!
+//! The part between `<!-- physics:begin -->` and `<!-- physics:end -->` belongs to another
+//! generator and is kept byte for byte; `--write` adds an empty pair at the end when it is missing.
+
+mod blocks;
+mod timing;
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
-use planner::gait::StepParams;
-use planner::model::{Actuation, JointKind, Leg, builtin};
-use planner::plan::feasibility;
 
-/// Regenerate (or check) the run results quoted in docs/validation.md.
+/// Regenerate (or check) the run results and plots of docs/validation.md.
 ///
-/// Plans and solves the built-in models (table 1 parameters), the 15 degree incline, the servo
-/// feasibility at two swing durations and the paper's comparison (`dbot compare --paper`, 50
-/// slices per step to keep the check quick), and fills the document's generated blocks.
+/// Plans and solves the built-in models (table 1 parameters), the servo feasibility of the default
+/// and the original swing, the IK's continuity, the 15 degree incline, the resting posture, the
+/// speed sweep, the timings and the paper's comparison (`dbot compare --paper`, 50 slices per step
+/// to keep the check quick), fills the document's generated blocks and writes its plots to
+/// `validation/` beside it.
 #[derive(Debug, clap::Args)]
+#[command(after_help = "Examples:
+  dbot validate --check docs/validation.md     # fails naming every block or plot that drifted
+  cargo run --release --bin dbot -- validate --write docs/validation.md   # timings from a release build")]
 pub struct Args {
-    /// Fill the generated blocks of this file in place.
+    /// Fill the generated blocks of this file in place and write its plots.
     #[arg(long, group = "mode")]
     write: Option<PathBuf>,
-    /// Fail (listing the blocks) if this file's generated blocks differ from a fresh run.
+    /// Fail (listing the blocks and plots) if this file differs from a fresh run.
     #[arg(long, group = "mode")]
     check: Option<PathBuf>,
     /// Keep the comparison's plots (`dbot compare --paper` layout) in this directory.
@@ -33,6 +41,12 @@ pub struct Args {
 
 const OPEN: &str = "<!-- generated: ";
 const CLOSE: &str = "<!-- end generated -->";
+const PHYSICS_BEGIN: &str = "<!-- physics:begin -->";
+const PHYSICS_END: &str = "<!-- physics:end -->";
+/// Blocks of timings, compared as ratios.
+const TIMED: [&str; 1] = ["performance"];
+/// Two timings within this factor of each other match.
+const TIMING_RATIO: f64 = 3.0;
 
 impl Args {
     pub fn run(self) -> Result<()> {
@@ -45,18 +59,30 @@ impl Args {
             std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
         // The comparison's plots (megabytes) go to --plots, else to a scratch directory.
         let scratch = std::env::temp_dir().join(format!("dbot-validate-{}", std::process::id()));
-        let generated = blocks(self.plots.as_ref().unwrap_or(&scratch));
+        let generated = blocks::generate(self.plots.as_ref().unwrap_or(&scratch));
         let _ = std::fs::remove_dir_all(&scratch);
-        let blocks = generated?;
-        let (new, stale) = fill(&text, &blocks).with_context(|| path.display().to_string())?;
+        let generated = generated?;
+        let (new, mut stale) =
+            fill(&text, &generated.blocks).with_context(|| path.display().to_string())?;
+        let plot_dir = path.parent().unwrap_or(Path::new(".")).join("validation");
+        for (name, bytes) in &generated.plots {
+            let f = plot_dir.join(name);
+            if std::fs::read(&f).ok().as_ref() != Some(bytes) {
+                stale.push(format!("validation/{name}"));
+                if write {
+                    std::fs::create_dir_all(&plot_dir)?;
+                    crate::common::output::replace_file(&f, |p| Ok(std::fs::write(p, bytes)?))?;
+                }
+            }
+        }
+        let what = format!(
+            "{} generated blocks and {} plots",
+            generated.blocks.len(),
+            generated.plots.len()
+        );
         if write {
             crate::common::output::replace_file(path, |p| Ok(std::fs::write(p, &new)?))?;
-            println!(
-                "{}: {} generated blocks ({} changed)",
-                path.display(),
-                blocks.len(),
-                stale.len()
-            );
+            println!("{}: {what} ({} changed)", path.display(), stale.len());
         } else if !stale.is_empty() {
             bail!(
                 "{} has drifted from the code in block(s) {}: run `dbot validate --write {}`",
@@ -65,22 +91,55 @@ impl Args {
                 path.display()
             );
         } else {
-            println!(
-                "{}: all {} generated blocks match",
-                path.display(),
-                blocks.len()
-            );
+            println!("{}: all {what} match", path.display());
         }
         Ok(())
     }
 }
 
-/// Replaces every block's body; returns the new text and the names of blocks whose body changed.
+/// Replaces every block's body outside the physics part; returns the new text and the names of
+/// blocks whose body changed (a missing physics part counts as `physics markers`).
 fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<String>)> {
+    let mut stale = Vec::new();
+    let (outside, physics, after) = match (text.find(PHYSICS_BEGIN), text.find(PHYSICS_END)) {
+        (Some(b), Some(e)) if b < e => {
+            let end = e + PHYSICS_END.len();
+            (&text[..b], &text[b..end], &text[end..])
+        }
+        (None, None) => {
+            stale.push("physics markers".to_string());
+            (text, "", "")
+        }
+        _ => bail!("`{PHYSICS_BEGIN}` and `{PHYSICS_END}` must both be there, in that order"),
+    };
+    let mut seen = Vec::new();
+    let mut out = fill_part(outside, blocks, &mut seen, &mut stale)?;
+    if physics.is_empty() {
+        if !out.ends_with('\n') {
+            out.push('\n');
+        }
+        out += &format!("\n{PHYSICS_BEGIN}\n{PHYSICS_END}\n");
+    } else {
+        out += physics;
+        out += &fill_part(after, blocks, &mut seen, &mut stale)?;
+    }
+    for name in blocks.keys() {
+        if !seen.iter().any(|s| s == name) {
+            bail!("block `{name}` is missing (add `{OPEN}{name} -->` ... `{CLOSE}`)");
+        }
+    }
+    Ok((out, stale))
+}
+
+/// Fills the generated blocks of one part of the document.
+fn fill_part(
+    text: &str,
+    blocks: &BTreeMap<&str, String>,
+    seen: &mut Vec<String>,
+    stale: &mut Vec<String>,
+) -> Result<String> {
     let mut out = String::new();
     let mut rest = text;
-    let mut seen = Vec::new();
-    let mut stale = Vec::new();
     while let Some(i) = rest.find(OPEN) {
         let after = &rest[i + OPEN.len()..];
         let end_name = after
@@ -96,7 +155,12 @@ fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<Stri
             .get(name.as_str())
             .with_context(|| format!("block `{name}` is not one dbot validate generates"))?;
         let fresh = format!("\n{}\n", fresh.trim_end());
-        if old != fresh {
+        let same = if TIMED.contains(&name.as_str()) {
+            same_up_to_timing(old, &fresh)
+        } else {
+            old == fresh
+        };
+        if !same {
             stale.push(name.clone());
         }
         out += &rest[..body_start];
@@ -106,212 +170,95 @@ fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<Stri
         seen.push(name);
     }
     out += rest;
-    for name in blocks.keys() {
-        if !seen.iter().any(|s| s == name) {
-            bail!("block `{name}` is missing (add `{OPEN}{name} -->` ... `{CLOSE}`)");
-        }
-    }
-    Ok((out, stale))
+    Ok(out)
 }
 
-/// Every generated block by name.
-fn blocks(plots: &std::path::Path) -> Result<BTreeMap<&'static str, String>> {
-    let mut b = BTreeMap::new();
-    let robot = builtin("drosophibot2")?;
-    let fly = builtin("scale-drosophila")?;
-    let plan_of = |m: &planner::model::Model, f: &dyn Fn(&mut StepParams)| {
-        let mut p = StepParams::table1(&m.name);
-        f(&mut p);
-        planner::plan::plan(m, &p).with_context(|| format!("planning {}", m.name))
-    };
-    let solve = |plan: &planner::plan::Plan| {
-        solve_cycle(&plan.model, &plan_inputs(plan), &DynamicsOptions::default())
-            .with_context(|| format!("inverse dynamics of {}", plan.model.name))
-    };
-
-    // Weight against the solved vertical GRF; the fly's friction need on flat ground.
-    let rp = plan_of(&robot, &|_| {})?;
-    let rc = solve(&rp)?;
-    let fp = plan_of(&fly, &|_| {})?;
-    let fc = solve(&fp)?;
-    let mut s = String::new();
-    for (name, plan, cycle) in [("Drosophibot II", &rp, &rc), ("Scale-Drosophila", &fp, &fc)] {
-        let mass = plan.model.total_mass();
-        let g = plan.gravity.norm();
-        let fz: Vec<f64> = cycle
-            .slices
-            .iter()
-            .map(|s| s.grf.iter().map(|f| f.z).sum())
-            .collect();
-        let mean = fz.iter().sum::<f64>() / fz.len() as f64;
-        let (mut worst, mut sum, mut n) = (0.0f64, 0.0, 0usize);
-        for (sl, st) in cycle.slices.iter().zip(&plan.stance) {
-            for (li, leg) in plan.legs.iter().enumerate() {
-                let Some(fi) = plan.model.feet.iter().position(|f| f.leg == *leg) else {
-                    continue;
-                };
-                let f = sl.grf[fi];
-                if st[li] && f.z > 0.0 {
-                    let mu = (f.x * f.x + f.y * f.y).sqrt() / f.z;
-                    worst = worst.max(mu);
-                    sum += mu;
-                    n += 1;
-                }
-            }
-        }
-        writeln!(
-            s,
-            "- {name}: mass {} kg, weight {} N; total vertical GRF {} N on average over the cycle (min {}, max {}: the thorax's inertia is zero, the legs' is not); stance feet need a friction coefficient |F_t| / F_n of {:.2} on average, up to {:.2}.",
-            sig(mass),
-            sig(mass * g),
-            sig(mean),
-            sig(fz.iter().cloned().fold(f64::INFINITY, f64::min)),
-            sig(fz.iter().cloned().fold(f64::NEG_INFINITY, f64::max)),
-            sum / n.max(1) as f64,
-            worst
-        )?;
-    }
-    b.insert("weight", s);
-
-    // Peak actuated torque per leg pair and joint, robot, flat.
-    let kinds = [
-        JointKind::ThC1,
-        JointKind::ThC3,
-        JointKind::CTr,
-        JointKind::TrF1,
-        JointKind::FTi,
-    ];
-    let mut s =
-        String::from("| pair | ThC1 | ThC3 | CTr | TrF | FTi |\n|---|---|---|---|---|---|\n");
-    for (pair, legs) in [
-        ("front", [Leg::LF, Leg::RF]),
-        ("middle", [Leg::LM, Leg::RM]),
-        ("hind", [Leg::LH, Leg::RH]),
-    ] {
-        let cells: Vec<String> = kinds
-            .iter()
-            .map(|k| {
-                let js: Vec<usize> = (0..robot.joints.len())
-                    .filter(|&j| legs.contains(&robot.joints[j].leg) && robot.joints[j].kind == *k)
-                    .collect();
-                let fixed = js
-                    .iter()
-                    .all(|&j| matches!(robot.joints[j].actuation, Actuation::Fixed { .. }));
-                let peak = rc
-                    .slices
-                    .iter()
-                    .flat_map(|sl| js.iter().map(|&j| sl.torque[j].abs()))
-                    .fold(0.0f64, f64::max);
-                if fixed {
-                    format!("fixed ({peak:.2})")
-                } else {
-                    format!("{peak:.2}")
-                }
-            })
-            .collect();
-        writeln!(s, "| {pair} | {} |", cells.join(" | "))?;
-    }
-    b.insert("robot-peaks", s);
-
-    // Feasibility at table 1's 0.5 s swing and at 0.8 s.
-    let mut s = String::new();
-    for (swing, terrain) in [(0.5, "flat"), (0.5, "ball"), (0.8, "flat"), (0.8, "ball")] {
-        let p = plan_of(&robot, &|p| {
-            p.swing_s = swing;
-            p.terrain = terrain.into();
-        })?;
-        let c = solve(&p)?;
-        let t = planner::dynamics::output::torque_rows(&c);
-        let f = feasibility::check(&p.model, &p.q, Some(&t), p.dt);
-        writeln!(
-            s,
-            "- swing {swing} s ({terrain}): {}",
-            if f.is_feasible() {
-                "feasible".to_string()
+/// Whether two timing blocks agree: the same text around the numbers, and, when both were measured
+/// with the same build profile, every number within [`TIMING_RATIO`] of the other's (a debug
+/// build's timings say nothing about a release build's, so across profiles only the text counts).
+pub fn same_up_to_timing(old: &str, fresh: &str) -> bool {
+    let split = |s: &str| {
+        let mut words = String::new();
+        let mut numbers = Vec::new();
+        let mut num = String::new();
+        for c in s.chars() {
+            if c.is_ascii_digit() || (c == '.' && !num.is_empty()) {
+                num.push(c);
             } else {
-                f.violations
-                    .iter()
-                    .map(|v| v.to_string())
-                    .collect::<Vec<_>>()
-                    .join("; ")
+                if !num.is_empty() {
+                    numbers.push(num.trim_end_matches('.').parse::<f64>().unwrap_or(f64::NAN));
+                    words.push('#');
+                    num.clear();
+                }
+                words.push(c);
             }
-        )?;
+        }
+        if !num.is_empty() {
+            numbers.push(num.parse::<f64>().unwrap_or(f64::NAN));
+            words.push('#');
+        }
+        let profile = ["debug build", "release build"]
+            .into_iter()
+            .find(|p| words.contains(p));
+        let words = words
+            .replace("debug build", "PROFILE")
+            .replace("release build", "PROFILE");
+        (words, numbers, profile)
+    };
+    let (wa, na, pa) = split(old);
+    let (wb, nb, pb) = split(fresh);
+    if wa != wb || na.len() != nb.len() {
+        return false;
     }
-    let p = plan_of(&fly, &|p| p.terrain = "ball".into())?;
-    let f = feasibility::check(&p.model, &p.q, None, p.dt);
-    writeln!(
-        s,
-        "- Scale-Drosophila on the ball (table 1): {}",
-        f.violations
+    pa != pb
+        || na
             .iter()
-            .map(|v| v.to_string())
-            .collect::<Vec<_>>()
-            .join("; ")
-    )?;
-    b.insert("feasibility", s);
-
-    // The 15 degree incline with push-only feet.
-    let p = plan_of(&robot, &|p| p.terrain = "incline:15".into())?;
-    let opts = DynamicsOptions {
-        push_only: true,
-        ..Default::default()
-    };
-    let s = match solve_cycle(&p.model, &plan_inputs(&p), &opts) {
-        Ok(_) => "(feasible)".to_string(),
-        Err(e) => format!("> {e}"),
-    };
-    b.insert("incline", s);
-
-    // Resting posture: ThC -> foot offsets of table 1's placement and the physical-robot preset
-    // against the original solver's figure (solver.md; ThC z of that figure: hind and middle
-    // -0.0246 m, front 0.0377 m).
-    let original = [
-        ("hind", Leg::LH, [-0.150, 0.130, -0.175 + 0.0246]),
-        ("middle", Leg::LM, [-0.025, 0.200, -0.190 + 0.0246]),
-        ("front", Leg::LF, [0.114, 0.065, -0.165 - 0.0377]),
-    ];
-    let mut s = String::from(
-        "| pair | original ThC -> foot (x, y, z) m | table1 (ours) | off by | physical-robot preset | off by |\n|---|---|---|---|---|---|\n",
-    );
-    let physical = StepParams::preset("physical-robot", "drosophibot2").context("preset")?;
-    let pp = planner::plan::plan(&robot, &physical)?;
-    for (pair, leg, o) in original {
-        let thc = robot.joints[robot.leg_chain(leg)[0]]
-            .origin
-            .translation
-            .vector;
-        let o = nalgebra::Vector3::from(o);
-        let offset = |plan: &planner::plan::Plan| {
-            let f = plan.posture.foot(leg).unwrap_or_default();
-            f - thc
-        };
-        let cell = |v: nalgebra::Vector3<f64>| format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z);
-        let (a, b) = (offset(&rp), offset(&pp));
-        writeln!(
-            s,
-            "| {pair} | {} | {} | {:.0} % | {} | {:.0} % |",
-            cell(o),
-            cell(a),
-            100.0 * (a - o).norm() / o.norm(),
-            cell(b),
-            100.0 * (b - o).norm() / o.norm()
-        )?;
-    }
-    b.insert("posture", s);
-
-    // The paper's comparison.
-    std::fs::create_dir_all(plots).with_context(|| format!("creating {}", plots.display()))?;
-    let c = crate::compare_paper::run_paper(plots, 50)?;
-    b.insert("paper", c.markdown);
-    Ok(b)
+            .zip(&nb)
+            .all(|(a, b)| a == b || (a / b <= TIMING_RATIO && b / a <= TIMING_RATIO))
 }
 
-/// Four significant digits: decimals for robot-sized values, exponent form for fly-sized ones.
-fn sig(x: f64) -> String {
-    if (1e-2..1e4).contains(&x.abs()) {
-        let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
-        format!("{x:.digits$}")
-    } else {
-        format!("{x:.3e}")
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timings_match_within_a_factor_of_three_of_the_same_profile_only() {
+        let a = "| x | 1.28 ms |\n(release build, 51 runs)";
+        assert!(same_up_to_timing(
+            a,
+            "| x | 3.70 ms |\n(release build, 51 runs)"
+        ));
+        // 1.28 x 3 = 3.84 ms: 3.90 is over.
+        assert!(!same_up_to_timing(
+            a,
+            "| x | 3.90 ms |\n(release build, 51 runs)"
+        ));
+        // Another build profile: only the text around the numbers is compared.
+        assert!(same_up_to_timing(
+            a,
+            "| x | 40.00 ms |\n(debug build, 5 runs)"
+        ));
+        assert!(!same_up_to_timing(
+            a,
+            "| y | 40.00 ms |\n(debug build, 5 runs)"
+        ));
+    }
+
+    #[test]
+    fn the_physics_part_is_kept_and_added_when_missing() {
+        let blocks: BTreeMap<&str, String> = [("a", "new".to_string())].into();
+        let doc = format!(
+            "x\n{OPEN}a -->\nold\n{CLOSE}\n{PHYSICS_BEGIN}\n{OPEN}p -->\nmine\n{CLOSE}\n{PHYSICS_END}\ny\n"
+        );
+        let (out, stale) = fill(&doc, &blocks).unwrap();
+        assert_eq!(stale, vec!["a".to_string()]);
+        assert!(out.contains(&format!("{OPEN}a -->\nnew\n{CLOSE}")));
+        // The physics part's own block is neither filled nor refused.
+        assert!(out.contains(&format!(
+            "{PHYSICS_BEGIN}\n{OPEN}p -->\nmine\n{CLOSE}\n{PHYSICS_END}\ny\n"
+        )));
+        let (out, stale) = fill(&format!("x\n{OPEN}a -->\nnew\n{CLOSE}\n"), &blocks).unwrap();
+        assert_eq!(stale, vec!["physics markers".to_string()]);
+        assert!(out.ends_with(&format!("\n{PHYSICS_BEGIN}\n{PHYSICS_END}\n")));
     }
 }

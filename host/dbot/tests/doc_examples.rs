@@ -94,6 +94,18 @@ fn every_documented_dbot_command_runs_on_the_virtual_robot() {
         dir.path().join("docs/validation.md"),
     )
     .unwrap();
+    // ... and its plots, which the check compares too.
+    std::fs::create_dir(dir.path().join("docs/validation")).unwrap();
+    for f in std::fs::read_dir(repo().join("docs/validation")).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(
+            &f,
+            dir.path()
+                .join("docs/validation")
+                .join(f.file_name().unwrap()),
+        )
+        .unwrap();
+    }
     let all: Vec<Example> = ["README.md", "docs/usage.md"]
         .iter()
         .flat_map(|f| examples(f))

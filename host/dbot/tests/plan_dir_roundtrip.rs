@@ -10,11 +10,8 @@ use std::process::{Command, Output};
 fn dbot(dir: &Path, args: &[&str]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
     c.args(args);
-    // Table 1's 0.5 s swing is faster than the front servos follow (plan/feasibility.rs): this
-    // test is about the format, so the feasibility check is overridden where tables are built.
-    if args.contains(&"--plan") {
-        c.arg("--allow-infeasible");
-    }
+    // No --allow-infeasible: `dbot plan`'s and the demo's defaults (servo-safe) are plans the
+    // servos can follow, so every table here is built through the feasibility check.
     // Virtual stores are made here, not mistyped.
     if args.iter().any(|a| a.starts_with("virtual:")) {
         c.arg("--create");
@@ -61,8 +58,8 @@ fn tables_of(dir: &Path, plan: &str) -> (Vec<u8>, String) {
 fn every_plan_directory_round_trips_through_every_reader_with_identical_tables() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    // The same plan twice: `dbot plan`'s defaults are the demo's (table 1 of the paper, tripod,
-    // flat ground, the same dynamics options).
+    // The same plan twice: `dbot plan`'s defaults are the demo's (table 1 of the paper at the
+    // servo-safe swing, tripod, flat ground, the same dynamics options).
     ok(dir, &["plan", "--out", "walk"]);
     ok(dir, &["demo", "--steps", "1", "--out", "demo"]);
 

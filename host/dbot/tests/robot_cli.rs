@@ -194,13 +194,14 @@ fn the_setup_file_names_port_and_slot_and_flags_override_it() {
 fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
     let dir = tempfile::tempdir().unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
-        .args(["plan", "--out", "p", "--slices", "50"])
+        .args(["plan", "--preset", "table1", "--out", "p", "--slices", "50"])
         .current_dir(dir.path())
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    // Table 1's default 0.5 s swing turns the front CTr (MX-64) and FTi (MX-28) faster than
-    // their servos can (about 6.6 and 6.1 rad/s against 6.60 and 5.76 rad/s no-load speed).
+    // The original solver's 0.5 s swing (--preset table1) turns the front CTr (MX-64) and FTi
+    // (MX-28) faster than their servos can (about 6.6 and 6.1 rad/s against 6.60 and 5.76 rad/s
+    // no-load speed).
     let o = dbot(dir.path(), &["upload", "--plan", "p", "--slot", "3"]);
     let e = stderr(&o);
     assert!(!o.status.success());
@@ -239,6 +240,19 @@ fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
         out.contains("slot 3: \"p\" 22 joints x 50 slices, step 1.250 s, duty 0.60"),
         "{out}"
     );
+    // The default plan (servo-safe, swing 1.0 s) is built without the override.
+    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(["plan", "--out", "q", "--slices", "50"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+        .args(["table", "--plan", "q", "--out", "q.dbgt"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
     let o = dbot(dir.path(), &["upload", "--plan", "nowhere"]);
     assert!(stderr(&o).contains("nowhere/plan.json"), "{}", stderr(&o));
 }

@@ -69,9 +69,17 @@ fn the_demo_walks_both_ways_and_its_summary_matches_its_files() {
             "{line}"
         );
     }
-    // Two steps of the planned period (1.25 s, table 1: T_sw 0.5 s / (1 - 0.6)) plus the ramp.
+    // The planned period: 2.5 s (table 1 at the servo-safe swing, T_sw 1.0 s / (1 - 0.6)), and
+    // the demo says that the servos can follow it before it uploads the table.
     let period = number_after(&stdout, "step period");
-    assert!((period - 1.25).abs() < 1e-9, "{period}");
+    assert!((period - 2.5).abs() < 1e-9, "{period}");
+    let verdict = stdout
+        .find("servos can follow the plan")
+        .unwrap_or_else(|| panic!("no feasibility verdict:\n{stdout}"));
+    assert!(
+        verdict < stdout.find("[3/5] uploading").unwrap(),
+        "{stdout}"
+    );
     // Per-leg tracking lines for all six legs, twice.
     for leg in ["LF", "LM", "LH", "RF", "RM", "RH"] {
         assert_eq!(stdout.matches(&format!("  {leg}: RMS")).count(), 2, "{leg}");

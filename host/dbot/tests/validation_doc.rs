@@ -20,6 +20,16 @@ fn validation_md_matches_a_fresh_run_and_drift_is_named() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("validation.md");
     std::fs::write(&path, text.replacen("weight 49.06 N", "weight 49.48 N", 1)).unwrap();
+    // The plots beside it, one of them missing: named as drifted too.
+    let plots = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/validation");
+    std::fs::create_dir_all(dir.join("validation")).unwrap();
+    for f in std::fs::read_dir(plots).unwrap() {
+        let f = f.unwrap().path();
+        let name = f.file_name().unwrap().to_owned();
+        if name != "fly_flat_torques.png" {
+            std::fs::copy(&f, dir.join("validation").join(name)).unwrap();
+        }
+    }
     let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
         .args(["validate", "--check", path.to_str().unwrap()])
         .output()
@@ -28,7 +38,9 @@ fn validation_md_matches_a_fresh_run_and_drift_is_named() {
     let _ = std::fs::remove_dir_all(&dir);
     assert!(!o.status.success());
     assert!(
-        e.contains("has drifted from the code in block(s) weight:"),
-        "expected only the `weight` block to differ (run `dbot validate --write docs/validation.md` if the code changed on purpose):\n{e}"
+        e.contains(
+            "has drifted from the code in block(s) weight, validation/fly_flat_torques.png:"
+        ),
+        "expected only the `weight` block and the missing plot to differ (run `dbot validate --write docs/validation.md` if the code changed on purpose):\n{e}"
     );
 }

@@ -9,4 +9,4 @@ mod sweep;
 
 pub use compare::{ComparisonRow, DofTrace, compare};
 pub use regression::{r_squared, resample_periodic};
-pub use sweep::{SweepPoint, SweepRegime, classify_sweep};
+pub use sweep::{SweepError, SweepPoint, SweepRegime, classify_sweep, sweep_point};

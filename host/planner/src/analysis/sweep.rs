@@ -1,6 +1,54 @@
 //! Speed sweep: how the peak torque scales with the step period tells a quasi-static regime
 //! (torque independent of period: gravity dominates) from an inertial one (torque ~ 1/T^2).
 
+use crate::dynamics::{DynamicsError, DynamicsOptions, SliceInput, plan_inputs, solve_cycle};
+use crate::gait::StepParams;
+use crate::model::Model;
+use crate::plan::{PlanError, plan};
+
+/// Why a sweep point could not be computed.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    #[error("planning with swing {swing_s} s: {source}")]
+    Plan {
+        swing_s: f64,
+        #[source]
+        source: PlanError,
+    },
+    #[error("inverse dynamics with swing {swing_s} s: {source}")]
+    Dynamics {
+        swing_s: f64,
+        #[source]
+        source: DynamicsError,
+    },
+}
+
+/// Plans `params` on `model`, solves its inverse dynamics with and without gravity (the latter is
+/// the inertial part of the torques) and returns the peaks.
+pub fn sweep_point(model: &Model, params: &StepParams) -> Result<SweepPoint, SweepError> {
+    let swing_s = params.swing_s;
+    let plan = plan(model, params).map_err(|source| SweepError::Plan { swing_s, source })?;
+    let peak_of = |inputs: &[SliceInput]| -> Result<f64, SweepError> {
+        let c = solve_cycle(&plan.model, inputs, &DynamicsOptions::default())
+            .map_err(|source| SweepError::Dynamics { swing_s, source })?;
+        Ok(c.slices
+            .iter()
+            .flat_map(|s| s.torque.iter())
+            .fold(0.0f64, |m, t| m.max(t.abs())))
+    };
+    let mut inputs = plan_inputs(&plan);
+    let peak_torque = peak_of(&inputs)?;
+    // The same motion without gravity (and without springs' static share): inertia only.
+    for i in &mut inputs {
+        i.gravity = nalgebra::Vector3::zeros();
+    }
+    Ok(SweepPoint {
+        period: plan.period_s,
+        peak_torque,
+        peak_inertial_torque: peak_of(&inputs)?,
+    })
+}
+
 /// Peak actuated torque of one plan of the sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepPoint {

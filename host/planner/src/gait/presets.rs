@@ -1,5 +1,5 @@
-//! Named stepping-parameter presets beyond table 1: the posture the original solver gave the
-//! physical Drosophibot II (`../shared/reference/solver.md`, "Resting posture of the physical
+//! Named stepping-parameter presets beyond table 1: the default walk the servos can follow
+//! (`servo-safe`), the posture the original solver gave the physical Drosophibot II (`../shared/reference/solver.md`, "Resting posture of the physical
 //! robot"), and the paper's comparison conditions.
 //!
 //! The original method places each resting foot at the leg pair's ground height, x and y relative
@@ -9,11 +9,22 @@
 
 use super::{PerPair, Placement, StepParams};
 
-/// Preset names accepted by [`StepParams::preset`].
-pub const PRESETS: [&str; 3] = ["table1", "physical-robot", "paper-comparison"];
+/// Preset names accepted by [`StepParams::preset`]; the first is `dbot plan`'s default.
+pub const PRESETS: [&str; 4] = ["servo-safe", "table1", "physical-robot", "paper-comparison"];
+
+/// Swing duration of the `servo-safe` preset, s: table 1 allows 0.4 to 1.6 s. At 1.0 s (period
+/// 2.5 s) every Drosophibot II joint stays at or below 74 % of its servo's no-load speed on flat
+/// ground and on the ball (the front FTi on the ball is the fastest joint; at the original solver's
+/// 0.5 s it turns at 147 % and the front CTr at 116 %). The 26 % headroom is for what the
+/// datasheet's no-load speed leaves out: a loaded servo turns slower (the torque-speed line) and
+/// its position loop lags. Measured by `dbot validate` (docs/validation.md, "Can the servos follow
+/// the plan?"), tested by host/planner/tests/plan_feasibility.rs.
+pub const SERVO_SAFE_SWING_S: f64 = 1.0;
 
 impl StepParams {
-    /// A named preset for a model: `table1` ([`StepParams::table1`]); `physical-robot`
+    /// A named preset for a model: `servo-safe` (table 1 at swing [`SERVO_SAFE_SWING_S`] on
+    /// Drosophibot II and other robot models, which their servos can follow; scale-drosophila,
+    /// whose actuators are not servos, gets its table 1 unchanged); `table1` ([`StepParams::table1`]); `physical-robot`
     /// (Drosophibot II as the original solver ran it: per-pair body heights, table 1's note, and
     /// the resting feet of its posture figure, at table 1's longest swing 1.6 s); `paper-comparison`
     /// (section 3.1: table 1 at the robot's 4 s period or the fly's table 1 swing, see
@@ -23,6 +34,11 @@ impl StepParams {
         let mut p = StepParams::table1(model);
         match name {
             "table1" => {}
+            "servo-safe" => {
+                if model != "scale-drosophila" {
+                    p.swing_s = SERVO_SAFE_SWING_S;
+                }
+            }
             "paper-comparison" => {
                 p.swing_s = if model == "scale-drosophila" {
                     crate::analysis::paper::FLY_SWING_S

@@ -2,6 +2,7 @@
 //! and accelerations by periodic central differences. The inverse dynamics adds torques and ground
 //! reaction forces to a [`Plan`] afterwards.
 
+pub mod continuity;
 mod derivatives;
 pub mod feasibility;
 pub mod finite;
@@ -66,6 +67,9 @@ pub struct Plan {
     pub thorax_velocity: Vector3<f64>,
     /// Thorax angular velocity, rad/s.
     pub thorax_angular_velocity: Vector3<f64>,
+    /// Joint steps between slices that no continuous inverse-kinematics solution within the joint
+    /// limits avoided ([`continuity`]); empty when every trajectory is continuous.
+    pub ik_gaps: Vec<continuity::IkGap>,
 }
 
 impl Plan {
@@ -109,11 +113,15 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
     }
     let mut q = vec![posture.q.clone(); n];
     let opts = IkOptions::default();
+    let mut ik_gaps = Vec::new();
     for (li, leg) in legs.iter().enumerate() {
         let chain = LegChain::new(model, *leg)?;
         let rest: Vec<f64> = chain.actuated.iter().map(|&j| posture.q[j]).collect();
         let targets: Vec<Vector3<f64>> = feet.iter().map(|f| f[li]).collect();
         let sol = chain.solve_path(&targets, &rest, &rest, &opts)?;
+        let (sol, gaps) =
+            continuity::make_continuous(model, &chain, &targets, sol, (params.swing_s, dt), &opts);
+        ik_gaps.extend(gaps);
         for (s, qa) in sol.iter().enumerate() {
             for (k, &j) in chain.actuated.iter().enumerate() {
                 q[s][j] = qa[k];
@@ -150,6 +158,7 @@ pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
         feet,
         thorax_velocity,
         thorax_angular_velocity,
+        ik_gaps,
     })
 }
 

@@ -1,0 +1,389 @@
+//! The run results of docs/validation.md's generated blocks: the built-in models at table 1's
+//! parameters (weight, peak torques, plots), the servo feasibility and the choice of the default
+//! swing, the IK's continuity on the fly's ball walk, the 15 degree incline, the resting posture,
+//! the speed sweep and the paper's comparison.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use planner::analysis::{SweepPoint, classify_sweep, sweep_point};
+use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
+use planner::gait::StepParams;
+use planner::model::{Actuation, JointKind, Leg, builtin};
+use planner::plan::feasibility;
+
+/// The generated blocks by name, and the plots (file name, PNG bytes) the document shows.
+pub struct Generated {
+    pub blocks: BTreeMap<&'static str, String>,
+    pub plots: Vec<(&'static str, Vec<u8>)>,
+}
+
+/// Every generated block by name.
+pub fn generate(plots_dir: &Path) -> Result<Generated> {
+    let mut b = BTreeMap::new();
+    let robot = builtin("drosophibot2")?;
+    let fly = builtin("scale-drosophila")?;
+    let plan_of = |m: &planner::model::Model, f: &dyn Fn(&mut StepParams)| {
+        let mut p = StepParams::table1(&m.name);
+        f(&mut p);
+        planner::plan::plan(m, &p).with_context(|| format!("planning {}", m.name))
+    };
+    let solve = |plan: &planner::plan::Plan| {
+        solve_cycle(&plan.model, &plan_inputs(plan), &DynamicsOptions::default())
+            .with_context(|| format!("inverse dynamics of {}", plan.model.name))
+    };
+
+    // Weight against the solved vertical GRF; the fly's friction need on flat ground.
+    let rp = plan_of(&robot, &|_| {})?;
+    let rc = solve(&rp)?;
+    let fp = plan_of(&fly, &|_| {})?;
+    let fc = solve(&fp)?;
+    let mut s = String::new();
+    for (name, plan, cycle) in [("Drosophibot II", &rp, &rc), ("Scale-Drosophila", &fp, &fc)] {
+        let mass = plan.model.total_mass();
+        let g = plan.gravity.norm();
+        let fz: Vec<f64> = cycle
+            .slices
+            .iter()
+            .map(|s| s.grf.iter().map(|f| f.z).sum())
+            .collect();
+        let mean = fz.iter().sum::<f64>() / fz.len() as f64;
+        let (mut worst, mut sum, mut n) = (0.0f64, 0.0, 0usize);
+        for (sl, st) in cycle.slices.iter().zip(&plan.stance) {
+            for (li, leg) in plan.legs.iter().enumerate() {
+                let Some(fi) = plan.model.feet.iter().position(|f| f.leg == *leg) else {
+                    continue;
+                };
+                let f = sl.grf[fi];
+                if st[li] && f.z > 0.0 {
+                    let mu = (f.x * f.x + f.y * f.y).sqrt() / f.z;
+                    worst = worst.max(mu);
+                    sum += mu;
+                    n += 1;
+                }
+            }
+        }
+        writeln!(
+            s,
+            "- {name}: mass {} kg, weight {} N; total vertical GRF {} N on average over the cycle (min {}, max {}: the thorax's inertia is zero, the legs' is not); stance feet need a friction coefficient |F_t| / F_n of {:.2} on average, up to {:.2}.",
+            sig(mass),
+            sig(mass * g),
+            sig(mean),
+            sig(fz.iter().cloned().fold(f64::INFINITY, f64::min)),
+            sig(fz.iter().cloned().fold(f64::NEG_INFINITY, f64::max)),
+            sum / n.max(1) as f64,
+            worst
+        )?;
+    }
+    b.insert("weight", s);
+
+    // Peak actuated torque per leg pair and joint, robot, flat.
+    let kinds = [
+        JointKind::ThC1,
+        JointKind::ThC3,
+        JointKind::CTr,
+        JointKind::TrF1,
+        JointKind::FTi,
+    ];
+    let mut s =
+        String::from("| pair | ThC1 | ThC3 | CTr | TrF | FTi |\n|---|---|---|---|---|---|\n");
+    for (pair, legs) in [
+        ("front", [Leg::LF, Leg::RF]),
+        ("middle", [Leg::LM, Leg::RM]),
+        ("hind", [Leg::LH, Leg::RH]),
+    ] {
+        let cells: Vec<String> = kinds
+            .iter()
+            .map(|k| {
+                let js: Vec<usize> = (0..robot.joints.len())
+                    .filter(|&j| legs.contains(&robot.joints[j].leg) && robot.joints[j].kind == *k)
+                    .collect();
+                let fixed = js
+                    .iter()
+                    .all(|&j| matches!(robot.joints[j].actuation, Actuation::Fixed { .. }));
+                let peak = rc
+                    .slices
+                    .iter()
+                    .flat_map(|sl| js.iter().map(|&j| sl.torque[j].abs()))
+                    .fold(0.0f64, f64::max);
+                if fixed {
+                    format!("fixed ({peak:.2})")
+                } else {
+                    format!("{peak:.2}")
+                }
+            })
+            .collect();
+        writeln!(s, "| {pair} | {} |", cells.join(" | "))?;
+    }
+    b.insert("robot-peaks", s);
+
+    // Feasibility of the default (servo-safe) walk and of the original solver's 0.5 s swing.
+    let mut s = String::new();
+    for (preset, terrain) in [
+        ("servo-safe", "flat"),
+        ("servo-safe", "ball"),
+        ("table1", "flat"),
+        ("table1", "ball"),
+    ] {
+        let mut params = StepParams::preset(preset, &robot.name).context("preset")?;
+        params.terrain = terrain.into();
+        let p = planner::plan::plan(&robot, &params)?;
+        let c = solve(&p)?;
+        let t = planner::dynamics::output::torque_rows(&c);
+        let f = feasibility::check(&p.model, &p.q, Some(&t), p.dt);
+        let verdict = if f.is_feasible() {
+            let (share, fast) = fastest(&f);
+            let margin = f
+                .joints
+                .iter()
+                .filter_map(|j| j.torque_speed_margin.map(|m| (m.value, &j.joint)))
+                .fold((f64::INFINITY, None), |a, (m, j)| {
+                    if m < a.0 { (m, Some(j)) } else { a }
+                });
+            format!(
+                "feasible: the fastest joint, {fast}, turns at {:.0} % of its servo's no-load speed; the smallest margin under the torque-speed line is {:.2} N m ({})",
+                100.0 * share,
+                margin.0,
+                margin.1.map_or("-", |j| j.as_str())
+            )
+        } else {
+            f.violations
+                .iter()
+                .map(|v| v.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        writeln!(
+            s,
+            "- {preset}, swing {:.1} s ({terrain}): {verdict}",
+            params.swing_s
+        )?;
+    }
+    b.insert("feasibility", s);
+
+    // Why 1.0 s: the fastest joint's share of its no-load speed against the swing duration.
+    let mut s = String::from(
+        "| swing (s) | period (s) | fastest joint, flat | share of no-load speed | fastest joint, ball | share of no-load speed |\n|---|---|---|---|---|---|\n",
+    );
+    for swing in [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.6] {
+        let mut cells = Vec::new();
+        let mut period = 0.0;
+        for terrain in ["flat", "ball"] {
+            let p = plan_of(&robot, &|p| {
+                p.swing_s = swing;
+                p.terrain = terrain.into();
+            })?;
+            period = p.period_s;
+            let (share, fast) = fastest(&feasibility::check(&p.model, &p.q, None, p.dt));
+            cells.push(format!("{fast} | {:.0} %", 100.0 * share));
+        }
+        writeln!(s, "| {swing} | {} | {} |", short(period), cells.join(" | "))?;
+    }
+    b.insert("swing-choice", s);
+
+    // The IK's continuity on the fly's ball walk (its front CTr used to jump 0.47 rad).
+    let p = plan_of(&fly, &|p| p.terrain = "ball".into())?;
+    let n = p.slices();
+    // (step, joint, slice, allowance) of the largest step relative to its allowance.
+    let mut worst = (0.0f64, 0usize, 0usize, f64::INFINITY);
+    for j in 0..p.model.joints.len() {
+        let bound = planner::plan::continuity::speed_limit(&p.model, j, p.params.swing_s) * p.dt;
+        for sl in 0..n {
+            let step = (p.q[(sl + 1) % n][j] - p.q[sl][j]).abs();
+            if step / bound > worst.0 / worst.3 {
+                worst = (step, j, sl, bound);
+            }
+        }
+    }
+    let f = feasibility::check(&p.model, &p.q, None, p.dt);
+    let jumps = f
+        .violations
+        .iter()
+        .filter(|v| matches!(v, feasibility::Violation::Jump { .. }))
+        .count();
+    let s = format!(
+        "Scale-Drosophila on the ball (table 1): {} step(s) over a joint's allowance reported by the IK; the largest step relative to its allowance is {}'s {:.3} rad between slices {} and {}, against the {:.3} rad that one turn per swing (2 pi / {} s = {:.1} rad/s) allows in one {} ms slice; the feasibility check finds {jumps} inverse-kinematics jump(s).",
+        p.ik_gaps.len(),
+        p.model.joints[worst.1].name,
+        worst.0,
+        worst.2,
+        (worst.2 + 1) % n,
+        worst.3,
+        p.params.swing_s,
+        worst.3 / p.dt,
+        p.dt * 1e3
+    );
+    b.insert("ik-continuity", s);
+
+    // The 15 degree incline with push-only feet.
+    let p = plan_of(&robot, &|p| p.terrain = "incline:15".into())?;
+    let opts = DynamicsOptions {
+        push_only: true,
+        ..Default::default()
+    };
+    let s = match solve_cycle(&p.model, &plan_inputs(&p), &opts) {
+        Ok(_) => "(feasible)".to_string(),
+        Err(e) => format!("> {e}"),
+    };
+    b.insert("incline", s);
+
+    // Resting posture: ThC -> foot offsets of table 1's placement and the physical-robot preset
+    // against the original solver's figure (solver.md; ThC z of that figure: hind and middle
+    // -0.0246 m, front 0.0377 m).
+    let original = [
+        ("hind", Leg::LH, [-0.150, 0.130, -0.175 + 0.0246]),
+        ("middle", Leg::LM, [-0.025, 0.200, -0.190 + 0.0246]),
+        ("front", Leg::LF, [0.114, 0.065, -0.165 - 0.0377]),
+    ];
+    let mut s = String::from(
+        "| pair | original ThC -> foot (x, y, z) m | table1 (ours) | off by | physical-robot preset | off by |\n|---|---|---|---|---|---|\n",
+    );
+    let physical = StepParams::preset("physical-robot", "drosophibot2").context("preset")?;
+    let pp = planner::plan::plan(&robot, &physical)?;
+    for (pair, leg, o) in original {
+        let thc = robot.joints[robot.leg_chain(leg)[0]]
+            .origin
+            .translation
+            .vector;
+        let o = nalgebra::Vector3::from(o);
+        let offset = |plan: &planner::plan::Plan| {
+            let f = plan.posture.foot(leg).unwrap_or_default();
+            f - thc
+        };
+        let cell = |v: nalgebra::Vector3<f64>| format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z);
+        let (a, b) = (offset(&rp), offset(&pp));
+        writeln!(
+            s,
+            "| {pair} | {} | {} | {:.0} % | {} | {:.0} % |",
+            cell(o),
+            cell(a),
+            100.0 * (a - o).norm() / o.norm(),
+            cell(b),
+            100.0 * (b - o).norm() / o.norm()
+        )?;
+    }
+    b.insert("posture", s);
+
+    // The paper's comparison.
+    std::fs::create_dir_all(plots_dir)
+        .with_context(|| format!("creating {}", plots_dir.display()))?;
+    let c = crate::compare_paper::run_paper(plots_dir, 50)?;
+    b.insert("paper", c.markdown);
+    b.insert(
+        "spring-stiffness",
+        crate::compare_paper::spring_sensitivity(50)?,
+    );
+    let mut plots = Vec::new();
+    for (name, from) in [
+        ("fig4b_flat_springs_torques.png", "flat-springs"),
+        ("figS7b_ball_springs_torques.png", "ball-springs"),
+    ] {
+        let f = plots_dir.join(from).join("compare_torques.png");
+        plots.push((
+            name,
+            std::fs::read(&f).with_context(|| f.display().to_string())?,
+        ));
+    }
+
+    // Plots of the built-in models at table 1.
+    for (name, plan, cycle, what) in [
+        ("robot_flat_torques.png", &rp, &rc, "torques"),
+        ("robot_flat_grf.png", &rp, &rc, "grf"),
+        ("fly_flat_torques.png", &fp, &fc, "torques"),
+    ] {
+        let f = plots_dir.join(name);
+        match what {
+            "torques" => report::dynamics::plot_torques(plan, cycle, &f)?,
+            _ => report::dynamics::plot_grf(plan, cycle, &f)?,
+        }
+        plots.push((
+            name,
+            std::fs::read(&f).with_context(|| f.display().to_string())?,
+        ));
+    }
+
+    b.insert("sweep", sweep()?);
+    b.insert("performance", super::timing::performance()?);
+    Ok(Generated { blocks: b, plots })
+}
+
+/// The fastest joint's share of its servo's no-load speed, and its name.
+fn fastest(f: &feasibility::Feasibility) -> (f64, String) {
+    f.joints
+        .iter()
+        .filter_map(|j| {
+            j.limits
+                .map(|l| (j.speed.value / l.no_load_speed, j.joint.clone()))
+        })
+        .fold((0.0, String::new()), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+/// Peak torque with and without gravity over the step period (duty 0.6), both models.
+fn sweep() -> Result<String> {
+    let mut s = String::from(
+        "| model | period (s) | peak torque | inertial part | share |\n|---|---|---|---|---|\n",
+    );
+    let mut notes = Vec::new();
+    for (model, swings, unit, scale) in [
+        ("drosophibot2", &[0.2, 0.4, 0.8, 1.6][..], "N m", 1.0),
+        ("scale-drosophila", &[0.025, 0.05, 0.1][..], "uN mm", 1e9),
+    ] {
+        let m = builtin(model)?;
+        let mut points: Vec<SweepPoint> = Vec::new();
+        for &sw in swings {
+            let mut p = StepParams::table1(model);
+            p.swing_s = sw;
+            points.push(sweep_point(&m, &p)?);
+        }
+        let name = if model == "drosophibot2" {
+            "Drosophibot II"
+        } else {
+            "Scale-Drosophila"
+        };
+        for p in &points {
+            writeln!(
+                s,
+                "| {name} | {} | {} {unit} | {} {unit} | {} |",
+                short(p.period),
+                sig3(p.peak_torque * scale),
+                sig3(p.peak_inertial_torque * scale),
+                sig3(p.peak_inertial_torque / p.peak_torque)
+            )?;
+        }
+        let r = classify_sweep(&points).context("sweep")?;
+        notes.push(format!(
+            "{name}: inertial part ~ T^{:.2}; inertial share {} at the {} s period, {} at {} s",
+            r.inertial_exponent,
+            sig3(r.inertial_share[points.len() - 1]),
+            short(points[points.len() - 1].period),
+            sig3(r.inertial_share[0]),
+            short(points[0].period)
+        ));
+    }
+    writeln!(s, "\n{}.", notes.join("; "))?;
+    Ok(s)
+}
+
+/// At most four decimals, trailing zeros dropped (periods made of swing / (1 - duty)).
+fn short(x: f64) -> String {
+    let s = format!("{x:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Three significant digits.
+fn sig3(x: f64) -> String {
+    let digits = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+    format!("{x:.digits$}")
+}
+
+/// Four significant digits: decimals for robot-sized values, exponent form for fly-sized ones.
+fn sig(x: f64) -> String {
+    if (1e-2..1e4).contains(&x.abs()) {
+        let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
