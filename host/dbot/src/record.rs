@@ -88,7 +88,7 @@ impl Args {
         s.board.set_telemetry(self.every)?;
         let joints = named_joints(&mut s, table.as_deref())?;
         if let Some(slot) = self.play {
-            let cmd = crate::common::playback::play_command(
+            let (cmd, gait) = crate::common::playback::play_command(
                 &mut s,
                 slot,
                 self.steps,
@@ -98,6 +98,7 @@ impl Args {
             if interrupt::requested() {
                 bail!("interrupted before the walk started: nothing was played or recorded");
             }
+            println!("{}", crate::common::playback::announce(slot, &gait, &cmd));
             s.board.discard_telemetry();
             s.board
                 .play(cmd)

@@ -10,7 +10,7 @@ use protocol::RunState;
 
 use crate::args::board::BoardArgs;
 use crate::common::interrupt;
-use crate::common::playback::{play_command, stop_walk};
+use crate::common::playback::{announce, play_command, stop_walk};
 use crate::common::session::Session;
 use crate::common::words::{WalkReport, state_name};
 
@@ -56,7 +56,8 @@ impl Args {
                  or use `dbot record --play` to walk and record in one command"
             );
         }
-        let command = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        let (command, gait) = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        println!("{}", announce(slot, &gait, &command));
         if interrupt::requested() {
             bail!("interrupted before the walk started: nothing was played");
         }

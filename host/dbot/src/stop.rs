@@ -1,7 +1,7 @@
 //! `dbot stop`: ends walking at the end of the current step (never mid-swing).
 
 use board::link::LinkError;
-use protocol::ProtocolError;
+use protocol::{ProtocolError, RunState};
 
 use crate::args::board::BoardArgs;
 use crate::common::words::state_name;
@@ -21,10 +21,12 @@ impl Args {
         match s.board.stop() {
             Ok(()) => {
                 let st = s.board.status()?;
-                println!(
-                    "stop accepted; the board is in state {}",
-                    state_name(st.state)
-                );
+                // The board acknowledges Stop in Idle and Standing too: nothing was moving.
+                let verdict = match st.state {
+                    RunState::Idle | RunState::Standing => "nothing to stop",
+                    _ => "stop accepted",
+                };
+                println!("{verdict}: the board is in state {}", state_name(st.state));
             }
             // Stopping a robot that is not walking is not an error for the person asking.
             Err(LinkError::Device {

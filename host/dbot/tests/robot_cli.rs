@@ -76,6 +76,15 @@ fn run_walks_the_steps_and_status_estop_set_work() {
     let t = table(dir.path(), "a.dbgt", 100, 0.5);
     ok(dir.path(), &["upload", "--table", &t, "--slot", "0"]);
     let out = ok(dir.path(), &["run", "--slot", "0", "--steps", "4"]);
+    // It names the gait it is about to play, and how.
+    assert!(
+        out.contains("slot 0: \"synthetic\" 22 joints x 100 slices, step 0.500 s"),
+        "{out}"
+    );
+    assert!(
+        out.contains("; playing 4 steps forward at 0.500 s per step"),
+        "{out}"
+    );
     // 4 steps of 0.5 s after a ramp of at least 0.5 s: at least 2.5 s on the board's clock.
     assert!(out.contains("done: 4 steps walked in "), "{out}");
     assert!(

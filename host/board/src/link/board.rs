@@ -88,7 +88,20 @@ impl<T: Transport> Board<T> {
             });
         }
         board.info = info;
+        board.wait_booted()?;
         Ok(board)
+    }
+
+    /// Waits (up to [`BOOT_WAIT`] on the transport's clock) while the board reports Boot, so a
+    /// board that has just been powered or reset (the virtual robot, at every command) is reported
+    /// and driven in the state it boots into. A board still booting after that is left as it is:
+    /// its status says Boot.
+    pub fn wait_booted(&mut self) -> Result<(), LinkError> {
+        let give_up = self.transport.now() + BOOT_WAIT;
+        while self.status()?.state == RunState::Boot && self.transport.now() < give_up {
+            self.wait(Duration::from_millis(20))?;
+        }
+        Ok(())
     }
 
     /// The board's answer to `GetDeviceInfo` at connection.

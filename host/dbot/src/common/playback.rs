@@ -2,18 +2,38 @@
 
 use anyhow::bail;
 use board::link::{Board, LinkError, Transport};
-use protocol::{Direction, PlayCommand, ProtocolError, Steps};
+use protocol::{Direction, GaitSummary, PlayCommand, ProtocolError, Steps};
 
+use crate::common::gait_summary::describe;
 use crate::common::session::Session;
+use crate::common::words::direction_name;
 
-/// The play command for `slot`: the period (s) becomes a scale of the slot's planned period.
+/// What is about to be played, in one line: the slot, the gait stored there (name, size, period,
+/// duty, CRC), and how it will be played.
+pub fn announce(slot: u8, gait: &GaitSummary, command: &PlayCommand) -> String {
+    let planned = f64::from(gait.header.step_period_us) * 1e-6;
+    let period = planned * f64::from(command.period_scale) / 1000.0;
+    let steps = match command.steps {
+        Steps::Count(1) => "1 step".to_owned(),
+        Steps::Count(k) => format!("{k} steps"),
+        Steps::Continuous => "steps until stopped".to_owned(),
+    };
+    format!(
+        "slot {slot}: {}; playing {steps} {} at {period:.3} s per step",
+        describe(gait),
+        direction_name(command.direction),
+    )
+}
+
+/// The play command for `slot` and the gait stored there: the period (s) becomes a scale of the
+/// slot's planned period.
 pub fn play_command(
     s: &mut Session,
     slot: u8,
     steps: Option<u32>,
     period: Option<f64>,
     backward: bool,
-) -> anyhow::Result<PlayCommand> {
+) -> anyhow::Result<(PlayCommand, GaitSummary)> {
     let gaits = s.board.gaits()?;
     let Some(gait) = gaits.iter().find(|g| g.slot == slot).and_then(|g| g.gait) else {
         bail!(
@@ -37,7 +57,7 @@ pub fn play_command(
     if steps == Some(0) {
         bail!("--steps 0: give at least one step");
     }
-    Ok(PlayCommand {
+    let command = PlayCommand {
         slot,
         direction: if backward {
             Direction::Backward
@@ -46,7 +66,8 @@ pub fn play_command(
         },
         period_scale,
         steps: steps.map_or(Steps::Continuous, Steps::Count),
-    })
+    };
+    Ok((command, gait))
 }
 
 /// Asks the board to stop walking at the end of the step. A board that refuses because it is not
