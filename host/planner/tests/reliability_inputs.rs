@@ -156,6 +156,21 @@ proptest! {
 #[test]
 fn valid_inputs_pass_the_checks() {
     assert!(checks::model_toml(MODEL.as_bytes()));
+    // The fuzzer's seeds (fuzz/run.sh): the built-in models without comments, notes and sources,
+    // numbers to 6 significant digits, and the AnimatLab projects stripped to what is imported.
+    for seed in [
+        include_str!("../../../fuzz/seeds/model_toml/drosophibot2.toml"),
+        include_str!("../../../fuzz/seeds/model_toml/scale-drosophila.toml"),
+    ] {
+        assert!(checks::model_toml(seed.as_bytes()));
+    }
+    for seed in [
+        include_str!("../../../fuzz/seeds/aproj/Drosobot2.aproj"),
+        include_str!("../../../fuzz/seeds/aproj/ScaleDrosophila.aproj"),
+        include_str!("../../../fuzz/seeds/aproj/TypicalHexapod.aproj"),
+    ] {
+        assert!(checks::aproj(seed.as_bytes()));
+    }
     let params = "swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\n";
     assert!(checks::plan_params(params.as_bytes()));
     // e-manual Protocol 2.0, ping example: the status packet of ID 1 (model 1030, firmware 38),
