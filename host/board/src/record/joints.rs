@@ -51,9 +51,11 @@ pub fn joints_of_table(table: &GaitTable<'_>, names: &[String]) -> Vec<JointMeta
 /// Stance per slice of the leg that `joint_name` starts with (bit i of a slice's stance byte is
 /// leg i of `Leg::ALL`, as the planner writes it); empty for a name of no leg.
 fn leg_stance(table: &GaitTable<'_>, joint_name: &str) -> Vec<bool> {
-    let leg = planner::model::Leg::ALL
-        .iter()
-        .position(|l| joint_name.strip_prefix(l.name()).is_some_and(|r| r.starts_with('_')));
+    let leg = planner::model::Leg::ALL.iter().position(|l| {
+        joint_name
+            .strip_prefix(l.name())
+            .is_some_and(|r| r.starts_with('_'))
+    });
     let Some(bit) = leg else {
         return Vec::new();
     };
