@@ -3,7 +3,8 @@
 #   fuzz/run.sh [seconds] [target...]
 # Targets: frame_decode gait_table upload (protocol), dxl_status (Dynamixel status parser),
 # model_toml (model TOML loader), aproj (AnimatLab importer), plan_params (planner parameters).
-# Seeds: the new targets start from valid inputs (the repo's model files, the three AnimatLab
+# Seeds: the new targets start from valid inputs (the repo's model files without comments, notes
+# and sources, numbers to 6 significant digits (fuzz/seeds/model_toml), the three AnimatLab
 # projects stripped to what the importer reads (fuzz/seeds/aproj, made by fuzz/seeds/strip_aproj.py
 # from ../shared), a parameter file, the e-manual's ping status packet). Targets with a dictionary
 # in fuzz/dicts/ run with it. DBOT_FUZZ_CMIN=1 minimises the corpus after the run (cargo fuzz cmin).
@@ -23,7 +24,7 @@ seed() {
     mkdir -p "corpus/$t"
     [ -z "$(ls -A "corpus/$t")" ] || return 0
     case "$t" in
-        model_toml) cp ../host/planner/models/*.toml "corpus/$t/" ;;
+        model_toml) cp seeds/model_toml/*.toml "corpus/$t/" ;;
         aproj) cp seeds/aproj/*.aproj "corpus/$t/" ;;
         plan_params)
             printf 'swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\nterrain = "ball:0.1:0.02"\nstep_height_m = { hind = 0.02, middle = 0.02, front = 0.02 }\n' \

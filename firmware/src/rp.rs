@@ -6,6 +6,12 @@
 //! Tasks: `bus_task` runs the fixed-rate bus loop and feeds the watchdog; `link_task` serves the host;
 //! `usb_task` runs the USB device. The controller sits in a thread-mode mutex between the first two.
 
+#[cfg(not(feature = "defmt"))]
+compile_error!(
+    "the image logs state changes and faults with defmt (src/device_log.rs): build it with the \
+     firmware's default features, not --no-default-features"
+);
+
 use core::cell::RefCell;
 
 use defmt::{info, unwrap, warn};

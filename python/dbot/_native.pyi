@@ -185,6 +185,8 @@ class Records(TypedDict):
     """Register 126 as read: MX-28 load in 0.1 % of max, MX-64 current in ~3.36 mA."""
     error: npt.NDArray[np.int32]
     flags: npt.NDArray[np.int32]
+    joint_names: list[str]
+    """Name of each joint column (``LF_ThC1``, ...), as ``Board.joint_names``."""
 
 class Telemetry(Records):
     step: npt.NDArray[np.int64]
@@ -203,6 +205,12 @@ class Board:
         """``/dev/ttyACM0`` or a pty path, ``virtual`` or ``virtual:PATH``; checks versions."""
     @property
     def port(self) -> str: ...
+    @property
+    def joint_names(self) -> list[str]:
+        """The board's joints in joint-map order: the model joint each servo of the gait in use
+        drives (if this ``Board`` uploaded it), else the model's servo joints; ``J<n>`` otherwise."""
+    def set_model(self, model: Model) -> None:
+        """The model whose joint names label records (default: the built-in drosophibot2)."""
     def now(self) -> float:
         """The board's clock as the host sees it, s (simulated time on the virtual robot)."""
     def close(self) -> None:

@@ -11,6 +11,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::errors::{board_error, value_error};
+use crate::model::Model;
+use crate::names::JointNaming;
 use crate::plan::Plan;
 use crate::records;
 use crate::stream;
@@ -29,6 +31,8 @@ pub struct Board {
     link: Mutex<Option<Link>>,
     port: String,
     next_seq: Mutex<u32>,
+    /// Names of the joints in records (the tables this `Board` uploaded, the model).
+    naming: Mutex<JointNaming>,
 }
 
 fn seconds(s: f64, what: &str) -> PyResult<Duration> {
@@ -49,6 +53,10 @@ impl Board {
             .map(f)
             .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?
             .map_err(board_error)
+    }
+
+    fn naming(&self) -> std::sync::MutexGuard<'_, JointNaming> {
+        self.naming.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 
@@ -73,6 +81,9 @@ impl Board {
             link: Mutex::new(Some(link)),
             port: port.to_owned(),
             next_seq: Mutex::new(1),
+            naming: Mutex::new(JointNaming::new(
+                planner::model::builtin("drosophibot2").map_err(value_error)?,
+            )),
         })
     }
 
@@ -141,7 +152,8 @@ impl Board {
     /// Returns the number of bytes sent.
     fn upload(&self, py: Python<'_>, slot: u8, table: &Bound<'_, PyBytes>) -> PyResult<u32> {
         let bytes = table.as_bytes().to_vec();
-        let report = self.with(py, move |l| l.upload(slot, &bytes, |_, _| {}))?;
+        let report = self.with(py, |l| l.upload(slot, &bytes, |_, _| {}))?;
+        self.naming().uploaded(slot, bytes);
         Ok(report.bytes)
     }
 
@@ -157,7 +169,8 @@ impl Board {
         torques: bool,
     ) -> PyResult<u32> {
         let table = plan.table_bytes(py, name, torques)?;
-        let report = self.with(py, move |l| l.upload(slot, &table, |_, _| {}))?;
+        let report = self.with(py, |l| l.upload(slot, &table, |_, _| {}))?;
+        self.naming().uploaded(slot, table);
         Ok(report.bytes)
     }
 
@@ -184,7 +197,24 @@ impl Board {
             period_scale: scale as u16,
             steps: steps.map_or(Steps::Continuous, Steps::Count),
         };
-        self.with(py, move |l| l.play(command))
+        self.with(py, move |l| l.play(command))?;
+        self.naming().played(slot);
+        Ok(())
+    }
+
+    /// Names the joints of records and setpoints after `model`'s joints (default: the built-in
+    /// drosophibot2), by the servo IDs of the table this `Board` uploaded for the gait in use.
+    fn set_model(&self, model: &Model) {
+        self.naming().set_model(model.inner.clone());
+    }
+
+    /// Names of the board's joints in joint-map order (the columns of records and setpoints):
+    /// the model joint each servo of the gait in use drives, if this `Board` uploaded that gait;
+    /// else the model's servo joints in order when the counts agree; `J<n>` otherwise.
+    #[getter]
+    fn joint_names(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        let count = self.with(py, |l| l.settings())?.joints.len();
+        Ok(self.naming().names(count))
     }
 
     /// Stops at the end of the current step (or leaves streaming, holding the last setpoint).
@@ -247,7 +277,7 @@ impl Board {
             }
             Ok(out)
         })?;
-        records::telemetry_dict(py, &recs)
+        records::telemetry_dict(py, &recs, &self.naming())
     }
 
     /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new
@@ -305,14 +335,14 @@ impl Board {
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
         let d = seconds(timeout_s, "timeout_s")?;
         let rec = self.with(py, move |l| l.proprioception(d))?;
-        rec.map(|p| records::proprioception_dict(py, &[p]))
+        rec.map(|p| records::proprioception_dict(py, &[p], &self.naming()))
             .transpose()
     }
 
     /// Every proprioception record received so far, without waiting: a dict of arrays.
     fn drain_proprioception<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let recs = self.with(py, |l| l.drain_proprioception())?;
-        records::proprioception_dict(py, &recs)
+        records::proprioception_dict(py, &recs, &self.naming())
     }
 
     fn __repr__(&self) -> String {

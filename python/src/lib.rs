@@ -2,9 +2,11 @@
 //! libraries `planner` (models, planning, plan directories) and `board` (the link, streaming); every rule lives in Rust, this crate only
 //! converts between Python/NumPy values and the host types.
 
+mod arrays;
 mod board;
 mod errors;
 mod model;
+mod names;
 mod plan;
 mod plan_dir;
 mod records;

@@ -15,6 +15,11 @@ pub struct Model {
     pub(crate) inner: planner::model::Model,
 }
 
+/// Every joint's name in model order (`Model`, `Plan` and `PlanDir.joint_names`).
+pub fn joint_names(model: &planner::model::Model) -> Vec<String> {
+    model.joints.iter().map(|j| j.name.clone()).collect()
+}
+
 #[pymethods]
 impl Model {
     /// A built-in model by name (`dbot.BUILTIN_MODELS`).
@@ -45,7 +50,7 @@ impl Model {
     /// Every joint's full name (`LF_ThC1`, ...), in model order: the columns of `Plan.angles`.
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.inner.joints.iter().map(|j| j.name.clone()).collect()
+        joint_names(&self.inner)
     }
 
     /// Names of the joints with a servo, in the board's joint-map order: the columns of setpoints,

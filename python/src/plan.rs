@@ -2,11 +2,12 @@
 
 use std::sync::OnceLock;
 
-use numpy::ndarray::{Array2, Array3};
+use numpy::ndarray::Array3;
 use numpy::{PyArray2, PyArray3, ToPyArray};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
 
+use crate::arrays::rows;
 use crate::errors::value_error;
 use crate::model::Model;
 
@@ -72,11 +73,6 @@ fn to_toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
     }
 }
 
-fn rows<'py>(py: Python<'py>, v: &[Vec<f64>]) -> Bound<'py, PyArray2<f64>> {
-    let cols = v.first().map_or(0, Vec::len);
-    Array2::from_shape_fn((v.len(), cols), |(i, j)| v[i][j]).to_pyarray(py)
-}
-
 impl Plan {
     /// The step table bytes (see the Python method `step_table`).
     pub(crate) fn table_bytes(
@@ -132,9 +128,7 @@ impl Plan {
     /// Stance flags: bool array [slice, leg] in `legs` order.
     #[getter]
     fn stance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<bool>> {
-        let s = &self.inner.stance;
-        let cols = s.first().map_or(0, Vec::len);
-        Array2::from_shape_fn((s.len(), cols), |(i, j)| s[i][j]).to_pyarray(py)
+        rows(py, &self.inner.stance)
     }
 
     /// Foot targets in the thorax frame, m: array [slice, leg, xyz].
@@ -160,12 +154,7 @@ impl Plan {
 
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.inner
-            .model
-            .joints
-            .iter()
-            .map(|j| j.name.clone())
-            .collect()
+        crate::model::joint_names(&self.inner.model)
     }
 
     /// Start of each leg's cycle, fraction of the period, in `legs` order.

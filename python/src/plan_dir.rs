@@ -4,11 +4,11 @@
 
 use std::path::PathBuf;
 
-use numpy::ndarray::Array2;
-use numpy::{PyArray2, ToPyArray};
+use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
+use crate::arrays::rows;
 use crate::errors::value_error;
 use crate::model::Model;
 
@@ -24,11 +24,6 @@ pub struct PlanDir {
 pub fn read_plan_dir(path: PathBuf) -> PyResult<PlanDir> {
     let inner = planner::plan_dir::read(&path).map_err(value_error)?;
     Ok(PlanDir { inner })
-}
-
-fn rows<'py>(py: Python<'py>, v: &[Vec<f64>]) -> Bound<'py, PyArray2<f64>> {
-    let cols = v.first().map_or(0, Vec::len);
-    Array2::from_shape_fn((v.len(), cols), |(i, j)| v[i][j]).to_pyarray(py)
 }
 
 #[pymethods]
@@ -48,9 +43,7 @@ impl PlanDir {
     /// Stance flags: bool array [slice, leg] in `legs` order.
     #[getter]
     fn stance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<bool>> {
-        let s = &self.inner.stance;
-        let cols = s.first().map_or(0, Vec::len);
-        Array2::from_shape_fn((s.len(), cols), |(i, j)| s[i][j]).to_pyarray(py)
+        rows(py, &self.inner.stance)
     }
 
     #[getter]
@@ -60,12 +53,7 @@ impl PlanDir {
 
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.inner
-            .model
-            .joints
-            .iter()
-            .map(|j| j.name.clone())
-            .collect()
+        crate::model::joint_names(&self.inner.model)
     }
 
     /// Step period, s.

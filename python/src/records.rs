@@ -1,5 +1,6 @@
 //! Telemetry, proprioception and status as Python values: per-cycle records become one dict of
-//! NumPy arrays ([record] and [record, joint]) in SI units; raw registers stay raw and say so.
+//! NumPy arrays ([record] and [record, joint]) in SI units, with the joints' names
+//! (`joint_names`, one per column); raw registers stay raw and say so.
 
 use numpy::ToPyArray;
 use numpy::ndarray::{Array1, Array2};
@@ -7,14 +8,19 @@ use protocol::{Counters, JointFeedback, Proprioception, Status, Telemetry};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// Per-joint columns of a batch of records, converted to SI where a unit exists.
+use crate::names::JointNaming;
+
+/// Per-joint columns of a batch of records, converted to SI where a unit exists, and the name of
+/// each column.
 fn joint_columns<'py>(
     py: Python<'py>,
     d: &Bound<'py, PyDict>,
     rows: &[&[JointFeedback]],
+    naming: &JointNaming,
 ) -> PyResult<()> {
     let n = rows.len();
     let j = rows.iter().map(|r| r.len()).max().unwrap_or(0);
+    d.set_item("joint_names", naming.names(j))?;
     let get = |i: usize, k: usize| rows[i].get(k).copied();
     let f = |conv: &dyn Fn(&JointFeedback) -> f64| {
         Array2::from_shape_fn((n, j), |(i, k)| get(i, k).map_or(f64::NAN, |x| conv(&x)))
@@ -44,7 +50,11 @@ fn joint_columns<'py>(
 }
 
 /// Playback telemetry records as a dict of arrays.
-pub fn telemetry_dict<'py>(py: Python<'py>, recs: &[Telemetry]) -> PyResult<Bound<'py, PyDict>> {
+pub fn telemetry_dict<'py>(
+    py: Python<'py>,
+    recs: &[Telemetry],
+    naming: &JointNaming,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let col = |g: &dyn Fn(&Telemetry) -> f64| Array1::from_iter(recs.iter().map(g));
     d.set_item("time_s", col(&|t| t.time_us as f64 * 1e-6).to_pyarray(py))?;
@@ -57,7 +67,7 @@ pub fn telemetry_dict<'py>(py: Python<'py>, recs: &[Telemetry]) -> PyResult<Boun
         icol(&|t| i64::from(t.bus.cycle_us)).to_pyarray(py),
     )?;
     let rows: Vec<&[JointFeedback]> = recs.iter().map(|t| t.joints.as_slice()).collect();
-    joint_columns(py, &d, &rows)?;
+    joint_columns(py, &d, &rows, naming)?;
     Ok(d)
 }
 
@@ -65,6 +75,7 @@ pub fn telemetry_dict<'py>(py: Python<'py>, recs: &[Telemetry]) -> PyResult<Boun
 pub fn proprioception_dict<'py>(
     py: Python<'py>,
     recs: &[Proprioception],
+    naming: &JointNaming,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let col = |g: &dyn Fn(&Proprioception) -> f64| Array1::from_iter(recs.iter().map(g));
@@ -85,7 +96,7 @@ pub fn proprioception_dict<'py>(
         icol(&|p| i64::from(p.bus.cycle_us)).to_pyarray(py),
     )?;
     let rows: Vec<&[JointFeedback]> = recs.iter().map(|p| p.joints.as_slice()).collect();
-    joint_columns(py, &d, &rows)?;
+    joint_columns(py, &d, &rows, naming)?;
     Ok(d)
 }
 

@@ -122,6 +122,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             self.misses.reset();
             if self.state == State::Idle {
                 self.state = State::Boot;
+                crate::device_log::transition(
+                    State::Idle,
+                    State::Boot,
+                    crate::device_log::Cause::NewJointMap,
+                );
             }
         }
         Ok(())

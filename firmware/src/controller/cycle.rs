@@ -301,6 +301,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         };
         let before = self.state;
         self.state = next;
+        crate::device_log::transition(before, next, crate::device_log::Cause::Event(event));
         if before != next {
             self.enter(before, next);
         }

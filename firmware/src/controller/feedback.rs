@@ -55,11 +55,17 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                     (r, self.state)
                     && j == joint
                 {
+                    let before = self.state;
                     self.state = State::Safe(SafeReason::ServoError {
                         joint,
                         id,
                         error: bits,
                     });
+                    crate::device_log::transition(
+                        before,
+                        self.state,
+                        crate::device_log::Cause::ErrorBits,
+                    );
                 }
             }
             // No servos: the record still tells the host the board is alive and in which state.

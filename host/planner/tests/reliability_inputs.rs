@@ -156,6 +156,21 @@ proptest! {
 #[test]
 fn valid_inputs_pass_the_checks() {
     assert!(checks::model_toml(MODEL.as_bytes()));
+    // The fuzzer's seeds (fuzz/run.sh): the built-in models without comments, notes and sources,
+    // numbers to 6 significant digits, and the AnimatLab projects stripped to what is imported.
+    for seed in [
+        include_str!("../../../fuzz/seeds/model_toml/drosophibot2.toml"),
+        include_str!("../../../fuzz/seeds/model_toml/scale-drosophila.toml"),
+    ] {
+        assert!(checks::model_toml(seed.as_bytes()));
+    }
+    for seed in [
+        include_str!("../../../fuzz/seeds/aproj/Drosobot2.aproj"),
+        include_str!("../../../fuzz/seeds/aproj/ScaleDrosophila.aproj"),
+        include_str!("../../../fuzz/seeds/aproj/TypicalHexapod.aproj"),
+    ] {
+        assert!(checks::aproj(seed.as_bytes()));
+    }
     let params = "swing_s = 0.5\nduty = 0.6\ngait = { phi_i = 0.5, phi_c = 0.5 }\nslices = 40\n";
     assert!(checks::plan_params(params.as_bytes()));
     // e-manual Protocol 2.0, ping example: the status packet of ID 1 (model 1030, firmware 38),
@@ -206,4 +221,23 @@ fn stance_that_rounds_to_zero_is_rejected() {
         assert!(!checks::plan_params(text.as_bytes()), "{text:?} validated");
     }
     assert!(checks::plan_params(b"swing_s = 0.01\nduty = 0.5\n"));
+}
+
+/// Regression (cargo-fuzz `aproj`, 2026-12, `fuzz/artifacts/aproj/crash-154b061e...`): a project
+/// with two rigid bodies of one name imported, and the model it gave wrote a model file that does
+/// not load ("field `name`: defined twice"). The importer now refuses it naming the body. Here the
+/// stripped TypicalHexapod seed with its LM_TrochanterFemur renamed to LM_Coxa, its parent's name.
+#[test]
+fn a_project_with_two_bodies_of_one_name_is_refused_naming_the_body() {
+    let seed = include_str!("../../../fuzz/seeds/aproj/TypicalHexapod.aproj");
+    assert!(checks::aproj(seed.as_bytes()), "the seed itself imports");
+    let from = "<Name>LM_TrochanterFemur</Name>";
+    assert_eq!(seed.matches(from).count(), 1);
+    let text = seed.replace(from, "<Name>LM_Coxa</Name>");
+    let opts = planner::model::ImportOptions::default();
+    let e = planner::model::import_aproj(&text, "dup.aproj", &opts)
+        .expect_err("two bodies named LM_Coxa")
+        .to_string();
+    assert!(e.contains("dup.aproj") && e.contains("body LM_Coxa"), "{e}");
+    assert!(!checks::aproj(text.as_bytes()));
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::legend::{COLUMN_W, Entry, Swatch, legend_column};
+use crate::legend::{COLUMN_W, Entry, STANCE, Swatch, legend_column};
 use crate::style::{colour, register_font};
 use planner::model::Leg;
 
@@ -123,7 +123,7 @@ pub fn plot_leg_panels(
             chart
                 .draw_series(std::iter::once(Rectangle::new(
                     [(t0, lo), (t1, hi)],
-                    RGBColor(225, 225, 225).filled(),
+                    STANCE.filled(),
                 )))
                 .map_err(|e| err(&e))?;
         }
@@ -159,7 +159,7 @@ pub fn plot_leg_panels(
             })
             .collect();
         if !panel.stance.is_empty() {
-            entries.push(Entry::new("stance", Swatch::Shade(RGBColor(225, 225, 225))));
+            entries.push(Entry::new("stance", Swatch::Shade(STANCE)));
         }
         legend_column(&key, &entries).map_err(|e| err(&e))?;
     }

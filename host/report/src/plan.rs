@@ -1,14 +1,12 @@
 //! PNG plots of a plan: joint angles per leg with stance shaded (as figure 3 of the paper),
 //! the footfall pattern, and foot trajectories (top and side views).
 
-use crate::legend::{COLUMN_W, Entry, Swatch, legend_column};
+use crate::legend::{COLUMN_W, Entry, STANCE, Swatch, legend_column};
 use crate::legs::panel_index;
 use crate::style::{colour, register_font};
 use planner::plan::Plan;
 use planner::plan_dir::ReportError;
 
-/// The grey that shades stance.
-const STANCE: RGBColor = RGBColor(225, 225, 225);
 use plotters::prelude::*;
 use std::path::Path;
 

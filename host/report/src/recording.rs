@@ -1,12 +1,15 @@
 //! The recording's figures: modelled torque against the torque estimated from the servos' load
 //! registers, averaged per phase of the step with one standard deviation shaded (the paper's
-//! figure 5), and commanded against present joint angles over time. PNG via plotters with an
-//! embedded font (no system fonts needed).
+//! figure 5), and commanded against present joint angles over time; the stance of each joint's
+//! leg shaded. Each figure names what it draws in a legend strip between its title and its
+//! panels, so the legend covers no data. PNG via plotters with an embedded font (no system fonts
+//! needed).
 
 use std::path::Path;
 
 use plotters::prelude::*;
 
+use crate::legend::{Entry, ROW_H, STANCE, Swatch, legend_row};
 use crate::style::register_font;
 use board::record::JointMeta;
 use board::record::Row;
@@ -15,6 +18,41 @@ use board::record::phase_stats;
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
 const COLS: usize = 4;
+
+/// The measured torque's +-1 SD band: blue at 20 % over white (the legend's swatch is opaque).
+const BAND_ALPHA: f64 = 0.2;
+/// [`BAND_ALPHA`] of blue over white, as the legend shows it.
+pub const BAND: RGBColor = RGBColor(204, 204, 255);
+
+/// The legend entry of the stance shading.
+fn stance_entry(what: &str) -> Entry {
+    Entry::new(
+        format!("stance of the joint's leg{what}"),
+        Swatch::Shade(STANCE),
+    )
+}
+
+/// Runs of consecutive `true` in `flags`, as index ranges.
+fn runs(flags: impl IntoIterator<Item = bool>) -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    let mut start = None;
+    let mut n = 0;
+    for (i, f) in flags.into_iter().enumerate() {
+        match (f, start) {
+            (true, None) => start = Some(i),
+            (false, Some(s)) => {
+                out.push(s..i);
+                start = None;
+            }
+            _ => {}
+        }
+        n = i + 1;
+    }
+    if let Some(s) = start {
+        out.push(s..n);
+    }
+    out
+}
 
 fn grid(n: usize) -> (usize, usize) {
     (n.div_ceil(COLS).max(1), COLS)
@@ -25,18 +63,30 @@ fn grid(n: usize) -> (usize, usize) {
 pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usize) -> PlotResult {
     register_font();
     let (r, c) = grid(joints.len());
-    let root = crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + 60)).into_drawing_area();
+    let head = 60 + ROW_H;
+    let root =
+        crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + head)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (title, body) = root.split_vertically(60);
-    let (l1, l2) = title.split_vertically(30);
+    let (title, body) = root.split_vertically(head);
+    let (l1, rest) = title.split_vertically(30);
+    let (l2, key) = rest.split_vertically(30);
     l1.titled(
-        "Joint torque per phase of the step: modelled (black) vs measured (blue: mean, shaded +-1 SD over steps)",
+        "Joint torque per phase of the step: modelled vs measured over the recorded steps",
         ("sans-serif", 18),
     )?;
     l2.titled(
         "measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
         ("sans-serif", 16),
     )?;
+    let mut entries = vec![
+        Entry::new("modelled (plan)", Swatch::Line(BLACK)),
+        Entry::new("measured, mean over steps", Swatch::Line(BLUE)),
+        Entry::new("measured, +-1 SD", Swatch::Shade(BAND)),
+    ];
+    if joints.iter().any(|j| !j.stance.is_empty()) {
+        entries.push(stance_entry(""));
+    }
+    legend_row(&key, &entries)?;
     for (panel, (j, meta)) in body
         .split_evenly((r, c))
         .iter()
@@ -60,6 +110,14 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
             .x_label_area_size(28)
             .y_label_area_size(48)
             .build_cartesian_2d(0.0..1.0, (lo - pad)..(hi + pad))?;
+        let n = meta.stance.len().max(1) as f64;
+        let (y0, y1) = (lo - pad, hi + pad);
+        chart.draw_series(runs(meta.stance.iter().copied()).into_iter().map(|r| {
+            Rectangle::new(
+                [(r.start as f64 / n, y0), (r.end as f64 / n, y1)],
+                STANCE.filled(),
+            )
+        }))?;
         chart
             .configure_mesh()
             .x_desc("phase")
@@ -70,7 +128,7 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
             let mut band: Vec<(f64, f64)> =
                 st.iter().map(|s| (s.phase, s.mean_nm + s.sd_nm)).collect();
             band.extend(st.iter().rev().map(|s| (s.phase, s.mean_nm - s.sd_nm)));
-            chart.draw_series(std::iter::once(Polygon::new(band, BLUE.mix(0.2))))?;
+            chart.draw_series(std::iter::once(Polygon::new(band, BLUE.mix(BAND_ALPHA))))?;
             chart.draw_series(LineSeries::new(
                 st.iter().map(|s| (s.phase, s.mean_nm)),
                 &BLUE,
@@ -93,13 +151,27 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
 pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResult {
     register_font();
     let (r, c) = grid(joints.len());
-    let root = crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + 40)).into_drawing_area();
+    let head = 40 + ROW_H;
+    let root =
+        crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + head)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (title, body) = root.split_vertically(40);
-    title.titled(
-        "Joint angles: commanded goal incl. torque bias (red, while torque is on) vs present (blue)",
+    let (title, body) = root.split_vertically(head);
+    let (l1, key) = title.split_vertically(40);
+    l1.titled(
+        "Joint angles over the recording: commanded vs present",
         ("sans-serif", 18),
     )?;
+    let mut entries = vec![
+        Entry::new(
+            "commanded goal incl. torque bias (while torque is on)",
+            Swatch::Line(RED),
+        ),
+        Entry::new("present", Swatch::Line(BLUE)),
+    ];
+    if joints.iter().any(|j| !j.stance.is_empty()) {
+        entries.push(stance_entry(" (while the gait plays)"));
+    }
+    legend_row(&key, &entries)?;
     let t_end = rows.last().map_or(1.0, |r| r.time_s.max(1e-3));
     for (panel, (j, meta)) in body
         .split_evenly((r, c))
@@ -108,13 +180,13 @@ pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResul
     {
         let mine: Vec<&Row> = rows.iter().filter(|r| r.joint == j).collect();
         // A goal is only meaningful while torque is on.
-        let driven = |r: &&&Row| r.flags & protocol::feedback_flags::TORQUE_OFF == 0;
+        let driven = |r: &&Row| r.flags & protocol::feedback_flags::TORQUE_OFF == 0;
         let (mut lo, mut hi) = (f64::MAX, f64::MIN);
         for r in &mine {
             lo = lo.min(r.present_rad);
             hi = hi.max(r.present_rad);
         }
-        for r in mine.iter().filter(driven) {
+        for r in mine.iter().filter(|r| driven(r)) {
             lo = lo.min(r.commanded_rad);
             hi = hi.max(r.commanded_rad);
         }
@@ -128,16 +200,26 @@ pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResul
             .x_label_area_size(28)
             .y_label_area_size(48)
             .build_cartesian_2d(0.0..t_end, (lo - pad)..(hi + pad))?;
+        let (y0, y1) = (lo - pad, hi + pad);
+        for span in stance_spans(&mine, &meta.stance) {
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(span.0, y0), (span.1, y1)],
+                STANCE.filled(),
+            )))?;
+        }
         chart
             .configure_mesh()
             .x_desc("s")
             .y_desc("rad")
             .label_style(("sans-serif", 11))
             .draw()?;
-        chart.draw_series(LineSeries::new(
-            mine.iter().map(|r| (r.time_s, r.commanded_rad)),
-            &RED,
-        ))?;
+        // The goal is drawn only while torque is on; a gap where it was off.
+        for run in runs(mine.iter().map(driven)) {
+            chart.draw_series(LineSeries::new(
+                mine[run].iter().map(|r| (r.time_s, r.commanded_rad)),
+                &RED,
+            ))?;
+        }
         chart.draw_series(LineSeries::new(
             mine.iter().map(|r| (r.time_s, r.present_rad)),
             &BLUE,
@@ -145,4 +227,36 @@ pub fn plot_angles(path: &Path, rows: &[Row], joints: &[JointMeta]) -> PlotResul
     }
     root.present()?;
     Ok(())
+}
+
+/// Time spans of one joint's rows (time order) in which its leg is in stance while the gait plays.
+/// The rows fall into runs of one (step, slice); while the gait plays a run lasts one slice's
+/// time, while the robot stands (before the ramp, after the last step) the run lasts as long as
+/// it stands. So a run counts as playing when it is at most twice the median run's length: the
+/// median is a slice's time when most of the recording walks. A span runs to the next row's time.
+fn stance_spans(rows: &[&Row], stance: &[bool]) -> Vec<(f64, f64)> {
+    let at = |i: usize| (rows[i].step, rows[i].slice);
+    let mut bounds = vec![0];
+    bounds.extend((1..rows.len()).filter(|&i| at(i) != at(i - 1)));
+    bounds.push(rows.len());
+    let mut lengths: Vec<usize> = bounds.windows(2).map(|w| w[1] - w[0]).collect();
+    lengths.sort_unstable();
+    let Some(&median) = lengths.get(lengths.len() / 2) else {
+        return Vec::new();
+    };
+    let mut in_stance = vec![false; rows.len()];
+    for w in bounds.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let leg_in_stance = stance.get(usize::from(rows[a].slice)).copied();
+        if b - a <= 2 * median && leg_in_stance == Some(true) {
+            in_stance[a..b].fill(true);
+        }
+    }
+    runs(in_stance)
+        .into_iter()
+        .map(|r| {
+            let end = rows.get(r.end).unwrap_or(&rows[r.end - 1]).time_s;
+            (rows[r.start].time_s, end)
+        })
+        .collect()
 }

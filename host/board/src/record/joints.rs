@@ -1,5 +1,6 @@
 //! What the recorder knows about each joint: a name, and from the step table the servo model and
-//! direction (to turn load registers into joint torques) and the modelled torque per slice.
+//! direction (to turn load registers into joint torques), the modelled torque per slice, and
+//! when its leg's stance is (for the plots' stance shading).
 
 use protocol::{GaitTable, ServoModel};
 
@@ -17,6 +18,9 @@ pub struct JointMeta {
     pub planned_rad: Vec<f64>,
     /// Stiffness the board's torque bias divides by, N m/rad (from the table's joint map).
     pub stiffness_nm_per_rad: Option<f64>,
+    /// Whether the joint's leg (the `LF` of `LF_ThC1`) is in stance, per slice of the step
+    /// (empty when the table or the leg is unknown).
+    pub stance: Vec<bool>,
 }
 
 /// The joints of a step table, named `names[j]` where given (else `J<j>`).
@@ -38,8 +42,26 @@ pub fn joints_of_table(table: &GaitTable<'_>, names: &[String]) -> Vec<JointMeta
                     .filter_map(|s| table.angle(s, j))
                     .map(protocol::units::angle_to_rad)
                     .collect(),
+                stance: names.get(j).map_or_else(Vec::new, |n| leg_stance(table, n)),
             }
         })
+        .collect()
+}
+
+/// Stance per slice of the leg that `joint_name` starts with (bit i of a slice's stance byte is
+/// leg i of `Leg::ALL`, as the planner writes it); empty for a name of no leg.
+fn leg_stance(table: &GaitTable<'_>, joint_name: &str) -> Vec<bool> {
+    let leg = planner::model::Leg::ALL.iter().position(|l| {
+        joint_name
+            .strip_prefix(l.name())
+            .is_some_and(|r| r.starts_with('_'))
+    });
+    let Some(bit) = leg else {
+        return Vec::new();
+    };
+    (0..table.slice_count())
+        .filter_map(|s| table.stance(s))
+        .map(|b| b & (1 << bit) != 0)
         .collect()
 }
 
@@ -53,6 +75,7 @@ impl JointMeta {
             modelled_nm: Vec::new(),
             planned_rad: Vec::new(),
             stiffness_nm_per_rad: None,
+            stance: Vec::new(),
         }
     }
 

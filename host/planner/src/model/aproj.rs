@@ -306,6 +306,16 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
                 point: p,
             });
         }
+        // A model file names each body once (its joints refer to bodies by name): two bodies of
+        // one name would import, then write a model file that does not load (found by fuzzing).
+        if bodies.iter().any(|b| b.name == r.body.name) {
+            return Err(field(
+                file,
+                format!("body {}", r.body.name),
+                "Name",
+                "a second body of this name (body names must be unique)",
+            ));
+        }
         bodies.push(r.body);
         joints.push(Joint {
             name,

@@ -1,0 +1,59 @@
+//! Joint names for a board's records (telemetry, proprioception) and setpoints, by the rule of
+//! `dbot record` (`board::record::joint_names`): each joint is the model joint driven by the servo
+//! the active gait's table names for it; without that table, the model's servo joints in joint-map
+//! order when the counts agree; `J<n>` where neither can say.
+//!
+//! The board does not send its tables back, so a `Board` keeps the tables it uploaded itself and
+//! follows which one the firmware has selected (firmware/src/controller/commands.rs): the slot
+//! played last, or an upload into the selected slot or into a board with none selected.
+
+use planner::model::Model;
+
+/// What a `Board` knows for naming its joints.
+#[derive(Debug, Clone)]
+pub struct JointNaming {
+    model: Model,
+    /// Tables this `Board` uploaded, by slot.
+    tables: [Option<Vec<u8>>; protocol::MAX_SLOTS],
+    /// The slot the board has selected, as far as this `Board` saw it.
+    active: Option<u8>,
+}
+
+impl JointNaming {
+    /// Names from `model`, no table known yet.
+    pub fn new(model: Model) -> Self {
+        Self {
+            model,
+            tables: Default::default(),
+            active: None,
+        }
+    }
+
+    pub fn set_model(&mut self, model: Model) {
+        self.model = model;
+    }
+
+    /// `table` was committed into `slot`.
+    pub fn uploaded(&mut self, slot: u8, table: Vec<u8>) {
+        if let Some(t) = self.tables.get_mut(usize::from(slot)) {
+            *t = Some(table);
+        }
+        if self.active.is_none_or(|a| a == slot) {
+            self.active = Some(slot);
+        }
+    }
+
+    /// The board accepted `Play` of `slot` (it selects that slot's table).
+    pub fn played(&mut self, slot: u8) {
+        self.active = Some(slot);
+    }
+
+    /// The names of the board's first `count` joints (joint-map order).
+    pub fn names(&self, count: usize) -> Vec<String> {
+        let table = self
+            .active
+            .and_then(|s| self.tables.get(usize::from(s))?.as_deref())
+            .and_then(|b| protocol::GaitTable::parse(b).ok());
+        ::board::record::joint_names(&self.model, table.as_ref(), count)
+    }
+}
