@@ -5,20 +5,14 @@
 //! out by hand. After every bus cycle and every command the last logged state must be the
 //! controller's state, so no change can go unlogged.
 
-use dynamixel::master::AutoDirection;
-use dynamixel::sim::{SimWire, VirtualChain, WireConfig};
+use dynamixel::sim::SimWire;
 use protocol::{Client, Request, Response};
 
 use super::Cause;
 use super::trail::{self, Entry};
-use crate::board::Board;
-use crate::controller::Config;
 use crate::safety::{Event, SafeReason, State};
-use crate::sim_tests::{SimBoardOn, ask, play, upload};
-use crate::store::nor_double::NorDouble;
-use crate::testkit::{JOINTS, SyntheticGait};
-
-type SimBoard = SimBoardOn<SimWire>;
+use crate::testkit::SyntheticGait;
+use crate::testkit::rig::{SimBoard, ask, play, rig, upload};
 
 /// Hardware Error Status bit 5: overload (e-manual, MX(2.0) address 70).
 const OVERLOAD: u8 = 1 << 5;
@@ -33,24 +27,7 @@ struct Rig {
 
 impl Rig {
     fn new() -> Self {
-        let chain = VirtualChain::drosophibot(JOINTS as u8, 1_000_000).unwrap();
-        let wire = SimWire::new(
-            chain,
-            WireConfig {
-                baud: 1_000_000,
-                echo: true,
-            },
-        );
-        wire.with_chain(|c| c.set_return_delay_all(0));
-        let board = Board::new(
-            NorDouble::new(128),
-            4,
-            Config::default(),
-            wire.clone(),
-            AutoDirection,
-            wire.clone(),
-            100,
-        );
+        let (board, wire) = rig(1_000_000, 100);
         trail::take();
         Self {
             board,

@@ -8,25 +8,18 @@ use dynamixel::sim::{Faults, SimWire};
 use firmware::controller::Config;
 use firmware::safety::{SafeReason, State};
 use firmware::testkit::rig::{
-    SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state, status, upload,
-    upload_requests, wire,
+    self, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state, status,
+    telemetry, upload, upload_requests, wire,
 };
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
-    Client, DeviceMessage, FaultKind, FrameAccumulator, ProtocolError, Request, Response, RunState,
-    Telemetry,
+    Client, DeviceMessage, FaultKind, ProtocolError, Request, Response, RunState, Telemetry,
 };
 
 /// A rig walking continuously with the synthetic gait in slot 0 (100 slices, 1 s per step).
 fn walking() -> (SimBoard, SimWire, Client, Vec<u8>) {
-    let (mut board, wire) = rig(1_000_000, 100);
-    let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     let table = SyntheticGait::new(100, 1.0).build();
-    upload(&mut board, &mut client, 0, &table);
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Continuous);
-    run_until(&mut board, &wire, 500, |s| s == State::Walking);
+    let (board, wire, client) = rig::walking(1_000_000, 100, &table);
     (board, wire, client, table)
 }
 
@@ -362,15 +355,7 @@ fn cycle_with_reply_noise(board: &mut SimBoard, wire: &SimWire, noise: &[u8]) ->
         }));
     }
     assert!(injected, "the cycle sent no request");
-    let mut out = Vec::new();
-    board.drain_telemetry(|f| out.extend_from_slice(f));
-    let mut acc = FrameAccumulator::new();
-    acc.messages::<DeviceMessage>(&out)
-        .filter_map(|m| match m {
-            Ok(DeviceMessage::Telemetry(t)) => Some(t),
-            _ => None,
-        })
-        .collect()
+    telemetry(board)
 }
 
 #[test]

@@ -3,7 +3,7 @@
 //! 22 servos following, and the bus cycle rate and start jitter at 1 and 4 Mbit/s.
 
 use firmware::safety::State;
-use firmware::testkit::rig::{ask, play, rig, run_until, upload};
+use firmware::testkit::rig::{ask, play, rig, run_until, upload, walking};
 use firmware::testkit::{JOINTS, STIFFNESS, SyntheticGait};
 use protocol::{Client, Request, Response};
 
@@ -108,18 +108,7 @@ fn ten_steps_with_all_22_virtual_servos_following() {
 /// Walks continuously at `cycle_hz` and `baud` for 2 s of simulated time; returns the measured rate,
 /// longest cycle and worst start lateness.
 fn measure(baud: u32, cycle_hz: u16) -> (f64, u32, u32, u64) {
-    let (mut board, wire) = rig(baud, cycle_hz);
-    let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    upload(
-        &mut board,
-        &mut client,
-        0,
-        &SyntheticGait::new(100, 1.0).build(),
-    );
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Continuous);
-    run_until(&mut board, &wire, 5000, |s| s == State::Walking);
+    let (mut board, wire, _) = walking(baud, cycle_hz, &SyntheticGait::new(100, 1.0).build());
     // Measure walking cycles only: every one a Sync Write of 22 goals + Sync Read of 22 x 10 bytes.
     board.schedule.timing = Default::default();
     let cycles = 2 * usize::from(cycle_hz);
@@ -166,18 +155,8 @@ fn a_rate_above_the_wire_limit_counts_every_missed_start() {
 
 #[test]
 fn an_overloaded_servo_stops_the_walk_naming_it_and_a_reboot_of_that_servo_recovers() {
-    let (mut board, wire) = rig(1_000_000, 100);
-    let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    upload(
-        &mut board,
-        &mut client,
-        0,
-        &SyntheticGait::new(100, 1.0).build(),
-    );
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Continuous);
-    run_until(&mut board, &wire, 500, |s| s == State::Walking);
+    let (mut board, wire, mut client) =
+        walking(1_000_000, 100, &SyntheticGait::new(100, 1.0).build());
     for _ in 0..30 {
         wire.block_on(board.run_cycle());
     }

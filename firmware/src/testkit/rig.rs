@@ -184,6 +184,11 @@ pub fn cycle<IO: Read + ReadReady + Write>(
     wire: &SimWire,
 ) -> Vec<Telemetry> {
     wire.block_on(board.run_cycle());
+    telemetry(board)
+}
+
+/// The telemetry records the board has queued, taken off it.
+pub fn telemetry<IO: Read + ReadReady + Write>(board: &mut SimBoardOn<IO>) -> Vec<Telemetry> {
     let mut out = Vec::new();
     board.drain_telemetry(|f| out.extend_from_slice(f));
     let mut acc = FrameAccumulator::new();
@@ -193,6 +198,19 @@ pub fn cycle<IO: Read + ReadReady + Write>(
             _ => None,
         })
         .collect()
+}
+
+/// A board at `baud` and `cycle_hz` walking continuously with `table` in slot 0: booted, the
+/// table uploaded, the servos found, played, and past its start ramp.
+pub fn walking(baud: u32, cycle_hz: u16, table: &[u8]) -> (SimBoard, SimWire, Client) {
+    let (mut board, wire) = rig(baud, cycle_hz);
+    let mut client = Client::new();
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
+    upload(&mut board, &mut client, 0, table);
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
+    play(&mut board, &mut client, Steps::Continuous);
+    run_until(&mut board, &wire, 5000, |s| s == State::Walking);
+    (board, wire, client)
 }
 
 /// The controller's safety state.
