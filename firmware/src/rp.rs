@@ -257,7 +257,11 @@ async fn main(spawner: Spawner) {
     let flash = GaitFlash {
         flash: Flash::new_blocking(p.FLASH),
     };
-    let config = Config::default();
+    // The host-loss rule is on in the image: a killed host does not leave the robot walking.
+    let config = Config {
+        host_timeout_cycles: protocol::limits::HOST_TIMEOUT_CYCLES,
+        ..Config::default()
+    };
     static BOARD: StaticCell<Board> = StaticCell::new();
     let mut controller = Controller::new(flash, BOARD_SLOTS, config);
     if after_watchdog {

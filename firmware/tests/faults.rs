@@ -7,9 +7,10 @@
 use dynamixel::sim::{Faults, SimWire};
 use firmware::controller::Config;
 use firmware::safety::{SafeReason, State};
+use firmware::store::nor_double::NorDouble;
 use firmware::testkit::rig::{
-    self, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state, status,
-    telemetry, upload, upload_requests, wire,
+    self, SECTORS, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state,
+    status, telemetry, upload, upload_requests, wire,
 };
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
@@ -809,4 +810,44 @@ fn soak_two_simulated_minutes() {
 fn soak_one_simulated_hour() {
     let f = soak(3600);
     assert!(f.sim_s >= 3600.0, "{f:?}");
+}
+
+#[test]
+fn any_request_keeps_an_endless_run_alive_and_a_silent_host_stops_it_at_the_end_of_a_step() {
+    // The host-loss rule through the link: 50 silent cycles allowed, steps of 100 cycles.
+    let wire = wire(1_000_000);
+    let config = Config {
+        host_timeout_cycles: 50,
+        ..Config::default()
+    };
+    let mut board = board_on(NorDouble::new(SECTORS), config, wire.clone(), &wire);
+    let mut client = Client::new();
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
+    upload(
+        &mut board,
+        &mut client,
+        0,
+        &SyntheticGait::new(100, 1.0).build(),
+    );
+    run_until(&mut board, &wire, 5, |s| s == State::Idle);
+    play(&mut board, &mut client, protocol::Steps::Continuous);
+    run_until(&mut board, &wire, 500, |s| s == State::Walking);
+    // A host that only asks for the status every 40 cycles (as `dbot run` does every 100 ms)
+    // keeps it walking for 4 steps.
+    for i in 0..400 {
+        if i % 40 == 0 {
+            status(&mut board, &mut client);
+        }
+        cycle(&mut board, &wire);
+        assert_eq!(state(&board), State::Walking, "cycle {i} with a live host");
+    }
+    // Silent: it stops at the end of the step it is in, standing, no fault.
+    let n = run_until(&mut board, &wire, 200, |s| s == State::Standing);
+    assert!(
+        (51..=51 + 100 + 1).contains(&n),
+        "stood after {n} silent cycles"
+    );
+    let s = status(&mut board, &mut client);
+    assert_eq!(s.state, RunState::Standing);
+    assert!(s.fault.is_none());
 }

@@ -117,6 +117,35 @@ fn a_silent_host_does_not_stop_the_gait_and_telemetry_resumes() -> Result<()> {
 }
 
 #[test]
+fn an_endless_run_whose_host_dies_stops_at_the_end_of_a_step() -> Result<()> {
+    // `dbot run` killed during an endless run: the image's host-loss rule stops the robot once the
+    // host has been silent for protocol::limits::HOST_TIMEOUT_CYCLES cycles (10 s at 100 Hz).
+    let Some((board, mut link)) = walking("host_lost")? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip("host_lost", "timing the silence needs the emulator");
+    };
+    let rule = Duration::from_millis(u64::from(protocol::limits::HOST_TIMEOUT_CYCLES) * 10);
+    // A host that asks for the status every 100 ms, past the rule's time: still walking.
+    let mut alive = Duration::ZERO;
+    while alive < rule + Duration::from_secs(1) {
+        emu.run_for(Duration::from_millis(100))?;
+        let s: Status = link.request(&Request::GetStatus, T)?;
+        ensure!(s.state == RunState::Walking, "with a live host: {s:?}");
+        alive += Duration::from_millis(100);
+    }
+    // Killed: nothing from the host any more. Past the rule's time and one step, it stands.
+    emu.run_for(rule + Duration::from_secs(2))?;
+    let s: Status = link.request(&Request::GetStatus, T)?;
+    ensure!(
+        s.state == RunState::Standing && s.fault.is_none(),
+        "after the host fell silent: {s:?}"
+    );
+    Ok(())
+}
+
+#[test]
 fn bad_frames_while_walking_are_rejected_and_the_gait_goes_on() -> Result<()> {
     let Some((board, mut link)) = walking("bad_frames_walking")? else {
         return Ok(());

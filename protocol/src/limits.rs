@@ -13,6 +13,13 @@ pub const MX_BAUDS: [u32; 8] = [
 /// not met; above 1000 Hz the loop's own work does not fit).
 pub const CYCLE_HZ: core::ops::RangeInclusive<u16> = 50..=1000;
 
+/// The board's host-loss rule (the image's `Config::host_timeout_cycles`): an endless run stops at
+/// the end of its step after this many bus cycles without a frame from the host, 10 s at the
+/// default 100 Hz. Long enough for any pause a working host makes (`dbot run` asks for the status
+/// every 100 ms; a USB re-plug takes about 1 s), short enough that a killed host leaves the robot
+/// walking for at most 10 s and one step. Finite runs finish their steps whatever the host does.
+pub const HOST_TIMEOUT_CYCLES: u32 = 1000;
+
 /// Servos on the robot: the bus carries at least their goals and replies every cycle.
 pub const ROBOT_SERVOS: usize = 22;
 

@@ -63,7 +63,8 @@ impl Default for Config {
             ramp_ticks_per_s: 400,
             ramp_min_us: 500_000,
             stuck: StuckLimits::default(),
-            // Off by default: the tests and the image set it (see `HOST_TIMEOUT_CYCLES`).
+            // Off in the library (the in-process virtual robot lives only while its host runs);
+            // the image sets `protocol::limits::HOST_TIMEOUT_CYCLES`.
             host_timeout_cycles: 0,
         }
     }

@@ -63,6 +63,8 @@ pub fn handle<F: NorFlash + FlashWindow>(
     request: Request,
     rejected: u32,
 ) -> Response {
+    // Any request is the host's sign of life for the host-loss rule of endless runs.
+    c.host_contact();
     protocol::endpoint::dispatch(
         &mut Service {
             upload,

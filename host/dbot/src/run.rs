@@ -26,7 +26,8 @@ pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).
     #[arg(long)]
     pub slot: Option<u8>,
-    /// Whole steps to play; without it the gait plays until `dbot stop`.
+    /// Whole steps to play; without it the gait plays until `dbot stop` or Ctrl-C (the board
+    /// also stops an endless run 10 s after its host falls silent).
     #[arg(long)]
     pub steps: Option<u32>,
     /// Step period, s (default: the planned one). Between 0.1 and 10 times the planned period.
@@ -35,7 +36,8 @@ pub struct Args {
     /// Walk backward (slices in reverse order on the same footpaths).
     #[arg(long)]
     pub backward: bool,
-    /// Return once the board has started instead of following the steps.
+    /// Return once the board has started instead of following the steps (needs --steps: the
+    /// board stops an endless run whose host is gone).
     #[arg(long)]
     pub detach: bool,
     #[command(flatten)]
@@ -54,6 +56,13 @@ impl Args {
             bail!(
                 "the virtual robot lives only while dbot runs: give --steps K (and no --detach), \
                  or use `dbot record --play` to walk and record in one command"
+            );
+        }
+        if self.detach && self.steps.is_none() {
+            bail!(
+                "--detach needs --steps K: an endless run needs its host (the board stops it {} s \
+                 after the host falls silent, so a killed host never leaves the robot walking)",
+                protocol::limits::HOST_TIMEOUT_CYCLES / 100
             );
         }
         let (command, gait) = play_command(&mut s, slot, self.steps, self.period, self.backward)?;

@@ -224,7 +224,9 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
         (None, record(&rec, true), State::Walking),
         // Recording a walk someone else started: Ctrl-C stops it all the same.
         (
-            Some(strings(&["run", "--slot", "0", "--detach"])),
+            Some(strings(&[
+                "run", "--slot", "0", "--steps", "1000", "--detach",
+            ])),
             record(&rec2, false),
             State::Walking,
         ),
@@ -285,6 +287,22 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
     );
     std::thread::sleep(Duration::from_millis(300));
     assert_eq!(robot.state(), State::Standing);
+    robot.finish();
+    // An endless run needs its host: `--detach` without `--steps` is refused, and nothing moves.
+    let robot = RobotServer::start(gait.clone());
+    let cmd = with_port(
+        &strings(&["run", "--slot", "0", "--detach"]),
+        &robot.pty_path,
+    );
+    let d = run(dir.path(), &cmd);
+    assert!(!d.status.success());
+    assert!(
+        d.stderr.contains("--detach needs --steps K"),
+        "{}",
+        d.stderr
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    assert_ne!(robot.state(), State::Walking);
     robot.finish();
     // The interrupted recordings are kept, whole, under their name; no scratch file is left.
     for r in [&rec, &rec2] {
