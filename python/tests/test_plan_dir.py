@@ -42,7 +42,8 @@ def run(*args: str, cwd: pathlib.Path) -> str:
 
 @pytest.fixture(scope="module")
 def walk(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
-    """A plan directory of the built-in robot's tripod gait (table 1, 40 slices), with dynamics."""
+    """A plan directory of the built-in robot's tripod gait (the default `servo-safe` preset: table 1
+    at a 1.0 s swing, 2.5 s per step; 40 slices), with dynamics."""
     d = tmp_path_factory.mktemp("plans")
     run("plan", "--model", "drosophibot2", "--slices", "40", "--out", "walk", cwd=d)
     return d / "walk"
@@ -65,7 +66,7 @@ def test_plan_dir_numbers_are_the_files(walk: pathlib.Path) -> None:
     assert np.array_equal(p.angles, angles)
     assert np.array_equal(p.torques, torques)
     # T = T_sw / (1 - duty) = 0.5 / 0.4 s (table 1); each leg stands 0.6 * 40 = 24 slices (+-1).
-    assert math.isclose(p.period_s, 1.25, rel_tol=1e-12)
+    assert math.isclose(p.period_s, 2.5, rel_tol=1e-12)
     assert math.isclose(p.duty, 0.6, rel_tol=1e-12)
     assert np.all(np.abs(p.stance.sum(axis=0) - 24) <= 1)
     # The planner from Python plans the same gait: the file holds its angles to 10 significant
