@@ -15,6 +15,7 @@ examples/README.md.
 Run (after `bash scripts/setup.d/40-python.sh`):
 
     .venv/bin/python examples/tripod_cpg.py --port virtual --steps 12 --out out/examples
+    .venv/bin/python examples/tripod_cpg.py --port physics --steps 12 --out out/examples  # MuJoCo body
 """
 
 from __future__ import annotations
