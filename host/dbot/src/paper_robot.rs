@@ -27,7 +27,7 @@ use experiment::{Experiment, PhaseRow};
   dbot paper-robot --from docs/paper-robot --write docs/validation.md
   dbot paper-robot --from docs/paper-robot --check docs/validation.md")]
 pub struct Args {
-    /// Output directory of a run: phase_torques.csv, the plots, validation-section.md.
+    /// Output directory of a run: phase_torques.csv and the plots.
     #[arg(long, conflicts_with = "from")]
     out: Option<PathBuf>,
     /// One run only: forward at a 2 s period, 3 steps (2 averaged).
@@ -71,11 +71,6 @@ impl Args {
             _ => bail!("give --out DIR (run the experiments) or --from DIR (use their CSV)"),
         };
         let section = block::render(&rows);
-        if let Some(out) = &self.out {
-            replace(out, "validation-section.md", |p| {
-                Ok(std::fs::write(p, &section)?)
-            })?;
-        }
         if let Some(path) = &self.write {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("reading {}", path.display()))?;

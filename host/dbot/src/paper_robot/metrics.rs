@@ -169,6 +169,47 @@ pub fn stance_load(all: &[PhaseRow], exp: &str) -> Vec<(String, f64)> {
     out
 }
 
+/// Per joint: how many slices the loads of `a` lag those of `b` (the circular shift within
+/// +-`max` slices that best correlates them, mean removed), and that lag as a fraction of the step.
+pub fn lag(all: &[PhaseRow], a: &str, b: &str, max: usize) -> Vec<(String, f64)> {
+    let series = |e: &str, j: &str| -> Vec<f64> {
+        let mut v: Vec<(usize, f64)> = all
+            .iter()
+            .filter(|r| r.experiment == e && r.joint == j)
+            .map(|r| (r.slice, r.mean_nm))
+            .collect();
+        v.sort_by_key(|x| x.0);
+        let m = v.iter().map(|x| x.1).sum::<f64>() / v.len().max(1) as f64;
+        v.into_iter().map(|x| x.1 - m).collect()
+    };
+    let mut joints: Vec<&str> = Vec::new();
+    for r in all.iter().filter(|r| r.experiment == a) {
+        if !joints.contains(&r.joint.as_str()) {
+            joints.push(&r.joint);
+        }
+    }
+    joints
+        .into_iter()
+        .filter_map(|j| {
+            let (x, y) = (series(a, j), series(b, j));
+            let n = x.len();
+            if n == 0 || n != y.len() {
+                return None;
+            }
+            let max = max.min(n / 2) as isize;
+            let best = (-max..=max)
+                .map(|k| {
+                    let c: f64 = (0..n)
+                        .map(|s| x[(s as isize + k).rem_euclid(n as isize) as usize] * y[s])
+                        .sum();
+                    (k, c)
+                })
+                .max_by(|p, q| p.1.total_cmp(&q.1))?;
+            Some((j.to_owned(), best.0 as f64 / n as f64))
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
