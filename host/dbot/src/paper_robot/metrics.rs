@@ -2,6 +2,8 @@
 //! (swing, stance): how far the loads are from the planned torques, how far two runs are apart,
 //! and the step-to-step spread. All are root mean squares over the group's joints and slices.
 
+use std::collections::HashMap;
+
 use super::experiment::PhaseRow;
 
 /// A leg pair, named by the second letter of its legs (`LF`, `RF` -> front).
@@ -96,13 +98,21 @@ pub fn spread(all: &[PhaseRow], exp: &str, g: Group) -> Option<f64> {
     rms(rows(all, exp, g).map(|r| r.sd_nm))
 }
 
+/// The row of `exp` for `joint` at `slice`, by a lookup built once per call site.
+fn index<'a>(all: &'a [PhaseRow], exp: &str) -> HashMap<(&'a str, usize), &'a PhaseRow> {
+    all.iter()
+        .filter(|r| r.experiment == exp)
+        .map(|r| ((r.joint.as_str(), r.slice), r))
+        .collect()
+}
+
 /// RMS difference between runs `a` and `b` in `g` (same joint, same slice): of the loads, or of
 /// the planned torques with `planned`.
 pub fn apart(all: &[PhaseRow], a: &str, b: &str, g: Group, planned: bool) -> Option<f64> {
     let pick = |r: &PhaseRow| if planned { r.planned_nm } else { r.mean_nm };
+    let bs = index(all, b);
     rms(rows(all, a, g).filter_map(|ra| {
-        all.iter()
-            .find(|rb| rb.experiment == b && rb.joint == ra.joint && rb.slice == ra.slice)
+        bs.get(&(ra.joint.as_str(), ra.slice))
             .map(|rb| pick(ra) - pick(rb))
     }))
 }
@@ -116,10 +126,10 @@ pub fn peak_apart(
     planned: bool,
 ) -> Option<(f64, String)> {
     let pick = |r: &PhaseRow| if planned { r.planned_nm } else { r.mean_nm };
+    let bs = index(all, b);
     rows(all, a, g)
         .filter_map(|ra| {
-            all.iter()
-                .find(|rb| rb.experiment == b && rb.joint == ra.joint && rb.slice == ra.slice)
+            bs.get(&(ra.joint.as_str(), ra.slice))
                 .map(|rb| ((pick(ra) - pick(rb)).abs(), ra.joint.clone()))
         })
         .max_by(|x, y| x.0.total_cmp(&y.0))
@@ -133,17 +143,14 @@ pub fn joint_change(all: &[PhaseRow], a: &str, b: &str) -> Vec<(String, f64, f64
             joints.push(r.joint.clone());
         }
     }
+    let bs = index(all, b);
     joints
         .into_iter()
         .filter_map(|j| {
             let pairs: Vec<(&PhaseRow, &PhaseRow)> = all
                 .iter()
                 .filter(|r| r.experiment == a && r.joint == j)
-                .filter_map(|ra| {
-                    all.iter()
-                        .find(|rb| rb.experiment == b && rb.joint == j && rb.slice == ra.slice)
-                        .map(|rb| (ra, rb))
-                })
+                .filter_map(|ra| bs.get(&(ra.joint.as_str(), ra.slice)).map(|rb| (ra, *rb)))
                 .collect();
             let d = rms(pairs.iter().map(|(x, y)| x.mean_nm - y.mean_nm))?;
             let sd = rms(pairs.iter().flat_map(|(x, y)| [x.sd_nm, y.sd_nm]))?;
@@ -271,6 +278,21 @@ mod tests {
                 }
             ),
             None
+        );
+    }
+
+    #[test]
+    fn lag_finds_a_shifted_copy() {
+        // b is a triangle over 8 slices; a is b delayed by 2 slices: a[s] = b[s - 2].
+        let b = [0.0, 1.0, 2.0, 3.0, 2.0, 1.0, 0.0, -1.0];
+        let mut rows = Vec::new();
+        for s in 0..8 {
+            rows.push(row("b", "LF_CTr", s, true, 0.0, b[s]));
+            rows.push(row("a", "LF_CTr", s, true, 0.0, b[(s + 6) % 8]));
+        }
+        assert_eq!(
+            lag(&rows, "a", "b", 3),
+            vec![("LF_CTr".to_string(), 2.0 / 8.0)]
         );
     }
 }
