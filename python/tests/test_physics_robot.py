@@ -30,7 +30,8 @@ def play_and_record(port: str, plan: dbot.Plan, steps: int) -> dict[str, np.ndar
     board.upload_plan(0, plan, name="tripod", torques=True)
     board.set_telemetry(1)
     board.play(0, steps=steps)
-    rec = board.record(steps * plan.period_s + 0.5)
+    # The start ramp to the first slice (about 0.6 s) comes before the steps.
+    rec = board.record(steps * plan.period_s + 2.0)
     assert board.status()["fault"] is None
     board.close()
     return rec
@@ -56,15 +57,16 @@ def test_physics_robot_walks_with_loads_that_are_not_the_plan(model) -> None:
     lp = np.array([p[k] for k in common], dtype=float)
     lv = np.array([v[k] for k in common], dtype=float)
     # The virtual robot's loads are the planned torques (not zero while playing); the body's
-    # differ from them by many load-register units (an MX-28's unit is 0.1 % of its stall torque).
+    # differ from them by many load-register units (an MX-28's unit is 0.1 % of its stall torque;
+    # measured: RMS 89 units against the planned loads' RMS 164, table 1 at 50 slices).
     assert np.abs(lv).max() > 20
     rms = float(np.sqrt(np.mean((lp - lv) ** 2)))
-    assert rms > 10, rms
+    assert rms > 30, rms
     # ... yet they are loads of the same walk: the same sign where the plan asks for a sizeable
     # torque, in most of those samples.
     big = np.abs(lv) > 50
     assert big.sum() > 100
-    assert np.mean(np.sign(lp[big]) == np.sign(lv[big])) > 0.7
+    assert np.mean(np.sign(lp[big]) == np.sign(lv[big])) > 0.8
 
 
 def test_physics_robot_carries_its_weight_while_standing() -> None:
