@@ -23,6 +23,7 @@ use experiment::{Experiment, PhaseRow};
 #[command(after_help = "Examples:
   dbot paper-robot --out out/paper-robot            # all runs (about 110 s simulated)
   dbot paper-robot --out /tmp/q --quick             # forward at 2 s, 3 steps
+  dbot paper-robot --out /tmp/q --quick --periods 1,4   # forward at 1 s and at 4 s
   cargo run --release --bin dbot -- paper-robot --out docs/paper-robot
   dbot paper-robot --from docs/paper-robot --write docs/validation.md
   dbot paper-robot --from docs/paper-robot --check docs/validation.md")]
@@ -30,9 +31,12 @@ pub struct Args {
     /// Output directory of a run: phase_torques.csv and the plots.
     #[arg(long, conflicts_with = "from")]
     out: Option<PathBuf>,
-    /// One run only: forward at a 2 s period, 3 steps (2 averaged).
+    /// Forward runs only, 3 steps each (2 averaged), at a 2 s period or at --periods.
     #[arg(long)]
     quick: bool,
+    /// Step periods (s) of the quick run's forward walks, e.g. `1,4`.
+    #[arg(long, value_delimiter = ',', requires = "quick")]
+    periods: Vec<f64>,
     /// Keep each run's recording as runs/NAME/telemetry.csv under --out.
     #[arg(long)]
     telemetry: bool,
@@ -50,9 +54,17 @@ pub struct Args {
 
 /// The runs of the full set (paper: 10 steps on flat ground, 5 on the incline; one more each
 /// here, the first being left out) or of `--quick`.
-fn experiments(quick: bool) -> Vec<Experiment> {
+fn experiments(quick: bool, periods: &[f64]) -> Vec<Experiment> {
     if quick {
-        return vec![Experiment::new(2.0, Direction::Forward, "flat", 3)];
+        let periods = if periods.is_empty() {
+            &[2.0][..]
+        } else {
+            periods
+        };
+        return periods
+            .iter()
+            .map(|&t| Experiment::new(t, Direction::Forward, "flat", 3))
+            .collect();
     }
     let mut v: Vec<Experiment> = [1.0, 2.0, 4.0]
         .into_iter()
@@ -101,7 +113,14 @@ impl Args {
     fn simulate(&self, out: &Path) -> Result<Vec<PhaseRow>> {
         crate::common::interrupt::catch()?;
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        let runs = experiments(self.quick);
+        if let Some(t) = self
+            .periods
+            .iter()
+            .find(|t| !(t.is_finite() && (0.5..=10.0).contains(*t)))
+        {
+            bail!("--periods: {t} s is not a step period in 0.5..=10 s");
+        }
+        let runs = experiments(self.quick, &self.periods);
         let mut rows = Vec::new();
         for (i, e) in runs.iter().enumerate() {
             println!(
