@@ -15,6 +15,7 @@ examples/README.md.
 Run (after `bash scripts/setup.d/40-python.sh`):
 
     .venv/bin/python examples/tripod_cpg.py --port virtual --steps 12 --out out/examples
+    .venv/bin/python examples/tripod_cpg.py --port physics --steps 12 --out out/examples  # MuJoCo body
 """
 
 from __future__ import annotations
@@ -250,7 +251,7 @@ INITIAL_PHASE = np.array([0.0, 0.1, 0.25, 0.05, 0.3, 0.15])
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--port", default="virtual", help="board port, pty path or `virtual`")
+    ap.add_argument("--port", default="virtual", help="board port, pty path, `virtual` or `physics[:SCENE]`")
     ap.add_argument("--steps", type=int, default=12, help="steps per leg to walk")
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/examples"))
     args = ap.parse_args()

@@ -6,8 +6,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
-* :class:`Board` - a board, the RP2040 emulator's pseudo-terminal or the virtual robot
-  (``Board.open("virtual")``), with upload, playback, telemetry and the streaming mode
+* :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
+  (``Board.open("virtual")``) or the physics robot with a MuJoCo body (``Board.open("physics")``),
+  with upload, playback, telemetry and the streaming mode
   (``enter_streaming``, ``send_setpoint``, ``next_proprioception``).
 
 Units are SI (m, rad, s, N m); arrays are indexed ``[slice, joint]`` / ``[record, joint]``.

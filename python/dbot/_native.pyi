@@ -202,7 +202,7 @@ class Board:
 
     @staticmethod
     def open(port: str, reply_timeout_s: float = 2.0) -> Board:
-        """``/dev/ttyACM0`` or a pty path, ``virtual`` or ``virtual:PATH``; checks versions."""
+        """``/dev/ttyACM0`` or a pty path, ``virtual``, ``virtual:PATH``, ``physics`` or ``physics:SCENE``; checks versions."""
     @property
     def port(self) -> str: ...
     @property

@@ -64,7 +64,9 @@ impl Board {
 impl Board {
     /// Opens `port`: a serial device or pseudo-terminal path (a board, the RP2040 emulator),
     /// `virtual` (an in-process virtual robot with an erased gait store) or `virtual:PATH` (one
-    /// whose flash lives in the file PATH). Checks the protocol and table format versions.
+    /// whose flash lives in the file PATH), or `physics` / `physics:SCENE` (the virtual robot with a
+    /// MuJoCo body: loads are the body's, not the plan's; scenes `flat`, `incline:DEG`, `ball`,
+    /// `ball-fixed`). Checks the protocol and table format versions.
     #[staticmethod]
     #[pyo3(signature = (port, reply_timeout_s = 2.0))]
     fn open(port: &str, reply_timeout_s: f64) -> PyResult<Self> {

@@ -17,6 +17,8 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // `Board.open("physics[:SCENE]")` opens the physics robot, as `dbot --port physics` does.
+    physics::register_port();
     m.add("DbotError", py.get_type::<errors::DbotError>())?;
     m.add("BoardError", py.get_type::<errors::BoardError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -16,6 +16,7 @@ mod estop;
 mod feasibility_args;
 mod gaits;
 mod model;
+mod paper_robot;
 mod plan;
 mod record;
 mod run;
@@ -46,6 +47,7 @@ enum Cmd {
     // No doc comments here: clap takes each subcommand's help (short and long) from its
     // `Args` struct's doc comment, which a comment on the variant would replace.
     Demo(demo::Args),
+    PaperRobot(paper_robot::Args),
     Plan(plan::Args),
     Model(model::Args),
     Table(table::Args),
@@ -75,6 +77,7 @@ fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.cmd {
         Cmd::Demo(a) => a.run(),
+        Cmd::PaperRobot(a) => a.run(),
         Cmd::Plan(a) => a.run(),
         Cmd::Model(a) => a.run(),
         Cmd::Table(a) => a.run(),

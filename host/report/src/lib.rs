@@ -6,6 +6,7 @@ mod bitmap;
 pub mod dynamics;
 pub mod legend;
 pub mod legs;
+pub mod paper_robot;
 pub mod plan;
 pub mod recording;
 pub mod robot;

@@ -1,0 +1,187 @@
+//! One of the paper's robot experiments on the physics robot: plan Drosophibot II's tripod at a
+//! step period (table 1 with the swing time set so that period = swing / (1 - duty)), solve its
+//! inverse dynamics, upload the step table, walk it on a scene while recording, and reduce the
+//! recording to per-slice statistics of the torque estimated from each servo's load register
+//! beside the planner's torque (the paper's figures 5 to 7 plot the same).
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use board::link::Board;
+use board::record::{Recorder, Until, capture_while, joints_of_table, phase_stats};
+use physics::PhysicsRobot;
+use planner::gait::StepParams;
+use planner::model::Leg;
+use protocol::{Direction, PlayCommand, Steps};
+
+use crate::common::interrupt;
+
+/// One walk to simulate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Experiment {
+    /// Name in the CSV and plots, e.g. `forward-2s`.
+    pub name: String,
+    /// Step period the gait is planned at, s.
+    pub period_s: f64,
+    pub direction: Direction,
+    /// Scene and planner terrain: `flat` or `incline:DEG`.
+    pub terrain: String,
+    /// Steps walked; the first is left out of the statistics (it starts from the ramp).
+    pub steps: u32,
+}
+
+impl Experiment {
+    pub fn new(period_s: f64, direction: Direction, terrain: &str, steps: u32) -> Self {
+        let dir = if direction == Direction::Forward {
+            "forward"
+        } else {
+            "backward"
+        };
+        let ground = if terrain == "flat" {
+            String::new()
+        } else {
+            format!("-{}", terrain.replace(':', ""))
+        };
+        Self {
+            name: format!("{dir}{ground}-{period_s}s"),
+            period_s,
+            direction,
+            terrain: terrain.to_owned(),
+            steps,
+        }
+    }
+}
+
+/// One joint at one slice of the step, over the recorded steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseRow {
+    pub experiment: String,
+    pub joint: String,
+    pub slice: usize,
+    pub slices: usize,
+    /// The joint's leg stands at this slice (the plan's stance).
+    pub stance: bool,
+    /// The planner's torque (the step table's, quantised to 1 mN m), N m.
+    pub planned_nm: f64,
+    /// Torque estimated from the load register: mean and standard deviation over the steps, N m.
+    pub mean_nm: f64,
+    pub sd_nm: f64,
+    /// Samples (bus cycles) behind the mean.
+    pub n: usize,
+}
+
+/// The tripod at `period_s` (duty of table 1) on `terrain`.
+pub fn params(period_s: f64, terrain: &str) -> Result<StepParams> {
+    let mut p = StepParams::preset("table1", "drosophibot2").context("table1 preset")?;
+    p.swing_s = period_s * (1.0 - p.duty);
+    p.terrain = terrain.to_owned();
+    Ok(p)
+}
+
+/// Plans, walks and reduces `e`; the recording goes to `dir/telemetry.csv`, or to a scratch file
+/// removed afterwards without `dir`.
+pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
+    let model = planner::model::builtin("drosophibot2")?;
+    let p = params(e.period_s, &e.terrain)?;
+    let plan = planner::plan::plan(&model, &p)
+        .with_context(|| format!("{}: planning the step", e.name))?;
+    let dynamics = crate::args::dynamics::DynamicsArgs {
+        no_dynamics: false,
+        friction_cone: false,
+        push_only: false,
+        mu: 0.5,
+        torque_limits: false,
+        parallel: false,
+    }
+    .solve(&plan)?
+    .with_context(|| format!("{}: inverse dynamics", e.name))?;
+    let torque = planner::dynamics::output::torque_rows(&dynamics.cycle);
+    let table = planner::plan::table::step_table(&plan, Some(&torque), "paper robot")
+        .with_context(|| format!("{}: step table", e.name))?;
+    let servo_joints = planner::plan::table::servo_joints(&model);
+    let names: Vec<String> = servo_joints
+        .iter()
+        .map(|&j| model.joints[j].name.clone())
+        .collect();
+    let legs: Vec<Leg> = servo_joints.iter().map(|&j| model.joints[j].leg).collect();
+
+    let body = PhysicsRobot::drosophibot(&e.terrain)
+        .with_context(|| format!("{}: the physics robot", e.name))?;
+    let mut board = Board::connect(body.into_transport())?;
+    board.upload(0, &table, |_, _| {})?;
+    let parsed = protocol::GaitTable::parse(&table)?;
+    let joints = joints_of_table(&parsed, &names);
+    let csv = match dir {
+        Some(dir) => {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+            dir.join("telemetry.csv")
+        }
+        None => std::env::temp_dir().join(format!(
+            "dbot-paper-robot-{}-{}.csv",
+            std::process::id(),
+            e.name
+        )),
+    };
+    board.discard_telemetry();
+    board.play(PlayCommand {
+        slot: 0,
+        direction: e.direction,
+        period_scale: protocol::units::PERIOD_SCALE_ONE,
+        steps: Steps::Count(e.steps),
+    })?;
+    let mut rec =
+        Recorder::create(&csv, joints).with_context(|| format!("creating {}", csv.display()))?;
+    capture_while(
+        &mut board,
+        &mut rec,
+        Until {
+            seconds: None,
+            standing: true,
+        },
+        interrupt::requested,
+        |_| {},
+    )
+    .with_context(|| format!("{}: recording", e.name))?;
+    if dir.is_none() {
+        let _ = std::fs::remove_file(&csv);
+    }
+    if interrupt::requested() {
+        anyhow::bail!("interrupted while walking {}", e.name);
+    }
+    let first = u32::from(e.steps >= 2);
+    let walking: Vec<_> = rec
+        .rows()
+        .iter()
+        .filter(|r| r.step >= first && r.step < e.steps)
+        .cloned()
+        .collect();
+    let slices = plan.slices();
+    let mut out = Vec::new();
+    for (j, name) in names.iter().enumerate() {
+        let leg = plan
+            .legs
+            .iter()
+            .position(|&l| l == legs[j])
+            .with_context(|| format!("{}: joint {name} has no leg in the plan", e.name))?;
+        for s in phase_stats(&walking, j, slices) {
+            let slice = (s.phase * slices as f64).round() as usize;
+            out.push(PhaseRow {
+                experiment: e.name.clone(),
+                joint: name.clone(),
+                slice,
+                slices,
+                stance: plan.stance[slice][leg],
+                planned_nm: s.modelled_nm.with_context(|| {
+                    format!(
+                        "{}: joint {name} slice {slice} has no planned torque",
+                        e.name
+                    )
+                })?,
+                mean_nm: s.mean_nm,
+                sd_nm: s.sd_nm,
+                n: s.n,
+            });
+        }
+    }
+    Ok(out)
+}
