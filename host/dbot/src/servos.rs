@@ -42,16 +42,16 @@ impl Args {
         // Feedback only flows while a gait plays; a short wait tells whether it does.
         let latest = s.board.telemetry(Duration::from_millis(200))?;
         println!(
-            "joint  servo  model  stiffness N m/rad  limits rad        torque  error  load raw"
+            "joint  servo  model       stiffness N m/rad  limits rad        torque  error  load raw"
         );
         for (j, js) in set.joints.iter().enumerate() {
             let (id, model) = match table.as_ref().and_then(|t| t.joint(j)) {
-                Some(m) => (m.servo_id.to_string(), format!("{:?}", m.model)),
+                Some(m) => (m.servo_id.to_string(), m.model.name().to_owned()),
                 None => ("?".into(), "?".into()),
             };
             let fb = latest.as_ref().and_then(|t| t.joints.get(j));
             println!(
-                "{j:>5}  {id:>5}  {model:>5}  {:>17.3}  {:+.3} .. {:+.3}  {:>6}  {:>5}  {:>8}",
+                "{j:>5}  {id:>5}  {model:<10}  {:>17.3}  {:+.3} .. {:+.3}  {:>6}  {:>5}  {:>8}",
                 js.stiffness as f64 / 1000.0,
                 angle_to_rad(js.min),
                 angle_to_rad(js.max),

@@ -79,11 +79,11 @@ impl Args {
             .filter(|&id| id <= self.servos)
             .collect();
         println!(
-            "serving {} virtual servos (IDs 1..={}, {} on {:?}, {} elsewhere) at {} bit/s, return delay {} us, on {} linked at {}; Ctrl-C stops",
+            "serving {} virtual servos (IDs 1..={}, {} on {}, {} elsewhere) at {} bit/s, return delay {} us, on {} linked at {}; Ctrl-C stops",
             self.servos,
             self.servos,
             ServoModel::Mx64.name(),
-            mx64,
+            id_list(&mx64),
             ServoModel::Mx28.name(),
             self.baud,
             u32::from(rdt) * 2,
@@ -126,11 +126,34 @@ fn describe(s: &Served) -> String {
         format!("ID {}", s.id)
     };
     let mut line = format!(
-        "{:10.4} s  {name:<10} {target:<9} {:>4} B  replied {:?}",
-        s.at_s, s.request_len, s.replied
+        "{:10.4} s  {name:<10} {target:<9} {:>4} B  replied: {}",
+        s.at_s,
+        s.request_len,
+        id_list(&s.replied)
     );
     if !s.silent.is_empty() {
-        line.push_str(&format!("  silent {:?}", s.silent));
+        line.push_str(&format!("  silent: {}", id_list(&s.silent)));
     }
     line
+}
+
+/// Servo IDs as the log shows them: "ID 1, 2, 3", or "none".
+fn id_list(ids: &[u8]) -> String {
+    if ids.is_empty() {
+        return "none".to_owned();
+    }
+    let ids: Vec<String> = ids.iter().map(u8::to_string).collect();
+    format!("ID {}", ids.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::id_list;
+
+    #[test]
+    fn servo_ids_read_as_a_list_not_debug_text() {
+        assert_eq!(id_list(&[]), "none");
+        assert_eq!(id_list(&[3]), "ID 3");
+        assert_eq!(id_list(&[1, 2, 14]), "ID 1, 2, 14");
+    }
 }

@@ -136,7 +136,7 @@ fn run_walks_the_steps_and_status_estop_set_work() {
     let out = ok(dir.path(), &["status"]);
     assert!(out.contains("bus       2000000 bit/s, 200 Hz"), "{out}");
     let out = ok(dir.path(), &["servos", "--table", &t]);
-    assert!(out.contains("    0      1   Mx28"), "{out}");
+    assert!(out.contains("    0      1  MX-28(2.0)"), "{out}");
 }
 
 #[test]
