@@ -10,7 +10,7 @@ use plotters::prelude::*;
 use crate::style::register_font;
 use board::record::JointMeta;
 use board::record::Row;
-use board::record::phase_stats;
+use board::record::{PhaseStats, phase_stats};
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -20,42 +20,70 @@ fn grid(n: usize) -> (usize, usize) {
     (n.div_ceil(COLS).max(1), COLS)
 }
 
+/// One panel of a model-vs-measured figure: the model per slice of the step and the measured
+/// statistics per phase.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhasePanel {
+    pub name: String,
+    /// Modelled value per slice (slice s at phase s / len).
+    pub modelled: Vec<f64>,
+    pub measured: Vec<PhaseStats>,
+}
+
 /// Figure 5: per joint, modelled torque over the phase of the step and the estimated measured
 /// torque (mean, +-1 standard deviation shaded) over the recorded steps.
 pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usize) -> PlotResult {
+    let panels: Vec<PhasePanel> = joints
+        .iter()
+        .enumerate()
+        .map(|(j, meta)| PhasePanel {
+            name: meta.name.clone(),
+            modelled: meta.modelled_nm.clone(),
+            measured: phase_stats(rows, j, slices),
+        })
+        .collect();
+    plot_phase_panels(
+        path,
+        [
+            "Joint torque per phase of the step: modelled (black) vs measured (blue: mean, shaded +-1 SD over steps)",
+            "measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
+        ],
+        "N m",
+        &panels,
+    )
+}
+
+/// The layout of figure 5 for any quantity: one panel per item, the model (black) over the phase
+/// of the step and the measured mean with +-1 SD shaded (blue); two title lines above.
+pub fn plot_phase_panels(
+    path: &Path,
+    titles: [&str; 2],
+    unit: &str,
+    panels: &[PhasePanel],
+) -> PlotResult {
     register_font();
-    let (r, c) = grid(joints.len());
+    let (r, c) = grid(panels.len());
     let root = crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + 60)).into_drawing_area();
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(60);
     let (l1, l2) = title.split_vertically(30);
-    l1.titled(
-        "Joint torque per phase of the step: modelled (black) vs measured (blue: mean, shaded +-1 SD over steps)",
-        ("sans-serif", 18),
-    )?;
-    l2.titled(
-        "measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
-        ("sans-serif", 16),
-    )?;
-    for (panel, (j, meta)) in body
-        .split_evenly((r, c))
-        .iter()
-        .zip(joints.iter().enumerate())
-    {
-        let st = phase_stats(rows, j, slices);
+    l1.titled(titles[0], ("sans-serif", 18))?;
+    l2.titled(titles[1], ("sans-serif", 16))?;
+    for (area, panel) in body.split_evenly((r, c)).iter().zip(panels) {
+        let st = &panel.measured;
         let mut lo: f64 = -0.1;
         let mut hi: f64 = 0.1;
-        for s in &st {
+        for s in st {
             lo = lo.min(s.mean_nm - s.sd_nm);
             hi = hi.max(s.mean_nm + s.sd_nm);
         }
-        for &m in &meta.modelled_nm {
+        for &m in &panel.modelled {
             lo = lo.min(m);
             hi = hi.max(m);
         }
         let pad = 0.05 * (hi - lo);
-        let mut chart = ChartBuilder::on(panel)
-            .caption(&meta.name, ("sans-serif", 16))
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.name, ("sans-serif", 16))
             .margin(6)
             .x_label_area_size(28)
             .y_label_area_size(48)
@@ -63,7 +91,7 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
         chart
             .configure_mesh()
             .x_desc("phase")
-            .y_desc("N m")
+            .y_desc(unit)
             .label_style(("sans-serif", 11))
             .draw()?;
         if !st.is_empty() {
@@ -76,9 +104,10 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
                 &BLUE,
             ))?;
         }
-        let n = meta.modelled_nm.len().max(1) as f64;
+        let n = panel.modelled.len().max(1) as f64;
         chart.draw_series(LineSeries::new(
-            meta.modelled_nm
+            panel
+                .modelled
                 .iter()
                 .enumerate()
                 .map(|(s, &m)| (s as f64 / n, m)),
