@@ -163,6 +163,7 @@ impl PhysicsRobot {
             walking: controller.state() == firmware::safety::State::Walking,
             thorax: self.plant.thorax_pose(),
             foot_forces: self.plant.foot_forces(),
+            foot_spheres: self.plant.foot_positions(),
             pose,
         });
     }

@@ -5,7 +5,9 @@
 
 use planner::model::Leg;
 
-/// One bus cycle of a walk, sampled at the cycle's start.
+/// One bus cycle of a walk, sampled at the cycle's start. Positions in the world (thorax, foot
+/// spheres) are MuJoCo's from the forward pass before its last step, joint angles after it: one
+/// timestep (1 ms) apart.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WalkSample {
     /// Simulated time, s.
@@ -18,6 +20,8 @@ pub struct WalkSample {
     pub thorax: ([f64; 3], [f64; 4]),
     /// Contact force on each foot (model feet order), world frame, N.
     pub foot_forces: Vec<(Leg, [f64; 3])>,
+    /// Centre of each foot's contact sphere (model feet order), world frame, m.
+    pub foot_spheres: Vec<(Leg, [f64; 3])>,
     /// Every model joint's angle (rad; fixed joints 0, forward kinematics ignores them), on
     /// every `pose_every`-th sample.
     pub pose: Option<Vec<f64>>,
