@@ -5,7 +5,10 @@
 //! builds the step table, uploads it to the in-process robot, walks 10 steps forward and 10
 //! backward while recording, and prints a summary whose numbers all come from this run; on the
 //! physics robot also what each walk did to the body (distance per step against the plan, heading
-//! drift, thorax height and tilt, slip per foot).
+//! drift, thorax height and tilt, slip per foot), the plan's GRF and torques against the simulated
+//! contact forces and servo loads (R^2, `common::demo_fit`), a third walk with the torque bias off
+//! and what the bias buys (`common::demo_bias`), and `walk.gif` (`common::demo_walk`). The summary
+//! is also written to `summary.txt`.
 //!
 //! Every output goes through a scratch file renamed when complete, so a demo that is killed or
 //! interrupted leaves each file either as the previous run wrote it or complete from this run.
@@ -25,10 +28,9 @@ use planner::gait::StepParams;
 use planner::model::Leg;
 use planner::plan_dir;
 use protocol::{Direction, PlayCommand, Steps};
-use report::recording::{PhasePanel, plot_angles, plot_phase_panels, plot_torques};
+use report::recording::{plot_angles, plot_torques};
 
 use crate::args::dynamics::DynamicsArgs;
-use crate::common::demo_fit::{Fit, grf_fits, load_fits, phase_csv, r2_text};
 use crate::common::demo_walk::{self, Walk};
 use crate::common::interrupt;
 use crate::common::output::replace;
@@ -215,15 +217,20 @@ impl Args {
             .is_some();
         // With a body, a third walk: forward again with the firmware's torque bias switched off.
         let mut plans = vec![
-            (Direction::Forward, "forward", true),
-            (Direction::Backward, "backward", true),
+            (Direction::Forward, "forward", "forward", true),
+            (Direction::Backward, "backward", "backward", true),
         ];
         if has_body {
-            plans.push((Direction::Forward, BIAS_OFF_LABEL, false));
+            plans.push((
+                Direction::Forward,
+                BIAS_OFF_LABEL,
+                "forward-bias-off",
+                false,
+            ));
         }
         let stages = stage_count(has_body);
         let mut walks = Vec::new();
-        for (i, (direction, label, bias_on)) in plans.into_iter().enumerate() {
+        for (i, (direction, label, dir_name, bias_on)) in plans.into_iter().enumerate() {
             let mut meta = joints.clone();
             if !bias_on {
                 // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
@@ -240,9 +247,7 @@ impl Args {
                 4 + i,
                 self.steps
             );
-            let dir = out
-                .join("record")
-                .join(label.replace([',', ' '], "-").replace("--", "-"));
+            let dir = out.join("record").join(dir_name);
             let wall = Instant::now();
             board
                 .transport_mut()
@@ -287,7 +292,10 @@ impl Args {
         let mut fits = Vec::new();
         for w in walks.iter().filter(|w| w.bias_on) {
             if let Some(log) = &w.log {
-                fits.push((w.label, write_fits(w, log, ctx, self.steps)?));
+                fits.push((
+                    w.label,
+                    demo_walk::write_fits(w, log, names, &plan.legs, ctx.grf_z, self.steps)?,
+                ));
             }
         }
 
@@ -386,62 +394,6 @@ const POSE_EVERY_CYCLES: usize = 25;
 const BIAS_OFF_LABEL: &str = "forward, bias off";
 /// The summary file in the output directory: what the demo prints after the walks.
 const SUMMARY: &str = "summary.txt";
-
-/// The load and GRF fits of a walk, written beside its recording (CSVs, GRF plot).
-fn write_fits(
-    w: &Walk,
-    log: &WalkLog,
-    ctx: &Walked<'_>,
-    steps: u32,
-) -> anyhow::Result<(Vec<Fit>, Vec<Fit>)> {
-    let modelled: Vec<Vec<f64>> = w
-        .rec
-        .joints()
-        .iter()
-        .map(|m| m.modelled_nm.clone())
-        .collect();
-    let loads = load_fits(w.rec.rows(), ctx.names, &modelled, steps);
-    let grf = grf_fits(log, &ctx.plan.legs, ctx.grf_z, steps);
-    let dir = &w.dir;
-    replace(dir, "loads_vs_plan.csv", |p| {
-        Ok(std::fs::write(p, phase_csv(&loads, "joint", "nm"))?)
-    })?;
-    replace(dir, "grf_vs_plan.csv", |p| {
-        Ok(std::fs::write(p, phase_csv(&grf, "leg", "n"))?)
-    })?;
-    let mut csv = String::from("kind,name,r2,rms,samples\n");
-    for (kind, fits) in [("load_nm", &loads), ("grf_z_n", &grf)] {
-        for f in fits {
-            let r2 = f.r2.map_or(String::new(), |r| format!("{r:.4}"));
-            csv.push_str(&format!(
-                "{kind},{},{r2},{:.4},{}\n",
-                f.name, f.rms, f.samples
-            ));
-        }
-    }
-    replace(dir, "fit.csv", |p| Ok(std::fs::write(p, &csv)?))?;
-    let panels: Vec<PhasePanel> = grf
-        .iter()
-        .map(|f| PhasePanel {
-            name: format!("{} (R^2 {})", f.name, r2_text(f.r2)),
-            modelled: f.modelled.clone(),
-            measured: f.measured.clone(),
-        })
-        .collect();
-    replace(dir, "grf_vs_plan.png", |p| {
-        plot_phase_panels(
-            p,
-            [
-                "Vertical ground reaction force per phase of the step: plan (black) vs simulated contact force (blue: mean, shaded +-1 SD over steps)",
-                "simulated = MuJoCo contact force on the foot sphere, every bus cycle of the whole steps after the first",
-            ],
-            "N",
-            &panels,
-        )
-        .map_err(|e| anyhow::anyhow!("plotting GRF: {e}"))
-    })?;
-    Ok((loads, grf))
-}
 
 /// What the walks need from the planning stages.
 struct Walked<'a> {

@@ -1,6 +1,6 @@
 //! The demo's walks after the fact: the animation of the simulated body (`walk.gif`, drawn by
-//! `report::robot`), and the summary lines of the model-vs-measured fits and of what the torque
-//! bias buys.
+//! `report::robot`), the model-vs-measured fits written beside each recording, and the summary
+//! lines of the fits and of what the torque bias buys.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -11,7 +11,10 @@ use planner::model::Model;
 use report::robot::{WalkPose, animate_walk};
 
 use super::demo_bias::posture;
-use super::demo_fit::{Fit, r2_text};
+use planner::model::Leg;
+use report::recording::{PhasePanel, plot_phase_panels};
+
+use super::demo_fit::{Fit, grf_fits, load_fits, phase_csv, r2_text};
 use super::output::replace;
 
 /// A foot counts as in stance in the animation above this vertical force, N.
@@ -90,6 +93,65 @@ pub fn write_walk_gif(
         Ok(())
     })?;
     Ok((out.join(WALK_GIF), frames.len()))
+}
+
+/// The load and GRF fits of a walk, written beside its recording (CSVs, GRF plot): `grf_z` is
+/// the plan's vertical GRF `[slice][leg]`, legs in the order `legs`.
+pub fn write_fits(
+    w: &Walk,
+    log: &WalkLog,
+    names: &[String],
+    legs: &[Leg],
+    grf_z: &[Vec<f64>],
+    steps: u32,
+) -> anyhow::Result<(Vec<Fit>, Vec<Fit>)> {
+    let modelled: Vec<Vec<f64>> = w
+        .rec
+        .joints()
+        .iter()
+        .map(|m| m.modelled_nm.clone())
+        .collect();
+    let loads = load_fits(w.rec.rows(), names, &modelled, steps);
+    let grf = grf_fits(log, legs, grf_z, steps);
+    let dir = &w.dir;
+    replace(dir, "loads_vs_plan.csv", |p| {
+        Ok(std::fs::write(p, phase_csv(&loads, "joint", "nm"))?)
+    })?;
+    replace(dir, "grf_vs_plan.csv", |p| {
+        Ok(std::fs::write(p, phase_csv(&grf, "leg", "n"))?)
+    })?;
+    let mut csv = String::from("kind,name,r2,rms,samples\n");
+    for (kind, fits) in [("load_nm", &loads), ("grf_z_n", &grf)] {
+        for f in fits {
+            let r2 = f.r2.map_or(String::new(), |r| format!("{r:.4}"));
+            csv.push_str(&format!(
+                "{kind},{},{r2},{:.4},{}\n",
+                f.name, f.rms, f.samples
+            ));
+        }
+    }
+    replace(dir, "fit.csv", |p| Ok(std::fs::write(p, &csv)?))?;
+    let panels: Vec<PhasePanel> = grf
+        .iter()
+        .map(|f| PhasePanel {
+            name: format!("{} (R^2 {})", f.name, r2_text(f.r2)),
+            modelled: f.modelled.clone(),
+            measured: f.measured.clone(),
+        })
+        .collect();
+    replace(dir, "grf_vs_plan.png", |p| {
+        plot_phase_panels(
+            p,
+            [
+                "Vertical ground reaction force per phase of the step: plan (black) vs simulated contact force (blue: mean, shaded +-1 SD over steps)",
+                "simulated = MuJoCo contact force on the foot sphere, every bus cycle of the whole steps after the first",
+            ],
+            "N",
+            &panels,
+        )
+        .map_err(|e| anyhow::anyhow!("plotting GRF: {e}"))
+    })?;
+    Ok((loads, grf))
 }
 
 /// The summary lines of one walk's fits.
