@@ -5,13 +5,17 @@
 //! builds the step table, uploads it to the in-process robot, walks 10 steps forward and 10
 //! backward while recording, and prints a summary whose numbers all come from this run; on the
 //! physics robot also what each walk did to the body (distance per step against the plan, heading
-//! drift, thorax height and tilt, slip per foot).
+//! drift, thorax height and tilt, slip per foot), the plan's GRF and torques against the simulated
+//! contact forces and servo loads (R^2, `common::demo_fit`), a third walk with the torque bias off
+//! and what the bias buys (`common::demo_bias`), and `walk.gif` (`common::demo_walk`). The summary
+//! is also written to `summary.txt`.
 //!
 //! Every output goes through a scratch file renamed when complete, so a demo that is killed or
 //! interrupted leaves each file either as the previous run wrote it or complete from this run.
 //! Ctrl-C ends the demo at the next check (between stages, or between two recorded bus cycles)
 //! with a non-zero exit.
 
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -19,7 +23,7 @@ use anyhow::{Context, bail};
 use board::link::Board;
 use board::record::{Ended, JointMeta, Recorder, Until, capture_while, joints_of_table, tracking};
 use board::robot::{PlannedLoads, ServoDynamics, VirtualRobot, VirtualTransport};
-use physics::{Figures, PhysicsRobot};
+use physics::{Figures, PhysicsRobot, WalkLog};
 use planner::gait::StepParams;
 use planner::model::Leg;
 use planner::plan_dir;
@@ -27,6 +31,7 @@ use protocol::{Direction, PlayCommand, Steps};
 use report::recording::{plot_angles, plot_torques};
 
 use crate::args::dynamics::DynamicsArgs;
+use crate::common::demo_walk::{self, Walk};
 use crate::common::interrupt;
 use crate::common::output::replace;
 use crate::common::plan_output::write_plan_dir;
@@ -46,10 +51,18 @@ fn check_interrupt(stage: &str) -> anyhow::Result<()> {
 
 /// What moves the demo robot's servos, and what it can say about the body after a walk.
 trait DemoBody: ServoDynamics + std::fmt::Debug {
-    /// Starts measuring a walk.
-    fn start_walk(&mut self) {}
+    /// Starts measuring a walk, logging a pose every `pose_every` bus cycles.
+    fn start_walk(&mut self, _pose_every: usize) {}
     /// What the walk did to the body (`None`: the robot has no body).
     fn walk_figures(&self) -> Option<Figures> {
+        None
+    }
+    /// The walk's log (`None`: the robot has no body).
+    fn take_log(&mut self) -> Option<WalkLog> {
+        None
+    }
+    /// The thorax height the plan keeps, m (`None`: no body).
+    fn planned_height_m(&self) -> Option<f64> {
         None
     }
 }
@@ -57,11 +70,18 @@ trait DemoBody: ServoDynamics + std::fmt::Debug {
 impl DemoBody for PlannedLoads {}
 
 impl DemoBody for PhysicsRobot {
-    fn start_walk(&mut self) {
+    fn start_walk(&mut self, pose_every: usize) {
         self.reset_figures();
+        self.start_log(pose_every);
     }
     fn walk_figures(&self) -> Option<Figures> {
         self.figures().cloned()
+    }
+    fn take_log(&mut self) -> Option<WalkLog> {
+        PhysicsRobot::take_log(self)
+    }
+    fn planned_height_m(&self) -> Option<f64> {
+        Some(PhysicsRobot::planned_height_m(self))
     }
 }
 
@@ -92,8 +112,9 @@ impl Args {
             bail!("--steps 0: give at least one step");
         }
 
+        let total = stage_count(self.port != "virtual");
         println!(
-            "[1/5] planning the tripod gait of drosophibot2 (flat, table 1 of the paper, swing {:.1} s)",
+            "[1/{total}] planning the tripod gait of drosophibot2 (flat, table 1 of the paper, swing {:.1} s)",
             planner::gait::SERVO_SAFE_SWING_S
         );
         let model = planner::model::builtin("drosophibot2")?;
@@ -126,7 +147,7 @@ impl Args {
         println!("  {}", crate::feasibility_args::summary(&feasible));
         check_interrupt("after writing the plan")?;
 
-        println!("[2/5] building the step table");
+        println!("[2/{total}] building the step table");
         // From the plan directory as written: the table `dbot table --plan` and `dbot upload
         // --plan` build from it, byte for byte.
         let written = plan_dir::read(&plan_dir)?;
@@ -147,15 +168,16 @@ impl Args {
             t_plan,
             t_dyn,
             dynamics_summary: dynamics.summary(),
+            grf_z: &dynamics.grf[2],
         };
         match self.port.as_str() {
             "physics" | "physics:flat" => {
-                println!("[3/5] uploading to the physics robot (MuJoCo, flat ground)");
+                println!("[3/{total}] uploading to the physics robot (MuJoCo, flat ground)");
                 let body = PhysicsRobot::drosophibot("flat")?;
                 self.walk_and_report(body.into_transport(), &ctx, "physics robot")
             }
             "virtual" => {
-                println!("[3/5] uploading to the virtual robot");
+                println!("[3/{total}] uploading to the virtual robot");
                 self.walk_and_report(
                     VirtualTransport::new(VirtualRobot::new()),
                     &ctx,
@@ -187,67 +209,143 @@ impl Args {
         let up = board.upload(0, table, |_, _| {})?;
         let parsed = protocol::GaitTable::parse(table)?;
         let joints = joints_of_table(&parsed, names);
-
+        let has_body = board
+            .transport()
+            .robot()
+            .servos()
+            .planned_height_m()
+            .is_some();
+        // With a body, a third walk: forward again with the firmware's torque bias switched off.
+        let mut plans = vec![
+            (Direction::Forward, "forward", "forward", true),
+            (Direction::Backward, "backward", "backward", true),
+        ];
+        if has_body {
+            plans.push((
+                Direction::Forward,
+                BIAS_OFF_LABEL,
+                "forward-bias-off",
+                false,
+            ));
+        }
+        let stages = stage_count(has_body);
         let mut walks = Vec::new();
-        for (i, direction) in [Direction::Forward, Direction::Backward]
-            .into_iter()
-            .enumerate()
-        {
-            let label = if direction == Direction::Forward {
-                "forward"
-            } else {
-                "backward"
-            };
+        for (i, (direction, label, dir_name, bias_on)) in plans.into_iter().enumerate() {
+            let mut meta = joints.clone();
+            if !bias_on {
+                // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
+                for j in 0..joints.len() {
+                    board.set_stiffness(j as u8, 0)?;
+                }
+                // The goals are now the planned angles: the recorder must not subtract a bias.
+                for m in &mut meta {
+                    m.stiffness_nm_per_rad = None;
+                }
+            }
             println!(
-                "[{}/5] walking {} steps {label}, recording",
+                "[{}/{stages}] walking {} steps {label}, recording",
                 4 + i,
                 self.steps
             );
-            let dir = out.join("record").join(label);
+            let dir = out.join("record").join(dir_name);
             let wall = Instant::now();
-            board.transport_mut().robot_mut().servos_mut().start_walk();
+            board
+                .transport_mut()
+                .robot_mut()
+                .servos_mut()
+                .start_walk(POSE_EVERY_CYCLES);
             let rec = walk(
                 &mut board,
                 direction,
                 self.steps,
                 &dir,
-                joints.clone(),
+                meta,
                 parsed.slice_count(),
             )?;
-            let figures = board.transport().robot().servos().walk_figures();
-            walks.push((label, dir, rec, wall.elapsed(), figures));
+            let servos = board.transport_mut().robot_mut().servos_mut();
+            let figures = servos.walk_figures();
+            let log = servos.take_log();
+            walks.push(Walk {
+                label,
+                bias_on,
+                dir,
+                rec,
+                wall: wall.elapsed(),
+                figures,
+                log,
+            });
         }
 
+        let mut s = String::new();
         let robot = board.transport().robot();
         let timing = robot.timing();
         let (to_servos, to_master) = robot.bus_bytes();
         let sim_s = robot.now_us() as f64 * 1e-6;
-        println!();
-        println!("outputs");
-        println!("  plan (CSV, JSON, URDF, plots)  {}", plan_dir.display());
-        println!(
+        let planned_height = robot.servos().planned_height_m();
+        let gif = match planned_height {
+            Some(_) => {
+                println!("[{stages}/{stages}] drawing the walk (walk.gif)");
+                Some(demo_walk::write_walk_gif(out, &plan.model, &walks)?)
+            }
+            None => None,
+        };
+        let mut fits = Vec::new();
+        for w in walks.iter().filter(|w| w.bias_on) {
+            if let Some(log) = &w.log {
+                fits.push((
+                    w.label,
+                    demo_walk::write_fits(w, log, names, &plan.legs, ctx.grf_z, self.steps)?,
+                ));
+            }
+        }
+
+        writeln!(s, "outputs")?;
+        writeln!(s, "  plan (CSV, JSON, URDF, plots)  {}", plan_dir.display())?;
+        writeln!(
+            s,
             "  step table                     {} ({} bytes, CRC {:#010x})",
             table_path.display(),
             up.bytes,
             up.stored.crc
-        );
-        for (label, dir, _, _, _) in &walks {
-            println!(
-                "  recording {label:<9}            {}/telemetry.csv, torque.png, angles.png",
-                dir.display()
-            );
+        )?;
+        for w in &walks {
+            writeln!(
+                s,
+                "  recording {:<18} {}/telemetry.csv, torque.png, angles.png{}",
+                w.label,
+                w.dir.display(),
+                if w.bias_on && w.log.is_some() {
+                    ", grf_vs_plan.png, grf_vs_plan.csv, loads_vs_plan.csv, fit.csv"
+                } else {
+                    ""
+                }
+            )?;
         }
-        println!("planning");
-        println!(
+        if let Some((path, frames)) = &gif {
+            writeln!(
+                s,
+                "  animation                      {} ({frames} frames, simulated body poses)",
+                path.display()
+            )?;
+        }
+        writeln!(
+            s,
+            "  this summary                   {}",
+            out.join(SUMMARY).display()
+        )?;
+        writeln!(s, "planning")?;
+        writeln!(
+            s,
             "  {} slices, step period {:.3} s; kinematics {:.1} ms, inverse dynamics {:.1} ms (wall clock); {}",
             plan.slices(),
             plan.period_s,
             t_plan.as_secs_f64() * 1e3,
             t_dyn.as_secs_f64() * 1e3,
             ctx.dynamics_summary
-        );
-        println!("bus ({robot_name}, simulated time)");
-        println!(
+        )?;
+        writeln!(s, "bus ({robot_name}, simulated time)")?;
+        writeln!(
+            s,
             "  {} cycles in {:.2} s: {:.1} Hz; {} overruns, longest bus transaction {} us; {:.0} bytes per cycle on the wire",
             timing.cycles,
             sim_s,
@@ -255,24 +353,47 @@ impl Args {
             timing.overruns,
             timing.max_busy_us,
             (to_servos + to_master) as f64 / timing.cycles.max(1) as f64
-        );
-        for (label, _, rec, wall, _) in &walks {
-            println!(
-                "tracking error {label} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s of wall time)",
-                rec.cycles(),
-                rec.duration_s(),
-                wall.as_secs_f64()
-            );
-            print_tracking(rec, names);
+        )?;
+        for w in &walks {
+            writeln!(
+                s,
+                "tracking error {} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s of wall time)",
+                w.label,
+                w.rec.cycles(),
+                w.rec.duration_s(),
+                w.wall.as_secs_f64()
+            )?;
+            print_tracking(&mut s, &w.rec, names)?;
         }
-        for (label, _, rec, _, figures) in &walks {
-            if let Some(f) = figures {
-                print_body(label, f, plan, self.steps, rec.duration_s());
+        for w in &walks {
+            if let Some(f) = &w.figures {
+                print_body(&mut s, w.label, f, plan, self.steps, w.rec.duration_s())?;
             }
         }
+        for (label, (loads, grf)) in &fits {
+            demo_walk::print_fits(&mut s, label, loads, grf, self.steps)?;
+        }
+        if let Some(h) = planned_height {
+            demo_walk::print_bias(&mut s, &walks, h, self.steps)?;
+        }
+        print!("\n{s}");
+        replace(out, SUMMARY, |p| Ok(std::fs::write(p, &s)?))?;
         Ok(())
     }
 }
+
+/// Stages the demo announces: plan, table, upload, the walks (a third, bias off, with a body) and
+/// with a body the animation.
+fn stage_count(has_body: bool) -> usize {
+    if has_body { 7 } else { 5 }
+}
+
+/// Bus cycles between two poses of the animation (0.25 s at the board's 100 Hz).
+const POSE_EVERY_CYCLES: usize = 25;
+/// The label (and record directory) of the walk without the torque bias.
+const BIAS_OFF_LABEL: &str = "forward, bias off";
+/// The summary file in the output directory: what the demo prints after the walks.
+const SUMMARY: &str = "summary.txt";
 
 /// What the walks need from the planning stages.
 struct Walked<'a> {
@@ -284,43 +405,58 @@ struct Walked<'a> {
     t_plan: std::time::Duration,
     t_dyn: std::time::Duration,
     dynamics_summary: String,
+    /// The plan's vertical GRF, `[slice][leg]` in `plan.legs` order, N.
+    grf_z: &'a [Vec<f64>],
 }
 
 /// The body's figures of one walk against the plan. The plan moves the thorax at translation /
 /// stance time for the whole cycle (0.085 m / 0.75 s x 1.25 s = 0.142 m per step for table 1;
 /// 0.085 m is each foot's stroke), keeps the resting body height and does not tilt or turn.
-fn print_body(label: &str, f: &Figures, plan: &planner::plan::Plan, steps: u32, seconds: f64) {
+fn print_body(
+    s: &mut String,
+    label: &str,
+    f: &Figures,
+    plan: &planner::plan::Plan,
+    steps: u32,
+    seconds: f64,
+) -> std::fmt::Result {
     let planned = plan.thorax_velocity.x * plan.period_s;
     let sign = if label == "backward" { -1.0 } else { 1.0 };
     let per_step = sign * f.forward_m / f64::from(steps);
-    println!(
+    writeln!(
+        s,
         "body {label} (physics robot, sampled every bus cycle over the walk's {seconds:.1} s)"
-    );
-    println!(
+    )?;
+    writeln!(
+        s,
         "  distance {:.4} m per step, planned {:.4} m ({:+.1} %; the feet's stroke is {:.3} m); lateral {:+.4} m",
         per_step,
         planned,
         (per_step / planned - 1.0) * 100.0,
         plan.params.translation_m,
         f.lateral_m
-    );
-    println!(
+    )?;
+    writeln!(
+        s,
         "  heading drift {:+.2} deg; thorax height {:.1} mm at the start, {:.1} mm lowest, {:.1} mm at the end (plan: constant); tilt up to {:.2} deg (plan: 0)",
         f.heading_rad.to_degrees(),
         f.height_start_m * 1e3,
         f.height_min_m * 1e3,
         f.height_end_m * 1e3,
         f.tilt_max_rad.to_degrees()
-    );
+    )?;
     let slip: Vec<String> = f
         .slip_m
         .iter()
-        .map(|(leg, s)| format!("{} {:.1}", leg.name(), s * 1e3))
+        .map(|(leg, x)| format!("{} {:.1}", leg.name(), x * 1e3))
         .collect();
-    println!("  slip while loaded, mm: {}", slip.join(", "));
+    writeln!(s, "  slip while loaded, mm: {}", slip.join(", "))?;
     match f.verdict(0.01) {
-        None => println!("  the robot carried the gait (no sag over 10 mm, no fall)"),
-        Some(v) => println!("  {v}"),
+        None => writeln!(
+            s,
+            "  the robot carried the gait (no sag over 10 mm, no fall)"
+        ),
+        Some(v) => writeln!(s, "  {v}"),
     }
 }
 
@@ -380,15 +516,16 @@ fn walk<S: DemoBody>(
 }
 
 /// RMS tracking error per leg, over the steps after the first (the first starts from the ramp).
-fn print_tracking(rec: &Recorder, names: &[String]) {
+fn print_tracking(s: &mut String, rec: &Recorder, names: &[String]) -> std::fmt::Result {
     let rows: Vec<_> = rec.rows().iter().filter(|r| r.step >= 1).cloned().collect();
     // With one step there is no step after the ramp's to measure: say so rather than print
     // zeros over an empty window.
     if rows.is_empty() {
-        println!(
+        writeln!(
+            s,
             "  no tracking error: it is measured from the second step on (give --steps 2 or more)"
-        );
-        return;
+        )?;
+        return Ok(());
     }
     let per_joint = tracking(&rows, names.len());
     for leg in Leg::ALL {
@@ -409,13 +546,15 @@ fn print_tracking(rec: &Recorder, names: &[String]) {
             .map(|t| t.rms_rad * t.rms_rad * t.samples as f64)
             .sum();
         let max = mine.iter().map(|t| t.max_abs_rad).fold(0.0, f64::max);
-        println!(
+        writeln!(
+            s,
             "  {}: RMS {:.4} rad ({:.2} deg), max {:.4} rad over {} joints",
             leg.name(),
             (sq / n.max(1) as f64).sqrt(),
             (sq / n.max(1) as f64).sqrt().to_degrees(),
             max,
             mine.len()
-        );
+        )?;
     }
+    Ok(())
 }

@@ -509,7 +509,7 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
     // Ctrl-C once the second walk has started: the plan, the table and the first recording are
     // complete new files by then, the second recording is under way.
     wait_for("the demo's backward walk", HANG, || {
-        std::fs::read_to_string(&r.out).is_ok_and(|s| s.contains("[5/5]"))
+        std::fs::read_to_string(&r.out).is_ok_and(|s| s.contains("[5/7]"))
     });
     r.signal(Signal::SIGINT);
     let d = r.wait();

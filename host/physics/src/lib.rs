@@ -13,9 +13,11 @@ mod plant;
 mod robot;
 pub mod servo;
 mod transport;
+mod walk_log;
 
 pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
 pub use transport::{open, register_port};
+pub use walk_log::{WalkLog, WalkSample};

@@ -4,7 +4,8 @@
 //! and the servos' Present registers take the body's angles, velocities and actuator torques; the
 //! firmware's cycle then reads them and writes new goals. Within a cycle's few milliseconds of
 //! bus traffic the servos report the state at its start (a real servo samples continuously: up
-//! to one cycle of extra latency here).
+//! to one cycle of extra latency here). On request it logs every cycle ([`WalkLog`]: gait slice,
+//! thorax pose, foot forces, joint angles every N cycles) for the demo's comparisons and animation.
 
 use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport, robot_chain};
 use dynamixel::control_table as ct;
@@ -16,6 +17,7 @@ use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
 use crate::plant::Plant;
 use crate::servo;
+use crate::walk_log::{WalkLog, WalkSample};
 
 /// The physics robot's MuJoCo timestep, s: 1 ms, twice the MJCF export's default, for speed (the
 /// contact's 2 ms time constant is still two steps). Halving it changes the walk's figures by
@@ -33,6 +35,11 @@ pub struct PhysicsRobot {
     plant: Plant,
     scene: String,
     monitor: Monitor,
+    /// The model's joint count (the length of a logged pose).
+    model_joints: usize,
+    /// The thorax height of the planner's stance (the keyframe), m.
+    planned_height_m: f64,
+    log: Option<WalkLog>,
 }
 
 impl PhysicsRobot {
@@ -69,10 +76,15 @@ impl PhysicsRobot {
         options: &MjcfOptions,
         scene: &str,
     ) -> Result<Self, PhysicsError> {
+        let plant = Plant::new(model, options)?;
+        let planned_height_m = plant.thorax_pose().0[2];
         Ok(Self {
-            plant: Plant::new(model, options)?,
+            plant,
             scene: scene.to_owned(),
             monitor: Monitor::new(),
+            model_joints: model.joints.len(),
+            planned_height_m,
+            log: None,
         })
     }
 
@@ -115,6 +127,47 @@ impl PhysicsRobot {
         self.monitor.reset();
     }
 
+    /// The thorax height of the planner's stance the body was set down in, m (the plan keeps it).
+    pub fn planned_height_m(&self) -> f64 {
+        self.planned_height_m
+    }
+
+    /// Starts a fresh [`WalkLog`]: from the next bus cycle on, one sample per cycle, a pose every
+    /// `pose_every` cycles (0 counts as 1).
+    pub fn start_log(&mut self, pose_every: usize) {
+        self.log = Some(WalkLog {
+            pose_every: pose_every.max(1),
+            samples: Vec::new(),
+        });
+    }
+
+    /// Ends logging and hands over what was logged (`None`: no log was started).
+    pub fn take_log(&mut self) -> Option<WalkLog> {
+        self.log.take()
+    }
+
+    fn log_sample(&mut self, controller: &Controller<VirtualFlash>) {
+        let Some(log) = self.log.as_mut() else {
+            return;
+        };
+        let pose = (log.samples.len() % log.pose_every == 0).then(|| {
+            let mut q = vec![0.0; self.model_joints];
+            for (i, j) in self.plant.joints().iter().enumerate() {
+                q[j.joint] = self.plant.joint_state(i).0;
+            }
+            q
+        });
+        log.samples.push(WalkSample {
+            time_s: self.plant.time(),
+            playback: controller.playback(),
+            walking: controller.state() == firmware::safety::State::Walking,
+            thorax: self.plant.thorax_pose(),
+            foot_forces: self.plant.foot_forces(),
+            foot_spheres: self.plant.foot_positions(),
+            pose,
+        });
+    }
+
     /// Shows the servos of `chain` the body's state (their own motors stay still).
     fn push_state(&self, chain: &mut VirtualChain) {
         let states: Vec<(u8, dynamixel::sim::physics::MotorState)> = (0..self.plant.joints().len())
@@ -141,7 +194,7 @@ impl ServoDynamics for PhysicsRobot {
     /// the body's state, and samples the figures.
     fn before_cycle(
         &mut self,
-        _: &Controller<VirtualFlash>,
+        controller: &Controller<VirtualFlash>,
         chain: &mut VirtualChain,
         now_us: u64,
     ) {
@@ -160,5 +213,6 @@ impl ServoDynamics for PhysicsRobot {
         self.plant.advance_to(now_us as f64 * 1e-6);
         self.push_state(chain);
         self.monitor.sample(&self.plant);
+        self.log_sample(controller);
     }
 }

@@ -13,7 +13,7 @@ use crate::legend::{Entry, ROW_H, STANCE, Swatch, legend_row};
 use crate::style::register_font;
 use board::record::JointMeta;
 use board::record::Row;
-use board::record::phase_stats;
+use board::record::{PhaseStats, phase_stats};
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -58,11 +58,53 @@ fn grid(n: usize) -> (usize, usize) {
     (n.div_ceil(COLS).max(1), COLS)
 }
 
+/// One panel of a model-vs-measured figure: the model per slice of the step and the measured
+/// statistics per phase.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhasePanel {
+    pub name: String,
+    /// Modelled value per slice (slice s at phase s / len).
+    pub modelled: Vec<f64>,
+    pub measured: Vec<PhaseStats>,
+    /// Per slice, whether the panel's leg is in stance (shaded; empty: no shading).
+    pub stance: Vec<bool>,
+}
+
 /// Figure 5: per joint, modelled torque over the phase of the step and the estimated measured
 /// torque (mean, +-1 standard deviation shaded) over the recorded steps.
 pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usize) -> PlotResult {
+    let panels: Vec<PhasePanel> = joints
+        .iter()
+        .enumerate()
+        .map(|(j, meta)| PhasePanel {
+            name: meta.name.clone(),
+            modelled: meta.modelled_nm.clone(),
+            measured: phase_stats(rows, j, slices),
+            stance: meta.stance.clone(),
+        })
+        .collect();
+    plot_phase_panels(
+        path,
+        [
+            "Joint torque per phase of the step: modelled vs measured over the recorded steps",
+            "measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
+        ],
+        "N m",
+        &panels,
+    )
+}
+
+/// The layout of figure 5 for any quantity: one panel per item, the model (black) over the phase
+/// of the step and the measured mean with +-1 SD shaded (blue), the leg's stance shaded grey; two
+/// title lines and a legend row above.
+pub fn plot_phase_panels(
+    path: &Path,
+    titles: [&str; 2],
+    unit: &str,
+    panels: &[PhasePanel],
+) -> PlotResult {
     register_font();
-    let (r, c) = grid(joints.len());
+    let (r, c) = grid(panels.len());
     let head = 60 + ROW_H;
     let root =
         crate::Bitmap::new(path, (420 * c as u32, 260 * r as u32 + head)).into_drawing_area();
@@ -70,49 +112,39 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
     let (title, body) = root.split_vertically(head);
     let (l1, rest) = title.split_vertically(30);
     let (l2, key) = rest.split_vertically(30);
-    l1.titled(
-        "Joint torque per phase of the step: modelled vs measured over the recorded steps",
-        ("sans-serif", 18),
-    )?;
-    l2.titled(
-        "measured = ESTIMATE from Present Load (MX-28) / Present Current (MX-64), see dynamixel::units",
-        ("sans-serif", 16),
-    )?;
+    l1.titled(titles[0], ("sans-serif", 18))?;
+    l2.titled(titles[1], ("sans-serif", 16))?;
     let mut entries = vec![
         Entry::new("modelled (plan)", Swatch::Line(BLACK)),
         Entry::new("measured, mean over steps", Swatch::Line(BLUE)),
         Entry::new("measured, +-1 SD", Swatch::Shade(BAND)),
     ];
-    if joints.iter().any(|j| !j.stance.is_empty()) {
+    if panels.iter().any(|p| !p.stance.is_empty()) {
         entries.push(stance_entry(""));
     }
     legend_row(&key, &entries)?;
-    for (panel, (j, meta)) in body
-        .split_evenly((r, c))
-        .iter()
-        .zip(joints.iter().enumerate())
-    {
-        let st = phase_stats(rows, j, slices);
+    for (area, panel) in body.split_evenly((r, c)).iter().zip(panels) {
+        let st = &panel.measured;
         let mut lo: f64 = -0.1;
         let mut hi: f64 = 0.1;
-        for s in &st {
+        for s in st {
             lo = lo.min(s.mean_nm - s.sd_nm);
             hi = hi.max(s.mean_nm + s.sd_nm);
         }
-        for &m in &meta.modelled_nm {
+        for &m in &panel.modelled {
             lo = lo.min(m);
             hi = hi.max(m);
         }
         let pad = 0.05 * (hi - lo);
-        let mut chart = ChartBuilder::on(panel)
-            .caption(&meta.name, ("sans-serif", 16))
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.name, ("sans-serif", 16))
             .margin(6)
             .x_label_area_size(28)
             .y_label_area_size(48)
             .build_cartesian_2d(0.0..1.0, (lo - pad)..(hi + pad))?;
-        let n = meta.stance.len().max(1) as f64;
+        let n = panel.stance.len().max(1) as f64;
         let (y0, y1) = (lo - pad, hi + pad);
-        chart.draw_series(runs(meta.stance.iter().copied()).into_iter().map(|r| {
+        chart.draw_series(runs(panel.stance.iter().copied()).into_iter().map(|r| {
             Rectangle::new(
                 [(r.start as f64 / n, y0), (r.end as f64 / n, y1)],
                 STANCE.filled(),
@@ -121,7 +153,7 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
         chart
             .configure_mesh()
             .x_desc("phase")
-            .y_desc("N m")
+            .y_desc(unit)
             .label_style(("sans-serif", 11))
             .draw()?;
         if !st.is_empty() {
@@ -134,9 +166,10 @@ pub fn plot_torques(path: &Path, rows: &[Row], joints: &[JointMeta], slices: usi
                 &BLUE,
             ))?;
         }
-        let n = meta.modelled_nm.len().max(1) as f64;
+        let n = panel.modelled.len().max(1) as f64;
         chart.draw_series(LineSeries::new(
-            meta.modelled_nm
+            panel
+                .modelled
                 .iter()
                 .enumerate()
                 .map(|(s, &m)| (s as f64 / n, m)),

@@ -4,6 +4,9 @@
 //! Subcommands share these instead of importing each other; nothing here imports a subcommand.
 
 pub mod baud;
+pub mod demo_bias;
+pub mod demo_fit;
+pub mod demo_walk;
 pub mod gait_summary;
 pub mod interrupt;
 pub mod model_spec;
