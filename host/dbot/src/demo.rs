@@ -410,8 +410,8 @@ struct Walked<'a> {
 }
 
 /// The body's figures of one walk against the plan. The plan moves the thorax at translation /
-/// stance time for the whole cycle (0.085 m / 0.75 s x 1.25 s = 0.142 m per step for table 1;
-/// 0.085 m is each foot's stroke), keeps the resting body height and does not tilt or turn.
+/// stance time for the whole cycle (0.085 m / 1.5 s x 2.5 s = 0.142 m per step for the servo-safe
+/// preset, as for table 1's 0.75 s of 1.25 s; 0.085 m is each foot's stroke), keeps the resting body height and does not tilt or turn.
 fn print_body(
     s: &mut String,
     label: &str,
