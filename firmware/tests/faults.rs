@@ -289,19 +289,23 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
     assert!(least > 20, "{least} ticks");
 }
 
+/// Marsaglia's 32-bit xorshift from `seed` (non-zero): deterministic noise, so a failure repeats.
+fn xorshift32(mut x: u32) -> impl FnMut() -> u32 {
+    move || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x
+    }
+}
+
 #[test]
 fn bus_noise_bursts_are_survived_and_counted() {
     let (mut board, wire, mut client, _) = walking();
     let c0 = status(&mut board, &mut client).counters;
     // Every 10th cycle, a burst of noise (including false headers and a fake status packet) is on
     // the wire while the replies come in. Deterministic xorshift, so a failure repeats.
-    let mut x: u32 = 0x2545_F491;
-    let mut rnd = move || {
-        x ^= x << 13;
-        x ^= x >> 17;
-        x ^= x << 5;
-        x
-    };
+    let mut rnd = xorshift32(0x2545_F491);
     for k in 0..1000 {
         if k % 10 == 0 {
             let mut burst: Vec<u8> = (0..rnd() % 40).map(|_| rnd() as u8).collect();
@@ -365,13 +369,7 @@ fn bus_noise_in_the_reply_window_costs_only_the_replies_it_hits() {
     let c0 = status(&mut board, &mut client).counters;
     // Every 10th cycle, 1 to 60 noise bytes (random, ending in a false header) start with the
     // reply window. Deterministic xorshift, so a failure repeats.
-    let mut x: u32 = 0x9E37_79B9;
-    let mut rnd = move || {
-        x ^= x << 13;
-        x ^= x >> 17;
-        x ^= x << 5;
-        x
-    };
+    let mut rnd = xorshift32(0x9E37_79B9);
     let (mut hit_total, mut lost_total) = (0usize, 0usize);
     for k in 0..500 {
         let records = if k % 10 == 0 {
