@@ -137,17 +137,7 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
             .iter()
             .map(|c| format!("{} of {} > {}", c.count, c.of, c.above))
             .collect();
-        let ours: Vec<String> = claims
-            .iter()
-            .map(|c| {
-                format!(
-                    "{} of {} > {}",
-                    paper::count_above(&r2, c.above),
-                    r2.len(),
-                    c.above
-                )
-            })
-            .collect();
+        let ours = our_counts(&r2, claims);
         writeln!(
             md,
             "| {} | {} | {} | {} |",
@@ -294,17 +284,7 @@ pub fn spring_sensitivity(slices: usize) -> Result<String> {
         )?;
         let r = compare(&robot.traces, &fly.traces);
         let r2 = paper::r2_of(&r, &TRIPOD, Quantity::Torque);
-        let ours: Vec<String> = claims
-            .iter()
-            .map(|c| {
-                format!(
-                    "{} of {} > {}",
-                    paper::count_above(&r2, c.above),
-                    r2.len(),
-                    c.above
-                )
-            })
-            .collect();
+        let ours = our_counts(&r2, claims);
         writeln!(
             md,
             "| {k} | {:.2} | {:.2} | {} | {} |",
@@ -330,4 +310,19 @@ fn spring_share(r: &Run) -> f64 {
         }
     }
     spring / total
+}
+
+/// Our R^2 counts for each of the paper's claims: "N of M > threshold".
+fn our_counts(r2: &[f64], claims: &[paper::Claim]) -> Vec<String> {
+    claims
+        .iter()
+        .map(|c| {
+            format!(
+                "{} of {} > {}",
+                paper::count_above(r2, c.above),
+                r2.len(),
+                c.above
+            )
+        })
+        .collect()
 }
