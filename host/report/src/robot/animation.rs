@@ -8,10 +8,13 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
+use nalgebra::Point3;
 use plotters::prelude::*;
 
 use super::figure::{FigureError, StickFigure};
-use super::views::{Bounds, FOOT, GROUND, Ground, JOINT, THORAX, draw_legend, draw_views};
+use super::views::{
+    Bounds, FOOT, GROUND, Ground, JOINT, THORAX, ViewLayout, draw_legend, draw_views,
+};
 use crate::style::colour;
 
 /// One frame: the robot and the line shown above it (e.g. "phase 0.25, t = 0.350 s").
@@ -35,11 +38,48 @@ pub fn write_gif(
     ground: &Ground,
     delay_ms: u32,
 ) -> Result<(), FigureError> {
+    let bounds = Bounds::around(frames.iter().map(|f| &f.figure), ground);
+    encode(path, frames, ground, delay_ms, |_| bounds).map(|_| ())
+}
+
+/// Writes `frames` as [`write_gif`] does, but seen by a camera that follows the robot: frame `i`
+/// is centred on `centres[i]` (e.g. the thorax) at one scale for the whole animation
+/// ([`Bounds::following`]), so a long walk keeps the robot large and the axes move under it.
+/// Returns where each frame's views put the world.
+pub fn write_gif_following(
+    path: &Path,
+    frames: &[Frame],
+    centres: &[Point3<f64>],
+    ground: &Ground,
+    delay_ms: u32,
+) -> Result<Vec<Vec<ViewLayout>>, FigureError> {
+    if centres.len() != frames.len() {
+        return Err(FigureError::Draw {
+            path: path.display().to_string(),
+            reason: format!(
+                "{} frames but {} camera centres",
+                frames.len(),
+                centres.len()
+            ),
+        });
+    }
+    let figures: Vec<&StickFigure> = frames.iter().map(|f| &f.figure).collect();
+    let bounds = Bounds::following(&figures, centres, ground);
+    encode(path, frames, ground, delay_ms, |i| bounds[i])
+}
+
+fn encode(
+    path: &Path,
+    frames: &[Frame],
+    ground: &Ground,
+    delay_ms: u32,
+    bounds_of: impl Fn(usize) -> Bounds,
+) -> Result<Vec<Vec<ViewLayout>>, FigureError> {
     let err = |reason: String| FigureError::Draw {
         path: path.display().to_string(),
         reason,
     };
-    let bounds = Bounds::around(frames.iter().map(|f| &f.figure), ground);
+    let mut layouts = Vec::with_capacity(frames.len());
     let (w, h) = FRAME_SIZE;
     let palette = palette();
     let flat: Vec<u8> = palette.iter().flatten().copied().collect();
@@ -50,12 +90,14 @@ pub fn write_gif(
         .map_err(|e| err(e.to_string()))?;
     let mut cache: HashMap<[u8; 3], u8> = HashMap::new();
     let mut rgb = vec![0u8; (w * h * 3) as usize];
-    for f in frames {
+    for (i, f) in frames.iter().enumerate() {
         {
             let root = crate::Bitmap::with_buffer(&mut rgb, (w, h)).into_drawing_area();
             root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
             let (views, legend) = root.split_vertically(h - LEGEND_H);
-            draw_views(&views, &f.figure, ground, &bounds, &f.caption).map_err(err)?;
+            layouts.push(
+                draw_views(&views, &f.figure, ground, &bounds_of(i), &f.caption).map_err(err)?,
+            );
             draw_legend(&legend).map_err(err)?;
             root.present().map_err(|e| err(e.to_string()))?;
         }
@@ -80,7 +122,7 @@ pub fn write_gif(
         };
         enc.write_frame(&frame).map_err(|e| err(e.to_string()))?;
     }
-    Ok(())
+    Ok(layouts)
 }
 
 /// White, a 32-step grey ramp, and every colour of the drawing blended with white in quarters.

@@ -9,8 +9,8 @@ mod plan_views;
 mod views;
 mod walk;
 
-pub use animation::{FRAME_SIZE, Frame, write_gif};
+pub use animation::{FRAME_SIZE, Frame, write_gif, write_gif_following};
 pub use figure::{Bone, FigureError, FootMark, Part, StickFigure};
 pub use plan_views::{MAX_FRAMES, PHASES, animate_step, plan_ground, plot_robot};
 pub use views::{Bounds, Ground, View, ViewLayout, draw_legend, draw_views};
-pub use walk::{WalkPose, animate_walk, walk_figure};
+pub use walk::{WalkGif, WalkPose, animate_walk, walk_figure};

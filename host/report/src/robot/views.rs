@@ -128,6 +128,45 @@ impl Bounds {
     }
 }
 
+impl Bounds {
+    /// One box per frame for a camera that follows the robot: frame `i`'s box is centred on
+    /// `centres[i]` (e.g. the thorax), and every box has the same size, the smallest that holds
+    /// every frame's figure around its own centre (and the plane `ground` right under it), with
+    /// the same margin as [`Bounds::around`]. The robot then keeps its place and size in the
+    /// picture while the axes (the world) move under it.
+    pub fn following(
+        figures: &[&StickFigure],
+        centres: &[Point3<f64>],
+        ground: &Ground,
+    ) -> Vec<Self> {
+        let mut half = Vector3::zeros();
+        for (f, c) in figures.iter().zip(centres) {
+            let under = match ground {
+                Ground::Plane { point, normal } if normal.z.abs() > 1e-9 => {
+                    // The plane's point straight below (or above) the centre.
+                    let z = point.z
+                        - (normal.x * (c.x - point.x) + normal.y * (c.y - point.y)) / normal.z;
+                    Some(Point3::new(c.x, c.y, z))
+                }
+                Ground::Ball { centre, radius } => Some(Point3::new(c.x, c.y, centre.z + radius)),
+                Ground::Plane { .. } | Ground::Nothing => None,
+            };
+            for p in f.points().chain(under.as_ref()) {
+                half = half.sup(&(p - c).abs());
+            }
+        }
+        let pad = half.max() * 2.0 * 0.08 + 1e-6;
+        let half = half + Vector3::repeat(pad);
+        centres
+            .iter()
+            .map(|c| Self {
+                min: c - half,
+                max: c + half,
+            })
+            .collect()
+    }
+}
+
 pub(super) const THORAX: RGBColor = RGBColor(0, 0, 0);
 pub(super) const GROUND: RGBColor = RGBColor(140, 110, 70);
 /// Stance feet are filled with this; swing feet are white rings of it.

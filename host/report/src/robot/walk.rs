@@ -1,6 +1,8 @@
 //! The physics robot's walk as a GIF (`walk.gif`): the simulated body in the world frame, one
 //! frame per logged pose (thorax pose and joint angles, drawn through the model's forward
-//! kinematics), on the ground plane z = 0, so the robot is seen to move across the views.
+//! kinematics), on the ground plane z = 0. The camera follows the thorax at one scale for the
+//! whole walk, so the robot stays large however far it walks, and the axes (the world, in mm)
+//! move under it.
 
 use std::path::Path;
 
@@ -9,9 +11,9 @@ use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vect
 use planner::kinematics::forward;
 use planner::model::Model;
 
-use super::animation::{Frame, write_gif};
+use super::animation::{Frame, write_gif_following};
 use super::figure::{FigureError, StickFigure};
-use super::views::Ground;
+use super::views::{Ground, ViewLayout};
 
 /// One pose of a simulated walk.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,14 +42,23 @@ pub fn walk_figure(model: &Model, pose: &WalkPose) -> Result<StickFigure, Figure
     StickFigure::from_bodies(model, &bodies, &pose.stance)
 }
 
-/// Writes `poses` of `model` as a looping GIF, each frame shown `delay_ms`; the ground is the
-/// plane z = 0. Returns the figures drawn (one per frame, world frame).
+/// What [`animate_walk`] drew.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WalkGif {
+    /// One figure per frame, world frame.
+    pub figures: Vec<StickFigure>,
+    /// Where each frame's three views put the world (they move with the thorax).
+    pub layouts: Vec<Vec<ViewLayout>>,
+}
+
+/// Writes `poses` of `model` as a looping GIF, each frame shown `delay_ms`, seen by a camera
+/// that follows the thorax; the ground is the plane z = 0.
 pub fn animate_walk(
     model: &Model,
     poses: &[WalkPose],
     path: &Path,
     delay_ms: u32,
-) -> Result<Vec<StickFigure>, FigureError> {
+) -> Result<WalkGif, FigureError> {
     let frames = poses
         .iter()
         .map(|p| {
@@ -57,10 +68,14 @@ pub fn animate_walk(
             })
         })
         .collect::<Result<Vec<_>, FigureError>>()?;
+    let centres: Vec<Point3<f64>> = poses.iter().map(|p| Point3::from(p.thorax.0)).collect();
     let ground = Ground::Plane {
         point: Point3::origin(),
         normal: Vector3::z(),
     };
-    write_gif(path, &frames, &ground, delay_ms)?;
-    Ok(frames.into_iter().map(|f| f.figure).collect())
+    let layouts = write_gif_following(path, &frames, &centres, &ground, delay_ms)?;
+    Ok(WalkGif {
+        figures: frames.into_iter().map(|f| f.figure).collect(),
+        layouts,
+    })
 }
