@@ -155,10 +155,17 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
                 .collect::<Vec<_>>()
                 .join("; ")
         };
+        // Saturation: the largest |torque| as a share of its servo's stall torque.
+        let (stall, at) = f
+            .joints
+            .iter()
+            .filter_map(|j| Some((j.torque?.value / j.limits?.stall_torque, j.joint.as_str())))
+            .fold((0.0f64, "-"), |a, b| if b.0 > a.0 { b } else { a });
         writeln!(
             s,
-            "- {preset}, swing {:.1} s ({terrain}): {verdict}",
-            params.swing_s
+            "- {preset}, swing {:.1} s ({terrain}): {verdict}; the largest torque is {:.0} % of its servo's stall torque ({at})",
+            params.swing_s,
+            100.0 * stall
         )?;
     }
     b.insert("feasibility", s);
