@@ -89,6 +89,7 @@ class Plan:
 def plan(
     model: Model,
     *,
+    preset: str | None = None,
     swing_s: float = ...,
     duty: float = ...,
     step_height_m: dict[str, float] = ...,
@@ -99,9 +100,15 @@ def plan(
     slices: int = ...,
     terrain: str = ...,
     ball_radius_m: float = ...,
+    ball_offset_m: float = ...,
+    placement: dict[str, dict[str, float]] = ...,
 ) -> Plan:
-    """Plans one step cycle; keyword arguments override the paper's table 1 values
-    (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c})."""
+    """Plans one step cycle from ``preset``'s stepping parameters, as ``dbot plan --preset`` does
+    (``None``: the CLI's default, ``servo-safe``, table 1 at a swing the servos can follow - 1.0 s on
+    Drosophibot II; ``table1`` has the original solver's 0.5 s; also ``physical-robot``,
+    ``paper-comparison``); keyword arguments override the preset's values
+    (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c};
+    ``placement``: {forward_m: {..}, outward_m: {..}})."""
 
 class PlanDir:
     """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /

@@ -20,13 +20,26 @@ pub struct Plan {
     torques: OnceLock<Vec<Vec<f64>>>,
 }
 
-/// Plans one step cycle of `model`. Keyword arguments override the paper's table 1 values
-/// (fields of a parameter file: swing_s, duty, step_height_m, translation_m, rotation_rad,
-/// body_height_m, gait, slices, terrain, ball_radius_m).
+/// Plans one step cycle of `model`. `preset` names the stepping parameters to start from, as
+/// `dbot plan --preset` does, and defaults to the CLI's default ([`planner::gait::DEFAULT_PRESET`],
+/// `servo-safe`: table 1 at a swing the servos can follow). Keyword arguments override the preset's
+/// values (fields of a parameter file: swing_s, duty, step_height_m, translation_m, rotation_rad,
+/// body_height_m, gait, slices, terrain, ball_radius_m, ball_offset_m, placement).
 #[pyfunction]
-#[pyo3(signature = (model, **params))]
-pub fn plan(model: &Model, params: Option<&Bound<'_, PyDict>>) -> PyResult<Plan> {
-    let mut base = planner::gait::StepParams::table1(&model.inner.name);
+#[pyo3(signature = (model, *, preset = None, **params))]
+pub fn plan(
+    model: &Model,
+    preset: Option<&str>,
+    params: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Plan> {
+    let preset = preset.unwrap_or(planner::gait::DEFAULT_PRESET);
+    let mut base =
+        planner::gait::StepParams::preset(preset, &model.inner.name).ok_or_else(|| {
+            value_error(format!(
+                "plan(): preset `{preset}` is not one of {} (physical-robot is for drosophibot2)",
+                planner::gait::PRESETS.join(", ")
+            ))
+        })?;
     if let Some(params) = params {
         let text = toml::to_string(&to_toml_table(params)?).map_err(value_error)?;
         let file = planner::gait::ParamsFile::from_toml(&text, "plan() keyword arguments")

@@ -44,7 +44,8 @@ def model() -> dbot.Model:
 
 @pytest.fixture(scope="session")
 def tripod_plan(model: dbot.Model) -> dbot.Plan:
-    # 50 slices keep the table small; the gait is the paper's table 1 tripod.
+    # 50 slices keep the table small; the gait is the default preset's (servo-safe: the paper's
+    # table 1 tripod at a 1.0 s swing, 2.5 s per step).
     return dbot.plan(model, slices=50)
 
 
@@ -226,7 +227,7 @@ def standing_board(plan: dbot.Plan, cycle_hz: int = 100, port: str = "virtual") 
     board.set_bus(bus_baud(cycle_hz), cycle_hz)
     upload(board, plan)
     board.play(0, steps=1)
-    # A ramp to the first posture plus one step (1.25 s for the default plan): 10 s is ample.
+    # A ramp to the first posture plus one step (2.5 s for the default plan): 10 s is ample.
     wait_for_state(board, ("Standing",), max_cycles=10 * cycle_hz)
     return board
 

@@ -45,6 +45,32 @@ def test_plan_arrays_and_timing(model: dbot.Model) -> None:
     assert np.all(np.abs(p.stance.sum(axis=0) - 24) <= 1)
 
 
+def test_default_preset_is_the_clis_servo_safe() -> None:
+    """`dbot.plan(model)` starts from the same preset as `dbot plan` (servo-safe), not table 1's
+    0.5 s swing that the front servos cannot follow."""
+    robot = dbot.Model.builtin("drosophibot2")
+    # servo-safe on Drosophibot II: table 1 at a 1.0 s swing, duty 0.6: T = 1.0 / 0.4 = 2.5 s.
+    p = dbot.plan(robot, slices=40)
+    assert math.isclose(p.period_s, 2.5, rel_tol=1e-12)
+    assert math.isclose(p.duty, 0.6, rel_tol=1e-12)
+    # Naming the preset gives the same plan; table1 is the original solver's 0.5 / 0.4 = 1.25 s.
+    named = dbot.plan(robot, preset="servo-safe", slices=40)
+    assert math.isclose(named.period_s, p.period_s, rel_tol=0) and np.array_equal(
+        named.angles, p.angles
+    )
+    assert math.isclose(dbot.plan(robot, preset="table1", slices=40).period_s, 1.25, rel_tol=1e-12)
+    # Keyword arguments still override the preset: 1.6 s swing -> 4 s period.
+    assert math.isclose(dbot.plan(robot, swing_s=1.6, slices=40).period_s, 4.0, rel_tol=1e-12)
+    # The fly's actuators are not servos: servo-safe keeps its table 1 swing, 0.1 / 0.4 = 0.25 s.
+    fly = dbot.plan(dbot.Model.builtin("scale-drosophila"), slices=40)
+    assert math.isclose(fly.period_s, 0.25, rel_tol=1e-12)
+
+
+def test_unknown_preset_names_the_known_ones(model: dbot.Model) -> None:
+    with pytest.raises(ValueError, match="no-such-preset.*servo-safe, table1"):
+        dbot.plan(model, preset="no-such-preset")
+
+
 def test_plan_velocities_are_derivatives_of_angles(model: dbot.Model) -> None:
     p = dbot.plan(model, slices=60)
     # Periodic central difference by hand, independent of the planner's own routine.

@@ -65,7 +65,7 @@ def test_plan_dir_numbers_are_the_files(walk: pathlib.Path) -> None:
     torques = np.array([float(r["torque_nm"]) for r in rows]).reshape(40, n_j)
     assert np.array_equal(p.angles, angles)
     assert np.array_equal(p.torques, torques)
-    # T = T_sw / (1 - duty) = 0.5 / 0.4 s (table 1); each leg stands 0.6 * 40 = 24 slices (+-1).
+    # T = T_sw / (1 - duty) = 1.0 / 0.4 s (servo-safe: table 1 at a 1.0 s swing); each leg stands 0.6 * 40 = 24 slices (+-1).
     assert math.isclose(p.period_s, 2.5, rel_tol=1e-12)
     assert math.isclose(p.duty, 0.6, rel_tol=1e-12)
     assert np.all(np.abs(p.stance.sum(axis=0) - 24) <= 1)
@@ -73,11 +73,13 @@ def test_plan_dir_numbers_are_the_files(walk: pathlib.Path) -> None:
     # digits (planner::number), so they agree to 1e-9 rad (angles are below 4 rad).
     fresh = dbot.plan(p.model, slices=40)
     assert np.allclose(p.angles, fresh.angles, rtol=0, atol=1e-9)
+    # ... from the same default preset as the CLI (one constant, planner::gait::DEFAULT_PRESET).
+    assert math.isclose(fresh.period_s, p.period_s, rel_tol=1e-12)
 
 
 def test_step_table_is_the_cli_table(walk: pathlib.Path) -> None:
     out = walk.parent / "walk.dbgt"
-    # Table 1's 0.5 s swing is at the front FTi servos' no-load speed: this test is about the format.
+    # This test is about the format: --allow-infeasible keeps it so whatever the plan's speeds.
     run("table", "--plan", str(walk), "--out", str(out), "--allow-infeasible", cwd=walk.parent)
     table = dbot.read_plan_dir(walk).step_table()
     assert table == out.read_bytes()

@@ -16,19 +16,40 @@ use planner::plan::Plan;
 use crate::common::output::replace;
 
 /// One organism planned and solved under one condition.
-struct Run {
-    plan: Plan,
-    cycle: CycleSolution,
-    traces: Vec<DofTrace>,
+pub(crate) struct Run {
+    pub plan: Plan,
+    pub cycle: CycleSolution,
+    pub traces: Vec<DofTrace>,
 }
 
+/// `model` planned (table 1 at `swing`, on `terrain`) and solved with `spring` on every actuated
+/// joint, the equilibrium at the resting posture (the comparison's condition).
 fn run(model: &str, swing: f64, terrain: &str, spring: SpringSpec, slices: usize) -> Result<Run> {
-    let m = spring.apply(&builtin(model)?, EquilibriumSource::RestingPosture)?;
+    run_from(
+        model,
+        swing,
+        terrain,
+        spring,
+        EquilibriumSource::RestingPosture,
+        slices,
+    )
+}
+
+/// As [`run`], the springs' equilibrium from `from`.
+pub(crate) fn run_from(
+    model: &str,
+    swing: f64,
+    terrain: &str,
+    spring: SpringSpec,
+    from: EquilibriumSource,
+    slices: usize,
+) -> Result<Run> {
+    let m = spring.apply(&builtin(model)?, from)?;
     let mut p = StepParams::table1(model);
     p.swing_s = swing;
     p.terrain = terrain.into();
     p.slices = slices;
-    let what = || format!("{model} on {terrain} ({spring:?})");
+    let what = || format!("{model} on {terrain} ({spring:?}, equilibrium {from:?})");
     let plan = planner::plan::plan(&m, &p).with_context(|| format!("planning {}", what()))?;
     let cycle = solve_cycle(
         &plan.model,
@@ -227,7 +248,7 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
 }
 
 /// |GRF| over each leg's stance slices, N, per leg in [`Leg::ALL`] order.
-fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
+pub(crate) fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
     Leg::ALL
         .iter()
         .map(|leg| {
@@ -249,57 +270,9 @@ fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Why fewer torques correlate with springs than in the paper (tables S4 / S6): the robot's
-/// torque is a sum of its gravity and inertia share and its spring share k (q - q_eq), the fly's
-/// (3.8e-8 N m/rad, about ten times its gravity torques) mostly spring. The R^2 counts of table
-/// S4 (flat, tripod) with the fly's paper springs and the robot's stiffness raised from the paper's
-/// 1 N m/rad, and each organism's spring share of its peak torque, as a markdown table.
-pub fn spring_sensitivity(slices: usize) -> Result<String> {
-    let fly = run(
-        "scale-drosophila",
-        paper::FLY_SWING_S,
-        "flat",
-        SpringSpec::Paper,
-        slices,
-    )?;
-    let claims = TABLES
-        .iter()
-        .find(|t| t.id == "S4 springs")
-        .context("table S4 springs")?
-        .claims;
-    let mut md = String::from(
-        "| robot stiffness (N m/rad) | robot: peak spring torque / peak axis moment | fly: the same | S4 springs, ours | paper |\n|---|---|---|---|---|\n",
-    );
-    let paper_counts: Vec<String> = claims
-        .iter()
-        .map(|c| format!("{} of {} > {}", c.count, c.of, c.above))
-        .collect();
-    for k in [1.0, 3.0, 10.0] {
-        let robot = run(
-            "drosophibot2",
-            paper::ROBOT_SWING_S,
-            "flat",
-            SpringSpec::Stiffness(k),
-            slices,
-        )?;
-        let r = compare(&robot.traces, &fly.traces);
-        let r2 = paper::r2_of(&r, &TRIPOD, Quantity::Torque);
-        let ours = our_counts(&r2, claims);
-        writeln!(
-            md,
-            "| {k} | {:.2} | {:.2} | {} | {} |",
-            spring_share(&robot),
-            spring_share(&fly),
-            ours.join(", "),
-            paper_counts.join(", ")
-        )?;
-    }
-    Ok(md)
-}
-
 /// Largest |spring torque| over the largest |axis moment| (actuator + spring), over the tripod's
 /// actuated joints.
-fn spring_share(r: &Run) -> f64 {
+pub(crate) fn spring_share(r: &Run) -> f64 {
     let (mut spring, mut total) = (0.0f64, 0.0f64);
     for sl in &r.cycle.slices {
         for (j, joint) in r.plan.model.joints.iter().enumerate() {
@@ -313,7 +286,7 @@ fn spring_share(r: &Run) -> f64 {
 }
 
 /// Our R^2 counts for each of the paper's claims: "N of M > threshold".
-fn our_counts(r2: &[f64], claims: &[paper::Claim]) -> Vec<String> {
+pub(crate) fn our_counts(r2: &[f64], claims: &[paper::Claim]) -> Vec<String> {
     claims
         .iter()
         .map(|c| {

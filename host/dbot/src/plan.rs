@@ -48,7 +48,7 @@ pub struct Args {
     /// (swing 0.5 s, the original solver's default: too fast for the front servos),
     /// physical-robot (Drosophibot II as the original solver ran it: per-pair body heights and
     /// its resting feet, swing 1.6 s) or paper-comparison (the paper's robot-vs-fly conditions).
-    #[arg(long, default_value = "servo-safe")]
+    #[arg(long, default_value = planner::gait::DEFAULT_PRESET)]
     preset: String,
     /// TOML file with stepping parameters, any subset of: swing_s (s), duty, step_height_m and
     /// body_height_m ({ hind, middle, front }, m), translation_m and rotation_rad (per stance),

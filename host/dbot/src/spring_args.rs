@@ -12,6 +12,10 @@ pub enum Equilibrium {
     Rest,
     /// The middle of the joint's range over the planned step (paper section 2.2.1).
     StepMidrange,
+    /// A proxy for the paper's newly-dead-fly posture (section 2.2.1; it lists no angles): CTr at
+    /// -35 deg, FTi 20 deg below its smallest angle over the step (the original solver's), the
+    /// other joints at the middle of their range over the step.
+    DeadFly,
 }
 
 impl Equilibrium {
@@ -19,12 +23,14 @@ impl Equilibrium {
         match self {
             Equilibrium::Rest => EquilibriumSource::RestingPosture,
             Equilibrium::StepMidrange => EquilibriumSource::StepMidrange,
+            Equilibrium::DeadFly => EquilibriumSource::DeadFly,
         }
     }
     fn name(self) -> &'static str {
         match self {
             Equilibrium::Rest => "rest",
             Equilibrium::StepMidrange => "step-midrange",
+            Equilibrium::DeadFly => "dead-fly",
         }
     }
 }

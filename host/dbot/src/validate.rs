@@ -9,6 +9,7 @@
 //! generator and is kept byte for byte; `--write` adds an empty pair at the end when it is missing.
 
 mod blocks;
+mod springs;
 mod timing;
 
 use std::collections::BTreeMap;

@@ -1,6 +1,7 @@
 //! `dbot plan --spring paper --body-height-offset ...`: plan.json names the three stiffnesses apart
 //! (actuator, parallel spring, their sum), the springs rest at the resting posture, the per-pair
-//! body heights are table 1's plus the offsets, and at a 4 s period `dbot table` accepts the plan.
+//! body heights are table 1's plus the offsets, and at a 4 s period `dbot table` accepts the plan;
+//! `--spring-equilibrium dead-fly` reaches plan.json and the plan directory's model file.
 
 use std::process::Command;
 
@@ -60,4 +61,43 @@ fn springs_and_body_height_offsets_reach_plan_json() {
     let o = dbot(&dir, &["table", "--plan", "p", "--out", "t.dbgt"]);
     let _ = std::fs::remove_dir_all(&dir);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn dead_fly_equilibrium_reaches_plan_json_and_the_model_file() {
+    // --spring-equilibrium dead-fly: the CTr springs rest at -35 deg = -0.6108652 rad (the
+    // original solver's, ../shared/reference/solver.md), recorded so that a re-plan from the plan
+    // directory's model.toml resolves the same proxy.
+    let dir = std::env::temp_dir().join(format!("plan-cli-dead-fly-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let o = dbot(
+        &dir,
+        &[
+            "plan",
+            "--spring",
+            "paper",
+            "--spring-equilibrium",
+            "dead-fly",
+            "--slices",
+            "40",
+            "--out",
+            "p",
+        ],
+    );
+    let json = std::fs::read_to_string(dir.join("p/plan.json"));
+    let model = std::fs::read_to_string(dir.join("p/model.toml"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value = serde_json::from_str(&json.unwrap()).unwrap();
+    assert_eq!(
+        json["spring_args"]["spring_equilibrium"].as_str(),
+        Some("dead-fly")
+    );
+    let spring = &json["dynamics"]["parallel_spring"]["LF_CTr"];
+    assert_eq!(spring["equilibrium_from"].as_str(), Some("DeadFly"));
+    let eq = spring["equilibrium_rad"].as_f64().unwrap();
+    assert!((eq - -0.610_865_238).abs() < 1e-9, "{eq}");
+    let model = model.unwrap();
+    assert!(model.contains("equilibrium = \"dead_fly\""), "{model}");
+    assert!(!model.contains("equilibrium = \"rest\""));
 }

@@ -6,7 +6,8 @@ use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
 use planner::model::spring::{SpringError, resolve_equilibria, with_parallel_springs};
 use planner::model::{
-    Actuation, EquilibriumSource, SpringPreset, SpringSpec, builtin, from_toml_str, to_toml_string,
+    Actuation, EquilibriumSource, JointKind, Leg, SpringPreset, SpringSpec, builtin, from_toml_str,
+    to_toml_string,
 };
 
 #[test]
@@ -154,4 +155,86 @@ fn planned_springs_rest_at_the_resting_posture_and_enter_the_actuator_torque() {
                 _ => false,
             })
     );
+}
+
+#[test]
+fn dead_fly_equilibrium_and_its_spring_torque_by_hand() {
+    // The dead-fly proxy (solver.md: CTr about -35 deg, FTi about its minimum angle - 20 deg;
+    // other joints the middle of their range over the step) on the fly's 3.8e-8 N m/rad, with a
+    // hand-made two-slice "step" in which every joint spans -0.3 .. 0.5 rad.
+    let fly = builtin("scale-drosophila").unwrap();
+    let mut m = with_parallel_springs(&fly, 3.8e-8, EquilibriumSource::DeadFly);
+    let n = m.joints.len();
+    let rest = vec![0.0; n];
+    let step = vec![vec![-0.3; n], vec![0.5; n]];
+    resolve_equilibria(&mut m, &rest, &step);
+    let joint = |kind: JointKind| {
+        m.joints
+            .iter()
+            .position(|j| j.leg == Leg::LF && j.kind == kind)
+            .unwrap()
+    };
+    let (ctr, fti, thc1) = (
+        joint(JointKind::CTr),
+        joint(JointKind::FTi),
+        joint(JointKind::ThC1),
+    );
+    let eq = |j: usize| m.joints[j].spring.unwrap().equilibrium;
+    // -35 deg = -0.610865238 rad; FTi: -0.3 - 20 deg = -0.3 - 0.349065850 = -0.649065850 rad;
+    // ThC1: (-0.3 + 0.5) / 2 = 0.1 rad.
+    assert!((eq(ctr) - -0.610_865_238).abs() < 1e-9, "{}", eq(ctr));
+    assert!((eq(fti) - -0.649_065_850).abs() < 1e-9, "{}", eq(fti));
+    assert!((eq(thc1) - 0.1).abs() < 1e-15, "{}", eq(thc1));
+    // tau = -k (theta - theta0) at theta = 0.1 rad on the FTi:
+    // -3.8e-8 x (0.1 + 0.649065850) = -3.8e-8 x 0.749065850 = -2.846450e-8 N m;
+    // on the CTr at 0: -3.8e-8 x 0.610865238 = -2.321288e-8 N m; on the ThC1 at 0.1: 0.
+    let mut q = vec![0.0; n];
+    q[fti] = 0.1;
+    q[thc1] = 0.1;
+    let t = planner::dynamics::problem::spring_torques(&m, &q);
+    assert!((t[fti] - -2.846_450e-8).abs() < 1e-14, "{}", t[fti]);
+    assert!((t[ctr] - -2.321_288e-8).abs() < 1e-14, "{}", t[ctr]);
+    assert!(t[thc1].abs() < 1e-22, "{}", t[thc1]);
+
+    // The model file names the source and reads back as the same proxy.
+    let text = to_toml_string(&m, "", &|_| String::new());
+    assert!(text.contains("equilibrium = \"dead_fly\""));
+    let back = from_toml_str(&text, "dead-fly.toml").unwrap();
+    assert!(
+        back.joints
+            .iter()
+            .filter_map(|j| j.spring)
+            .all(|s| s.equilibrium_from == EquilibriumSource::DeadFly)
+    );
+}
+
+#[test]
+fn planned_dead_fly_springs_hold_the_proxy_angles() {
+    // Planned on the robot: every CTr spring rests at -35 deg, every FTi spring 20 deg below that
+    // joint's smallest planned angle, the others at the middle of their planned range.
+    let robot = builtin("drosophibot2").unwrap();
+    let sprung = SpringSpec::Paper
+        .apply(&robot, EquilibriumSource::DeadFly)
+        .unwrap();
+    let mut p = StepParams::table1(&robot.name);
+    p.slices = 20;
+    let plan = planner::plan::plan(&sprung, &p).unwrap();
+    let mut checked = 0;
+    for (j, joint) in plan.model.joints.iter().enumerate() {
+        let Some(s) = joint.spring else { continue };
+        let lo = plan.q.iter().map(|q| q[j]).fold(f64::INFINITY, f64::min);
+        let hi = plan
+            .q
+            .iter()
+            .map(|q| q[j])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let want = match joint.kind {
+            JointKind::CTr => -35f64.to_radians(),
+            JointKind::FTi => lo - 20f64.to_radians(),
+            _ => 0.5 * (lo + hi),
+        };
+        assert!((s.equilibrium - want).abs() < 1e-12, "{}", joint.name);
+        checked += 1;
+    }
+    assert_eq!(checked, 22);
 }

@@ -155,10 +155,17 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
                 .collect::<Vec<_>>()
                 .join("; ")
         };
+        // Saturation: the largest |torque| as a share of its servo's stall torque.
+        let (stall, at) = f
+            .joints
+            .iter()
+            .filter_map(|j| Some((j.torque?.value / j.limits?.stall_torque, j.joint.as_str())))
+            .fold((0.0f64, "-"), |a, b| if b.0 > a.0 { b } else { a });
         writeln!(
             s,
-            "- {preset}, swing {:.1} s ({terrain}): {verdict}",
-            params.swing_s
+            "- {preset}, swing {:.1} s ({terrain}): {verdict}; the largest torque is {:.0} % of its servo's stall torque ({at})",
+            params.swing_s,
+            100.0 * stall
         )?;
     }
     b.insert("feasibility", s);
@@ -167,9 +174,13 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     let mut s = String::from(
         "| swing (s) | period (s) | fastest joint, flat | share of no-load speed | fastest joint, ball | share of no-load speed |\n|---|---|---|---|---|---|\n",
     );
+    // The shortest swing whose fastest joint keeps this share of its no-load speed in reserve.
+    const RESERVE: f64 = 0.25;
+    let mut shortest = None;
     for swing in [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.6] {
         let mut cells = Vec::new();
         let mut period = 0.0;
+        let mut worst = 0.0f64;
         for terrain in ["flat", "ball"] {
             let p = plan_of(&robot, &|p| {
                 p.swing_s = swing;
@@ -177,10 +188,21 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
             })?;
             period = p.period_s;
             let (share, fast) = fastest(&feasibility::check(&p.model, &p.q, None, p.dt));
+            worst = worst.max(share);
             cells.push(format!("{fast} | {:.0} %", 100.0 * share));
+        }
+        if worst <= 1.0 - RESERVE && shortest.is_none() {
+            shortest = Some(swing);
         }
         writeln!(s, "| {swing} | {} | {} |", short(period), cells.join(" | "))?;
     }
+    writeln!(
+        s,
+        "\nThe shortest swing in this list at which every joint keeps at least {:.0} % of its no-load speed in reserve on both terrains: {}; `servo-safe` uses {} s.",
+        100.0 * RESERVE,
+        shortest.map_or("none".to_string(), |x| format!("{x} s")),
+        planner::gait::SERVO_SAFE_SWING_S
+    )?;
     b.insert("swing-choice", s);
 
     // The IK's continuity on the fly's ball walk (its front CTr used to jump 0.47 rad).
@@ -264,6 +286,47 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
             100.0 * (b - o).norm() / o.norm()
         )?;
     }
+    let farthest = original
+        .iter()
+        .map(|(pair, leg, o)| {
+            let thc = robot.joints[robot.leg_chain(*leg)[0]]
+                .origin
+                .translation
+                .vector;
+            let o = nalgebra::Vector3::from(*o);
+            let a = rp.posture.foot(*leg).unwrap_or_default() - thc;
+            ((a - o).norm() / o.norm(), *pair)
+        })
+        .fold((0.0, ""), |a, b| if b.0 > a.0 { b } else { a });
+    writeln!(
+        s,
+        "\nTable 1's placement is farthest from the original's at the {} legs ({:.0} % of the ThC-to-foot distance).",
+        farthest.1,
+        100.0 * farthest.0
+    )?;
+    // The physical-robot preset on both terrains: does it plan, and can the servos follow it?
+    for terrain in ["flat", "ball"] {
+        let mut params = physical.clone();
+        params.terrain = terrain.into();
+        let verdict = match planner::plan::plan(&robot, &params) {
+            Err(e) => format!("does not plan: {e}"),
+            Ok(p) => {
+                let c = solve(&p)?;
+                let t = planner::dynamics::output::torque_rows(&c);
+                let f = feasibility::check(&p.model, &p.q, Some(&t), p.dt);
+                let (share, fast) = fastest(&f);
+                if f.is_feasible() {
+                    format!(
+                        "feasible for the servos (the fastest joint, {fast}, at {:.0} % of its no-load speed)",
+                        100.0 * share
+                    )
+                } else {
+                    format!("plans, but not for the servos: {}", f.violations[0])
+                }
+            }
+        };
+        writeln!(s, "- physical-robot preset, {terrain}: {verdict}")?;
+    }
     b.insert("posture", s);
 
     // The paper's comparison.
@@ -271,11 +334,11 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
         .with_context(|| format!("creating {}", plots_dir.display()))?;
     let c = crate::compare_paper::run_paper(plots_dir, 50)?;
     b.insert("paper", c.markdown);
-    b.insert(
-        "spring-stiffness",
-        crate::compare_paper::spring_sensitivity(50)?,
-    );
-    let mut plots = Vec::new();
+    let springs = super::springs::spring_blocks(plots_dir)?;
+    b.insert("spring-stiffness", springs.flat);
+    b.insert("spring-stiffness-ball", springs.ball);
+    b.insert("dead-fly", springs.dead_fly);
+    let mut plots = vec![("spring_stiffness_r2.png", springs.plot)];
     for (name, from) in [
         ("fig4b_flat_springs_torques.png", "flat-springs"),
         ("figS7b_ball_springs_torques.png", "ball-springs"),

@@ -10,5 +10,5 @@ mod quintic;
 pub use footpath::{Footpath, GroundMotion};
 pub use params::{ParamError, ParamsFile, PerPair, Placement, StepParams};
 pub use phase::Gait;
-pub use presets::{PRESETS, SERVO_SAFE_SWING_S};
+pub use presets::{DEFAULT_PRESET, PRESETS, SERVO_SAFE_SWING_S};
 pub use quintic::Quintic;

@@ -12,6 +12,10 @@ use super::{PerPair, Placement, StepParams};
 /// Preset names accepted by [`StepParams::preset`]; the first is `dbot plan`'s default.
 pub const PRESETS: [&str; 4] = ["servo-safe", "table1", "physical-robot", "paper-comparison"];
 
+/// The preset a plan starts from when none is named: `dbot plan --preset`'s default and Python's
+/// `dbot.plan(model)` (python/src/plan.rs) both read it, so the two cannot drift apart.
+pub const DEFAULT_PRESET: &str = PRESETS[0];
+
 /// Swing duration of the `servo-safe` preset, s: table 1 allows 0.4 to 1.6 s. At 1.0 s (period
 /// 2.5 s) every Drosophibot II joint stays at or below 74 % of its servo's no-load speed on flat
 /// ground and on the ball (the front FTi on the ball is the fastest joint; at the original solver's

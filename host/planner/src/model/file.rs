@@ -82,8 +82,9 @@ pub struct SpringEntry {
     /// Equilibrium angle (rad); when absent, `equilibrium` says where it comes from.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub equilibrium_rad: Option<f64>,
-    /// `rest` (default: the plan's resting posture) or `step_midrange` (the middle of the joint's
-    /// range over the planned step); only without `equilibrium_rad`.
+    /// `rest` (default: the plan's resting posture), `step_midrange` (the middle of the joint's
+    /// range over the planned step) or `dead_fly` (the newly-dead-fly proxy,
+    /// [`crate::model::spring::dead_fly_equilibrium`]); only without `equilibrium_rad`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub equilibrium: Option<EquilibriumEntry>,
 }
@@ -93,6 +94,7 @@ pub struct SpringEntry {
 pub enum EquilibriumEntry {
     Rest,
     StepMidrange,
+    DeadFly,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

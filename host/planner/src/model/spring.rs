@@ -7,7 +7,7 @@
 //! move with the command.
 
 use super::file::{EquilibriumEntry, SpringEntry};
-use super::{Actuation, EquilibriumSource, Model, ParallelSpring};
+use super::{Actuation, EquilibriumSource, JointKind, Model, ParallelSpring};
 
 /// The paper's parallel stiffness values (section 3.1.2), as named presets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -141,22 +141,52 @@ pub fn with_parallel_springs(model: &Model, stiffness: f64, from: EquilibriumSou
     m
 }
 
+/// The original solver's dead-fly CTr equilibrium, rad: "CTr about -35 deg"
+/// (`../shared/reference/solver.md`, "Parallel springs"; the paper, section 2.2.1, gives no angle).
+pub const DEAD_FLY_CTR_RAD: f64 = -35.0 * std::f64::consts::PI / 180.0;
+/// How far below its smallest angle over the step the dead-fly FTi rests, rad: "FTi about its
+/// minimum angle - 20 deg" (same source), read as the step's minimum (the paper derives the
+/// equilibria "using the full ROM over the step").
+pub const DEAD_FLY_FTI_BELOW_MIN_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
+
+/// The dead-fly proxy's equilibrium of a joint of `kind` whose angles over the step span
+/// `lo..=hi` rad: CTr [`DEAD_FLY_CTR_RAD`], FTi `lo - `[`DEAD_FLY_FTI_BELOW_MIN_RAD`], any other
+/// joint the middle of its range over the step. A proxy, not the paper's angles (it does not list
+/// them).
+pub fn dead_fly_equilibrium(kind: JointKind, lo: f64, hi: f64) -> f64 {
+    match kind {
+        JointKind::CTr => DEAD_FLY_CTR_RAD,
+        JointKind::FTi => lo - DEAD_FLY_FTI_BELOW_MIN_RAD,
+        _ => 0.5 * (lo + hi),
+    }
+}
+
 /// Sets the equilibrium of every spring that takes it from the plan: the resting posture's angle
-/// `rest[j]`, or the middle of the joint's range over the step's angles `q[slice][j]`.
+/// `rest[j]`, the middle of the joint's range over the step's angles `q[slice][j]`, or the
+/// dead-fly proxy ([`dead_fly_equilibrium`]).
 pub fn resolve_equilibria(model: &mut Model, rest: &[f64], q: &[Vec<f64>]) {
     for (j, joint) in model.joints.iter_mut().enumerate() {
+        let kind = joint.kind;
         if let Some(s) = &mut joint.spring {
+            let range = || {
+                q.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+                        (l.min(r[j]), h.max(r[j]))
+                    })
+            };
             match s.equilibrium_from {
                 EquilibriumSource::Given => {}
                 EquilibriumSource::RestingPosture => s.equilibrium = rest[j],
                 EquilibriumSource::StepMidrange => {
-                    let (lo, hi) = q
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
-                            (l.min(r[j]), h.max(r[j]))
-                        });
+                    let (lo, hi) = range();
                     if lo <= hi {
                         s.equilibrium = 0.5 * (lo + hi);
+                    }
+                }
+                EquilibriumSource::DeadFly => {
+                    let (lo, hi) = range();
+                    if lo <= hi {
+                        s.equilibrium = dead_fly_equilibrium(kind, lo, hi);
                     }
                 }
             }
@@ -189,6 +219,7 @@ pub(crate) fn from_entry(
             match from {
                 None | Some(EquilibriumEntry::Rest) => EquilibriumSource::RestingPosture,
                 Some(EquilibriumEntry::StepMidrange) => EquilibriumSource::StepMidrange,
+                Some(EquilibriumEntry::DeadFly) => EquilibriumSource::DeadFly,
             },
         ),
     };
@@ -205,6 +236,7 @@ pub(crate) fn to_entry(s: &ParallelSpring) -> SpringEntry {
         EquilibriumSource::Given => (Some(s.equilibrium), None),
         EquilibriumSource::RestingPosture => (None, Some(EquilibriumEntry::Rest)),
         EquilibriumSource::StepMidrange => (None, Some(EquilibriumEntry::StepMidrange)),
+        EquilibriumSource::DeadFly => (None, Some(EquilibriumEntry::DeadFly)),
     };
     SpringEntry {
         stiffness_nm_per_rad: s.stiffness,

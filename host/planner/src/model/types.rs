@@ -131,6 +131,13 @@ pub enum EquilibriumSource {
     /// The middle of the joint's range of motion over the planned step (paper section 2.2.1:
     /// "equilibrium angles ... using the full ROM over the step").
     StepMidrange,
+    /// A proxy for the paper's "leg positions resembling those of a newly dead fly" (section
+    /// 2.2.1), whose angles the paper does not list: the original solver's CTr at about -35 deg
+    /// and FTi about 20 deg below its smallest angle over the step
+    /// (`../shared/reference/solver.md`, "Parallel springs"), every other joint at the middle of
+    /// its range over the step as [`EquilibriumSource::StepMidrange`]. See
+    /// [`crate::model::spring::dead_fly_equilibrium`].
+    DeadFly,
 }
 
 /// Where a joint's servo sits on the bus and how its ticks map to the joint angle:
