@@ -16,13 +16,14 @@ pub const PRESETS: [&str; 4] = ["servo-safe", "table1", "physical-robot", "paper
 /// `dbot.plan(model)` (python/src/plan.rs) both read it, so the two cannot drift apart.
 pub const DEFAULT_PRESET: &str = PRESETS[0];
 
-/// Swing duration of the `servo-safe` preset, s: table 1 allows 0.4 to 1.6 s. At 1.0 s (period
-/// 2.5 s) every Drosophibot II joint stays at or below 74 % of its servo's no-load speed on flat
-/// ground and on the ball (the front FTi on the ball is the fastest joint; at the original solver's
-/// 0.5 s it turns at 147 % and the front CTr at 116 %). The 26 % headroom is for what the
-/// datasheet's no-load speed leaves out: a loaded servo turns slower (the torque-speed line) and
-/// its position loop lags. Measured by `dbot validate` (docs/validation.md, "Can the servos follow
-/// the plan?"), tested by host/planner/tests/plan_feasibility.rs.
+/// Swing duration of the `servo-safe` preset, s: table 1 allows 0.4 to 1.6 s. It is the shortest
+/// swing at which every Drosophibot II joint keeps at least 25 % of its servo's no-load speed in
+/// reserve on flat ground and on the ball (the front FTi on the ball is the fastest joint; at the
+/// original solver's 0.5 s it is over its no-load speed). The reserve is for what the datasheet's
+/// no-load speed leaves out: a loaded servo turns slower (the torque-speed line) and its position
+/// loop lags. The shares are measured by `dbot validate` (docs/validation.md, the generated
+/// `feasibility` and `swing-choice` blocks, regenerated and checked by the `validation_doc` test),
+/// and the default is tested by host/planner/tests/plan_default_feasible.rs.
 pub const SERVO_SAFE_SWING_S: f64 = 1.0;
 
 impl StepParams {
