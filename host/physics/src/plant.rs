@@ -115,7 +115,7 @@ impl Plant {
         })?;
         data.model_opt_mut().gravity = [0.0; 3];
         // One robot is one island: island discovery costs about a quarter of a step and changes
-        // no result (measured with benches/physics_tuning.rs, docs/performance.md).
+        // no result (measured with benches/physics_robot.rs' tuning mode, docs/performance.md).
         data.model_opt_mut().disableflags |= MjtDisableBit::mjDSBL_ISLAND as i32;
         data.forward();
         Ok(Self {
@@ -175,22 +175,13 @@ impl Plant {
         let ramp = self
             .held_since
             .map_or(0.0, |t0| ((t - t0) / GRAVITY_RAMP_S).clamp(0.0, 1.0));
-        self.data.model_opt_mut().gravity = self.gravity.map(|g| g * ramp);
-        let qpos = self.data.qpos();
-        let ctrl: Vec<(usize, f64)> = self
-            .joints
-            .iter()
-            .map(|j| {
-                let q = qpos[j.qpos];
-                (
-                    j.actuator,
-                    servo::ctrl(q, j.goal, j.torque_on, j.kp, j.stall),
-                )
-            })
-            .collect();
-        let c = self.data.ctrl_mut();
-        for (a, v) in ctrl {
-            c[a] = v;
+        let gravity = self.gravity.map(|g| g * ramp);
+        if self.data.model_opt().gravity != gravity {
+            self.data.model_opt_mut().gravity = gravity;
+        }
+        for j in &self.joints {
+            let q = self.data.qpos()[j.qpos];
+            self.data.ctrl_mut()[j.actuator] = servo::ctrl(q, j.goal, j.torque_on, j.kp, j.stall);
         }
         self.data.step();
     }
