@@ -141,6 +141,23 @@ impl Plant {
         j.torque_on = torque_on;
     }
 
+    /// Sets joint `i`'s stiffness to `kp` N m/rad (e.g. from its servo's P gain register): the
+    /// position actuator's gain and the P controller's saturation both follow.
+    pub fn set_kp(&mut self, i: usize, kp: f64) {
+        if self.joints[i].kp == kp {
+            return;
+        }
+        self.joints[i].kp = kp;
+        let a = self.joints[i].actuator;
+        // SAFETY: only the actuator's gain and bias parameters change; every size, index and
+        // address stays as it was. A position actuator is kp ctrl - kp q - kv qdot.
+        unsafe {
+            let m = self.data.model_mut();
+            m.actuator_gainprm_mut()[a][0] = kp;
+            m.actuator_biasprm_mut()[a][1] = -kp;
+        }
+    }
+
     /// Cuts (or raises) joint `i`'s stall torque to `stall` N m: the P controller's saturation and
     /// MuJoCo's actuator force limit both follow (e.g. servos too weak for a gait).
     pub fn set_stall(&mut self, i: usize, stall: f64) {

@@ -70,6 +70,10 @@ fn standing_still_the_feet_carry_the_weight_within_one_percent() {
     // the pytest sums the TOML itself).
     let w = s.plant.weight_n();
     assert!((w - 5.0006 * 9.81).abs() < 0.01, "weight {w}");
+    eprintln!(
+        "normal {normal} N, weight {w} N: {:+.4} %",
+        (normal / w - 1.0) * 100.0
+    );
     assert!(
         (normal - w).abs() < 0.01 * w,
         "normal {normal} N vs weight {w} N"
@@ -90,6 +94,7 @@ fn on_an_incline_the_ground_carries_the_weight_times_the_cosine() {
     let s = stand_on("incline:10", 1.0, 3.0);
     let want = s.plant.weight_n() * 10f64.to_radians().cos();
     let normal = s.plant.contact_normal_total();
+    eprintln!("incline: normal {normal} N vs {want} N");
     assert!(
         (normal - want).abs() < 0.01 * want,
         "normal {normal} N vs {want} N"
@@ -110,7 +115,9 @@ fn a_static_stance_loads_the_servos_as_the_planner_says() {
     // 3.8 % RMS), the angles do not.
     let s = stand(0.0, 3.0);
     let (rel0, _, _, dq0) = compare(&s);
-    eprintln!("bias off: relative RMS {rel0}, angle error {dq0} rad; bias on: {rel}, {dq}");
+    eprintln!(
+        "bias off: relative RMS {rel0}, angle error {dq0} rad; bias on: {rel}, worst {name} {worst} N m, {dq} rad"
+    );
     assert!(
         dq0 > 3.0 * dq,
         "the bias must buy posture: {dq0} vs {dq} rad"
