@@ -5,7 +5,7 @@
 //!
 //! Two modes in one bench (they share the walk):
 //! - speed (default): `CYCLES` (8) cycles, `REPEATS` (5) runs, median and spread of each.
-//! - tuning: any of DT (s), ITER, TOL, LS_ITER, NOSLIP, NOSLIP_TOL, SOLVER (0 PGS / 1 CG /
+//! - tuning: any of DT (s), JACOBIAN (0 dense / 1 sparse / 2 auto), ITER, TOL, LS_ITER, NOSLIP, NOSLIP_TOL, SOLVER (0 PGS / 1 CG /
 //!   2 Newton), DISABLE, ENABLE (flag bits) set: one walk of `CYCLES` (4) cycles under those MuJoCo
 //!   options, printing speed and the walk's figures (distance, heading, sag, tilt, slip), to
 //!   weigh solver settings against what they change.
@@ -25,8 +25,9 @@ use planner::model::{MjcfOptions, Model, builtin};
 use protocol::{Direction, PlayCommand, Steps};
 
 /// The MuJoCo options the tuning mode reads from the environment.
-const TUNING: [&str; 9] = [
+const TUNING: [&str; 10] = [
     "DT",
+    "JACOBIAN",
     "ITER",
     "TOL",
     "LS_ITER",
@@ -165,6 +166,9 @@ fn tuning(walk: &Walk, mut options: MjcfOptions) {
         }
         if let Some(v) = env("SOLVER") {
             o.solver = v;
+        }
+        if let Some(v) = env("JACOBIAN") {
+            o.jacobian = v;
         }
         if let Some(v) = env::<i32>("DISABLE") {
             o.disableflags |= v;
