@@ -9,7 +9,8 @@
 #   --firmware-log FILE: use the output of an earlier run of the firmware's simulated-wire test
 #   (e.g. on a branch that has it) instead of running it here.
 #   --quick: the Rust half only, in the dev profile, into a scratch directory: bench_export and
-#   every criterion bench the docs cite, each run once (criterion's test mode). No figures: it
+#   every criterion bench the docs cite, each run once (criterion's test mode), and the physics robot bench
+#   in both modes on one short walk. No figures: it
 #   checks that the commands still run. scripts/test.sh runs it, so they cannot rot unseen (the
 #   removed bench_schur example broke this script for a while).
 set -euo pipefail
@@ -41,6 +42,9 @@ if [ "$QUICK" = 1 ]; then
   echo "== quick: criterion benches once each (cargo bench -p planner --bench dynamics / ik; -p dynamixel --bench cycle)" >&2
   cargo test --quiet --locked -p planner --bench dynamics --bench ik
   cargo test --quiet --locked -p dynamixel --features std --bench cycle
+  echo "== quick: the physics robot bench, both modes, one short walk each (cargo bench -p physics --bench physics_robot)" >&2
+  REPEATS=1 CYCLES=1 cargo test --quiet --locked -p physics --bench physics_robot >/dev/null
+  DT=0.001 CYCLES=1 cargo test --quiet --locked -p physics --bench physics_robot >/dev/null
   echo "bench/run.sh --quick: every reproduction command ran" >&2
   exit 0
 fi

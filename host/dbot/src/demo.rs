@@ -21,19 +21,20 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use board::link::Board;
-use board::record::{Ended, JointMeta, Recorder, Until, capture_while, joints_of_table, tracking};
+use board::record::{Ended, JointMeta, Recorder, joints_of_table, tracking};
 use board::robot::{PlannedLoads, ServoDynamics, VirtualRobot, VirtualTransport};
 use physics::{Figures, PhysicsRobot, WalkLog};
 use planner::gait::StepParams;
 use planner::model::Leg;
 use planner::plan_dir;
-use protocol::{Direction, PlayCommand, Steps};
+use protocol::Direction;
 use report::recording::{plot_angles, plot_torques};
 
 use crate::args::dynamics::DynamicsArgs;
 use crate::common::demo_walk::{self, Walk};
 use crate::common::interrupt;
 use crate::common::output::replace;
+use crate::common::physics_walk;
 use crate::common::plan_output::write_plan_dir;
 
 /// The demo's gait name in its plan directory and step table.
@@ -470,27 +471,9 @@ fn walk<S: DemoBody>(
     slices: usize,
 ) -> anyhow::Result<Recorder> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    board.discard_telemetry();
-    board.play(PlayCommand {
-        slot: 0,
-        direction,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(steps),
-    })?;
     let csv = dir.join("telemetry.csv");
     let scratch = dir.join(".partial-telemetry.csv");
-    let mut rec = Recorder::create(&scratch, joints)
-        .with_context(|| format!("creating {}", scratch.display()))?;
-    let ended = capture_while(
-        board,
-        &mut rec,
-        Until {
-            seconds: None,
-            standing: true,
-        },
-        interrupt::requested,
-        |_| {},
-    )?;
+    let (rec, ended) = physics_walk::play_and_record(board, direction, steps, &scratch, joints)?;
     if ended == Ended::Interrupted {
         // An interrupted walk is not the demo's recording: the previous one stays.
         let _ = std::fs::remove_file(&scratch);

@@ -254,7 +254,7 @@ fn plots(out: &Path, rows: &[PhaseRow]) -> Result<()> {
     }
     draw(
         "fig6.png",
-        "Figure 6 in simulation: forward vs backward at 2 s (planned: the forward plan's), LF, LM, LH",
+        "Figure 6 in simulation: forward vs backward at 2 s, each beside its own plan, LF, LM, LH",
         &["LF", "LM", "LH"],
         &[("forward-2s", "forward"), ("backward-2s", "backward")],
     )?;

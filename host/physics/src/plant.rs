@@ -15,6 +15,15 @@ use crate::servo;
 /// Time over which gravity reaches its full value, s.
 pub const GRAVITY_RAMP_S: f64 = 1.0;
 
+/// Largest product of an actuator's natural frequency sqrt(kp / M) (M: the joint's diagonal of the
+/// mass matrix in the stance, armature included) and the timestep that [`Plant::new`] accepts.
+/// MuJoCo integrates the position term explicitly (implicitfast covers only the velocity terms),
+/// so a spring on a tiny inertia is unstable past omega dt = 2 (semi-implicit Euler) and rings
+/// long before: the scale fly's MJCF at 1 ms (omega dt 2.7) throws its thorax from 1.3 mm to
+/// 20 mm within a second, at 0.5 ms (1.4) its joints still swing at 22 rad/s, at 0.1 ms (0.27) it
+/// stands still (tests/fly_timestep.rs). Drosophibot II's stiffest joint: 63 rad/s, 0.06 at 1 ms.
+pub const MAX_OMEGA_DT: f64 = 0.3;
+
 /// One actuated joint with its servo.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlantJoint {
@@ -63,6 +72,14 @@ impl Plant {
             model: model.name.clone(),
             message: e.to_string(),
         })?;
+        let mut data = MjData::new(Box::new(mj));
+        data.reset_keyframe(0).map_err(|e| PhysicsError::Load {
+            model: model.name.clone(),
+            message: format!("keyframe `stance`: {e}"),
+        })?;
+        data.forward();
+        check_timestep(model, &data)?;
+        let mj = data.model();
         let find = |kind: MjtObjBase, what: &'static str, name: &str| {
             mj.name_to_id(kind, name)
                 .ok_or_else(|| PhysicsError::Missing {
@@ -108,14 +125,9 @@ impl Plant {
         let gravity = mj.opt().gravity;
         let g = (gravity[0].powi(2) + gravity[1].powi(2) + gravity[2].powi(2)).sqrt();
         let weight_n = mj.body_subtreemass()[thorax] * g;
-        let mut data = MjData::new(Box::new(mj));
-        data.reset_keyframe(0).map_err(|e| PhysicsError::Load {
-            model: model.name.clone(),
-            message: format!("keyframe `stance`: {e}"),
-        })?;
         data.model_opt_mut().gravity = [0.0; 3];
         // One robot is one island: island discovery costs about a quarter of a step and changes
-        // no result (measured with benches/physics_tuning.rs, docs/performance.md).
+        // no result (measured with benches/physics_robot.rs' tuning mode, docs/performance.md).
         data.model_opt_mut().disableflags |= MjtDisableBit::mjDSBL_ISLAND as i32;
         data.forward();
         Ok(Self {
@@ -139,6 +151,23 @@ impl Plant {
         let j = &mut self.joints[i];
         j.goal = goal;
         j.torque_on = torque_on;
+    }
+
+    /// Sets joint `i`'s stiffness to `kp` N m/rad (e.g. from its servo's P gain register): the
+    /// position actuator's gain and the P controller's saturation both follow.
+    pub fn set_kp(&mut self, i: usize, kp: f64) {
+        if self.joints[i].kp == kp {
+            return;
+        }
+        self.joints[i].kp = kp;
+        let a = self.joints[i].actuator;
+        // SAFETY: only the actuator's gain and bias parameters change; every size, index and
+        // address stays as it was. A position actuator is kp ctrl - kp q - kv qdot.
+        unsafe {
+            let m = self.data.model_mut();
+            m.actuator_gainprm_mut()[a][0] = kp;
+            m.actuator_biasprm_mut()[a][1] = -kp;
+        }
     }
 
     /// Cuts (or raises) joint `i`'s stall torque to `stall` N m: the P controller's saturation and
@@ -175,22 +204,13 @@ impl Plant {
         let ramp = self
             .held_since
             .map_or(0.0, |t0| ((t - t0) / GRAVITY_RAMP_S).clamp(0.0, 1.0));
-        self.data.model_opt_mut().gravity = self.gravity.map(|g| g * ramp);
-        let qpos = self.data.qpos();
-        let ctrl: Vec<(usize, f64)> = self
-            .joints
-            .iter()
-            .map(|j| {
-                let q = qpos[j.qpos];
-                (
-                    j.actuator,
-                    servo::ctrl(q, j.goal, j.torque_on, j.kp, j.stall),
-                )
-            })
-            .collect();
-        let c = self.data.ctrl_mut();
-        for (a, v) in ctrl {
-            c[a] = v;
+        let gravity = self.gravity.map(|g| g * ramp);
+        if self.data.model_opt().gravity != gravity {
+            self.data.model_opt_mut().gravity = gravity;
+        }
+        for j in &self.joints {
+            let q = self.data.qpos()[j.qpos];
+            self.data.ctrl_mut()[j.actuator] = servo::ctrl(q, j.goal, j.torque_on, j.kp, j.stall);
         }
         self.data.step();
     }
@@ -269,5 +289,46 @@ impl Plant {
             self.data.xpos()[self.thorax],
             self.data.xquat()[self.thorax],
         )
+    }
+}
+
+/// Refuses a timestep at which an actuator's spring on its joint's inertia is unstable or rings
+/// ([`MAX_OMEGA_DT`]), naming the stiffest joint and the largest stable timestep.
+fn check_timestep(model: &Model, data: &MjData<Box<MjModel>>) -> Result<(), PhysicsError> {
+    let m = data.model();
+    let nv = m.ffi().nv as usize;
+    let mut full = vec![0.0; nv * nv];
+    data.full_m(&mut full).map_err(|e| PhysicsError::Load {
+        model: model.name.clone(),
+        message: format!("mass matrix: {e}"),
+    })?;
+    let mut worst: Option<(usize, f64, f64, f64)> = None;
+    for a in 0..m.ffi().nu as usize {
+        let jid = m.actuator_trnid()[a][0] as usize;
+        let dof = m.jnt_dofadr()[jid] as usize;
+        let kp = m.actuator_gainprm()[a][0];
+        let inertia = full[dof * nv + dof];
+        let omega = (kp / inertia).sqrt();
+        if worst.is_none_or(|w| omega > w.1) {
+            worst = Some((jid, omega, kp, inertia));
+        }
+    }
+    let dt = m.opt().timestep;
+    match worst {
+        Some((jid, omega, kp, inertia)) if omega * dt > MAX_OMEGA_DT => {
+            Err(PhysicsError::Timestep {
+                model: model.name.clone(),
+                joint: m
+                    .id_to_name(MjtObjBase::mjOBJ_JOINT, jid)
+                    .unwrap_or("?")
+                    .to_owned(),
+                timestep_ms: dt * 1e3,
+                kp,
+                inertia,
+                omega_rad_s: omega,
+                stable_ms: MAX_OMEGA_DT / omega * 1e3,
+            })
+        }
+        _ => Ok(()),
     }
 }

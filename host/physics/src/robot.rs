@@ -92,8 +92,21 @@ impl PhysicsRobot {
     /// the body's state from power-on.
     pub fn into_board(self) -> PhysicsBoard {
         let mut chain = robot_chain(Config::default().baud);
-        self.push_state(&mut chain);
+        self.power_on(&mut chain);
         VirtualRobot::with_parts(VirtualFlash::new(board::robot::FLASH_SECTORS), chain, self)
+    }
+
+    /// Powers `chain`'s servos on as this body's: each holds the Position P Gain nearest to its
+    /// joint's stiffness in the model (from then on the register is the actuator's stiffness,
+    /// read every bus cycle: [`servo::stiffness_of_p_gain`]) and shows the body's state.
+    pub fn power_on(&self, chain: &mut VirtualChain) {
+        for j in self.plant.joints() {
+            let p = servo::p_gain_for_stiffness(j.map.model, j.kp);
+            if let (Some(p), Ok(s)) = (p, chain.servo_mut(j.map.id)) {
+                s.put(ct::POSITION_P_GAIN, u32::from(p));
+            }
+        }
+        self.push_state(chain);
     }
 
     /// A link to [`Self::into_board`], named `physics:SCENE`.
@@ -200,15 +213,20 @@ impl ServoDynamics for PhysicsRobot {
     ) {
         for i in 0..self.plant.joints().len() {
             let j = &self.plant.joints()[i];
-            let (goal, on) = match chain.servo(j.map.id) {
+            let (goal, on, kp) = match chain.servo(j.map.id) {
                 Some(s) => (
                     servo::ticks_to_angle(&j.map, s.get(ct::GOAL_POSITION) as i32),
                     s.torque_enabled(),
+                    // The P gain register is the actuator's stiffness (N m/rad).
+                    servo::stiffness_of_p_gain(j.map.model, s.get(ct::POSITION_P_GAIN) as u16),
                 ),
                 // A servo the bus lacks holds nothing.
-                None => (j.goal, false),
+                None => (j.goal, false, None),
             };
             self.plant.set_goal(i, goal, on);
+            if let Some(kp) = kp {
+                self.plant.set_kp(i, kp);
+            }
         }
         self.plant.advance_to(now_us as f64 * 1e-6);
         self.push_state(chain);

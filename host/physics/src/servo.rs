@@ -21,6 +21,25 @@ pub fn dxl_model(kind: ActuatorKind) -> ServoModel {
     ServoModel::try_from(kind).unwrap_or(ServoModel::Mx28)
 }
 
+/// The actuator's stiffness, N m/rad, for a Position P Gain register value: the MX's conversion
+/// (`dynamixel::units::stiffness_nm_per_rad`, an ESTIMATE from the e-manual's P controller), the
+/// one the physics robot reads its servos' gains with. `None` for an actuator that is no
+/// Dynamixel servo (its stiffness stays the model's).
+pub fn stiffness_of_p_gain(kind: ActuatorKind, p_gain: u16) -> Option<f64> {
+    let model = ServoModel::try_from(kind).ok()?;
+    Some(f64::from(dynamixel::units::stiffness_nm_per_rad(
+        model, p_gain,
+    )))
+}
+
+/// The Position P Gain register value nearest to stiffness `kp` N m/rad (the inverse of
+/// [`stiffness_of_p_gain`]; saturated to the register's range, at least 1). `None` as there.
+pub fn p_gain_for_stiffness(kind: ActuatorKind, kp: f64) -> Option<u16> {
+    let model = ServoModel::try_from(kind).ok()?;
+    let p = (kp / f64::from(model.stiffness_per_p_gain())).round();
+    Some(p.clamp(1.0, f64::from(u16::MAX)) as u16)
+}
+
 /// Joint angle (rad) of a goal or present position in ticks, through the model's servo map.
 pub fn ticks_to_angle(map: &ServoMap, ticks: i32) -> f64 {
     f64::from(map.sign) * f64::from(ticks - 2048) * RAD_PER_TICK + map.zero_offset
@@ -81,6 +100,20 @@ mod tests {
         let s = motor_state(&r, -std::f64::consts::FRAC_PI_2, 1.0, 0.5, 0.0);
         assert!((s.angle_rad / RAD_PER_TICK - 3072.0).abs() < 1e-9);
         assert_eq!((s.velocity_rad_s, s.torque_nm), (-1.0, -0.5));
+    }
+
+    #[test]
+    fn p_gain_and_stiffness_convert_both_ways() {
+        // e-manual: Kp = P/128 on the error in ticks, 885 = full PWM, torque = duty * stall:
+        // MX-28 at P 850: 850/128/885 * 2.5 N m * 4096/(2 pi) rad^-1 = 12.23 N m/rad.
+        let k = stiffness_of_p_gain(ActuatorKind::Mx28, 850).unwrap();
+        let hand = 850.0 / 128.0 / 885.0 * 2.5 * 4096.0 / std::f64::consts::TAU;
+        assert!((k - hand).abs() < 1e-4 * hand, "{k} against {hand}");
+        assert_eq!(p_gain_for_stiffness(ActuatorKind::Mx28, hand), Some(850));
+        // Half the gain, half the stiffness.
+        let half = stiffness_of_p_gain(ActuatorKind::Mx28, 425).unwrap();
+        assert!((half - k / 2.0).abs() < 1e-9 * k);
+        assert_eq!(p_gain_for_stiffness(ActuatorKind::Mx28, 1e-9), Some(1));
     }
 
     #[test]

@@ -12,6 +12,7 @@ pub mod interrupt;
 pub mod model_spec;
 pub mod output;
 pub mod overlay;
+pub mod physics_walk;
 pub mod plan_dynamics;
 pub mod plan_output;
 pub mod playback;

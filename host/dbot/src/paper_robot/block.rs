@@ -264,16 +264,21 @@ of 0.1 to 0.175 s, magnitude changes mostly within the step variance). Simulatio
 fn fig6(s: &mut String, rows: &[PhaseRow]) {
     let (f, b) = (FWD[1], BACKWARD);
     *s += "### Figure 6: forward against backward at 2 s\n\n";
-    *s += "Backward plays the forward step table's slices in reverse (as the paper ran the forward \
-kinematics in reverse); its planned torques are the forward plan's, so only the loads are compared. \
-Slices are the table's (the same posture in both directions).\n\n";
-    *s += "| group | load forward - backward | SD over steps forward / backward |\n|---|---|---|\n";
+    *s += "Backward is planned as its own gait (the planner's tripod at a negative translation) \
+and its step table played forward, so its planned torques, torque bias and stance phases are the \
+backward plan's (the paper's robot instead ran the forward kinematics in reverse). Slice k is the \
+same time in the step in both directions, not the same posture: each direction's loads are \
+compared with its own plan, and the two plans and the two walks with each other.\n\n";
+    *s += "| group | plan forward - backward | load forward - backward | load - plan forward / backward | SD over steps forward / backward |\n|---|---|---|---|---|\n";
     for g in Group::all() {
         let _ = writeln!(
             s,
-            "| {} | {} | {} / {} |",
+            "| {} | {} | {} | {} / {} | {} / {} |",
             g.name(),
+            f3(apart(rows, f, b, g, true)),
             f3(apart(rows, f, b, g, false)),
+            f3(load_vs_plan(rows, f, g)),
+            f3(load_vs_plan(rows, b, g)),
             f3(spread(rows, f, g)),
             f3(spread(rows, b, g))
         );

@@ -8,13 +8,13 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use board::link::Board;
-use board::record::{Recorder, Until, capture_while, joints_of_table, phase_stats};
+use board::record::{joints_of_table, phase_stats};
 use physics::PhysicsRobot;
 use planner::gait::StepParams;
 use planner::model::Leg;
-use protocol::{Direction, PlayCommand, Steps};
+use protocol::Direction;
 
-use crate::common::interrupt;
+use crate::common::{interrupt, physics_walk};
 
 /// One walk to simulate.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,7 +82,13 @@ pub fn params(period_s: f64, terrain: &str) -> Result<StepParams> {
 /// removed afterwards without `dir`.
 pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
     let model = planner::model::builtin("drosophibot2")?;
-    let p = params(e.period_s, &e.terrain)?;
+    let mut p = params(e.period_s, &e.terrain)?;
+    // Backward is planned as its own gait (the planner walks backward at a negative translation)
+    // and played forward, so its torques, bias and stance phases are the backward plan's, not the
+    // forward plan's played in reverse.
+    if e.direction == Direction::Backward {
+        p.translation_m = -p.translation_m.abs();
+    }
     let plan = planner::plan::plan(&model, &p)
         .with_context(|| format!("{}: planning the step", e.name))?;
     let dynamics = crate::args::dynamics::DynamicsArgs {
@@ -122,26 +128,10 @@ pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
             e.name
         )),
     };
-    board.discard_telemetry();
-    board.play(PlayCommand {
-        slot: 0,
-        direction: e.direction,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(e.steps),
-    })?;
-    let mut rec =
-        Recorder::create(&csv, joints).with_context(|| format!("creating {}", csv.display()))?;
-    capture_while(
-        &mut board,
-        &mut rec,
-        Until {
-            seconds: None,
-            standing: true,
-        },
-        interrupt::requested,
-        |_| {},
-    )
-    .with_context(|| format!("{}: recording", e.name))?;
+    // The backward walk plays its own plan (below) forward.
+    let (rec, _) =
+        physics_walk::play_and_record(&mut board, Direction::Forward, e.steps, &csv, joints)
+            .with_context(|| format!("{}: recording", e.name))?;
     if dir.is_none() {
         let _ = std::fs::remove_file(&csv);
     }
