@@ -66,6 +66,9 @@ pub enum Request {
     EnterStreaming(StreamConfig),
     /// Leaves streaming mode, holding the last setpoint. Reply: `Ack`.
     LeaveStreaming,
+    /// The servo ID of each joint of the selected gait (the one playing or last played or
+    /// uploaded), so a host that did not upload it can name the joints. Reply: `JointMap`.
+    GetJointMap,
 }
 
 /// Which servos a command addresses.
