@@ -93,7 +93,9 @@ pub enum LossReason {
 pub struct LostCopy {
     /// Commit sequence number of the copy, from its record (`None`: the record is damaged).
     pub seq: Option<u32>,
-    /// CRC-32 the record names for the table (`None`: the record is damaged).
+    /// The table's CRC-32 as it carries it in its last 4 bytes (the same number as
+    /// [`GaitSummary::crc`] and `dbot upload` show); `None` when the record is damaged and the
+    /// table's length is unknown. Read from damaged bytes: a hint, not a fact.
     pub crc: Option<u32>,
     pub reason: LossReason,
     /// The lost table's name (NUL-padded) if its first bytes still read as a table header (magic,
