@@ -204,6 +204,7 @@ endpoints! {
     EnterStreaming(StreamConfig) => (), enter_streaming;
     /// Leaves streaming mode, holding the last setpoint.
     LeaveStreaming => (), leave_streaming;
-    /// Servo IDs of the selected gait's joints (`None`: no gait selected).
-    GetJointMap => Option<JointIds>, get_joint_map;
+    /// Servo IDs of the joints of the table in `slot`, or of the selected gait with `None`
+    /// (reply `None`: the slot is empty, or no gait is selected).
+    GetJointMap { slot: Option<u8> } => Option<JointIds>, get_joint_map;
 }

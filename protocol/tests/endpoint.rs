@@ -100,8 +100,12 @@ impl Handler for FakeBoard {
     fn leave_streaming(&mut self, _: ep::LeaveStreaming) -> Result<(), ProtocolError> {
         unsupported()
     }
-    fn get_joint_map(&mut self, _: ep::GetJointMap) -> Result<Option<JointIds>, ProtocolError> {
-        Ok(self.joint_ids.clone())
+    fn get_joint_map(&mut self, r: ep::GetJointMap) -> Result<Option<JointIds>, ProtocolError> {
+        let ids = self.joint_ids.clone();
+        Ok(match r.slot {
+            None => ids,
+            Some(slot) => ids.filter(|j| j.slot == slot),
+        })
     }
 }
 
@@ -175,19 +179,24 @@ fn get_joint_map_answers_the_selected_gaits_servo_ids_or_none() {
         joint_ids: None,
     };
     let mut client = Client::new();
-    let none: Option<JointIds> = call(&mut board, &mut client, ep::GetJointMap).unwrap();
+    let none: Option<JointIds> =
+        call(&mut board, &mut client, ep::GetJointMap { slot: None }).unwrap();
     assert_eq!(none, None, "no gait selected");
     let ids = JointIds {
         slot: 2,
         servo_ids: heapless::Vec::from_slice(&[11, 12, 13, 21]).unwrap(),
     };
     board.joint_ids = Some(ids.clone());
-    let got = call(&mut board, &mut client, ep::GetJointMap).unwrap();
+    let got = call(&mut board, &mut client, ep::GetJointMap { slot: None }).unwrap();
+    assert_eq!(got, Some(ids.clone()));
+    let got = call(&mut board, &mut client, ep::GetJointMap { slot: Some(2) }).unwrap();
     assert_eq!(got, Some(ids));
-    // GetJointMap is appended after LeaveStreaming (21): variant 22 of Request, a unit variant.
+    let got = call(&mut board, &mut client, ep::GetJointMap { slot: Some(1) }).unwrap();
+    assert_eq!(got, None, "slot 1 holds nothing");
+    // GetJointMap is appended after LeaveStreaming (21): variant 22 of Request, then the Option.
     assert_eq!(
-        postcard::to_allocvec(&Request::from(ep::GetJointMap)).unwrap(),
-        [22]
+        postcard::to_allocvec(&Request::from(ep::GetJointMap { slot: Some(3) })).unwrap(),
+        [22, 1, 3]
     );
 }
 

@@ -155,16 +155,16 @@ fn slots_reply_with_a_lost_copy() {
 
 #[test]
 fn get_joint_map_request_and_reply() {
-    // HostMessage::Request = 00, seq 1 -> 01, Request::GetJointMap = variant 22 -> 16.
-    // CRC-32 = 0x128E5D02 -> 02 5D 8E 12; COBS: 01 for the leading zero, then 07 and the 6
-    // non-zero bytes, then the delimiter.
+    // HostMessage::Request = 00, seq 1 -> 01, Request::GetJointMap = variant 22 -> 16, slot None
+    // -> 00. CRC-32 = 0x3C1E00FC -> FC 00 1E 3C (a zero inside the CRC); COBS blocks: 01 | 03 01 16
+    // | 02 FC | 03 1E 3C, then the delimiter.
     assert_golden(
         HostMessage::Request {
             seq: 1,
-            request: Request::GetJointMap,
+            request: Request::GetJointMap { slot: None },
         },
-        &[0x00, 0x01, 0x16],
-        &[0x01, 0x07, 0x01, 0x16, 0x02, 0x5D, 0x8E, 0x12, 0x00],
+        &[0x00, 0x01, 0x16, 0x00],
+        &[0x01, 0x03, 0x01, 0x16, 0x02, 0xFC, 0x03, 0x1E, 0x3C, 0x00],
     );
     // DeviceMessage::Reply = 00, seq 2 -> 02, Response::JointMap = variant 8 -> 08, Some -> 01,
     // slot 1 -> 01, 2 servo IDs -> 02, 11 -> 0B, 12 -> 0C. CRC-32 = 0x72F44376 -> 76 43 F4 72;

@@ -356,11 +356,28 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
         self.c.leave_streaming().map_err(command_error)
     }
 
-    fn get_joint_map(&mut self, _: ep::GetJointMap) -> Result<Option<JointIds>, ProtocolError> {
-        // The joint map in use is the selected table's (select takes it over with the selection).
-        Ok(self.c.selected_slot().map(|slot| JointIds {
+    fn get_joint_map(&mut self, r: ep::GetJointMap) -> Result<Option<JointIds>, ProtocolError> {
+        let Some(slot) = r.slot else {
+            // The joint map in use is the selected table's (select takes it over).
+            return Ok(self.c.selected_slot().map(|slot| JointIds {
+                slot,
+                servo_ids: self.c.joints().iter().map(|j| j.id).collect(),
+            }));
+        };
+        let slots = self.c.store().slots();
+        if slot >= slots {
+            return Err(ProtocolError::NoSuchSlot { slot, slots });
+        }
+        let Some(table) = self.c.store().table(slot) else {
+            return Ok(None);
+        };
+        let table = GaitTable::parse(table).map_err(ProtocolError::Table)?;
+        Ok(Some(JointIds {
             slot,
-            servo_ids: self.c.joints().iter().map(|j| j.id).collect(),
+            servo_ids: (0..table.joint_count())
+                .filter_map(|j| table.joint(j))
+                .map(|m| m.servo_id)
+                .collect(),
         }))
     }
 }

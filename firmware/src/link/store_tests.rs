@@ -74,10 +74,20 @@ fn upload(link: &mut Link, c: &RefCell<Ctl>, client: &mut Client, slot: u8, tabl
 fn a_slot_that_fell_back_names_the_lost_copy_and_get_joint_map_answers_servo_ids() {
     let c = RefCell::new(Controller::new(NorDouble::new(128), 4, Config::default()));
     let (mut link, mut client) = (Link::new(), Client::new());
+    let joint_map = |slot| Request::GetJointMap { slot };
     assert_eq!(
-        ask(&mut link, &c, &mut client, Request::GetJointMap),
+        ask(&mut link, &c, &mut client, joint_map(None)),
         Response::JointMap(None),
         "a fresh board has no gait selected"
+    );
+    assert_eq!(
+        ask(&mut link, &c, &mut client, joint_map(Some(0))),
+        Response::JointMap(None),
+        "slot 0 is empty"
+    );
+    assert_eq!(
+        ask(&mut link, &c, &mut client, joint_map(Some(4))),
+        Response::Error(protocol::ProtocolError::NoSuchSlot { slot: 4, slots: 4 })
     );
     let older = named(40, "tripod-slow");
     let newer = named(50, "tripod-fwd");
@@ -85,7 +95,7 @@ fn a_slot_that_fell_back_names_the_lost_copy_and_get_joint_map_answers_servo_ids
     upload(&mut link, &c, &mut client, 0, &newer);
     // The commit selected the new table: its servo IDs are the synthetic chain's, 1..=22.
     let Response::JointMap(Some(JointIds { slot, servo_ids })) =
-        ask(&mut link, &c, &mut client, Request::GetJointMap)
+        ask(&mut link, &c, &mut client, joint_map(None))
     else {
         panic!("no joint map after an upload")
     };
@@ -126,4 +136,9 @@ fn a_slot_that_fell_back_names_the_lost_copy_and_get_joint_map_answers_servo_ids
         panic!()
     };
     assert_eq!(info.slots[0], s0);
+    // A board that has selected nothing since start-up names a slot's servos from its table.
+    let Response::JointMap(Some(ids)) = ask(&mut link, &c, &mut client, joint_map(Some(0))) else {
+        panic!("no joint map of slot 0")
+    };
+    assert_eq!(ids.servo_ids.as_slice(), (1..=22).collect::<Vec<u8>>());
 }

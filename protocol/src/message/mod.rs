@@ -81,6 +81,6 @@ pub enum Response {
     },
     /// The request failed; nothing changed unless the error says otherwise.
     Error(ProtocolError),
-    /// Servo IDs of the selected gait's joints; `None` when no gait is selected.
+    /// Servo IDs of a table's joints; `None` when the slot is empty or no gait is selected.
     JointMap(Option<JointIds>),
 }

@@ -108,7 +108,7 @@ pub fn request() -> impl Strategy<Value = Request> {
             })
         }),
         Just(Request::LeaveStreaming),
-        Just(Request::GetJointMap),
+        any::<Option<u8>>().prop_map(|slot| Request::GetJointMap { slot }),
     ]
 }
 
