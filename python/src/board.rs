@@ -159,7 +159,8 @@ impl Board {
     fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.with(py, |l| l.status())?;
         let d = records::status_dict(py, &s)?;
-        let store = self.with(py, |l| Ok(store_health(&l.info().slots)))?;
+        // Asked afresh (not the slots of `info()`, read at open): an upload since clears a mark.
+        let store = self.with(py, |l| l.gaits().map(|g| store_health(&g)))?;
         d.set_item("store", store)?;
         Ok(d)
     }
@@ -382,7 +383,8 @@ impl Board {
     }
 }
 
-/// The store's health as the board found it at start-up: `"ok"`, or `"damaged: "` and what each
+/// The store's health (what the board found at start-up, less what uploads since cleared): `"ok"`,
+/// or `"damaged: "` and what each
 /// damaged slot lost (`"damaged: no readable record"` when no slot holds a readable gait).
 fn store_health(slots: &[protocol::SlotInfo]) -> String {
     let damaged: Vec<String> = slots.iter().filter_map(records::loss_message).collect();

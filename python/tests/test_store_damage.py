@@ -15,7 +15,7 @@ import random
 import pytest
 
 import dbot
-from conftest import ROOT, open_board
+from conftest import ROOT, open_board, wait_for_state
 
 MODEL_FILE = ROOT / "host/planner/models/drosophibot2.toml"
 
@@ -55,7 +55,11 @@ def test_a_flipped_byte_in_the_live_table_is_reported_and_warned_about(model, tm
     assert board.status()["store"].startswith("damaged: slot 0 FELL BACK")
     with pytest.warns(UserWarning, match="playing a fallback: slot 0 FELL BACK.*'tripod-fwd'"):
         board.play(0, steps=1)
-    board.stop()
+    wait_for_state(board, ("Standing", "Idle"), 2000)
+    # Uploading the table again clears the mark.
+    board.upload(0, fwd)
+    assert board.gaits()[0]["lost"] is None
+    assert board.status()["store"] == "ok"
 
 
 def test_a_store_of_random_bytes_is_damaged_not_empty(tmp_path) -> None:
