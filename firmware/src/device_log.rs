@@ -61,6 +61,23 @@ fn emit(from: State, to: State, cause: Cause, kept_fault: bool) {
     let _ = (from, to, cause, kept_fault);
 }
 
+/// Logs a copy of a gait slot that the store found damaged at mount and did not use: the slot fell
+/// back to the older table (seq `current`) or, with no valid copy left, is empty. At warn: the board
+/// will play a gait other than the one last uploaded.
+pub fn store_copy_lost(slot: u8, lost: crate::store::LostCopy, current: Option<u32>) {
+    #[cfg(all(feature = "defmt", target_os = "none"))]
+    match current {
+        Some(seq) => defmt::warn!(
+            "gait slot {}: fell back to seq {}, the newer copy {} was lost",
+            slot,
+            seq,
+            lost
+        ),
+        None => defmt::warn!("gait slot {}: no valid copy, damaged data {}", slot, lost),
+    }
+    let _ = (slot, lost, current);
+}
+
 /// The faults logged since the last state change, one bit per kind and joint. The board has one
 /// controller, so one set is enough (host tests: one per thread).
 mod seen {

@@ -6,7 +6,7 @@ use core::fmt;
 use crate::endpoint::{ChunkAccepted, Committed};
 use crate::frame::{FrameError, encode_frame};
 use crate::message::{
-    DeviceInfo, DeviceMessage, HostMessage, Request, Response, Settings, SlotInfo, Status,
+    DeviceInfo, DeviceMessage, HostMessage, JointIds, Request, Response, Settings, SlotInfo, Status,
 };
 use crate::{MAX_SLOTS, ProtocolError, Setpoint};
 
@@ -185,6 +185,7 @@ reply_variant!(DeviceInfo, DeviceInfo);
 reply_variant!(Status, Status);
 reply_variant!(Settings, Settings);
 reply_variant!(heapless::Vec<SlotInfo, MAX_SLOTS>, Slots);
+reply_variant!(Option<JointIds>, JointMap);
 
 /// Takes `message` as the reply to request `seq` and extracts the value of type `R`.
 pub fn reply<R: Reply>(seq: u16, message: DeviceMessage) -> Result<R, ReplyError> {

@@ -16,8 +16,8 @@ use crate::MAX_CHUNK_LEN;
 use crate::client::{IntoResponse, Reply};
 use crate::gait::GaitHeader;
 use crate::message::{
-    DeviceInfo, PlayCommand, ProtocolError, Request, Response, ServoSelect, Settings, SlotInfo,
-    Status, StreamConfig,
+    DeviceInfo, JointIds, PlayCommand, ProtocolError, Request, Response, ServoSelect, Settings,
+    SlotInfo, Status, StreamConfig,
 };
 
 /// A request that names its reply.
@@ -204,4 +204,7 @@ endpoints! {
     EnterStreaming(StreamConfig) => (), enter_streaming;
     /// Leaves streaming mode, holding the last setpoint.
     LeaveStreaming => (), leave_streaming;
+    /// Servo IDs of the joints of the table in `slot`, or of the selected gait with `None`
+    /// (reply `None`: the slot is empty, or no gait is selected).
+    GetJointMap { slot: Option<u8> } => Option<JointIds>, get_joint_map;
 }

@@ -9,6 +9,8 @@ use protocol::*;
 struct FakeBoard {
     baud: u32,
     cycle_hz: u16,
+    /// Servo IDs of the selected gait, if one is selected.
+    joint_ids: Option<JointIds>,
 }
 
 fn unsupported<T>() -> Result<T, ProtocolError> {
@@ -98,6 +100,13 @@ impl Handler for FakeBoard {
     fn leave_streaming(&mut self, _: ep::LeaveStreaming) -> Result<(), ProtocolError> {
         unsupported()
     }
+    fn get_joint_map(&mut self, r: ep::GetJointMap) -> Result<Option<JointIds>, ProtocolError> {
+        let ids = self.joint_ids.clone();
+        Ok(match r.slot {
+            None => ids,
+            Some(slot) => ids.filter(|j| j.slot == slot),
+        })
+    }
 }
 
 /// One typed call over framed bytes: host encodes, board decodes and dispatches, host decodes the
@@ -133,6 +142,7 @@ fn typed_calls_round_trip_with_their_reply_types() {
     let mut board = FakeBoard {
         baud: 57_600,
         cycle_hz: 50,
+        joint_ids: None,
     };
     let mut client = Client::new();
     let status: Status = call(&mut board, &mut client, ep::GetStatus).unwrap();
@@ -162,10 +172,40 @@ fn typed_calls_round_trip_with_their_reply_types() {
 }
 
 #[test]
+fn get_joint_map_answers_the_selected_gaits_servo_ids_or_none() {
+    let mut board = FakeBoard {
+        baud: 57_600,
+        cycle_hz: 50,
+        joint_ids: None,
+    };
+    let mut client = Client::new();
+    let none: Option<JointIds> =
+        call(&mut board, &mut client, ep::GetJointMap { slot: None }).unwrap();
+    assert_eq!(none, None, "no gait selected");
+    let ids = JointIds {
+        slot: 2,
+        servo_ids: heapless::Vec::from_slice(&[11, 12, 13, 21]).unwrap(),
+    };
+    board.joint_ids = Some(ids.clone());
+    let got = call(&mut board, &mut client, ep::GetJointMap { slot: None }).unwrap();
+    assert_eq!(got, Some(ids.clone()));
+    let got = call(&mut board, &mut client, ep::GetJointMap { slot: Some(2) }).unwrap();
+    assert_eq!(got, Some(ids));
+    let got = call(&mut board, &mut client, ep::GetJointMap { slot: Some(1) }).unwrap();
+    assert_eq!(got, None, "slot 1 holds nothing");
+    // GetJointMap is appended after LeaveStreaming (21): variant 22 of Request, then the Option.
+    assert_eq!(
+        postcard::to_allocvec(&Request::from(ep::GetJointMap { slot: Some(3) })).unwrap(),
+        [22, 1, 3]
+    );
+}
+
+#[test]
 fn handler_errors_travel_back_as_data() {
     let mut board = FakeBoard {
         baud: 57_600,
         cycle_hz: 50,
+        joint_ids: None,
     };
     let mut client = Client::new();
     let refused = call(

@@ -43,7 +43,9 @@ where
 fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 2: FaultKind::ServoStuck appended (no existing byte changed; see the crate's Versioning).
     // 3: RunState::Boot appended (a board still looking for its servos no longer reads as Idle).
-    assert_eq!(PROTOCOL_VERSION, 3);
+    // 4: SlotInfo::lost (a damaged copy the slot fell back from), Request::GetJointMap and
+    //    Response::JointMap appended.
+    assert_eq!(PROTOCOL_VERSION, 4);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 
@@ -111,6 +113,73 @@ fn out_of_order_chunk_error_reply() {
         &[
             0x01, 0x0D, 0x07, 0x07, 0x07, 0x09, 0x80, 0x08, 0x80, 0x04, 0x21, 0xCA, 0xDA, 0xE6,
             0x00,
+        ],
+    );
+}
+
+#[test]
+fn slots_reply_with_a_lost_copy() {
+    // DeviceMessage::Reply = 0 -> 00, seq 5 -> 05, Response::Slots = variant 4 -> 04, 1 slot -> 01;
+    // slot 0 -> 00, gait None -> 00, lost Some -> 01: seq Some(7) -> 01 07,
+    // crc Some(0x11223344) -> 01 then its varint: 7-bit groups low first 0x44, 0x66, 0x08, 0x09,
+    // 0x01 -> C4 E6 88 89 01; reason LossReason::TableChecksum = variant 0 -> 00; name None -> 00.
+    // CRC-32 = 0xCA085AC5 -> C5 5A 08 CA; COBS blocks: 01 | 04 05 04 01 | 01 | 0A (9 bytes up to
+    // the next zero) | 01 | 05 + C5 5A 08 CA, then the delimiter.
+    assert_golden(
+        DeviceMessage::Reply {
+            seq: 5,
+            response: Response::Slots(
+                heapless::Vec::from_slice(&[SlotInfo {
+                    slot: 0,
+                    gait: None,
+                    lost: Some(LostCopy {
+                        seq: Some(7),
+                        crc: Some(0x1122_3344),
+                        reason: LossReason::TableChecksum,
+                        name: None,
+                    }),
+                }])
+                .unwrap(),
+            ),
+        },
+        &[
+            0x00, 0x05, 0x04, 0x01, 0x00, 0x00, 0x01, 0x01, 0x07, 0x01, 0xC4, 0xE6, 0x88, 0x89,
+            0x01, 0x00, 0x00,
+        ],
+        &[
+            0x01, 0x04, 0x05, 0x04, 0x01, 0x01, 0x0A, 0x01, 0x01, 0x07, 0x01, 0xC4, 0xE6, 0x88,
+            0x89, 0x01, 0x01, 0x05, 0xC5, 0x5A, 0x08, 0xCA, 0x00,
+        ],
+    );
+}
+
+#[test]
+fn get_joint_map_request_and_reply() {
+    // HostMessage::Request = 00, seq 1 -> 01, Request::GetJointMap = variant 22 -> 16, slot None
+    // -> 00. CRC-32 = 0x3C1E00FC -> FC 00 1E 3C (a zero inside the CRC); COBS blocks: 01 | 03 01 16
+    // | 02 FC | 03 1E 3C, then the delimiter.
+    assert_golden(
+        HostMessage::Request {
+            seq: 1,
+            request: Request::GetJointMap { slot: None },
+        },
+        &[0x00, 0x01, 0x16, 0x00],
+        &[0x01, 0x03, 0x01, 0x16, 0x02, 0xFC, 0x03, 0x1E, 0x3C, 0x00],
+    );
+    // DeviceMessage::Reply = 00, seq 2 -> 02, Response::JointMap = variant 8 -> 08, Some -> 01,
+    // slot 1 -> 01, 2 servo IDs -> 02, 11 -> 0B, 12 -> 0C. CRC-32 = 0x72F44376 -> 76 43 F4 72;
+    // COBS: 01, then 0C and the 11 non-zero bytes, then the delimiter.
+    assert_golden(
+        DeviceMessage::Reply {
+            seq: 2,
+            response: Response::JointMap(Some(JointIds {
+                slot: 1,
+                servo_ids: heapless::Vec::from_slice(&[11, 12]).unwrap(),
+            })),
+        },
+        &[0x00, 0x02, 0x08, 0x01, 0x01, 0x02, 0x0B, 0x0C],
+        &[
+            0x01, 0x0C, 0x02, 0x08, 0x01, 0x01, 0x02, 0x0B, 0x0C, 0x76, 0x43, 0xF4, 0x72, 0x00,
         ],
     );
 }
@@ -196,4 +265,23 @@ fn view_reads_the_hand_laid_table() {
     assert_eq!(t.angle(0, 0), Some(2500));
     assert_eq!(t.torque(0, 0), Some(-1200));
     assert_eq!(t.crc(), 0x8567_F1A7);
+}
+
+#[test]
+fn peek_reads_the_header_of_a_damaged_table_but_not_of_other_bytes() {
+    // The last slice byte flipped: the table's CRC fails, its header (bytes 0..36) is intact.
+    let mut bytes = GOLDEN_TABLE.to_vec();
+    bytes[40] ^= 0x01;
+    assert!(GaitTable::parse(&bytes).is_err());
+    let h = GaitHeader::peek(&bytes).unwrap();
+    assert_eq!(h.name_str(), Some("tripod"));
+    assert_eq!((h.joint_count, h.slice_count, h.duty), (1, 1, 5000));
+    // A broken magic, another format version, zero joints, or too few bytes: not a header.
+    for (at, value) in [(0, b'X'), (4, 9), (6, 0)] {
+        let mut b = GOLDEN_TABLE.to_vec();
+        b[at] = value;
+        assert_eq!(GaitHeader::peek(&b), None, "byte {at} = {value}");
+    }
+    assert_eq!(GaitHeader::peek(&GOLDEN_TABLE[..35]), None);
+    assert_eq!(GaitHeader::peek(&[0xFF; 64]), None);
 }

@@ -148,6 +148,12 @@ fn the_largest_messages_fit_max_message_len() {
                 header: big_header,
                 crc: u32::MAX,
             }),
+            lost: Some(LostCopy {
+                seq: Some(u32::MAX),
+                crc: Some(u32::MAX),
+                reason: LossReason::TableChecksum,
+                name: Some([0xFF; gait::NAME_LEN]),
+            }),
         },
         MAX_SLOTS,
     )
@@ -209,6 +215,13 @@ fn the_largest_messages_fit_max_message_len() {
         DeviceMessage::Reply {
             seq: u16::MAX,
             response: Response::Slots(slots),
+        },
+        DeviceMessage::Reply {
+            seq: u16::MAX,
+            response: Response::JointMap(Some(JointIds {
+                slot: u8::MAX,
+                servo_ids: core::iter::repeat_n(u8::MAX, MAX_JOINTS).collect(),
+            })),
         },
         DeviceMessage::Reply {
             seq: u16::MAX,

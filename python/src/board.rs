@@ -79,13 +79,16 @@ impl Board {
             Ok::<_, ::board::link::LinkError>(b)
         })()
         .map_err(board_error)?;
+        let mut link = link;
+        let mut naming =
+            JointNaming::new(planner::model::builtin("drosophibot2").map_err(value_error)?);
+        // The gait the board selected at start-up, which this `Board` did not upload.
+        naming.board_reported(link.joint_map(None).map_err(board_error)?);
         Ok(Self {
             link: Mutex::new(Some(link)),
             port: port.to_owned(),
             next_seq: Mutex::new(1),
-            naming: Mutex::new(JointNaming::new(
-                planner::model::builtin("drosophibot2").map_err(value_error)?,
-            )),
+            naming: Mutex::new(naming),
         })
     }
 
@@ -139,7 +142,15 @@ impl Board {
         d.set_item("table_format_version", i.table_format_version)?;
         d.set_item("slots", i.slots.len())?;
         d.set_item("slot_capacity", i.slot_capacity)?;
+        d.set_item("store", store_health(&i.slots))?;
         Ok(d)
+    }
+
+    /// Every gait slot as a dict (see `gaits()` entries: `slot`, `gait`, `lost`, `message`). A slot
+    /// whose `lost` is not None fell back to an older gait (`gait` set) or holds no readable one.
+    fn gaits<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let slots = self.with(py, |l| l.gaits())?;
+        slots.iter().map(|s| records::slot_dict(py, s)).collect()
     }
 
     /// Run state, fault (kind and joint), torque mask, playback position and the board's counters
@@ -147,7 +158,11 @@ impl Board {
     /// `crc_errors`, `rejected_frames`, `telemetry_dropped`).
     fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.with(py, |l| l.status())?;
-        records::status_dict(py, &s)
+        let d = records::status_dict(py, &s)?;
+        // Asked afresh (not the slots of `info()`, read at open): an upload since clears a mark.
+        let store = self.with(py, |l| l.gaits().map(|g| store_health(&g)))?;
+        d.set_item("store", store)?;
+        Ok(d)
     }
 
     /// Uploads a step table (bytes, e.g. `Plan.step_table()`) into `slot` and verifies it.
@@ -199,8 +214,21 @@ impl Board {
             period_scale: scale as u16,
             steps: steps.map_or(Steps::Continuous, Steps::Count),
         };
+        let stored = self.with(py, |l| l.gaits())?;
         self.with(py, move |l| l.play(command))?;
         self.naming().played(slot);
+        if let Some(msg) = stored
+            .iter()
+            .find(|s| s.slot == slot)
+            .and_then(records::loss_message)
+        {
+            let warning = py.get_type::<pyo3::exceptions::PyUserWarning>();
+            let msg = std::ffi::CString::new(format!("playing a fallback: {msg}"))
+                .map_err(value_error)?;
+            PyErr::warn(py, &warning, &msg, 1)?;
+        }
+        let map = self.with(py, |l| l.joint_map(None))?;
+        self.naming().board_reported(map);
         Ok(())
     }
 
@@ -216,7 +244,10 @@ impl Board {
     #[getter]
     fn joint_names(&self, py: Python<'_>) -> PyResult<Vec<String>> {
         let count = self.with(py, |l| l.settings())?.joints.len();
-        Ok(self.naming().names(count))
+        let map = self.with(py, |l| l.joint_map(None))?;
+        let mut naming = self.naming();
+        naming.board_reported(map);
+        Ok(naming.names(count))
     }
 
     /// Stops at the end of the current step (or leaves streaming, holding the last setpoint).
@@ -349,5 +380,19 @@ impl Board {
 
     fn __repr__(&self) -> String {
         format!("Board(port={:?})", self.port)
+    }
+}
+
+/// The store's health (what the board found at start-up, less what uploads since cleared): `"ok"`,
+/// or `"damaged: "` and what each
+/// damaged slot lost (`"damaged: no readable record"` when no slot holds a readable gait).
+fn store_health(slots: &[protocol::SlotInfo]) -> String {
+    let damaged: Vec<String> = slots.iter().filter_map(records::loss_message).collect();
+    if damaged.is_empty() {
+        "ok".to_owned()
+    } else if slots.iter().all(|s| s.gait.is_none() && s.lost.is_some()) {
+        "damaged: no readable record".to_owned()
+    } else {
+        format!("damaged: {}", damaged.join("; "))
     }
 }

@@ -5,7 +5,9 @@
 //!
 //! The board does not send its tables back, so a `Board` keeps the tables it uploaded itself and
 //! follows which one the firmware has selected (firmware/src/controller/commands.rs): the slot
-//! played last, or an upload into the selected slot or into a board with none selected.
+//! played last, or an upload into the selected slot or into a board with none selected. For a gait
+//! it did not upload, it asks the board for the servo IDs of the selected table (`GetJointMap`)
+//! and names each joint by its servo ID through the model.
 
 use planner::model::Model;
 
@@ -17,6 +19,9 @@ pub struct JointNaming {
     tables: [Option<Vec<u8>>; protocol::MAX_SLOTS],
     /// The slot the board has selected, as far as this `Board` saw it.
     active: Option<u8>,
+    /// The board's own answer to `GetJointMap`: the slot it has selected and that table's servo
+    /// IDs in joint-map order (used when this `Board` did not upload that table).
+    board_map: Option<(u8, Vec<u8>)>,
 }
 
 impl JointNaming {
@@ -26,6 +31,7 @@ impl JointNaming {
             model,
             tables: Default::default(),
             active: None,
+            board_map: None,
         }
     }
 
@@ -48,12 +54,29 @@ impl JointNaming {
         self.active = Some(slot);
     }
 
-    /// The names of the board's first `count` joints (joint-map order).
+    /// The board reported `map` for its selected gait (`None`: nothing selected).
+    pub fn board_reported(&mut self, map: Option<protocol::JointIds>) {
+        self.board_map = map.map(|m| (m.slot, m.servo_ids.to_vec()));
+        if let Some((slot, _)) = &self.board_map {
+            self.active = Some(*slot);
+        }
+    }
+
+    /// The names of the board's first `count` joints (joint-map order): by the servo IDs of the
+    /// table this `Board` uploaded for the selected slot, else by those the board reported for it,
+    /// else the model's servo joints in order.
     pub fn names(&self, count: usize) -> Vec<String> {
         let table = self
             .active
             .and_then(|s| self.tables.get(usize::from(s))?.as_deref())
             .and_then(|b| protocol::GaitTable::parse(b).ok());
+        if table.is_none()
+            && let Some((slot, ids)) = &self.board_map
+            && Some(*slot) == self.active
+            && ids.len() == count
+        {
+            return ::board::record::joint_names_by_ids(&self.model, ids);
+        }
         ::board::record::joint_names(&self.model, table.as_ref(), count)
     }
 }

@@ -4,7 +4,7 @@
 
 use numpy::ToPyArray;
 use numpy::ndarray::{Array1, Array2};
-use protocol::{Counters, JointFeedback, Proprioception, Status, Telemetry};
+use protocol::{Counters, JointFeedback, LossReason, Proprioception, SlotInfo, Status, Telemetry};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -132,5 +132,79 @@ pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDi
     d.set_item("torque_enabled", s.torque_enabled)?;
     d.set_item("counters", counters_dict(py, &s.counters)?)?;
     d.set_item("playback", s.playback.map(|p| (p.slot, p.step, p.slice)))?;
+    Ok(d)
+}
+
+/// What a slot lost, in one sentence (`None` for a healthy slot): the slot fell back to an older
+/// gait, or holds no readable one. The same facts `dbot gaits` prints.
+pub fn loss_message(s: &SlotInfo) -> Option<String> {
+    let l = s.lost.as_ref()?;
+    let name = match l.name_str() {
+        Some(n) => format!("'{n}'"),
+        None => "(name unreadable)".to_owned(),
+    };
+    let seq = l.seq.map_or(String::new(), |q| format!(" seq {q}"));
+    let crc = l.crc.map_or(String::new(), |c| format!(" CRC {c:#010x}"));
+    let copy = format!("{name}{seq}{crc}");
+    let current = s
+        .gait
+        .as_ref()
+        .map(|g| g.header.name_str().unwrap_or("(name not UTF-8)").to_owned());
+    Some(match (l.reason, current) {
+        (LossReason::TableChecksum, Some(cur)) => format!(
+            "slot {} FELL BACK to '{cur}': the newer copy {copy} failed its CRC check and was lost",
+            s.slot
+        ),
+        (LossReason::TableChecksum, None) => format!(
+            "slot {} is damaged: its only copy {copy} failed its CRC check and was lost",
+            s.slot
+        ),
+        (LossReason::RecordDamaged, Some(cur)) => format!(
+            "slot {} plays '{cur}', but its other copy has a damaged commit record and may have been newer",
+            s.slot
+        ),
+        (LossReason::RecordDamaged, None) => {
+            format!("slot {} is damaged: no readable record", s.slot)
+        }
+    })
+}
+
+/// One gait slot as a dict: `slot`, `gait` (None, or `name`, `crc`, `joints`, `slices`,
+/// `period_s`, `duty`), `lost` (None, or `seq`, `crc`, `name`, `reason` `"table_crc"` or
+/// `"record_damaged"`) and `message` (what was lost, in words; None for a healthy slot).
+pub fn slot_dict<'py>(py: Python<'py>, s: &SlotInfo) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("slot", s.slot)?;
+    match &s.gait {
+        Some(g) => {
+            let gd = PyDict::new(py);
+            gd.set_item("name", g.header.name_str())?;
+            gd.set_item("crc", g.crc)?;
+            gd.set_item("joints", g.header.joint_count)?;
+            gd.set_item("slices", g.header.slice_count)?;
+            gd.set_item("period_s", f64::from(g.header.step_period_us) * 1e-6)?;
+            gd.set_item("duty", f64::from(g.header.duty) * 1e-4)?;
+            d.set_item("gait", gd)?;
+        }
+        None => d.set_item("gait", py.None())?,
+    }
+    match &s.lost {
+        Some(l) => {
+            let ld = PyDict::new(py);
+            ld.set_item("seq", l.seq)?;
+            ld.set_item("crc", l.crc)?;
+            ld.set_item("name", l.name_str())?;
+            ld.set_item(
+                "reason",
+                match l.reason {
+                    LossReason::TableChecksum => "table_crc",
+                    LossReason::RecordDamaged => "record_damaged",
+                },
+            )?;
+            d.set_item("lost", ld)?;
+        }
+        None => d.set_item("lost", py.None())?,
+    }
+    d.set_item("message", loss_message(s))?;
     Ok(d)
 }

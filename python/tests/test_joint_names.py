@@ -1,6 +1,6 @@
 """Joint names in telemetry and proprioception (issue #20 item 2), by the rule of ``dbot record``:
 each column is the model joint driven by the servo the uploaded table names for it; without a
-table this ``Board`` uploaded, the model's servo joints in joint-map order.
+table this ``Board`` uploaded, the servo the board's joint map (GetJointMap) names for it.
 
 The independent truth is the model file: in ``host/planner/models/drosophibot2.toml`` servo 1
 drives ``LF_ThC1``, servo 2 ``LF_ThC3`` (ThC2 has no servo) and servo 3 ``LF_CTr``. A copy of that
@@ -51,20 +51,20 @@ def test_telemetry_names_joints_by_the_uploaded_tables_servo_ids(swapped_model) 
     assert board.joint_names == swapped_model.servo_joint_names
 
 
-def test_a_board_that_did_not_upload_the_gait_names_joints_in_model_order(
+def test_a_board_that_did_not_upload_the_gait_names_joints_by_the_boards_joint_map(
     swapped_model, tmp_path
 ) -> None:
     store = f"virtual:{tmp_path / 'robot.flash'}"
     first = open_board(store)
     first.upload_plan(0, dbot.plan(swapped_model, slices=20))
     first.close()
-    # This Board never saw the table: the joint map is taken to be the model's servo joints in
-    # order (what `dbot record` does without --table), so servo 2 is named LF_ThC1 here.
+    # This Board never saw the table: it asks the board for the table's servo IDs (GetJointMap)
+    # and names them through the built-in model, so servo 2 (first in the table) is LF_ThC3.
     board = open_board(store)
     wait_cycles(board, 10)
     names = board.record(0.1)["joint_names"]
-    assert names == dbot.Model.builtin("drosophibot2").servo_joint_names
-    assert names[0] == "LF_ThC1"
+    assert names[:3] == ["LF_ThC3", "LF_ThC1", "LF_CTr"]
+    assert sorted(names) == sorted(dbot.Model.builtin("drosophibot2").servo_joint_names)
 
 
 def test_proprioception_carries_the_joint_names(tripod_plan, model) -> None:

@@ -9,16 +9,17 @@ use protocol::endpoint::{self as ep, ChunkAccepted, Committed, Handler, Slots};
 use protocol::gait::{FORMAT_VERSION, GaitTable};
 use protocol::upload::verify_stored;
 use protocol::{
-    Capabilities, DeviceInfo, FirmwareVersion, GaitSummary, JointSettings, PROTOCOL_VERSION,
-    PlayCommand, PlaybackPosition, ProtocolError, Request, Response, ServoSelect, Setpoint,
-    Settings, SlotInfo, Status, Steps, StreamConfig, UploadLimits, UploadTracker,
+    Capabilities, DeviceInfo, FirmwareVersion, GaitHeader, GaitSummary, JointIds, JointSettings,
+    LossReason, LostCopy, PROTOCOL_VERSION, PlayCommand, PlaybackPosition, ProtocolError, Request,
+    Response, ServoSelect, Setpoint, Settings, SlotInfo, Status, Steps, StreamConfig, UploadLimits,
+    UploadTracker,
 };
 
 use super::convert::{command_error, fault, run_state, store_error};
 use crate::controller::{Controller, PlayParams};
 use crate::gait_view::URAD_PER_ANGLE_UNIT;
 use crate::playback::Direction;
-use crate::store::{CommitError, FlashWindow};
+use crate::store::{self, CommitError, FlashWindow};
 
 /// What this firmware can do.
 pub const CAPABILITIES: Capabilities = Capabilities::GAIT_STORE
@@ -50,9 +51,36 @@ fn slots<F: NorFlash + FlashWindow>(
                 header: t.header(),
                 crc: t.crc(),
             });
-        let _ = v.push(SlotInfo { slot, gait });
+        let _ = v.push(SlotInfo {
+            slot,
+            gait,
+            lost: lost_copy(c, slot),
+        });
     }
     v
+}
+
+/// What the store lost in `slot` at mount, with the lost table's name if its header still reads.
+fn lost_copy<F: NorFlash + FlashWindow>(c: &Controller<F>, slot: u8) -> Option<LostCopy> {
+    let l = c.store().lost(slot)?;
+    let bytes = c.store().lost_bytes(slot);
+    let name = bytes.and_then(GaitHeader::peek).map(|h| h.name);
+    // The table's own CRC (its last 4 bytes), the number a host knows the gait by; the record's CRC
+    // covers those 4 bytes too, so it is another number.
+    let crc = l
+        .len
+        .and(bytes)
+        .and_then(|b| b.last_chunk::<4>())
+        .map(|w| u32::from_le_bytes(*w));
+    Some(LostCopy {
+        seq: l.seq,
+        crc,
+        reason: match l.reason {
+            store::LossReason::TableChecksum { .. } => LossReason::TableChecksum,
+            store::LossReason::RecordDamaged => LossReason::RecordDamaged,
+        },
+        name,
+    })
 }
 
 /// Answers `request`.
@@ -326,6 +354,31 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
 
     fn leave_streaming(&mut self, _: ep::LeaveStreaming) -> Result<(), ProtocolError> {
         self.c.leave_streaming().map_err(command_error)
+    }
+
+    fn get_joint_map(&mut self, r: ep::GetJointMap) -> Result<Option<JointIds>, ProtocolError> {
+        let Some(slot) = r.slot else {
+            // The joint map in use is the selected table's (select takes it over).
+            return Ok(self.c.selected_slot().map(|slot| JointIds {
+                slot,
+                servo_ids: self.c.joints().iter().map(|j| j.id).collect(),
+            }));
+        };
+        let slots = self.c.store().slots();
+        if slot >= slots {
+            return Err(ProtocolError::NoSuchSlot { slot, slots });
+        }
+        let Some(table) = self.c.store().table(slot) else {
+            return Ok(None);
+        };
+        let table = GaitTable::parse(table).map_err(ProtocolError::Table)?;
+        Ok(Some(JointIds {
+            slot,
+            servo_ids: (0..table.joint_count())
+                .filter_map(|j| table.joint(j))
+                .map(|m| m.servo_id)
+                .collect(),
+        }))
     }
 }
 

@@ -7,6 +7,8 @@
 mod convert;
 mod dispatch;
 #[cfg(test)]
+mod store_tests;
+#[cfg(test)]
 mod tests;
 
 use dynamixel::master::{Clock, with_deadline};

@@ -6,6 +6,8 @@
 //!
 //! Bank layout: `[record: 32 B][0xFF up to 256 B][table bytes]`. The record is written last.
 
+#[cfg(test)]
+mod damage_tests;
 #[cfg(any(test, feature = "std"))]
 pub mod nor_double;
 pub mod record;
@@ -100,6 +102,38 @@ pub struct SlotInfo {
     pub seq: u32,
 }
 
+/// Why [`GaitStore::mount`] rejected a bank that was not erased.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LossReason {
+    /// The commit record holds, but the table's bytes no longer have the CRC it names (`actual`).
+    TableChecksum { actual: u32 },
+    /// The commit record is neither erased nor readable (its magic, own CRC, slot, bank or length
+    /// is wrong), so nothing about the copy can be trusted, not even whether it was the newer one.
+    RecordDamaged,
+}
+
+/// A copy of a slot's table that [`GaitStore::mount`] found damaged and did not use: either newer
+/// than the current table (the slot fell back to an older gait) or of unknown age.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LostCopy {
+    /// The bank it sits in.
+    pub bank: u16,
+    /// Sequence number, length and CRC from its commit record (`None` when the record is damaged).
+    pub seq: Option<u32>,
+    pub len: Option<u32>,
+    pub crc: Option<u32>,
+    pub reason: LossReason,
+}
+
+/// What [`GaitStore::mount`] found in one bank.
+enum Bank {
+    Erased,
+    Valid(Record),
+    Damaged(LostCopy),
+}
+
 /// The gait store over a flash `F` that covers exactly the gait region.
 #[derive(Debug)]
 pub struct GaitStore<F> {
@@ -107,6 +141,9 @@ pub struct GaitStore<F> {
     slots: u8,
     bank_size: u32,
     current: [Option<Record>; MAX_SLOTS],
+    /// Per slot, the damaged copy found at mount that is newer than the current one (or of unknown
+    /// age); cleared when an upload into the slot commits or the slot is deleted.
+    lost: [Option<LostCopy>; MAX_SLOTS],
     upload: Option<upload::Upload>,
 }
 
@@ -123,14 +160,58 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
             slots,
             bank_size,
             current: [None; MAX_SLOTS],
+            lost: [None; MAX_SLOTS],
             upload: None,
         };
         for slot in 0..slots {
-            store.current[slot as usize] = (0..2)
-                .filter_map(|bank| store.valid_record(slot, bank))
+            let banks = [store.classify(slot, 0), store.classify(slot, 1)];
+            let current = banks
+                .iter()
+                .filter_map(|b| match b {
+                    Bank::Valid(r) => Some(*r),
+                    _ => None,
+                })
                 .max_by_key(|r| r.seq);
+            // A damaged copy matters when it was (or may have been) newer than what is current: an
+            // older copy that rotted is the spare bank the next upload overwrites anyway.
+            let lost = banks
+                .iter()
+                .filter_map(|b| match b {
+                    Bank::Damaged(l) => Some(*l),
+                    _ => None,
+                })
+                .filter(|l| match (l.seq, current) {
+                    (Some(seq), Some(cur)) => seq > cur.seq,
+                    _ => true,
+                })
+                .max_by_key(|l| l.seq.map_or(0, |s| u64::from(s) + 1));
+            if let Some(l) = lost {
+                crate::device_log::store_copy_lost(slot, l, current.map(|r| r.seq));
+            }
+            store.current[slot as usize] = current;
+            store.lost[slot as usize] = lost;
         }
         store
+    }
+
+    /// The damaged copy of `slot` found at mount that was newer than the current table (the slot fell
+    /// back) or of unknown age (the record is unreadable), until an upload into the slot commits.
+    pub fn lost(&self, slot: u8) -> Option<LostCopy> {
+        self.lost.get(slot as usize).copied().flatten()
+    }
+
+    /// The bytes of a lost copy's table as they sit in flash (its recorded length, or the whole bank
+    /// past the header when the record is damaged): only for reading what is left of its header.
+    pub fn lost_bytes(&self, slot: u8) -> Option<&[u8]> {
+        let l = self.lost(slot)?;
+        let start = self.bank_base(slot, l.bank) as usize + HEADER;
+        let len = l.len.unwrap_or(self.max_table_len()) as usize;
+        self.flash.window().get(start..start + len)
+    }
+
+    /// Whether mount found damaged data (a lost copy) in any slot, as opposed to erased banks.
+    pub fn damaged(&self) -> bool {
+        self.lost.iter().any(Option::is_some)
     }
 
     /// Number of slots.
@@ -186,6 +267,7 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
                 .map_err(fault)?;
             if bank == cur {
                 self.current[slot as usize] = None;
+                self.lost[slot as usize] = None;
             }
         }
         Ok(())
@@ -207,13 +289,55 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
 
     /// The record of a bank if it is intact, belongs there, and the table it names has its CRC.
     fn valid_record(&self, slot: u8, bank: u16) -> Option<Record> {
+        match self.classify(slot, bank) {
+            Bank::Valid(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// Whether the record area of a bank is still erased (nothing was ever committed there).
+    fn record_erased(&self, slot: u8, bank: u16) -> bool {
+        let base = self.bank_base(slot, bank) as usize;
+        self.flash
+            .window()
+            .get(base..base + RECORD_LEN)
+            .is_some_and(|b| b.iter().all(|&x| x == 0xFF))
+    }
+
+    /// What a bank holds: an erased record, a valid commit, or damaged data and why.
+    fn classify(&self, slot: u8, bank: u16) -> Bank {
+        if self.record_erased(slot, bank) {
+            return Bank::Erased;
+        }
+        let damaged = Bank::Damaged(LostCopy {
+            bank,
+            seq: None,
+            len: None,
+            crc: None,
+            reason: LossReason::RecordDamaged,
+        });
         let base = self.bank_base(slot, bank) as usize;
         let window = self.flash.window();
-        let r = Record::decode(window.get(base..base + RECORD_LEN)?)?;
+        let Some(r) = window.get(base..base + RECORD_LEN).and_then(Record::decode) else {
+            return damaged;
+        };
         if r.slot != slot as u16 || r.bank != bank || r.len == 0 || r.len > self.max_table_len() {
-            return None;
+            return damaged;
         }
-        let table = window.get(base + HEADER..base + HEADER + r.len as usize)?;
-        (CRC32.checksum(table) == r.crc).then_some(r)
+        let Some(table) = window.get(base + HEADER..base + HEADER + r.len as usize) else {
+            return damaged;
+        };
+        let actual = CRC32.checksum(table);
+        if actual == r.crc {
+            Bank::Valid(r)
+        } else {
+            Bank::Damaged(LostCopy {
+                bank,
+                seq: Some(r.seq),
+                len: Some(r.len),
+                crc: Some(r.crc),
+                reason: LossReason::TableChecksum { actual },
+            })
+        }
     }
 }

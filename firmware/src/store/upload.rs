@@ -46,6 +46,15 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
         self.flash
             .erase(base, base + F::ERASE_SIZE as u32)
             .map_err(fault)?;
+        // A slot with no valid copy may hold damage in its other bank too: erase that record as well,
+        // so the mark of a lost copy does not come back at the next mount once this upload commits.
+        let other = 1 - bank;
+        if cur.is_none() && !self.record_erased(slot, other) {
+            let at = self.bank_base(slot, other);
+            self.flash
+                .erase(at, at + F::ERASE_SIZE as u32)
+                .map_err(fault)?;
+        }
         self.upload = Some(Upload {
             slot,
             bank,
@@ -182,6 +191,7 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
             return Err(StoreError::Verify { offset: bank_base }.into());
         }
         self.current[u.slot as usize] = Some(record);
+        self.lost[u.slot as usize] = None;
         Ok(SlotInfo {
             slot: u.slot,
             len: u.total,

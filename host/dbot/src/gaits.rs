@@ -1,6 +1,7 @@
-//! `dbot gaits`: what each gait slot of the board holds.
+//! `dbot gaits`: what each gait slot of the board holds, and what a damaged slot lost.
 
 use crate::args::board::BoardArgs;
+use crate::common::slot_health;
 
 /// List the board's gait slots.
 #[derive(Debug, clap::Args)]
@@ -15,15 +16,12 @@ pub struct Args {
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
         let mut s = self.board.connect()?;
-        for slot in s.board.gaits()? {
-            match slot.gait {
-                None => println!("slot {}: empty", slot.slot),
-                Some(g) => println!(
-                    "slot {}: {}",
-                    slot.slot,
-                    crate::common::gait_summary::describe(&g)
-                ),
-            }
+        let slots = s.board.gaits()?;
+        if let Some(line) = slot_health::store_line(&slots) {
+            println!("{line}");
+        }
+        for slot in &slots {
+            println!("{}", slot_health::slot_line(slot));
         }
         s.close()
     }

@@ -86,7 +86,7 @@ impl Args {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
         }
         s.board.set_telemetry(self.every)?;
-        let joints = named_joints(&mut s, table.as_deref())?;
+        let joints = named_joints(&mut s, table.as_deref(), self.play)?;
         if let Some(slot) = self.play {
             let (cmd, gait) = crate::common::playback::play_command(
                 &mut s,
@@ -124,17 +124,25 @@ impl Args {
     }
 }
 
-/// The board's joints named from the setup's model (`LF_ThC1`, ...): by the table's servo IDs, or
-/// without a table by the board's joint-map order (see [`board::record::joint_names`]).
+/// The board's joints named from the setup's model (`LF_ThC1`, ...): by the table's servo IDs;
+/// without a table by the servo IDs the board reports for the slot to be played (or its selected
+/// gait), and only when it knows none by its joint-map order (see [`board::record::joint_names`]).
 fn named_joints(
     s: &mut crate::common::session::Session,
     table: Option<&[u8]>,
+    play: Option<u8>,
 ) -> anyhow::Result<Vec<JointMeta>> {
     let spec = s.setup.model.as_deref().unwrap_or("drosophibot2");
     let model = crate::common::model_spec::load_model(spec)?;
     let table = table.and_then(|b| protocol::GaitTable::parse(b).ok());
     Ok(match &table {
         Some(t) => joints_of_table(t, &joint_names(&model, Some(t), t.joint_count())),
+        None if let Some(ids) = s.board.joint_map(play)? => {
+            board::record::joint_names_by_ids(&model, &ids.servo_ids)
+                .into_iter()
+                .map(JointMeta::named)
+                .collect()
+        }
         None => {
             let count = s.board.settings()?.joints.len();
             joint_names(&model, None, count)

@@ -1,6 +1,8 @@
-//! `dbot status`: the board's state, fault, playback position, upload in progress and counters.
+//! `dbot status`: the board's state, a damaged gait store, fault, playback position, upload in
+//! progress and counters.
 
 use crate::args::board::BoardArgs;
+use crate::common::slot_health;
 use crate::common::words::{direction_name, state_name};
 
 /// Show the board's state and counters.
@@ -29,6 +31,13 @@ impl Args {
             i.table_format_version
         );
         println!("state     {}", state_name(st.state));
+        // The slots as the board found them at start-up (DeviceInfo carries them).
+        if let Some(line) = slot_health::store_line(&i.slots) {
+            println!("store     {}", line.strip_prefix("store ").unwrap_or(&line));
+            for slot in i.slots.iter().filter(|s| s.is_damaged()) {
+                println!("          {}", slot_health::slot_line(slot));
+            }
+        }
         if let Some(f) = st.fault {
             println!("fault     {f}");
         }

@@ -24,6 +24,27 @@ impl GaitHeader {
         table_len(usize::from(self.joint_count), usize::from(self.slice_count)) as u32
     }
 
+    /// The header at the start of `bytes` if its magic and format version hold and its counts are
+    /// in range, without checking the table's CRC: for naming a table that is known to be damaged.
+    pub fn peek(bytes: &[u8]) -> Option<Self> {
+        let b = bytes.get(..super::HEADER_LEN)?;
+        if b[0..4] != super::MAGIC || u16::from_le_bytes([b[4], b[5]]) != super::FORMAT_VERSION {
+            return None;
+        }
+        let mut name = [0u8; NAME_LEN];
+        name.copy_from_slice(&b[20..20 + NAME_LEN]);
+        let h = Self {
+            joint_count: b[6],
+            slice_count: u16::from_le_bytes([b[8], b[9]]),
+            duty: u16::from_le_bytes([b[10], b[11]]),
+            step_period_us: u32::from_le_bytes([b[12], b[13], b[14], b[15]]),
+            name,
+        };
+        let plausible = (1..=crate::MAX_JOINTS).contains(&usize::from(h.joint_count))
+            && (1..=super::MAX_SLICES).contains(&h.slice_count);
+        plausible.then_some(h)
+    }
+
     /// The name up to the first NUL; `None` if those bytes are not UTF-8.
     pub fn name_str(&self) -> Option<&str> {
         let end = self.name.iter().position(|&b| b == 0).unwrap_or(NAME_LEN);

@@ -61,8 +61,65 @@ pub struct GaitSummary {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SlotInfo {
     pub slot: u8,
-    /// `None` when empty.
+    /// The table the slot plays; `None` when it holds no valid table.
     pub gait: Option<GaitSummary>,
+    /// A copy the board found damaged at start-up and does not use: newer than `gait` (the slot
+    /// fell back to the older gait), or of unknown age when its commit record is unreadable. With
+    /// `gait` `None` the slot is damaged, not empty. Cleared by the next committed upload.
+    pub lost: Option<LostCopy>,
+}
+
+impl SlotInfo {
+    /// Whether the slot holds damaged data: it fell back, or has no readable table at all.
+    pub fn is_damaged(&self) -> bool {
+        self.lost.is_some()
+    }
+}
+
+/// Why the board did not use a copy of a slot's table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LossReason {
+    /// The commit record holds, but the table's bytes no longer have the CRC-32 it names.
+    TableChecksum,
+    /// The commit record is damaged (not erased, but unreadable): nothing about the copy is known
+    /// from it, not even whether it was newer.
+    RecordDamaged,
+}
+
+/// A copy of a slot's table the board found damaged (see [`SlotInfo::lost`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LostCopy {
+    /// Commit sequence number of the copy, from its record (`None`: the record is damaged).
+    pub seq: Option<u32>,
+    /// The table's CRC-32 as it carries it in its last 4 bytes (the same number as
+    /// [`GaitSummary::crc`] and `dbot upload` show); `None` when the record is damaged and the
+    /// table's length is unknown. Read from damaged bytes: a hint, not a fact.
+    pub crc: Option<u32>,
+    pub reason: LossReason,
+    /// The lost table's name (NUL-padded) if its first bytes still read as a table header (magic,
+    /// version and counts plausible). The bytes may be damaged too: a hint, not a fact.
+    pub name: Option<[u8; crate::gait::NAME_LEN]>,
+}
+
+impl LostCopy {
+    /// [`LostCopy::name`] up to the first NUL; `None` if unknown or not UTF-8.
+    pub fn name_str(&self) -> Option<&str> {
+        let name = self.name.as_ref()?;
+        let end = name.iter().position(|&b| b == 0).unwrap_or(name.len());
+        core::str::from_utf8(&name[..end]).ok()
+    }
+}
+
+/// Answer to [`crate::Request::GetJointMap`]: the servo ID of each joint of the selected gait.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct JointIds {
+    /// The slot whose table names the joints.
+    pub slot: u8,
+    /// Dynamixel ID of joint 0, 1, ... in the table's order.
+    pub servo_ids: heapless::Vec<u8, { crate::MAX_JOINTS }>,
 }
 
 /// Answer to [`crate::Request::GetDeviceInfo`].

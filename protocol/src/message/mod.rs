@@ -9,7 +9,10 @@ mod request;
 mod status;
 mod stream;
 
-pub use device::{Capabilities, DeviceInfo, FirmwareVersion, GaitSummary, SlotInfo};
+pub use device::{
+    Capabilities, DeviceInfo, FirmwareVersion, GaitSummary, JointIds, LossReason, LostCopy,
+    SlotInfo,
+};
 pub use error::{Fault, FaultKind, ProtocolError, Setting};
 pub use request::{Direction, PlayCommand, Request, ServoSelect, Steps, StreamConfig};
 pub use status::{
@@ -78,4 +81,6 @@ pub enum Response {
     },
     /// The request failed; nothing changed unless the error says otherwise.
     Error(ProtocolError),
+    /// Servo IDs of a table's joints; `None` when the slot is empty or no gait is selected.
+    JointMap(Option<JointIds>),
 }

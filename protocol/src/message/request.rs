@@ -66,6 +66,10 @@ pub enum Request {
     EnterStreaming(StreamConfig),
     /// Leaves streaming mode, holding the last setpoint. Reply: `Ack`.
     LeaveStreaming,
+    /// The servo ID of each joint of the table in `slot`, or with `None` of the selected gait (the
+    /// one playing, last played or last uploaded), so a host that did not upload the table can name
+    /// the joints. Reply: `JointMap`.
+    GetJointMap { slot: Option<u8> },
 }
 
 /// Which servos a command addresses.

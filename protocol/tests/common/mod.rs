@@ -108,6 +108,7 @@ pub fn request() -> impl Strategy<Value = Request> {
             })
         }),
         Just(Request::LeaveStreaming),
+        any::<Option<u8>>().prop_map(|slot| Request::GetJointMap { slot }),
     ]
 }
 
@@ -255,9 +256,38 @@ pub fn fault() -> impl Strategy<Value = Fault> {
     (kind, any::<Option<u8>>()).prop_map(|(kind, joint)| Fault { kind, joint })
 }
 
+pub fn lost_copy() -> impl Strategy<Value = LostCopy> {
+    let reason = prop_oneof![
+        Just(LossReason::TableChecksum),
+        Just(LossReason::RecordDamaged)
+    ];
+    (
+        any::<Option<u32>>(),
+        any::<Option<u32>>(),
+        reason,
+        any::<Option<[u8; protocol::gait::NAME_LEN]>>(),
+    )
+        .prop_map(|(seq, crc, reason, name)| LostCopy {
+            seq,
+            crc,
+            reason,
+            name,
+        })
+}
+
 pub fn slot_info() -> impl Strategy<Value = SlotInfo> {
     let summary = (header(), any::<u32>()).prop_map(|(header, crc)| GaitSummary { header, crc });
-    (any::<u8>(), proptest::option::of(summary)).prop_map(|(slot, gait)| SlotInfo { slot, gait })
+    (
+        any::<u8>(),
+        proptest::option::of(summary),
+        proptest::option::of(lost_copy()),
+    )
+        .prop_map(|(slot, gait, lost)| SlotInfo { slot, gait, lost })
+}
+
+pub fn joint_ids() -> impl Strategy<Value = JointIds> {
+    (any::<u8>(), hvec(any::<u8>(), MAX_JOINTS))
+        .prop_map(|(slot, servo_ids)| JointIds { slot, servo_ids })
 }
 
 pub fn device_info() -> impl Strategy<Value = DeviceInfo> {
@@ -375,6 +405,7 @@ pub fn response() -> impl Strategy<Value = Response> {
         any::<u32>().prop_map(|received| Response::ChunkAccepted { received }),
         (any::<u8>(), any::<u32>()).prop_map(|(slot, crc)| Response::Committed { slot, crc }),
         protocol_error().prop_map(Response::Error),
+        proptest::option::of(joint_ids()).prop_map(Response::JointMap),
     ]
 }
 

@@ -274,6 +274,12 @@ impl<T: Transport> Board<T> {
         Ok(slots.into_iter().collect())
     }
 
+    /// Servo IDs of the joints of the table in `slot`, or of the selected gait with `None`;
+    /// `None` when the slot is empty or nothing is selected.
+    pub fn joint_map(&mut self, slot: Option<u8>) -> Result<Option<protocol::JointIds>, LinkError> {
+        self.call(ep::GetJointMap { slot })
+    }
+
     /// Starts playback.
     pub fn play(&mut self, command: PlayCommand) -> Result<(), LinkError> {
         self.call(command)

@@ -13,5 +13,5 @@ pub use capture::{CaptureError, Ended, Until, capture, capture_while};
 pub use csv_out::{CSV_HEADER, Recorder, Row, TELEMETRY_README};
 pub use gaps::missing_cycles;
 pub use joints::{JointMeta, joints_of_table};
-pub use names::joint_names;
+pub use names::{joint_names, joint_names_by_ids};
 pub use stats::{JointTracking, PhaseStats, phase_stats, tracking};

@@ -29,6 +29,21 @@ pub fn joint_names(model: &Model, table: Option<&GaitTable<'_>>, count: usize) -
         .collect()
 }
 
+/// Names of joints driven by the servos `ids` (the board's joint map, `GetJointMap`): each the
+/// model joint whose servo has that ID, `J<n>` where the model has none.
+pub fn joint_names_by_ids(model: &Model, ids: &[u8]) -> Vec<String> {
+    ids.iter()
+        .enumerate()
+        .map(|(j, &id)| {
+            model
+                .joints
+                .iter()
+                .find(|mj| mj.servo.is_some_and(|s| s.id == id))
+                .map_or_else(|| format!("J{j}"), |mj| mj.name.clone())
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -44,5 +59,21 @@ mod tests {
         assert!(names.iter().all(|n| !n.starts_with('J')));
         // A board with another joint count than the model: no guessing.
         assert_eq!(joint_names(&m, None, 3), ["J0", "J1", "J2"]);
+    }
+
+    #[test]
+    fn names_by_servo_ids_follow_the_model_in_any_order() {
+        let m = builtin("drosophibot2").unwrap();
+        let id_of = |name: &str| {
+            m.joints
+                .iter()
+                .find(|j| j.name == name)
+                .and_then(|j| j.servo)
+                .unwrap()
+                .id
+        };
+        // The board's map in another order than the model's, and an ID no model joint has.
+        let ids = [id_of("RH_FTi"), id_of("LF_ThC1"), 250];
+        assert_eq!(joint_names_by_ids(&m, &ids), ["RH_FTi", "LF_ThC1", "J2"]);
     }
 }

@@ -1,6 +1,7 @@
 //! Helpers that several subcommands use (Ctrl-C handling, whole-file outputs, `--model` specs, the
 //! gait summary line, the Dynamixel default baud, serial-port path checks, the
-//! words for board states, starting and stopping playback, writing a plan directory).
+//! words for board states, starting and stopping playback, writing a plan directory, what a gait
+//! slot lost).
 //! Subcommands share these instead of importing each other; nothing here imports a subcommand.
 
 pub mod baud;
@@ -18,4 +19,5 @@ pub mod plan_output;
 pub mod playback;
 pub mod serial_path;
 pub mod session;
+pub mod slot_health;
 pub mod words;

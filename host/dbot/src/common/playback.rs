@@ -2,15 +2,25 @@
 
 use anyhow::bail;
 use board::link::{Board, LinkError, Transport};
-use protocol::{Direction, GaitSummary, PlayCommand, ProtocolError, Steps};
+use protocol::{Direction, GaitSummary, PlayCommand, ProtocolError, SlotInfo, Steps};
 
 use crate::common::gait_summary::describe;
 use crate::common::session::Session;
+use crate::common::slot_health;
 use crate::common::words::direction_name;
 
+/// A slot about to be played: the gait it holds and what it lost, if anything.
+#[derive(Debug, Clone, Copy)]
+pub struct Stored {
+    pub gait: GaitSummary,
+    pub info: SlotInfo,
+}
+
 /// What is about to be played, in one line: the slot, the gait stored there (name, size, period,
-/// duty, CRC), and how it will be played.
-pub fn announce(slot: u8, gait: &GaitSummary, command: &PlayCommand) -> String {
+/// duty, CRC), and how it will be played; then, for a slot that fell back to an older gait, which
+/// newer gait was lost and why (on its own line, so it is not missed).
+pub fn announce(slot: u8, stored: &Stored, command: &PlayCommand) -> String {
+    let gait = &stored.gait;
     let planned = f64::from(gait.header.step_period_us) * 1e-6;
     let period = planned * f64::from(command.period_scale) / 1000.0;
     let steps = match command.steps {
@@ -18,11 +28,15 @@ pub fn announce(slot: u8, gait: &GaitSummary, command: &PlayCommand) -> String {
         Steps::Count(k) => format!("{k} steps"),
         Steps::Continuous => "steps until stopped".to_owned(),
     };
-    format!(
+    let line = format!(
         "slot {slot}: {}; playing {steps} {} at {period:.3} s per step",
         describe(gait),
         direction_name(command.direction),
-    )
+    );
+    match slot_health::loss(&stored.info) {
+        Some(loss) => format!("{line}\nWARNING slot {slot}: {loss}"),
+        None => line,
+    }
 }
 
 /// The play command for `slot` and the gait stored there: the period (s) becomes a scale of the
@@ -33,9 +47,13 @@ pub fn play_command(
     steps: Option<u32>,
     period: Option<f64>,
     backward: bool,
-) -> anyhow::Result<(PlayCommand, GaitSummary)> {
+) -> anyhow::Result<(PlayCommand, Stored)> {
     let gaits = s.board.gaits()?;
-    let Some(gait) = gaits.iter().find(|g| g.slot == slot).and_then(|g| g.gait) else {
+    let info = gaits.iter().find(|g| g.slot == slot).copied();
+    let Some((gait, info)) = info.and_then(|i| Some((i.gait?, i))) else {
+        if let Some(loss) = info.as_ref().and_then(slot_health::loss) {
+            bail!("slot {slot} holds no readable gait: {loss}; upload a table again");
+        }
         bail!(
             "slot {slot} is empty (the board has slots 0..{}); upload a table first",
             gaits.len()
@@ -67,7 +85,7 @@ pub fn play_command(
         period_scale,
         steps: steps.map_or(Steps::Continuous, Steps::Count),
     };
-    Ok((command, gait))
+    Ok((command, Stored { gait, info }))
 }
 
 /// Asks the board to stop walking at the end of the step. A board that refuses because it is not
