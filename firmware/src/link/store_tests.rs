@@ -31,16 +31,9 @@ fn ask(link: &mut Link, c: &RefCell<Ctl>, client: &mut Client, request: Request)
     }
 }
 
-/// The synthetic gait of `slices` slices, renamed to `name` (its trailing CRC recomputed).
+/// The synthetic gait of `slices` slices, named `name`.
 fn named(slices: usize, name: &str) -> Vec<u8> {
-    let mut t = SyntheticGait::new(slices, 1.0).build();
-    t[20..36].fill(0);
-    t[20..20 + name.len()].copy_from_slice(name.as_bytes());
-    let n = t.len() - 4;
-    let crc = protocol::crc32::checksum(&t[..n]);
-    t[n..].copy_from_slice(&crc.to_le_bytes());
-    assert!(protocol::GaitTable::parse(&t).is_ok());
-    t
+    SyntheticGait::new(slices, 1.0).build_named(name)
 }
 
 fn upload(link: &mut Link, c: &RefCell<Ctl>, client: &mut Client, slot: u8, table: &[u8]) {

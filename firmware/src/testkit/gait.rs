@@ -59,9 +59,14 @@ impl SyntheticGait {
         0.3 * (2.0 * PI * slice as f64 / self.slices as f64 + 0.5 * joint as f64).cos()
     }
 
-    /// The table bytes.
+    /// The table bytes, named "synthetic".
     pub fn build(&self) -> Vec<u8> {
-        let mut b = GaitTableBuilder::new("synthetic", self.period_s, 0.5, self.joints.clone());
+        self.build_named("synthetic")
+    }
+
+    /// The table bytes with the gait name `name` in the header (tests that tell gaits apart).
+    pub fn build_named(&self, name: &str) -> Vec<u8> {
+        let mut b = GaitTableBuilder::new(name, self.period_s, 0.5, self.joints.clone());
         for s in 0..self.slices {
             let angles: Vec<f64> = (0..JOINTS).map(|j| self.angle(s, j)).collect();
             let torques: Vec<f64> = (0..JOINTS).map(|j| self.torque(s, j)).collect();

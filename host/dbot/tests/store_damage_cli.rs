@@ -10,16 +10,10 @@ use std::path::Path;
 use board_fakes::cli::{run, strings};
 use firmware::testkit::SyntheticGait;
 
-/// The synthetic gait of `slices` slices named `name` (its trailing CRC recomputed), written to
-/// `dir/file`; returns the path and the bytes.
+/// The synthetic gait of `slices` slices named `name`, written to `dir/file`; returns the path and
+/// the bytes.
 fn named_table(dir: &Path, file: &str, slices: usize, name: &str) -> (String, Vec<u8>) {
-    let mut t = SyntheticGait::new(slices, 0.5).build();
-    t[20..36].fill(0);
-    t[20..20 + name.len()].copy_from_slice(name.as_bytes());
-    let n = t.len() - 4;
-    let crc = protocol::crc32::checksum(&t[..n]);
-    t[n..].copy_from_slice(&crc.to_le_bytes());
-    assert!(protocol::GaitTable::parse(&t).is_ok());
+    let t = SyntheticGait::new(slices, 0.5).build_named(name);
     let p = dir.join(file);
     std::fs::write(&p, &t).unwrap();
     (p.display().to_string(), t)
