@@ -35,7 +35,8 @@ enum ModelCmd {
         #[command(flatten)]
         springs: crate::spring_args::SpringArgs,
         /// MJCF (MuJoCo) output file: the model standing in the planner's resting posture, with
-        /// servo actuators, foot spheres and the terrain of --scene.
+        /// servo actuators, foot spheres and the terrain of --scene. Timestep 0.5 ms, or less
+        /// when the model's stiffest actuated joint would ring at that (said when it happens).
         #[arg(long)]
         mjcf: Option<PathBuf>,
         /// MJCF scene: flat, incline:DEG, ball[:R[:OFFSET]] (thorax held, ball spinning, as in the
@@ -69,8 +70,9 @@ impl Args {
                     );
                 }
                 if let Some(p) = mjcf {
-                    let options = model::MjcfOptions::stance(&m, &scene)
+                    let mut options = model::MjcfOptions::stance(&m, &scene)
                         .with_context(|| format!("--scene {scene} for model {}", m.name))?;
+                    stable_timestep(&m, &mut options)?;
                     let xml = model::to_mjcf(&m, &options);
                     replace_file(&p, |f| Ok(std::fs::write(f, &xml)?))?;
                 }
@@ -123,4 +125,34 @@ impl Args {
             }
         }
     }
+}
+
+/// Lowers `options`' timestep to one at which the model's stiffest actuated joint does not ring
+/// (`physics::stiffest_joint`: omega dt under the limit the physics robot enforces), rounded down
+/// to one significant digit, and says so: the scale fly's 3.8e-8 N m/rad on 5e-15 kg m^2 rings
+/// at 2740 rad/s, far too fast for the default 0.5 ms.
+fn stable_timestep(m: &model::Model, options: &mut model::MjcfOptions) -> Result<()> {
+    let Some(s) = physics::stiffest_joint(m, options)? else {
+        return Ok(());
+    };
+    let stable = s.stable_timestep_s();
+    if options.timestep_s <= stable {
+        return Ok(());
+    }
+    let decade = 10f64.powf(stable.log10().floor());
+    let dt = (stable / decade).floor() * decade;
+    println!(
+        "{}: MJCF timestep {} ms, not the default {} ms: joint {}'s actuator ({:.3e} N m/rad on \
+         {:.3e} kg m^2) rings at {:.0} rad/s, and MuJoCo is stable below {:.3} ms",
+        m.name,
+        dt * 1e3,
+        options.timestep_s * 1e3,
+        s.joint,
+        s.kp,
+        s.inertia,
+        s.omega_rad_s,
+        stable * 1e3
+    );
+    options.timestep_s = dt;
+    Ok(())
 }

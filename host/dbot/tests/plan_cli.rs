@@ -100,3 +100,53 @@ fn model_export_urdf() {
     assert!(robot.links.iter().any(|l| l.name == "LF_tip"));
     assert!(robot.joints.iter().any(|j| j.name == "LF_ThC1"));
 }
+
+/// The `timestep` attribute of an MJCF file, s.
+fn mjcf_timestep(path: &std::path::Path) -> f64 {
+    let xml = std::fs::read_to_string(path).unwrap();
+    let at = xml.find("timestep=\"").expect("an <option timestep>") + "timestep=\"".len();
+    xml[at..at + xml[at..].find('"').unwrap()].parse().unwrap()
+}
+
+#[test]
+fn model_export_mjcf_writes_a_timestep_at_which_the_model_does_not_ring() {
+    let dir = tempfile::tempdir().unwrap();
+    // The robot: its stiffest joint rings at about 63 rad/s, far inside 0.5 ms (omega dt 0.03).
+    let robot = dir.path().join("robot.xml");
+    let o = dbot(&[
+        "model",
+        "export",
+        "--model",
+        "drosophibot2",
+        "--mjcf",
+        robot.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(mjcf_timestep(&robot), 5e-4);
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // The fly: 3.8e-8 N m/rad on 5.06e-15 kg m^2 rings at sqrt(3.8e-8 / 5.06e-15) = 2740 rad/s;
+    // omega dt <= 0.3 needs dt <= 0.109 ms, rounded down to 0.1 ms, and the export says why.
+    let fly = dir.path().join("fly.xml");
+    let o = dbot(&[
+        "model",
+        "export",
+        "--model",
+        "scale-drosophila",
+        "--mjcf",
+        fly.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!((mjcf_timestep(&fly) - 1e-4).abs() < 1e-12);
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        said.contains("scale-drosophila")
+            && said.contains("0.1 ms")
+            && said.contains("2740 rad/s")
+            && said.contains("stable below 0.109 ms"),
+        "{said}"
+    );
+}

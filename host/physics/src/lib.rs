@@ -12,6 +12,7 @@ mod figures;
 mod plant;
 mod robot;
 pub mod servo;
+mod timestep;
 mod transport;
 mod walk_log;
 
@@ -19,5 +20,6 @@ pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
+pub use timestep::{Stiffest, stiffest_joint};
 pub use transport::{open, register_port};
 pub use walk_log::{WalkLog, WalkSample};

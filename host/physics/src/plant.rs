@@ -11,6 +11,7 @@ use planner::model::{Actuation, Leg, MjcfOptions, Model, ServoMap, servo_actuato
 
 use crate::error::PhysicsError;
 use crate::servo;
+use crate::timestep::check_timestep;
 
 /// Time over which gravity reaches its full value, s.
 pub const GRAVITY_RAMP_S: f64 = 1.0;
@@ -289,46 +290,5 @@ impl Plant {
             self.data.xpos()[self.thorax],
             self.data.xquat()[self.thorax],
         )
-    }
-}
-
-/// Refuses a timestep at which an actuator's spring on its joint's inertia is unstable or rings
-/// ([`MAX_OMEGA_DT`]), naming the stiffest joint and the largest stable timestep.
-fn check_timestep(model: &Model, data: &MjData<Box<MjModel>>) -> Result<(), PhysicsError> {
-    let m = data.model();
-    let nv = m.ffi().nv as usize;
-    let mut full = vec![0.0; nv * nv];
-    data.full_m(&mut full).map_err(|e| PhysicsError::Load {
-        model: model.name.clone(),
-        message: format!("mass matrix: {e}"),
-    })?;
-    let mut worst: Option<(usize, f64, f64, f64)> = None;
-    for a in 0..m.ffi().nu as usize {
-        let jid = m.actuator_trnid()[a][0] as usize;
-        let dof = m.jnt_dofadr()[jid] as usize;
-        let kp = m.actuator_gainprm()[a][0];
-        let inertia = full[dof * nv + dof];
-        let omega = (kp / inertia).sqrt();
-        if worst.is_none_or(|w| omega > w.1) {
-            worst = Some((jid, omega, kp, inertia));
-        }
-    }
-    let dt = m.opt().timestep;
-    match worst {
-        Some((jid, omega, kp, inertia)) if omega * dt > MAX_OMEGA_DT => {
-            Err(PhysicsError::Timestep {
-                model: model.name.clone(),
-                joint: m
-                    .id_to_name(MjtObjBase::mjOBJ_JOINT, jid)
-                    .unwrap_or("?")
-                    .to_owned(),
-                timestep_ms: dt * 1e3,
-                kp,
-                inertia,
-                omega_rad_s: omega,
-                stable_ms: MAX_OMEGA_DT / omega * 1e3,
-            })
-        }
-        _ => Ok(()),
     }
 }
