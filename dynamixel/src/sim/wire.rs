@@ -154,18 +154,20 @@ impl SimWire {
             // unless a servo queues a reply (then the future looks at once, as before); a
             // deadline ends the burst early. Waking per echoed byte was most of the executor's
             // time in the physics robot (docs/performance.md).
-            loop {
-                // Only future events: bytes already due may sit unread while the future waits on a timer.
-                let now = s.now_ns;
-                let byte_ns = s.byte_ns();
-                let mut next_to_master = None;
-                for t in s.to_master.iter().map(|b| b.0).skip_while(|&t| t <= now) {
-                    match next_to_master {
-                        Some(end) if t > end + byte_ns => break,
-                        _ => next_to_master = Some(t),
-                    }
+            // Only future events: bytes already due may sit unread while the future waits on a timer.
+            let now = s.now_ns;
+            let byte_ns = s.byte_ns();
+            let mut next_to_master = None;
+            let first = s.to_master.partition_point(|b| b.0 <= now);
+            for t in s.to_master.range(first..).map(|b| b.0) {
+                match next_to_master {
+                    Some(end) if t > end + byte_ns => break,
+                    _ => next_to_master = Some(t),
                 }
-                let wake = [next_to_master, s.timer_ns].into_iter().flatten().min();
+            }
+            // The burst's end stays the same while the servos hear bytes and queue no reply.
+            let wake = [next_to_master, s.timer_ns].into_iter().flatten().min();
+            loop {
                 match (s.to_servos.front().map(|b| b.0), wake) {
                     (Some(t), w) if w.is_none_or(|w| t < w) => {
                         let queued = s.to_master.len();
