@@ -150,3 +150,51 @@ fn an_external_plant_sets_what_the_servo_reports_and_its_own_motor_stays_still()
     assert_eq!(s.get(ct::PRESENT_VELOCITY) as i32, -10);
     assert_eq!(s.get(ct::PRESENT_LOAD_OR_CURRENT) as u16 as i16, 500);
 }
+
+/// Counts how often the executor polls the future it wraps.
+struct CountPolls<'a, F> {
+    inner: core::pin::Pin<&'a mut F>,
+    polls: &'a core::cell::Cell<u32>,
+}
+
+impl<F: core::future::Future> core::future::Future for CountPolls<'_, F> {
+    type Output = F::Output;
+    fn poll(
+        mut self: core::pin::Pin<&mut Self>,
+        cx: &mut core::task::Context<'_>,
+    ) -> core::task::Poll<F::Output> {
+        self.polls.set(self.polls.get() + 1);
+        self.inner.as_mut().poll(cx)
+    }
+}
+
+#[test]
+fn echoed_bytes_wake_the_master_once_per_burst_not_once_per_byte() {
+    let (wire, mut m) = bus();
+    let goals: Vec<Goal> = (1..=6).map(|id| Goal { id, position: 2048 }).collect();
+    let mut replies = vec![Err(ReplyFault::Timeout); 6];
+    let polls = core::cell::Cell::new(0);
+    let (sent_before, _) = wire.byte_counts();
+    {
+        let fut = core::pin::pin!(m.cycle(&goals, &mut replies));
+        wire.block_on(CountPolls {
+            inner: fut,
+            polls: &polls,
+        })
+        .unwrap();
+    }
+    let sent = wire.byte_counts().0 - sent_before;
+    for r in &replies {
+        assert!(matches!(r, Ok(f) if f.position == 2048), "{r:?}");
+    }
+    // Each byte the master sends comes back as its echo at the moment the servos hear it. Before,
+    // every one of them woke the master's future; now a request's echo is one burst (one wake at
+    // its last byte) and each reply one more, so a cycle wakes a handful of times per packet
+    // (measured: 4 polls for this cycle's 64 bytes; 67 with a wake per echoed byte).
+    assert!(sent > 60, "the cycle's requests are {sent} bytes");
+    assert!(
+        u64::from(polls.get()) * 4 < sent,
+        "{} polls for {sent} bytes sent: one wake per echoed byte",
+        polls.get()
+    );
+}

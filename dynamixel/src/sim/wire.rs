@@ -147,29 +147,43 @@ impl SimWire {
                 return v;
             }
             let mut s = self.state.borrow_mut();
+            // A burst of bytes back to back toward the master (a reply, a chain of replies, the
+            // master's own echo) wakes the future once, at its last byte, instead of once per
+            // byte: the bytes keep their times, so the master sees the same bytes by then. Bytes
+            // reaching the servos inside the burst are processed without waking the future
+            // unless a servo queues a reply (then the future looks at once, as before); a
+            // deadline ends the burst early. Waking per echoed byte was most of the executor's
+            // time in the physics robot (docs/performance.md).
             // Only future events: bytes already due may sit unread while the future waits on a timer.
             let now = s.now_ns;
-            // A burst of bytes back to back toward the master (a reply, a chain of replies)
-            // wakes the future once, at its last byte, instead of once per byte: the bytes keep
-            // their times and nothing else can happen in between (a byte toward the servos or a
-            // deadline ends the burst early), so the master sees the same bytes by then.
             let byte_ns = s.byte_ns();
             let mut next_to_master = None;
-            for t in s.to_master.iter().map(|b| b.0).skip_while(|&t| t <= now) {
+            let first = s.to_master.partition_point(|b| b.0 <= now);
+            for t in s.to_master.range(first..).map(|b| b.0) {
                 match next_to_master {
                     Some(end) if t > end + byte_ns => break,
                     _ => next_to_master = Some(t),
                 }
             }
-            let next = [next_to_master, s.to_servos.front().map(|b| b.0), s.timer_ns]
-                .into_iter()
-                .flatten()
-                .min();
-            match next {
-                Some(t) => s.run_until(t),
-                None => panic!(
-                    "simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"
-                ),
+            // The burst's end stays the same while the servos hear bytes and queue no reply.
+            let wake = [next_to_master, s.timer_ns].into_iter().flatten().min();
+            loop {
+                match (s.to_servos.front().map(|b| b.0), wake) {
+                    (Some(t), w) if w.is_none_or(|w| t < w) => {
+                        let queued = s.to_master.len();
+                        s.run_until(t);
+                        if s.to_master.len() != queued {
+                            break;
+                        }
+                    }
+                    (_, Some(t)) => {
+                        s.run_until(t);
+                        break;
+                    }
+                    (_, None) => panic!(
+                        "simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"
+                    ),
+                }
             }
         }
     }
