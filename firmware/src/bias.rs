@@ -4,8 +4,8 @@
 //! the joint's limits. Units: angles in microradians, torques in mN m, stiffness in mN m / rad.
 //! Angle -> ticks is the protocol's [`Calibration`], the same converter the host builds tables with.
 
-use protocol::Calibration;
 use protocol::units::div_round;
+use protocol::{Calibration, ServoModel};
 
 /// Where a joint's servo sits and how far it may go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -13,6 +13,9 @@ use protocol::units::div_round;
 pub struct JointCal {
     /// Dynamixel ID.
     pub id: u8,
+    /// Servo model: its Position P Gain for the joint's stiffness
+    /// (`dynamixel::units::p_gain_for_stiffness`).
+    pub model: ServoModel,
     /// Angle <-> ticks (zero, direction, ticks per turn).
     pub calibration: Calibration,
     /// Lowest allowed goal, in ticks.
@@ -46,7 +49,7 @@ pub fn goal_ticks(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use protocol::{ServoModel, Sign};
+    use protocol::Sign;
 
     fn calibration(zero_ticks: i32, sign: i8) -> Calibration {
         let sign = if sign < 0 {
@@ -89,6 +92,7 @@ mod tests {
     fn hand_calculated_cases() {
         let cal = JointCal {
             id: 1,
+            model: ServoModel::Mx28,
             calibration: calibration(2048, 1),
             min_ticks: 0,
             max_ticks: 4095,
@@ -119,6 +123,7 @@ mod tests {
             let min = rng.range(0, 2047) as i32;
             let cal = JointCal {
                 id: 1,
+                model: ServoModel::Mx28,
                 calibration: calibration(
                     rng.range(0, 4095) as i32,
                     if rng.next() & 1 == 0 { 1 } else { -1 },
