@@ -3,6 +3,12 @@
 //! k, so goal = angle + torque / k, then into ticks with the joint's zero offset and sign, clamped to
 //! the joint's limits. Units: angles in microradians, torques in mN m, stiffness in mN m / rad.
 //! Angle -> ticks is the protocol's [`Calibration`], the same converter the host builds tables with.
+//!
+//! k is the joint's stiffness (the table's, or `SetStiffness`), and the controller makes it the
+//! servo's too: it writes the servo's Position P Gain from k (`dynamixel::units::p_gain_for_stiffness`,
+//! at torque-on and after every change; `controller::BusAction::WriteGains`), so the bias divides by
+//! the stiffness the servo has, to within half a P unit (0.007 N m/rad on an MX-28). Stiffness 0
+//! switches the bias off and leaves the servo's gain as it is (P = 0 would make it limp).
 
 use protocol::units::div_round;
 use protocol::{Calibration, ServoModel};
