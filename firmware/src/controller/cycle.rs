@@ -1,5 +1,6 @@
 //! One bus cycle as the controller sees it: what to do on the bus next (ramp, gait clock, streaming,
-//! torque) and the state machine events that move it; `feedback.rs` takes the results.
+//! torque, the servos' P gains) and the state machine events that move it; `feedback.rs` takes the
+//! results.
 
 use dynamixel::master::{BusError, CycleStats, Goal};
 use dynamixel::units::p_gain_for_stiffness;
@@ -94,7 +95,7 @@ impl CyclePlan {
 /// What came of a bus action.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Outcome {
-    /// A Cycle or ReadOnly: statistics (replies are passed alongside).
+    /// A Cycle, ReadOnly or WriteGains: statistics (replies are passed alongside).
     Feedback(Result<CycleStats, BusError>),
     /// TorqueOn, TorqueOff, Reboot or Nothing. (WriteGains gives `Feedback`: its gain write failing
     /// is `Feedback(Err)` without the cycle.)
