@@ -80,3 +80,18 @@ pub fn torque_to_load(model: ServoModel, torque_nm: f32) -> i16 {
 pub fn stiffness_nm_per_rad(model: ServoModel, p_gain: u16) -> f32 {
     p_gain as f32 * model.stiffness_per_p_gain()
 }
+
+/// Highest Position P Gain register value (MX(2.0) e-manual: 0 to 16383).
+pub const P_GAIN_MAX: u16 = 16_383;
+
+/// Position P Gain register value whose stiffness ([`stiffness_nm_per_rad`], same ESTIMATE) is
+/// nearest `stiffness_nm_per_rad`: the inverse of that one conversion. A positive stiffness gives at
+/// least 1 (never the limp servo of P = 0); 0, negative or NaN gives 0, above the register's range
+/// [`P_GAIN_MAX`]. MX-28: 1 unit = 0.0144 N m/rad, so 12.23 N m/rad -> 850.
+pub fn p_gain_for_stiffness(model: ServoModel, stiffness_nm_per_rad: f32) -> u16 {
+    if stiffness_nm_per_rad.is_nan() || stiffness_nm_per_rad <= 0.0 {
+        return 0;
+    }
+    let p = round_i32(stiffness_nm_per_rad / model.stiffness_per_p_gain());
+    p.clamp(1, i32::from(P_GAIN_MAX)) as u16
+}

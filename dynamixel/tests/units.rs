@@ -37,6 +37,33 @@ fn stiffness_from_p_gain() {
 }
 
 #[test]
+fn p_gain_for_stiffness_inverts_the_stiffness_conversion() {
+    // Hand: 1 P unit = (1/128)/885 x stall torque x 4096/(2 pi) = 0.014387 N m/rad (MX-28, 2.5 N m)
+    // and 0.034529 N m/rad (MX-64, 6.0 N m). 8.4 / 0.014387 = 583.86 -> 584; 20 / 0.034529 =
+    // 579.23 -> 579; 12.23 / 0.014387 = 850.08 -> 850 (the default gain).
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, 8.4), 584);
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx64, 20.0), 579);
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, 12.23), 850);
+    // No stiffness is no gain; a tiny one is the smallest gain, never the limp 0; a huge one the
+    // register's top (e-manual range 0..16383).
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, 0.0), 0);
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, -1.0), 0);
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, f32::NAN), 0);
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, 0.001), 1);
+    assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, 1000.0), P_GAIN_MAX);
+    assert_eq!(P_GAIN_MAX, 16_383);
+    // Round trip: every register value comes back from its own stiffness.
+    for model in [ServoModel::Mx28, ServoModel::Mx64] {
+        for p in 1..=P_GAIN_MAX {
+            assert_eq!(
+                p_gain_for_stiffness(model, stiffness_nm_per_rad(model, p)),
+                p
+            );
+        }
+    }
+}
+
+#[test]
 fn control_table_lookups() {
     assert_eq!(field_by_name("goal_position"), Some(GOAL_POSITION));
     assert_eq!(

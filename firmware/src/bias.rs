@@ -3,9 +3,15 @@
 //! k, so goal = angle + torque / k, then into ticks with the joint's zero offset and sign, clamped to
 //! the joint's limits. Units: angles in microradians, torques in mN m, stiffness in mN m / rad.
 //! Angle -> ticks is the protocol's [`Calibration`], the same converter the host builds tables with.
+//!
+//! k is the joint's stiffness (the table's, or `SetStiffness`), and the controller makes it the
+//! servo's too: it writes the servo's Position P Gain from k (`dynamixel::units::p_gain_for_stiffness`,
+//! at torque-on and after every change; `controller::BusAction::WriteGains`), so the bias divides by
+//! the stiffness the servo has, to within half a P unit (0.007 N m/rad on an MX-28). Stiffness 0
+//! switches the bias off and leaves the servo's gain as it is (P = 0 would make it limp).
 
-use protocol::Calibration;
 use protocol::units::div_round;
+use protocol::{Calibration, ServoModel};
 
 /// Where a joint's servo sits and how far it may go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -13,6 +19,9 @@ use protocol::units::div_round;
 pub struct JointCal {
     /// Dynamixel ID.
     pub id: u8,
+    /// Servo model: its Position P Gain for the joint's stiffness
+    /// (`dynamixel::units::p_gain_for_stiffness`).
+    pub model: ServoModel,
     /// Angle <-> ticks (zero, direction, ticks per turn).
     pub calibration: Calibration,
     /// Lowest allowed goal, in ticks.
@@ -46,7 +55,7 @@ pub fn goal_ticks(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use protocol::{ServoModel, Sign};
+    use protocol::Sign;
 
     fn calibration(zero_ticks: i32, sign: i8) -> Calibration {
         let sign = if sign < 0 {
@@ -89,6 +98,7 @@ mod tests {
     fn hand_calculated_cases() {
         let cal = JointCal {
             id: 1,
+            model: ServoModel::Mx28,
             calibration: calibration(2048, 1),
             min_ticks: 0,
             max_ticks: 4095,
@@ -119,6 +129,7 @@ mod tests {
             let min = rng.range(0, 2047) as i32;
             let cal = JointCal {
                 id: 1,
+                model: ServoModel::Mx28,
                 calibration: calibration(
                     rng.range(0, 4095) as i32,
                     if rng.next() & 1 == 0 { 1 } else { -1 },

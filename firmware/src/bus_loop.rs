@@ -5,7 +5,9 @@
 
 use core::cell::RefCell;
 
-use dynamixel::control_table::{GOAL_POSITION, HARDWARE_ERROR_STATUS, TORQUE_ENABLE};
+use dynamixel::control_table::{
+    GOAL_POSITION, HARDWARE_ERROR_STATUS, POSITION_P_GAIN, TORQUE_ENABLE,
+};
 use dynamixel::master::{BusError, BusMaster, Clock, DirectionPin, Reply, ReplyFault};
 use embedded_io_async::{Read, ReadReady, Write};
 use embedded_storage::nor_flash::NorFlash;
@@ -141,11 +143,18 @@ where
             }
             let goals = plan.goals().iter().zip(&bytes).map(|(g, b)| (g.id, &b[..]));
             let r = match bus.sync_write(GOAL_POSITION.addr, 4, goals).await {
-                Ok(()) => torque(bus, ids, 1).await,
+                Ok(()) => match write_gains(plan, bus).await {
+                    Ok(()) => torque(bus, ids, 1).await,
+                    Err(e) => Err(e),
+                },
                 Err(e) => Err(e),
             };
             Outcome::Done(r)
         }
+        BusAction::WriteGains => match write_gains(plan, bus).await {
+            Ok(()) => Outcome::Feedback(bus.cycle(plan.goals(), replies).await),
+            Err(e) => Outcome::Feedback(Err(e)),
+        },
         BusAction::TorqueOff => Outcome::Done(torque(bus, ids, 0).await),
         BusAction::Reboot { joints } => {
             let mut result = Ok(());
@@ -169,6 +178,29 @@ where
             Outcome::HardwareError(r.map(|_| bits[0]))
         }
     }
+}
+
+/// Sync Write of the plan's Position P Gains (joints with stiffness 0 left out; none: no packet).
+async fn write_gains<IO, D, C>(
+    plan: &CyclePlan,
+    bus: &mut BusMaster<IO, D, C>,
+) -> Result<(), BusError>
+where
+    IO: Read + ReadReady + Write,
+    D: DirectionPin,
+    C: Clock,
+{
+    if plan.gain_writes().next().is_none() {
+        return Ok(());
+    }
+    let mut bytes = [(0u8, [0u8; 2]); MAX_JOINTS];
+    let mut n = 0;
+    for (b, (id, p)) in bytes.iter_mut().zip(plan.gain_writes()) {
+        *b = (id, p.to_le_bytes());
+        n += 1;
+    }
+    let entries = bytes[..n].iter().map(|(id, b)| (*id, &b[..]));
+    bus.sync_write(POSITION_P_GAIN.addr, 2, entries).await
 }
 
 async fn torque<IO, D, C>(bus: &mut BusMaster<IO, D, C>, ids: &[u8], on: u8) -> Result<(), BusError>

@@ -47,6 +47,7 @@ pub fn check(bytes: &[u8]) -> Result<Checked, TableError> {
         let b = calibration.angle_to_ticks(m.max.into());
         let cal = JointCal {
             id: m.servo_id,
+            model: m.model,
             calibration,
             min_ticks: a.min(b),
             max_ticks: a.max(b),

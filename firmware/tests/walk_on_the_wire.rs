@@ -50,7 +50,7 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     // constant of about 35 ms): its position is the goal of a few cycles ago. Past the first step
     // (catching up), find per servo the delay that fits best and what is left over.
     for j in 0..JOINTS {
-        let (delay, rms) = (0..10)
+        let (delay, rms) = (0..16)
             .map(|d| {
                 let e: f64 = (100..cycles)
                     .map(|k| f64::from(pos[j][k] - goal[j][k - d]).powi(2))
@@ -71,15 +71,26 @@ fn ten_steps_with_all_22_virtual_servos_following() {
              swing {swing} of {planned} ticks",
             j + 1
         );
-        // Through the commanded range (within 10 %), 20 to 60 ms behind, within 1 degree of the
-        // delayed goal (11 ticks rms).
+        // The servo's P gain is the table's stiffness (8.4 N m/rad, written at torque-on), so its
+        // lag is the chain's tau_stall / (omega_0 k): MX-28 2.5 / (5.76 x 8.4) = 52 ms, MX-64
+        // 6.0 / (6.60 x 8.4) = 108 ms. MX-28: through the commanded range (within 10 %), 20 to 60 ms
+        // behind, within 1 degree of the delayed goal (11 ticks rms). MX-64: a first-order lag of
+        // 108 ms passes the 1 Hz gait at 1 / sqrt(1 + (2 pi 0.108)^2) = 83 % of its swing, so
+        // within 20 %, 70 to 120 ms behind, and 40 ticks rms (measured 9 cycles, 32.4 ticks, 435 to
+        // 458 of 524 ticks: this test's output with --no-capture).
+        let mx64 = gait.joints[j].model == protocol::ServoModel::Mx64;
+        let (swing_tol, delays, rms_max) = if mx64 {
+            (0.2, 7..=12, 40.0)
+        } else {
+            (0.1, 2..=6, 11.0)
+        };
         assert!(
-            f64::from((swing - planned).abs()) <= 0.1 * f64::from(planned),
+            f64::from((swing - planned).abs()) <= swing_tol * f64::from(planned),
             "servo {}: swing {swing} vs commanded {planned}",
             j + 1
         );
-        assert!((2..=6).contains(&delay), "servo {} delay {delay}", j + 1);
-        assert!(rms <= 11.0, "servo {} rms {rms:.1} ticks", j + 1);
+        assert!(delays.contains(&delay), "servo {} delay {delay}", j + 1);
+        assert!(rms <= rms_max, "servo {} rms {rms:.1} ticks", j + 1);
     }
     drop(c);
     // Standing: every servo settles on the goal of slice 0.

@@ -13,6 +13,8 @@ const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 const SLICES: usize = 40;
 const AMP_RAD: f64 = 0.2;
 const TORQUE_NM: f64 = 1.0;
+/// IDs of the gait's MX-64 servos (`hil_tests::gait`: the CTr joints).
+const MX64_IDS: [usize; 6] = [3, 6, 9, 14, 17, 20];
 /// Half a servo position tick in rad.
 const HALF_TICK: f64 = std::f64::consts::PI / 4096.0;
 
@@ -59,44 +61,62 @@ fn walks_10_steps_forward_and_10_backward_following_the_biased_targets() -> Resu
             }
         }
         // Following: every servo's present position traces its goals, allowing for the servo's
-        // response time: the RMS of present(k) - goal(k - d) over all joints, at the best delay d
-        // of 0..=10 cycles (records are consecutive cycles, telemetry every cycle).
+        // response time: the RMS of present(k) - goal(k - d) over a model's joints, at its best
+        // delay d of 0..=15 cycles (records are consecutive cycles, telemetry every cycle).
         let consecutive = walking.windows(2).all(|w| w[1].cycle == w[0].cycle + 1);
         ensure!(consecutive, "{name}: telemetry skipped cycles");
-        let rms_at = |d: usize| {
-            let (mut sq, mut n) = (0.0, 0usize);
-            for k in d..walking.len() {
-                for (now, goal) in walking[k].joints.iter().zip(&walking[k - d].joints) {
-                    sq += (f64::from(now.present) - f64::from(goal.commanded)).powi(2) * 1e-8;
-                    n += 1;
-                }
-            }
-            (sq / n as f64).sqrt()
-        };
-        let (delay, rms) = (0..=10)
-            .map(|d| (d, rms_at(d)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .unwrap();
-        println!(
-            "{name}: {} records ({} while walking); goals outside the biased targets by at most \
-             {off_target:.5} rad; present follows the goal {delay} cycles late with RMS error \
-             {rms:.4} rad (RMS {:.4} rad without the delay)",
-            tele.len(),
-            walking.len(),
-            rms_at(0)
-        );
         ensure!(
             off_target == 0.0,
             "{name}: a goal left its biased target by {off_target:.5} rad"
         );
-        ensure!(
-            delay <= 5,
-            "{name}: servos follow {delay} cycles late (more than 50 ms)"
-        );
-        ensure!(
-            rms < 0.02,
-            "{name}: servos miss their delayed goals by {rms:.4} rad RMS"
-        );
+        // The firmware writes each servo's P gain from the table's stiffness (10 N m/rad) at
+        // torque-on, so each model lags as the chain's first-order servo at that stiffness:
+        // tau = stall torque / (no-load speed x k), MX-28 2.5 / (5.76 x 10) = 43 ms, MX-64
+        // 6.0 / (6.60 x 10) = 91 ms. Each model is checked at its own best delay. Hand: a lag tau
+        // passes the 0.6 s step's sine (w = 10.47 rad/s, amplitude 0.2 rad) at
+        // 1 / sqrt(1 + (w tau)^2), MX-28 0.912, MX-64 0.724; after the delay the miss is the lost
+        // amplitude, RMS 0.2 (1 - ratio) / sqrt 2 = 0.0125 and 0.039 rad. Measured (this test's
+        // output): 5 cycles, 0.0139 rad and 8 cycles, 0.0387 rad. Bounds 0.02 (as before the gains
+        // were written) and 0.05 rad.
+        for (model, mx64, max_delay, max_rms) in
+            [("MX-28", false, 5, 0.02), ("MX-64", true, 10, 0.05)]
+        {
+            let is_model = |j: usize| MX64_IDS.contains(&(j + 1)) == mx64;
+            let rms_at = |d: usize| {
+                let (mut sq, mut n) = (0.0, 0usize);
+                for k in d..walking.len() {
+                    let pairs = walking[k].joints.iter().zip(&walking[k - d].joints);
+                    for (j, (now, goal)) in pairs.enumerate() {
+                        if is_model(j) {
+                            sq +=
+                                (f64::from(now.present) - f64::from(goal.commanded)).powi(2) * 1e-8;
+                            n += 1;
+                        }
+                    }
+                }
+                (sq / n as f64).sqrt()
+            };
+            let (delay, rms) = (0..=15)
+                .map(|d| (d, rms_at(d)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap();
+            println!(
+                "{name} {model}: {} records ({} while walking); goals outside the biased targets \
+                 by at most {off_target:.5} rad; present follows the goal {delay} cycles late \
+                 with RMS error {rms:.4} rad (RMS {:.4} rad without the delay)",
+                tele.len(),
+                walking.len(),
+                rms_at(0)
+            );
+            ensure!(
+                delay <= max_delay,
+                "{name} {model}: servos follow {delay} cycles late (more than {max_delay}0 ms)"
+            );
+            ensure!(
+                rms < max_rms,
+                "{name} {model}: servos miss their delayed goals by {rms:.4} rad RMS"
+            );
+        }
     }
     Ok(())
 }

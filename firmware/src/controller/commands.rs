@@ -111,6 +111,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }));
         }
         self.stiffness = checked.stiffness;
+        self.gains_wanted = self.gains_wanted.wrapping_add(1);
         self.joints = maps;
         self.selected = Some(Selected {
             slot,
@@ -229,8 +230,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         Ok(())
     }
 
-    /// Stiffness of `joint` for the torque bias, mN m/rad (0 switches the bias off); takes effect
-    /// from the next cycle, also while walking.
+    /// Stiffness of `joint`, mN m/rad; takes effect from the next cycle, also while walking. It is
+    /// the torque bias's divisor and, with torque on, the servo's Position P Gain
+    /// (`dynamixel::units::p_gain_for_stiffness`, written once by the next bus cycle's
+    /// `BusAction::WriteGains`, and at every torque-on). 0 switches the bias off and leaves the
+    /// servo's P gain as it is (a gain of 0 would make it limp).
     pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), CommandError> {
         self.check_joint(joint)?;
         // 0 switches the bias off; above the limit the bias could not move a servo by a tick.
@@ -240,7 +244,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 value: stiffness.into(),
             });
         }
-        self.stiffness[joint as usize] = stiffness;
+        if self.stiffness[joint as usize] != stiffness {
+            self.stiffness[joint as usize] = stiffness;
+            self.gains_wanted = self.gains_wanted.wrapping_add(1);
+        }
         Ok(())
     }
 

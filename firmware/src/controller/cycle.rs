@@ -1,7 +1,9 @@
 //! One bus cycle as the controller sees it: what to do on the bus next (ramp, gait clock, streaming,
-//! torque) and the state machine events that move it; `feedback.rs` takes the results.
+//! torque, the servos' P gains) and the state machine events that move it; `feedback.rs` takes the
+//! results.
 
 use dynamixel::master::{BusError, CycleStats, Goal};
+use dynamixel::units::p_gain_for_stiffness;
 use embedded_storage::nor_flash::NorFlash;
 
 use super::Controller;
@@ -19,8 +21,13 @@ pub enum BusAction {
     Cycle,
     /// Sync Read feedback only.
     ReadOnly,
-    /// Sync Write the plan's goals (the present posture), then Torque Enable = 1 on all.
+    /// Sync Write the plan's goals (the present posture), then the Position P Gains
+    /// ([`CyclePlan::gains`]), then Torque Enable = 1 on all.
     TorqueOn,
+    /// Sync Write the Position P Gains ([`CyclePlan::gains`]), then as `Cycle`: issued once, when a
+    /// joint's stiffness or the selected gait changed while torque is on (again on the next cycle if
+    /// it fails).
+    WriteGains,
     /// Torque Enable = 0 on all.
     TorqueOff,
     /// Reboot the servos of the joints in the mask (bit j = joint j; clears hardware errors,
@@ -43,6 +50,12 @@ pub struct CyclePlan {
     /// setpoint arriving during the bus transaction changes the controller's goals and sequence
     /// number before the cycle completes (and before the link converts its record).
     pub setpoint: Option<SetpointStamp>,
+    /// TorqueOn and WriteGains: each joint's Position P Gain register value for its stiffness
+    /// (`dynamixel::units::p_gain_for_stiffness`); 0 = stiffness 0 (torque bias off): that servo's
+    /// gain is left as it is, never set to a limp 0.
+    pub gains: [u16; MAX_JOINTS],
+    /// The stiffness settings the gains come from (a change during the bus action makes them stale).
+    pub gain_gen: u32,
 }
 
 /// The setpoint a streaming cycle writes.
@@ -60,6 +73,15 @@ impl CyclePlan {
         &self.goals[..self.n]
     }
 
+    /// `(id, P gain)` of the joints whose gain the plan writes (stiffness not 0).
+    pub fn gain_writes(&self) -> impl Iterator<Item = (u8, u16)> + '_ {
+        self.goals()
+            .iter()
+            .zip(&self.gains)
+            .filter(|(_, p)| **p != 0)
+            .map(|(g, p)| (g.id, *p))
+    }
+
     /// Bus IDs in joint order.
     pub fn ids(&self) -> ([u8; MAX_JOINTS], usize) {
         let mut ids = [0; MAX_JOINTS];
@@ -73,9 +95,10 @@ impl CyclePlan {
 /// What came of a bus action.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Outcome {
-    /// A Cycle or ReadOnly: statistics (replies are passed alongside).
+    /// A Cycle, ReadOnly or WriteGains: statistics (replies are passed alongside).
     Feedback(Result<CycleStats, BusError>),
-    /// TorqueOn, TorqueOff, Reboot or Nothing.
+    /// TorqueOn, TorqueOff, Reboot or Nothing. (WriteGains gives `Feedback`: its gain write failing
+    /// is `Feedback(Err)` without the cycle.)
     Done(Result<(), BusError>),
     /// ReadHardwareError: the status bits.
     HardwareError(Result<u8, BusError>),
@@ -107,12 +130,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let clamped = (0..n.min(32))
             .filter(|&j| self.clamped[j])
             .fold(0u32, |m, j| m | 1 << j);
-        let setpoint = (self.state == State::Streaming && action == BusAction::Cycle).then_some(
-            SetpointStamp {
-                seq: self.stream.seq,
-                age: self.stream.age,
-            },
-        );
+        let writes_goals = matches!(action, BusAction::Cycle | BusAction::WriteGains);
+        let setpoint = (self.state == State::Streaming && writes_goals).then_some(SetpointStamp {
+            seq: self.stream.seq,
+            age: self.stream.age,
+        });
         CyclePlan {
             action,
             goals,
@@ -120,7 +142,33 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             start_us: now_us,
             clamped,
             setpoint,
+            gains: self.gain_list(action),
+            gain_gen: self.gains_wanted,
         }
+    }
+
+    /// The P gains a TorqueOn or WriteGains writes (all 0 for other actions).
+    fn gain_list(&self, action: BusAction) -> [u16; MAX_JOINTS] {
+        let mut gains = [0; MAX_JOINTS];
+        if matches!(action, BusAction::TorqueOn | BusAction::WriteGains) {
+            for ((p, j), &k) in gains.iter_mut().zip(&self.joints).zip(&self.stiffness) {
+                *p = p_gain_for_stiffness(j.model, k as f32 / 1000.0);
+            }
+        }
+        gains
+    }
+
+    /// Whether the servos' P gains are behind the stiffness settings. Settings that are all 0
+    /// (bias off everywhere) write nothing, so they count as written.
+    fn gains_due(&mut self) -> bool {
+        if self.gains_written == self.gains_wanted {
+            return false;
+        }
+        if self.stiffness[..self.joints.len()].iter().all(|&k| k == 0) {
+            self.gains_written = self.gains_wanted;
+            return false;
+        }
+        true
     }
 
     fn next_action(&mut self, dt: u32) -> BusAction {
@@ -173,7 +221,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }
             _ => {}
         }
-        BusAction::Cycle
+        if self.gains_due() {
+            BusAction::WriteGains
+        } else {
+            BusAction::Cycle
+        }
     }
 
     /// The host-loss rule: an endless run whose host has been silent for

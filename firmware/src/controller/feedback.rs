@@ -21,7 +21,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         replies: &[Reply],
         late_us: u32,
     ) {
-        if !matches!(plan.action, BusAction::Cycle | BusAction::ReadOnly) {
+        if !matches!(
+            plan.action,
+            BusAction::Cycle | BusAction::ReadOnly | BusAction::WriteGains
+        ) {
             // Torque switched, servos rebooted, an error read: no window spans that.
             self.stuck.reset();
         }
@@ -32,6 +35,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             (BusAction::TorqueOn, Outcome::Done(Ok(()))) => {
                 self.torque_sent = true;
                 self.torque_unknown = false;
+                self.gains_written = plan.gain_gen;
             }
             (BusAction::TorqueOff, Outcome::Done(Ok(()))) => {
                 self.torque_sent = false;
@@ -70,6 +74,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }
             // No servos: the record still tells the host the board is alive and in which state.
             (BusAction::Nothing, _) => self.queue_telemetry(plan, &CycleStats::default()),
+            (BusAction::WriteGains, Outcome::Feedback(Ok(stats))) => {
+                self.gains_written = plan.gain_gen;
+                self.take_replies(plan, replies);
+                self.queue_telemetry(plan, &stats);
+            }
             (BusAction::Cycle | BusAction::ReadOnly, Outcome::Feedback(Ok(stats))) => {
                 self.take_replies(plan, replies);
                 self.queue_telemetry(plan, &stats);
@@ -93,7 +102,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let flash_stalled = self.flash_ops != self.flash_ops_at_plan;
         let n = self.joints.len().min(plan.n).min(replies.len());
         // A stuck-rule sample is a cycle that wrote goals the servos are meant to follow.
-        let sample = plan.action == BusAction::Cycle && self.torque_sent;
+        let sample =
+            matches!(plan.action, BusAction::Cycle | BusAction::WriteGains) && self.torque_sent;
         if !sample {
             self.stuck.reset();
         }

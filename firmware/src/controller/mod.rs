@@ -8,6 +8,8 @@ mod commands;
 mod cycle;
 mod feedback;
 #[cfg(test)]
+mod gain_wire_tests;
+#[cfg(test)]
 mod limits_tests;
 #[cfg(test)]
 mod tests;
@@ -126,6 +128,10 @@ pub struct Controller<F> {
     known: [bool; MAX_JOINTS],
     /// Torque as last sent to the servos.
     torque_sent: bool,
+    /// Changes of the stiffness settings (selected gait, `set_stiffness`), and the one whose P
+    /// gains last reached the servos: they differ while a gain write is due.
+    gains_wanted: u32,
+    gains_written: u32,
     /// No Torque On / Off has reached the servos since boot: a reset (watchdog, the board's own
     /// brown-out) can leave them holding torque, so Idle and EStop send Torque Off once, and what
     /// the board reports and what an emergency stop does match the servos.
@@ -170,6 +176,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             present: [Feedback::default(); MAX_JOINTS],
             known: [false; MAX_JOINTS],
             torque_sent: false,
+            gains_wanted: 1,
+            gains_written: 0,
             torque_unknown: true,
             misses: MissCounter::new(config.miss_limit),
             stuck: StuckDetector::new(config.stuck),
@@ -212,7 +220,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         &self.joints
     }
 
-    /// Stiffness per joint used for the torque bias, mN m/rad.
+    /// Stiffness per joint, mN m/rad: the torque bias's divisor and the servos' Position P Gain.
     pub fn stiffness(&self) -> &[u32] {
         &self.stiffness[..self.joints.len()]
     }

@@ -2,7 +2,7 @@
 //! NOR double and a hand-advanced clock: boot, ramp, walk, stop at the step end, faults, uploads.
 
 use dynamixel::instruction::StatusError;
-use dynamixel::master::{CycleStats, Feedback, Reply, ReplyFault};
+use dynamixel::master::{BusError, CycleStats, Feedback, Reply, ReplyFault};
 
 use super::*;
 use crate::playback::Direction;
@@ -25,6 +25,10 @@ struct IdealServos {
     stuck: Vec<usize>,
     torque_writes: Vec<bool>,
     reboots: usize,
+    /// Position P Gain register per joint (850: the servo's default), and how many gain writes
+    /// fail before one succeeds.
+    p_gain: [u16; 32],
+    fail_gain_writes: usize,
 }
 
 impl IdealServos {
@@ -41,6 +45,8 @@ impl IdealServos {
             stuck: vec![],
             torque_writes: vec![],
             reboots: 0,
+            p_gain: [850; 32],
+            fail_gain_writes: 0,
         }
     }
 
@@ -60,9 +66,22 @@ impl IdealServos {
             }
             Outcome::Feedback(Ok(CycleStats::default()))
         };
+        if matches!(plan.action, BusAction::TorqueOn | BusAction::WriteGains) {
+            if self.fail_gain_writes > 0 {
+                self.fail_gain_writes -= 1;
+                let e = BusError::Io(embedded_io_async::ErrorKind::TimedOut);
+                return match plan.action {
+                    BusAction::TorqueOn => Outcome::Done(Err(e)),
+                    _ => Outcome::Feedback(Err(e)),
+                };
+            }
+            for (id, p) in plan.gain_writes() {
+                self.p_gain[usize::from(id) - 1] = p;
+            }
+        }
         match plan.action {
             BusAction::Nothing => Outcome::Done(Ok(())),
-            BusAction::Cycle => {
+            BusAction::Cycle | BusAction::WriteGains => {
                 if self.torque {
                     for (j, g) in plan.goals().iter().enumerate() {
                         if !self.stuck.contains(&j) {
@@ -756,4 +775,110 @@ fn a_finite_run_finishes_its_steps_without_a_host() {
     r.cycles_until(2000, |r| r.c.state() == State::Standing);
     assert_eq!(r.c.play_clock().unwrap().steps_done(), 3);
     assert_eq!(r.c.counters().host_lost, 0);
+}
+
+/// The testkit's stiffness (8.4 N m/rad) as each model's Position P Gain, by hand:
+/// 1 P unit = (1/128) / 885 x stall torque x 4096 / (2 pi) N m/rad = 0.014387 (MX-28, 2.5 N m) and
+/// 0.034529 (MX-64, 6.0 N m); 8.4 / 0.014387 = 583.86 -> 584, 8.4 / 0.034529 = 243.28 -> 243.
+/// The testkit's MX-64 are the CTr joints, IDs 3, 6, 9, 14, 17, 20.
+fn table_gain(id: u8) -> u16 {
+    if [3, 6, 9, 14, 17, 20].contains(&id) {
+        243
+    } else {
+        584
+    }
+}
+
+#[test]
+fn torque_on_writes_each_joints_p_gain_and_a_stiffness_change_writes_them_once() {
+    let mut r = Rig::new();
+    r.cycle();
+    // Torque off: the servos keep their own gain.
+    r.c.set_stiffness(0, 4200).unwrap();
+    assert_ne!(r.cycle(), BusAction::WriteGains);
+    assert!(!r.c.torque_on());
+    assert_eq!(r.servos.p_gain[0], 850);
+    r.c.set_torque(true).unwrap();
+    assert_eq!(r.cycle(), BusAction::TorqueOn);
+    // 4.2 / 0.014387 = 291.93 -> 292.
+    assert_eq!(r.servos.p_gain[0], 292);
+    for j in 1..JOINTS {
+        assert_eq!(r.servos.p_gain[j], table_gain(j as u8 + 1), "joint {j}");
+    }
+    // Torque-on wrote them all: nothing more is due.
+    assert_eq!(r.cycle(), BusAction::Cycle);
+    // A change with torque on: one write on the next cycle, then plain cycles again.
+    r.c.set_stiffness(5, 16_800).unwrap();
+    assert_eq!(r.cycle(), BusAction::WriteGains);
+    // 16.8 / 0.034529 = 486.56 -> 487 (joint 5 is ID 6, an MX-64).
+    assert_eq!(r.servos.p_gain[5], 487);
+    assert_eq!(r.servos.p_gain[0], 292);
+    for _ in 0..5 {
+        assert_eq!(r.cycle(), BusAction::Cycle);
+    }
+    // The same value again is no change: no write.
+    r.c.set_stiffness(5, 16_800).unwrap();
+    assert_eq!(r.cycle(), BusAction::Cycle);
+}
+
+#[test]
+fn stiffness_0_leaves_the_servos_gain_as_it_is() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.c.set_stiffness(2, 0).unwrap();
+    r.c.set_torque(true).unwrap();
+    assert_eq!(r.cycle(), BusAction::TorqueOn);
+    assert_eq!(r.servos.p_gain[2], 850, "bias off: the servo's own gain");
+    assert_eq!(r.servos.p_gain[3], 584);
+    // Switching the bias off with torque on leaves the gain the servo has, never 0.
+    r.c.set_stiffness(3, 0).unwrap();
+    r.cycle();
+    r.cycle();
+    assert_eq!(r.servos.p_gain[3], 584);
+    // Every joint off: nothing to write, so no write is due.
+    for j in 0..JOINTS as u8 {
+        r.c.set_stiffness(j, 0).unwrap();
+    }
+    for _ in 0..3 {
+        assert_eq!(r.cycle(), BusAction::Cycle);
+    }
+    assert!(r.servos.p_gain[..JOINTS].iter().all(|&p| p != 0));
+}
+
+#[test]
+fn a_failed_gain_write_is_retried_on_the_next_cycle() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.c.set_torque(true).unwrap();
+    assert_eq!(r.cycle(), BusAction::TorqueOn);
+    r.c.set_stiffness(0, 4200).unwrap();
+    r.servos.fail_gain_writes = 2;
+    assert_eq!(r.cycle(), BusAction::WriteGains);
+    assert_eq!(r.cycle(), BusAction::WriteGains);
+    assert_eq!(r.servos.p_gain[0], 584);
+    assert_eq!(r.cycle(), BusAction::WriteGains);
+    assert_eq!(r.servos.p_gain[0], 292);
+    assert_eq!(r.cycle(), BusAction::Cycle);
+    assert_eq!(r.c.counters().bus_errors, 2);
+}
+
+#[test]
+fn a_stiffness_change_during_the_gain_write_is_written_on_the_next_cycle() {
+    let mut r = Rig::new();
+    r.cycle();
+    r.c.set_torque(true).unwrap();
+    r.cycle();
+    r.c.set_stiffness(0, 4200).unwrap();
+    // The command comes while the bus task performs the write planned before it.
+    let plan = r.c.plan(r.now);
+    assert_eq!(plan.action, BusAction::WriteGains);
+    r.c.set_stiffness(0, 2100).unwrap();
+    let mut replies = [Err(ReplyFault::Timeout); 32];
+    let outcome = r.servos.serve(&plan, &mut replies);
+    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
+    r.now += u64::from(r.c.period_us());
+    assert_eq!(r.servos.p_gain[0], 292);
+    assert_eq!(r.cycle(), BusAction::WriteGains);
+    // 2.1 / 0.014387 = 145.97 -> 146.
+    assert_eq!(r.servos.p_gain[0], 146);
 }

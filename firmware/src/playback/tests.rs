@@ -159,6 +159,7 @@ fn goals_bias_and_clamp_every_joint() {
     }
     let cal = |joint: usize| JointCal {
         id: joint as u8 + 1,
+        model: protocol::ServoModel::Mx28,
         calibration: protocol::Calibration::new(
             protocol::ServoModel::Mx28,
             2048,

@@ -5,8 +5,8 @@
 //! doubles the deflection under the same load (tau = k * dtheta). Every gain is halved, not one:
 //! the stance's load distribution depends on the joints' stiffnesses relative to each other, so
 //! it stays as it was (to first order; the body sags twice as far, which moves it slightly).
-//! (Nothing in the firmware writes the register yet: `SetStiffness` sets the torque bias's divisor
-//! only. This test writes it on the chain, as a servo tool on the bus would.)
+//! This test writes the register on the chain, as a servo tool on the bus would; `set_stiffness.rs`
+//! has the firmware write it (`SetStiffness`, `dbot set --stiffness`) through the whole stack.
 
 use board::robot::{FLASH_SECTORS, SLOTS, ServoDynamics, VirtualFlash, robot_chain};
 use dynamixel::control_table as ct;
