@@ -5,7 +5,7 @@
 //! port = "/dev/ttyACM0"      # or "virtual", "virtual:out/robot.flash"
 //! baud = 1000000             # Dynamixel bus, bit/s
 //! rate = 100                 # bus cycles per second, Hz
-//! stiffness = 8.4            # servo stiffness for the torque bias, N m/rad (all joints)
+//! stiffness = 8.4            # servo stiffness (P gain and torque bias), N m/rad (all joints)
 //! model = "drosophibot2"     # robot model for plans and tables
 //! slot = 1                   # default gait slot
 //! ```
@@ -29,7 +29,7 @@ pub struct RobotConfig {
     pub baud: Option<u32>,
     /// Bus cycle rate, Hz.
     pub rate: Option<u16>,
-    /// Servo stiffness used for the torque bias, N m/rad.
+    /// Servo stiffness (the servos' P gain and the torque bias's divisor), N m/rad.
     pub stiffness: Option<f64>,
     /// Robot model name (or path of a model file).
     pub model: Option<String>,

@@ -15,8 +15,9 @@ use crate::common::words::state_name;
   dbot set --rate 200 --baud 2000000   # Hz, bit/s; only while not walking
   dbot set --from-config          # stiffness, rate, baud of the setup file")]
 pub struct Args {
-    /// Servo stiffness for the torque bias, N m/rad (all joints, or --joint): 0.0005 to 3911 (the
-    /// MX-64's stall torque over one encoder tick).
+    /// Servo stiffness, N m/rad (all joints, or --joint): written to the servos' Position P Gain
+    /// and used by the torque bias; 0 switches the bias off and leaves the gain. 0.0005 to 3911
+    /// (the MX-64's stall torque over one encoder tick).
     #[arg(long)]
     pub stiffness: Option<f64>,
     /// Joint index for --stiffness (default: all joints).

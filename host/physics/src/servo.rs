@@ -32,12 +32,13 @@ pub fn stiffness_of_p_gain(kind: ActuatorKind, p_gain: u16) -> Option<f64> {
     )))
 }
 
-/// The Position P Gain register value nearest to stiffness `kp` N m/rad (the inverse of
-/// [`stiffness_of_p_gain`]; saturated to the register's range, at least 1). `None` as there.
+/// The Position P Gain register value nearest to stiffness `kp` N m/rad: the firmware's own
+/// conversion ([`dynamixel::units::p_gain_for_stiffness`], the inverse of
+/// [`stiffness_of_p_gain`]; saturated to the register's range, at least 1 for a positive `kp`).
+/// `None` as there.
 pub fn p_gain_for_stiffness(kind: ActuatorKind, kp: f64) -> Option<u16> {
     let model = ServoModel::try_from(kind).ok()?;
-    let p = (kp / f64::from(model.stiffness_per_p_gain())).round();
-    Some(p.clamp(1.0, f64::from(u16::MAX)) as u16)
+    Some(dynamixel::units::p_gain_for_stiffness(model, kp as f32))
 }
 
 /// Joint angle (rad) of a goal or present position in ticks, through the model's servo map.

@@ -323,7 +323,8 @@ impl<T: Transport> Board<T> {
         self.call(ep::SetBus { baud, cycle_hz })
     }
 
-    /// Stiffness of `joint` for the torque bias, mN m/rad.
+    /// Stiffness of `joint`, mN m/rad: the board writes it to the servo's Position P Gain and the
+    /// torque bias divides by it (0: bias off, the gain left as it is).
     pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), LinkError> {
         self.call(ep::SetStiffness { joint, stiffness })
     }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use board::link::{Board, Transport};
 
-/// What is kept: the bus, the telemetry rate and the torque-bias stiffness per joint.
+/// What is kept: the bus, the telemetry rate and the stiffness per joint (P gain and torque bias).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct KeptSettings {
     /// Bus baud rate, bit/s.

@@ -1,6 +1,7 @@
 //! The step table for the board (format of the `protocol` crate): the planned angle and the
 //! modelled torque of every servo per slice, with the servo map and the servo stiffness the
-//! firmware uses for the torque bias (command = angle + torque / stiffness, paper section 2.5).
+//! firmware writes to the servos' P gain and uses for the torque bias (command = angle + torque /
+//! stiffness, paper section 2.5).
 
 use protocol::{BuildError, GaitTableBuilder, JointSpec, ServoModel, Sign};
 
