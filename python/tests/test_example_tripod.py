@@ -55,22 +55,48 @@ MODEL_FILE = pathlib.Path(__file__).resolve().parents[2] / "host" / "planner" / 
 NO_LOAD_RAD_S = {"mx28": 55 * 2 * np.pi / 60, "mx64": 63 * 2 * np.pi / 60}
 
 
+#: Stall torque at 12 V, N m (e-manual datasheets: MX-28 2.5 N m, MX-64 6.0 N m).
+STALL_NM = {"mx28": 2.5, "mx64": 6.0}
+
+
+def servo_joints(model: dbot.Model) -> list[dict]:
+    """The model file's joint entries of the servo joints, in joint-map order."""
+    with open(MODEL_FILE, "rb") as f:
+        joints = {f"{j['leg']}_{j['kind']}": j for j in tomllib.load(f)["joint"]}
+    return [joints[name] for name in model.servo_joint_names]
+
+
 def omega0_of_servo_joints(model: dbot.Model) -> np.ndarray:
     """Each servo joint's no-load speed, rad/s, from its actuator in the model file."""
-    with open(MODEL_FILE, "rb") as f:
-        joints = tomllib.load(f)["joint"]
-    actuation = {f"{j['leg']}_{j['kind']}": j["actuation"] for j in joints}
-    return np.array([NO_LOAD_RAD_S[actuation[name]] for name in model.servo_joint_names])
+    return np.array([NO_LOAD_RAD_S[j["actuation"]] for j in servo_joints(model)])
 
 
-def servo_law(cmd: np.ndarray, t: np.ndarray, start: np.ndarray, omega0: np.ndarray) -> np.ndarray:
+def p_gain_of_servo_joints(model: dbot.Model) -> np.ndarray:
+    """The Position P Gain the firmware writes for each servo joint at torque-on: the joint's
+    stiffness in the e-manual's P units, k = P / 128 / 885 * stall torque * 4096 / 2 pi, rounded
+    (993 for every joint of Drosophibot II: 14.29 N m/rad on the MX-28s, 34.29 on the MX-64s)."""
+    return np.array(
+        [
+            round(
+                j["stiffness_nm_per_rad"]
+                / (STALL_NM[j["actuation"]] / 128 / 885 * 4096 / (2 * np.pi))
+            )
+            for j in servo_joints(model)
+        ]
+    )
+
+
+def servo_law(
+    cmd: np.ndarray, t: np.ndarray, start: np.ndarray, omega0: np.ndarray, p_gain: np.ndarray
+) -> np.ndarray:
     """Present angles [record, joint] the virtual servos must report, rad.
 
     The servo (dynamixel/src/sim/physics.rs, after the MX e-manual's P controller): PWM duty
-    d = clamp(P / 128 * error_ticks / 885, -1, 1) at P = 850, and with no external load (none
-    while streaming) the quasi-static motor turns at omega = omega0 * d: a first-order lag of
-    time constant 1 / (omega0 * 4.89 / rad), 35.5 ms (MX-28) or 31.0 ms (MX-64), that saturates
-    at the no-load speed for errors beyond 0.20 rad. In the wire's direction convention the
+    d = clamp(P / 128 * error_ticks / 885, -1, 1) at the joint's P gain (`p_gain_of_servo_joints`;
+    at 993: 5.71 / rad), and with no external load (none while streaming) the quasi-static motor
+    turns at omega = omega0 * d: a first-order lag of time constant 1 / (omega0 * 5.71 / rad),
+    30.4 ms (MX-28) or 26.5 ms (MX-64), that saturates at the no-load speed for errors beyond
+    0.175 rad. In the wire's direction convention the
     error is goal minus present in joint radians (a joint's sign flips both alike).
 
     Timing on the simulated 1 Mbit/s wire (10 us a byte): a cycle starts with the Sync Write of
@@ -85,7 +111,7 @@ def servo_law(cmd: np.ndarray, t: np.ndarray, start: np.ndarray, omega0: np.ndar
     """
     n = cmd.shape[1]
     new_goal_s = (14 + n) * 10e-6
-    k_per_rad = (850 / 128) / 885 / (2 * np.pi / 4096)
+    k_per_rad = (p_gain / 128) / 885 / (2 * np.pi / 4096)
     h_max = 1e-4
 
     def run(x: np.ndarray, goal: np.ndarray, dt: float) -> np.ndarray:
@@ -131,7 +157,9 @@ def test_example_walks_the_virtual_robot_in_a_tripod(tmp_path) -> None:
     # The servos followed: the servo law, integrated here from the commanded angles, must give
     # the measured angles to within 2 servo ticks (see `servo_law`).
     cmd, pos, t = rec["commanded_rad"], rec["present_rad"], rec["time_s"]
-    expect = servo_law(cmd, t, pos[0], omega0_of_servo_joints(model))
+    expect = servo_law(
+        cmd, t, pos[0], omega0_of_servo_joints(model), p_gain_of_servo_joints(model)
+    )
     tick = 2 * np.pi / 4096
     assert np.abs(pos - expect).max() <= 2 * tick
     settled = st[len(st) // 3 :]

@@ -8,22 +8,14 @@
 //! This test writes the register on the chain, as a servo tool on the bus would; `set_stiffness.rs`
 //! has the firmware write it (`SetStiffness`, `dbot set --stiffness`) through the whole stack.
 
+mod support;
+
 use board::robot::{FLASH_SECTORS, SLOTS, ServoDynamics, VirtualFlash, robot_chain};
 use dynamixel::control_table as ct;
 use firmware::controller::{Config, Controller};
 use physics::PhysicsRobot;
 use physics::servo::{RAD_PER_TICK, ticks_to_angle};
-use planner::model::ActuatorKind;
-
-/// The e-manual's stiffness for P gain `p`, N m/rad (MX-28 2.5 N m, MX-64 6.0 N m stall).
-fn hand_k(kind: ActuatorKind, p: u32) -> f64 {
-    let stall = match kind {
-        ActuatorKind::Mx28 => 2.5,
-        ActuatorKind::Mx64 => 6.0,
-        ActuatorKind::Generic => unreachable!("the robot's joints are servos"),
-    };
-    f64::from(p) / 128.0 / 885.0 * stall * 4096.0 / std::f64::consts::TAU
-}
+use support::hand_k;
 
 #[test]
 fn halving_the_p_gain_register_doubles_a_joints_deflection_under_its_load() {

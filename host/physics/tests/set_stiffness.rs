@@ -16,18 +16,9 @@ use board::link::Board;
 use dynamixel::control_table as ct;
 use physics::PhysicsRobot;
 use physics::servo::ticks_to_angle;
-use planner::model::{ActuatorKind, builtin};
+use planner::model::builtin;
 use protocol::{GaitTable, ServoSelect};
-
-/// The e-manual's stiffness for P gain `p`, N m/rad (MX-28 2.5 N m, MX-64 6.0 N m stall).
-fn hand_k(kind: ActuatorKind, p: u32) -> f64 {
-    let stall = match kind {
-        ActuatorKind::Mx28 => 2.5,
-        ActuatorKind::Mx64 => 6.0,
-        ActuatorKind::Generic => unreachable!("the robot's joints are servos"),
-    };
-    f64::from(p) / 128.0 / 885.0 * stall * 4096.0 / std::f64::consts::TAU
-}
+use support::hand_k;
 
 #[test]
 fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_deflection() {

@@ -7,9 +7,20 @@ use board::link::Board;
 use physics::{PhysicsRobot, PhysicsTransport};
 use planner::dynamics::{DynamicsOptions, solve_cycle};
 use planner::gait::StepParams;
-use planner::model::Model;
+use planner::model::{ActuatorKind, Model};
 use planner::plan::Plan;
 use protocol::{Direction, PlayCommand, Steps};
+
+/// The e-manual's stiffness for P gain `p`, N m/rad (MX-28 2.5 N m, MX-64 6.0 N m stall):
+/// k = P/128 / 885 x stall torque x 4096 / 2 pi, from the MX position P controller.
+pub fn hand_k(kind: ActuatorKind, p: u32) -> f64 {
+    let stall = match kind {
+        ActuatorKind::Mx28 => 2.5,
+        ActuatorKind::Mx64 => 6.0,
+        ActuatorKind::Generic => unreachable!("the robot's joints are servos"),
+    };
+    f64::from(p) / 128.0 / 885.0 * stall * 4096.0 / std::f64::consts::TAU
+}
 
 /// The paper's table-1 tripod plan for Drosophibot II, its solved torques and its step table.
 pub fn tripod(model: &Model) -> (Plan, Vec<Vec<f64>>, Vec<u8>) {
