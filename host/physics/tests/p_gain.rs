@@ -70,14 +70,7 @@ fn halving_the_p_gain_register_doubles_a_joints_deflection_under_its_load() {
     let after = measure(&robot, &chain);
     let name = &joints[x].name;
     let kind = joints[x].map.model;
-    for (when, (d, tau, p)) in [("before", before[x]), ("after", after[x])] {
-        let k = hand_k(kind, p);
-        // At rest the actuator is k (goal - q): its stiffness is the register's.
-        assert!(
-            (tau - k * d).abs() < 0.01 * tau.abs(),
-            "{name} {when}: torque {tau} N m, k {k} N m/rad (P {p}) x deflection {d} rad"
-        );
-    }
+    support::assert_torque_is_k_times_deflection(name, kind, before[x], after[x]);
     assert!(
         (robot.plant().joints()[x].kp - hand_k(kind, after[x].2)).abs() < 1e-4,
         "{name}: the plant's kp follows the register"

@@ -90,14 +90,7 @@ fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_def
 
     let name = &joints[x].name;
     let kind = joints[x].map.model;
-    for (when, (d, tau, p)) in [("before", before[x]), ("after", after[x])] {
-        let k = hand_k(kind, p);
-        // At rest the actuator is k (goal - q): its stiffness is the register's.
-        assert!(
-            (tau - k * d).abs() < 0.01 * tau.abs(),
-            "{name} {when}: torque {tau} N m, k {k} N m/rad (P {p}) x deflection {d} rad"
-        );
-    }
+    support::assert_torque_is_k_times_deflection(name, kind, before[x], after[x]);
     let (d1, t1, p1) = before[x];
     let (d2, t2, p2) = after[x];
     // Half the stiffness is half the gain, give or take the register's rounding (one unit).

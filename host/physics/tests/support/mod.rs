@@ -22,6 +22,23 @@ pub fn hand_k(kind: ActuatorKind, p: u32) -> f64 {
     f64::from(p) / 128.0 / 885.0 * stall * 4096.0 / std::f64::consts::TAU
 }
 
+/// At rest a joint's actuator torque is k (goal - q), its stiffness k the register's: checks it,
+/// to 1 %, for a joint's (deflection rad, torque N m, P gain) before and after a gain change.
+pub fn assert_torque_is_k_times_deflection(
+    name: &str,
+    kind: ActuatorKind,
+    before: (f64, f64, u32),
+    after: (f64, f64, u32),
+) {
+    for (when, (d, tau, p)) in [("before", before), ("after", after)] {
+        let k = hand_k(kind, p);
+        assert!(
+            (tau - k * d).abs() < 0.01 * tau.abs(),
+            "{name} {when}: torque {tau} N m, k {k} N m/rad (P {p}) x deflection {d} rad"
+        );
+    }
+}
+
 /// The paper's table-1 tripod plan for Drosophibot II, its solved torques and its step table.
 pub fn tripod(model: &Model) -> (Plan, Vec<Vec<f64>>, Vec<u8>) {
     let params = StepParams::table1(&model.name);
