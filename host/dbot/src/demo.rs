@@ -123,14 +123,7 @@ impl Args {
         let t0 = Instant::now();
         let plan = planner::plan::plan(&model, &params).context("planning the step")?;
         let t_plan = t0.elapsed();
-        let dyn_args = DynamicsArgs {
-            no_dynamics: false,
-            friction_cone: false,
-            push_only: false,
-            mu: 0.5,
-            torque_limits: false,
-            parallel: false,
-        };
+        let dyn_args = DynamicsArgs::WALK;
         let t1 = Instant::now();
         let dynamics = dyn_args.solve(&plan)?.context("inverse dynamics")?;
         let t_dyn = t1.elapsed();

@@ -31,6 +31,17 @@ pub struct DynamicsArgs {
 }
 
 impl DynamicsArgs {
+    /// The choice of the physics walks (`demo`, `paper-robot`): `dbot plan`'s defaults, the
+    /// dynamics solved, mu 0.5 for the slip report.
+    pub const WALK: Self = Self {
+        no_dynamics: false,
+        friction_cone: false,
+        push_only: false,
+        mu: 0.5,
+        torque_limits: false,
+        parallel: false,
+    };
+
     pub fn options(&self) -> DynamicsOptions {
         DynamicsOptions {
             friction_cone: self.friction_cone,

@@ -91,16 +91,9 @@ pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
     }
     let plan = planner::plan::plan(&model, &p)
         .with_context(|| format!("{}: planning the step", e.name))?;
-    let dynamics = crate::args::dynamics::DynamicsArgs {
-        no_dynamics: false,
-        friction_cone: false,
-        push_only: false,
-        mu: 0.5,
-        torque_limits: false,
-        parallel: false,
-    }
-    .solve(&plan)?
-    .with_context(|| format!("{}: inverse dynamics", e.name))?;
+    let dynamics = crate::args::dynamics::DynamicsArgs::WALK
+        .solve(&plan)?
+        .with_context(|| format!("{}: inverse dynamics", e.name))?;
     let torque = planner::dynamics::output::torque_rows(&dynamics.cycle);
     let table = planner::plan::table::step_table(&plan, Some(&torque), "paper robot")
         .with_context(|| format!("{}: step table", e.name))?;
