@@ -5,6 +5,12 @@
 
 use core::f32::consts::TAU;
 
+/// Encoder ticks per revolution of every MX(2.0) model (0.088 deg per tick; per model:
+/// [`ServoModel::ticks_per_rev`]).
+pub const TICKS_PER_REV: i32 = 4096;
+/// PWM that equals 100 % duty (PWM Limit default, e-manual).
+pub const PWM_FULL_SCALE: f32 = 885.0;
+
 /// A Dynamixel servo model (protocol 2.0 firmware).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -56,7 +62,7 @@ impl ServoModel {
     /// Encoder ticks per output revolution (0.088 deg per tick on both, e-manual).
     pub const fn ticks_per_rev(self) -> i32 {
         match self {
-            Self::Mx28 | Self::Mx64 => crate::units::TICKS_PER_REV,
+            Self::Mx28 | Self::Mx64 => TICKS_PER_REV,
         }
     }
 
@@ -103,10 +109,7 @@ impl ServoModel {
     /// (885 = 100 %). Assuming torque proportional to PWM up to the stall torque (no back-EMF, no
     /// friction, i.e. a servo holding still), k = (P/128) / 885 * stall torque * ticks per rad.
     pub fn stiffness_per_p_gain(self) -> f32 {
-        (1.0 / 128.0) / crate::units::PWM_FULL_SCALE
-            * self.stall_torque_nm()
-            * self.ticks_per_rev() as f32
-            / TAU
+        (1.0 / 128.0) / PWM_FULL_SCALE * self.stall_torque_nm() * self.ticks_per_rev() as f32 / TAU
     }
 }
 

@@ -7,9 +7,9 @@
 use crate::model::ServoModel;
 use core::f32::consts::TAU;
 
-/// Encoder ticks per revolution of every MX(2.0) model (0.088 deg per tick; per model:
-/// [`ServoModel::ticks_per_rev`]).
-pub const TICKS_PER_REV: i32 = 4096;
+// Constants of the servos themselves are the model's (`crate::model`); they are named here too
+// because every conversion below uses them.
+pub use crate::model::{PWM_FULL_SCALE, TICKS_PER_REV};
 /// Radians per tick.
 pub const RAD_PER_TICK: f32 = TAU / TICKS_PER_REV as f32;
 /// Present Velocity / Velocity Limit unit: 0.229 rev/min (e-manual, MX(2.0)).
@@ -18,8 +18,6 @@ pub const VELOCITY_UNIT_RPM: f32 = 0.229;
 pub const RAD_S_PER_VELOCITY_UNIT: f32 = VELOCITY_UNIT_RPM * TAU / 60.0;
 /// MX-64 Present Current unit in mA (e-manual: about 3.36 mA).
 pub const CURRENT_UNIT_MA: f32 = 3.36;
-/// PWM that equals 100 % duty (PWM Limit default, e-manual).
-pub const PWM_FULL_SCALE: f32 = 885.0;
 
 /// Rounds half away from zero without `std` (saturating at the i32 range).
 fn round_i32(x: f32) -> i32 {

@@ -64,7 +64,7 @@ fn emit(from: State, to: State, cause: Cause, kept_fault: bool) {
 /// Logs a copy of a gait slot that the store found damaged at mount and did not use: the slot fell
 /// back to the older table (seq `current`) or, with no valid copy left, is empty. At warn: the board
 /// will play a gait other than the one last uploaded.
-pub fn store_copy_lost(slot: u8, lost: crate::store::LostCopy, current: Option<u32>) {
+pub fn store_copy_lost(slot: u8, lost: crate::store::lost::LostCopy, current: Option<u32>) {
     #[cfg(all(feature = "defmt", target_os = "none"))]
     match current {
         Some(seq) => defmt::warn!(

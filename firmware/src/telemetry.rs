@@ -39,7 +39,7 @@ pub struct Record {
     /// Slice the goals were interpolated from.
     pub slice: u16,
     /// A streaming cycle (sent as proprioception): the setpoint its Sync Write carried.
-    pub setpoint: Option<crate::controller::SetpointStamp>,
+    pub setpoint: Option<SetpointStamp>,
     pub joint_count: u8,
     pub joints: [JointSample; MAX_JOINTS],
     /// Duration of the bus transaction.
@@ -98,6 +98,16 @@ impl<T, const N: usize> DropQueue<T, N> {
     pub fn dropped(&self) -> u32 {
         self.dropped
     }
+}
+
+/// The setpoint a streaming cycle writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SetpointStamp {
+    /// The host's sequence number (0 before the first setpoint of the session: the standing goals).
+    pub seq: u32,
+    /// Cycles the setpoint has been applied, this one included (1 = new since the last cycle).
+    pub age: u16,
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ use super::Controller;
 use crate::playback::{self, MAX_JOINTS, Ramp};
 use crate::safety::{Event, SafeReason, State};
 use crate::store::FlashWindow;
+use crate::telemetry::SetpointStamp;
 
 /// What the bus loop performs next.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,16 +57,6 @@ pub struct CyclePlan {
     pub gains: [u16; MAX_JOINTS],
     /// The stiffness settings the gains come from (a change during the bus action makes them stale).
     pub gain_gen: u32,
-}
-
-/// The setpoint a streaming cycle writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct SetpointStamp {
-    /// The host's sequence number (0 before the first setpoint of the session: the standing goals).
-    pub seq: u32,
-    /// Cycles the setpoint has been applied, this one included (1 = new since the last cycle).
-    pub age: u16,
 }
 
 impl CyclePlan {

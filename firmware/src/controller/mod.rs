@@ -23,8 +23,9 @@ use crate::safety::{MissCounter, State, StuckDetector, StuckLimits};
 use crate::store::{FlashWindow, GaitStore};
 use crate::telemetry::{DropQueue, Record};
 
+pub use crate::telemetry::SetpointStamp;
 pub use commands::{CommandError, PlayParams, Setting};
-pub use cycle::{BusAction, CyclePlan, Outcome, SetpointStamp};
+pub use cycle::{BusAction, CyclePlan, Outcome};
 
 /// Telemetry records the queue holds before it drops (about 400 B each).
 pub const TELEMETRY_QUEUE: usize = 8;

@@ -8,6 +8,7 @@
 
 #[cfg(test)]
 mod damage_tests;
+pub mod lost;
 #[cfg(any(test, feature = "std"))]
 pub mod nor_double;
 pub mod record;
@@ -17,6 +18,7 @@ mod upload;
 
 use embedded_storage::nor_flash::{NorFlash, NorFlashError, NorFlashErrorKind};
 
+pub use lost::{LossReason, LostCopy};
 use record::{CRC32, HEADER, RECORD_LEN, Record};
 
 /// Most slots a store can hold (the board uses [`BOARD_SLOTS`]).
@@ -100,31 +102,6 @@ pub struct SlotInfo {
     pub len: u32,
     pub crc: u32,
     pub seq: u32,
-}
-
-/// Why [`GaitStore::mount`] rejected a bank that was not erased.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum LossReason {
-    /// The commit record holds, but the table's bytes no longer have the CRC it names (`actual`).
-    TableChecksum { actual: u32 },
-    /// The commit record is neither erased nor readable (its magic, own CRC, slot, bank or length
-    /// is wrong), so nothing about the copy can be trusted, not even whether it was the newer one.
-    RecordDamaged,
-}
-
-/// A copy of a slot's table that [`GaitStore::mount`] found damaged and did not use: either newer
-/// than the current table (the slot fell back to an older gait) or of unknown age.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LostCopy {
-    /// The bank it sits in.
-    pub bank: u16,
-    /// Sequence number, length and CRC from its commit record (`None` when the record is damaged).
-    pub seq: Option<u32>,
-    pub len: Option<u32>,
-    pub crc: Option<u32>,
-    pub reason: LossReason,
 }
 
 /// What [`GaitStore::mount`] found in one bank.

@@ -14,18 +14,10 @@ use dynamixel::master::{AutoDirection, MasterConfig};
 use dynamixel::sim::{SimWire, VirtualChain, WireConfig};
 use firmware::board::Board;
 use firmware::controller::{Config, Controller};
-use firmware::store::nor_double::NorDouble;
 
+use super::flash::{FLASH_SECTORS, SLOTS, VirtualFlash};
 use super::servos::{PlannedLoads, ServoDynamics};
 
-/// The flash double of the virtual board (4-byte write unit, like the firmware tests).
-pub type VirtualFlash = NorDouble<4>;
-
-/// Gait slots of the virtual board, as on the real one.
-pub const SLOTS: u8 = firmware::store::BOARD_SLOTS;
-/// Sectors of the virtual gait store: the board's gait store region.
-pub const FLASH_SECTORS: usize =
-    firmware::memory_map::GAIT_STORE_SIZE as usize / firmware::store::nor_double::SECTOR;
 /// Servos of Drosophibot II (IDs 1..=22).
 pub const ROBOT_SERVOS: u8 = 22;
 /// Reply slack of the bus master, as the board's firmware sets it for servos with Return Delay

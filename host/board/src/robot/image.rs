@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use embedded_storage::nor_flash::NorFlash;
 use firmware::store::FlashWindow;
 
-use super::board::{FLASH_SECTORS, VirtualFlash};
+use super::flash::{FLASH_SECTORS, VirtualFlash};
 
 /// Why the image could not be read or written.
 #[derive(Debug, thiserror::Error)]

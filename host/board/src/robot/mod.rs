@@ -4,13 +4,13 @@
 //! `--port virtual:PATH` keeps its flash in a file between commands.
 
 mod board;
+mod flash;
 mod image;
 mod servos;
 mod transport;
 
-pub use board::{
-    FLASH_SECTORS, ROBOT_SERVOS, SLOTS, VirtualBoard, VirtualFlash, VirtualRobot, robot_chain,
-};
+pub use board::{ROBOT_SERVOS, VirtualBoard, VirtualRobot, robot_chain};
+pub use flash::{FLASH_SECTORS, SLOTS, VirtualFlash};
 pub use image::{IMAGE_LEN, ImageError};
 pub use servos::{PlannedLoads, ServoDynamics};
 pub use transport::VirtualTransport;

@@ -9,7 +9,7 @@ use dynamixel::sim::VirtualChain;
 use firmware::controller::Controller;
 use protocol::GaitTable;
 
-use super::board::VirtualFlash;
+use super::flash::VirtualFlash;
 
 /// Acts on the servo chain once per bus cycle, before the bus traffic of that cycle.
 pub trait ServoDynamics {
