@@ -24,8 +24,7 @@ pub enum PhysicsError {
     )]
     NoServo { model: String, joint: String },
     #[error(
-        "model {model}: a {timestep_ms} ms timestep is unstable: joint {joint}'s actuator (stiffness {kp:.3e} N m/rad on {inertia:.3e} kg m^2) rings at {omega_rad_s:.0} rad/s; at most {stable_ms:.3} ms is stable for this model (omega x timestep <= {limit})",
-        limit = crate::plant::MAX_OMEGA_DT
+        "model {model}: a {timestep_ms} ms timestep is unstable: joint {joint}'s actuator (stiffness {kp:.3e} N m/rad on {inertia:.3e} kg m^2) rings at {omega_rad_s:.0} rad/s; at most {stable_ms:.3} ms is stable for this model (omega x timestep <= {limit})"
     )]
     Timestep {
         model: String,
@@ -35,6 +34,8 @@ pub enum PhysicsError {
         inertia: f64,
         omega_rad_s: f64,
         stable_ms: f64,
+        /// The largest omega x timestep accepted (`MAX_OMEGA_DT` of the timestep rule).
+        limit: f64,
     },
     #[error(
         "port `{spec}`: {problem} (expected physics, physics:flat, physics:incline:DEG, physics:ball or physics:ball-fixed)"

@@ -16,15 +16,6 @@ use crate::timestep::check_timestep;
 /// Time over which gravity reaches its full value, s.
 pub const GRAVITY_RAMP_S: f64 = 1.0;
 
-/// Largest product of an actuator's natural frequency sqrt(kp / M) (M: the joint's diagonal of the
-/// mass matrix in the stance, armature included) and the timestep that [`Plant::new`] accepts.
-/// MuJoCo integrates the position term explicitly (implicitfast covers only the velocity terms),
-/// so a spring on a tiny inertia is unstable past omega dt = 2 (semi-implicit Euler) and rings
-/// long before: the scale fly's MJCF at 1 ms (omega dt 2.7) throws its thorax from 1.3 mm to
-/// 20 mm within a second, at 0.5 ms (1.4) its joints still swing at 22 rad/s, at 0.1 ms (0.27) it
-/// stands still (tests/fly_timestep.rs). Drosophibot II's stiffest joint: 63 rad/s, 0.06 at 1 ms.
-pub const MAX_OMEGA_DT: f64 = 0.3;
-
 /// One actuated joint with its servo.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlantJoint {

@@ -2,7 +2,7 @@
 //! (down to 5e-15 kg m^2 against 3.8e-8 N m/rad), so a position actuator on one rings at up to
 //! 2740 rad/s, and MuJoCo integrates the spring explicitly: unstable past omega dt = 2. The
 //! physics robot refuses such a timestep naming the model, the joint and the stable timestep
-//! (`physics::plant::MAX_OMEGA_DT`); MuJoCo itself, on the fly's MJCF, agrees: at 1 ms the held
+//! (the timestep rule's `MAX_OMEGA_DT`, host/physics/src/timestep.rs); MuJoCo itself, on the fly's MJCF, agrees: at 1 ms the held
 //! stance blows up, at the timestep the error names it stands still.
 
 use mujoco_rs::prelude::*;

@@ -2,6 +2,7 @@
 //! [`Model`] with validation that names the file, the body or joint and the field.
 
 use super::error::{ModelError, field};
+use super::spring::SpringEntry;
 use super::*;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -72,29 +73,6 @@ pub enum ActuationEntry {
     Mx64,
     Generic,
     Fixed,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SpringEntry {
-    /// Parallel spring stiffness alone (the actuator's is the joint's `stiffness_nm_per_rad`).
-    pub stiffness_nm_per_rad: f64,
-    /// Equilibrium angle (rad); when absent, `equilibrium` says where it comes from.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub equilibrium_rad: Option<f64>,
-    /// `rest` (default: the plan's resting posture), `step_midrange` (the middle of the joint's
-    /// range over the planned step) or `dead_fly` (the newly-dead-fly proxy,
-    /// [`crate::model::spring::dead_fly_equilibrium`]); only without `equilibrium_rad`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub equilibrium: Option<EquilibriumEntry>,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum EquilibriumEntry {
-    Rest,
-    StepMidrange,
-    DeadFly,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

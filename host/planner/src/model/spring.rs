@@ -6,8 +6,8 @@
 //! The step table and the servo-command bias use the actuator stiffness only: the spring does not
 //! move with the command.
 
-use super::file::{EquilibriumEntry, SpringEntry};
 use super::{Actuation, EquilibriumSource, JointKind, Model, ParallelSpring};
+use serde::{Deserialize, Serialize};
 
 /// The paper's parallel stiffness values (section 3.1.2), as named presets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -243,4 +243,28 @@ pub(crate) fn to_entry(s: &ParallelSpring) -> SpringEntry {
         equilibrium_rad,
         equilibrium,
     }
+}
+
+/// A joint's `spring` entry in a model file (TOML).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringEntry {
+    /// Parallel spring stiffness alone (the actuator's is the joint's `stiffness_nm_per_rad`).
+    pub stiffness_nm_per_rad: f64,
+    /// Equilibrium angle (rad); when absent, `equilibrium` says where it comes from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub equilibrium_rad: Option<f64>,
+    /// `rest` (default: the plan's resting posture), `step_midrange` (the middle of the joint's
+    /// range over the planned step) or `dead_fly` (the newly-dead-fly proxy,
+    /// [`crate::model::spring::dead_fly_equilibrium`]); only without `equilibrium_rad`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub equilibrium: Option<EquilibriumEntry>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EquilibriumEntry {
+    Rest,
+    StepMidrange,
+    DeadFly,
 }
