@@ -387,8 +387,7 @@ impl ModelFile {
             joints,
             feet,
         };
-        model.check_legs(file)?;
-        model.check_ranges(file)?;
+        model.validate(file)?;
         Ok(model)
     }
 }
