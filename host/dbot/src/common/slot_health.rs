@@ -10,7 +10,7 @@ use crate::common::gait_summary::describe;
 fn lost_copy(l: &LostCopy) -> String {
     let name = match (l.name, l.name_str()) {
         (Some(_), Some(n)) => format!("\"{n}\""),
-        (Some(_), None) => "(name not UTF-8)".to_owned(),
+        (Some(_), None) => "(name not printable text)".to_owned(),
         (None, _) => "(name unreadable)".to_owned(),
     };
     let mut facts = Vec::new();
