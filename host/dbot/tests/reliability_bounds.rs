@@ -129,3 +129,20 @@ fn an_error_says_its_cause_once() {
     let cause = "No such file or directory";
     assert_eq!(err.matches(cause).count(), 1, "{err}");
 }
+
+#[test]
+fn the_default_virtual_store_is_created_in_a_fresh_folder() {
+    let d = tempfile::tempdir().unwrap();
+    let o = dbot_within(&["gaits"], d.path(), BOUND);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(d.path().join("out/virtual-robot.flash").is_file(), "{err}");
+}
+
+#[test]
+fn a_slot_beyond_the_last_is_out_of_range_not_empty() {
+    let d = tempfile::tempdir().unwrap();
+    let o = dbot_within(&["run", "--slot", "9", "--steps", "1"], d.path(), BOUND);
+    let err = refused_naming(&o, &["no slot 9", "4 slots, 0 ..= 3"]);
+    assert!(!err.contains("empty"), "{err}");
+}
