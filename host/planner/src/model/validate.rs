@@ -65,7 +65,7 @@ impl Model {
     fn check_rigid_bodies(&self, file: &str) -> Result<(), ModelError> {
         for b in &self.bodies {
             let place = format!("body {}", b.name);
-            if !(b.mass > 0.0) {
+            if !(b.mass.is_finite() && b.mass > 0.0) {
                 return Err(field(
                     file,
                     place,
@@ -84,7 +84,7 @@ impl Model {
             let mut m = i.symmetric_eigenvalues();
             m.as_mut_slice().sort_by(f64::total_cmp);
             let [m1, m2, m3] = [m[0], m[1], m[2]];
-            if !(m1 > 0.0) {
+            if !(m1.is_finite() && m1 > 0.0) {
                 return Err(field(
                     file,
                     place,
