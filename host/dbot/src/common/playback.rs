@@ -93,7 +93,8 @@ pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<()> {
         | Err(LinkError::Device {
             error: ProtocolError::WrongState { .. },
             ..
-        }) => Ok(()),
+        })
+        | Err(LinkError::Faulted { .. }) => Ok(()),
         Err(e) => Err(anyhow::Error::new(e).context("stopping the walk after Ctrl-C")),
     }
 }
