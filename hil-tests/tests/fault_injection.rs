@@ -165,6 +165,20 @@ fn wait_state(emu: &Emulator, link: &mut Link, want: RunState) -> Result<Status>
     bail!("not {want:?} after 10 s of simulated time")
 }
 
+/// Every telemetry record received until at least one has come, letting simulated time pass
+/// (at most a second of it) rather than wall time: as many as the board sent, never none.
+fn telemetry_since_now(emu: &Emulator, link: &mut Link) -> Result<Vec<Telemetry>> {
+    let mut records = Vec::new();
+    for _ in 0..100 {
+        records.extend(telemetry(&link.collect(Duration::from_millis(10))?));
+        if !records.is_empty() {
+            return Ok(records);
+        }
+        emu.run_for(Duration::from_millis(10))?;
+    }
+    bail!("no telemetry record within 1 s of simulated time")
+}
+
 /// Reads telemetry and asks for the status until the board reports a fault (at most `sim_limit`
 /// of simulated time); returns the status and every telemetry record seen, in cycle order.
 fn until_fault(
@@ -234,9 +248,17 @@ fn a_silent_servo_stops_the_walk_at_the_third_miss_naming_its_joint() -> Result<
     };
     let emu = board.emulator().context("emulator")?;
     let before: Status = link.request(&Request::GetStatus, T)?;
+    // At least one record from before the silence, in hand before it starts: the board may
+    // answer GetStatus and take the silence before it sends another record (how many cycles pass
+    // between the two depends on how fast the host runs the emulator), and without one nothing
+    // shows the goals of the cycle before the first miss.
+    let before_silence = telemetry_since_now(emu, &mut link)?;
     // Servo 7 is joint 6 of the table (IDs 1..=22 in joint order).
     emu.bus_control(json!({"silent": [7, true]}))?;
-    let (s, records) = until_fault(emu, &mut link, Duration::from_secs(2))?;
+    let (s, mut records) = until_fault(emu, &mut link, Duration::from_secs(2))?;
+    records.extend(before_silence);
+    records.sort_by_key(|t| t.cycle);
+    records.dedup_by_key(|t| t.cycle);
     let fault = s.fault.context("fault")?;
     assert_eq!(
         (fault.kind, fault.joint),

@@ -146,10 +146,12 @@ pub fn loss_message(s: &SlotInfo) -> Option<String> {
     let seq = l.seq.map_or(String::new(), |q| format!(" seq {q}"));
     let crc = l.crc.map_or(String::new(), |c| format!(" CRC {c:#010x}"));
     let copy = format!("{name}{seq}{crc}");
-    let current = s
-        .gait
-        .as_ref()
-        .map(|g| g.header.name_str().unwrap_or("(name not UTF-8)").to_owned());
+    let current = s.gait.as_ref().map(|g| {
+        g.header
+            .name_str()
+            .unwrap_or("(name not printable text)")
+            .to_owned()
+    });
     Some(match (l.reason, current) {
         (LossReason::TableChecksum, Some(cur)) => format!(
             "slot {} FELL BACK to '{cur}': the newer copy {copy} failed its CRC check and was lost",

@@ -161,6 +161,12 @@ fn estop_drops_torque_on_every_servo_at_once() {
     // Play is refused until the fault is cleared.
     let e = b.play(play(0, 1, Direction::Forward)).unwrap_err();
     assert!(e.to_string().contains("Play refused"), "{e}");
+    // Naming the fault, not only the state (issue #30 item 8).
+    assert!(
+        e.to_string()
+            .contains("in a fault (EmergencyStop: emergency stop by the host)"),
+        "{e}"
+    );
     b.clear_fault().unwrap();
     assert_eq!(b.status().unwrap().state, RunState::Idle);
 }

@@ -9,7 +9,7 @@ use dynamixel::control_table::{self as ct, Field};
 use dynamixel::master::{BusError, MasterConfig, ReplyFault};
 use std::path::PathBuf;
 
-use crate::common::baud::{BaudChoice, FACTORY_BAUD};
+use crate::common::baud::{BaudChoice, FACTORY_BAUD, mx_rate};
 use crate::common::serial_path::check_serial_path;
 
 /// Talk to Dynamixel servos through a USB serial adapter (U2D2) or `dbot sim-bus`.
@@ -83,7 +83,7 @@ enum Op {
         #[arg(long)]
         new_id: Option<u8>,
         /// New line rate in bit/s (57600, 115200, 1000000, 2000000, 3000000, 4000000, 4500000, 9600)
-        #[arg(long)]
+        #[arg(long, value_parser = mx_rate)]
         new_baud: Option<u32>,
         /// New Return Delay Time, µs (0..=508, even; the robot's bus wants 0)
         #[arg(long, alias = "return-delay")]

@@ -67,7 +67,7 @@ enum Cmd {
     Validate(validate::Args),
 }
 
-fn main() -> anyhow::Result<()> {
+fn main() -> std::process::ExitCode {
     // `dbot gaits | head -1`: end quietly when the reader goes away, as Unix tools do, instead of
     // panicking in `println!` (Rust ignores SIGPIPE by default).
     // SAFETY: restoring a signal's default action before any thread starts.
@@ -75,7 +75,7 @@ fn main() -> anyhow::Result<()> {
     // `--port physics[:SCENE]` opens the physics robot in every board command.
     physics::register_port();
     let cli = Cli::parse();
-    match cli.cmd {
+    let result = match cli.cmd {
         Cmd::Demo(a) => a.run(),
         Cmd::PaperRobot(a) => a.run(),
         Cmd::Plan(a) => a.run(),
@@ -95,5 +95,13 @@ fn main() -> anyhow::Result<()> {
         Cmd::SimBus(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
         Cmd::Validate(a) => a.run(),
+    };
+    // Each cause once: many library errors write their source into their own text.
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{}", common::error_chain::report(&e));
+            std::process::ExitCode::FAILURE
+        }
     }
 }

@@ -172,6 +172,12 @@ pub fn record_to<T: Transport>(
             .map(|j| JointMeta::named(format!("J{j}")))
             .collect();
     }
+    if joints.is_empty() {
+        bail!(
+            "{}: the board reports no joints (no gait selected): nothing to record; upload a table and give --play SLOT",
+            board.port()
+        );
+    }
     let mut rec = Recorder::create(&scratch, joints)
         .with_context(|| format!("creating {}", scratch.display()))?;
     let bar = ProgressBar::new_spinner().with_style(

@@ -9,7 +9,7 @@ use dynamixel::sim::{DROSOPHIBOT_CTR_IDS, VirtualChain};
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
 use std::io::Write as _;
 
-use crate::common::baud::FACTORY_BAUD;
+use crate::common::baud::{FACTORY_BAUD, mx_rate};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -34,7 +34,7 @@ pub struct Args {
     servos: u8,
     /// Line rate the servos are set to, bit/s (9600, 57600, 115200, 1000000, 2000000, 3000000,
     /// 4000000, 4500000). Default: the servos' factory rate, also the default of `dbot dxl`.
-    #[arg(long, default_value_t = FACTORY_BAUD)]
+    #[arg(long, default_value_t = FACTORY_BAUD, value_parser = mx_rate)]
     baud: u32,
     /// Path of the symlink to the pseudo-terminal: what clients open as their serial port
     #[arg(long)]

@@ -55,7 +55,7 @@ impl SpringArgs {
         match &self.spring {
             None => Ok(model),
             Some(spec) => {
-                let s = SpringSpec::parse(spec)?;
+                let s = SpringSpec::parse(spec).map_err(|e| anyhow::anyhow!("--spring: {e}"))?;
                 s.apply(&model, self.spring_equilibrium.source())
                     .with_context(|| format!("--spring {spec} on model {}", model.name))
             }

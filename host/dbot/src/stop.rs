@@ -36,6 +36,10 @@ impl Args {
                 "nothing to stop: the board is in state {}",
                 state_name(state)
             ),
+            Err(LinkError::Faulted { fault, .. }) => println!(
+                "nothing to stop: the board is in a fault ({})",
+                fault.map_or_else(|| "fault unknown".to_owned(), |f| f.to_string())
+            ),
             Err(e) => return Err(e.into()),
         }
         s.close()

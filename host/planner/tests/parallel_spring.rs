@@ -238,3 +238,21 @@ fn planned_dead_fly_springs_hold_the_proxy_angles() {
     }
     assert_eq!(checked, 22);
 }
+
+/// `--spring 1e300` ran the posture solve for hours (issue #30): a stiffness beyond the model's
+/// own bound for a parallel spring (1e6 N m/rad, `model::ranges`) is refused where it is parsed.
+#[test]
+fn a_spring_stiffer_than_any_model_may_have_is_refused_where_it_is_parsed() {
+    assert_eq!(
+        SpringSpec::parse("1e6").unwrap(),
+        SpringSpec::Stiffness(1e6)
+    );
+    for huge in ["1e300", "1000001", "inf"] {
+        let e = SpringSpec::parse(huge).unwrap_err();
+        let words = e.to_string();
+        assert!(
+            matches!(e, SpringError::OutOfRange { .. }) && words.contains("0 ..= 1e6 N m/rad"),
+            "{huge}: {words}"
+        );
+    }
+}

@@ -53,6 +53,9 @@ pub enum BuildError {
     },
     #[error("gait name of {len} bytes, at most {max}")]
     NameTooLong { len: usize, max: usize },
+    /// A control character (or NUL) in the name: names are shown to users as text.
+    #[error("gait name holds a control character (byte {index} of the name): give printable text")]
+    NameNotPrintable { index: usize },
     #[error("{count} joints, the table takes 1 ..= {max}")]
     JointCount { count: usize, max: usize },
     #[error("{count} slices, the table takes 1 ..= {max}")]
@@ -149,6 +152,9 @@ impl GaitTableBuilder {
                 len: raw.len(),
                 max: NAME_LEN,
             });
+        }
+        if let Some((index, _)) = self.name.char_indices().find(|(_, c)| c.is_control()) {
+            return Err(BuildError::NameNotPrintable { index });
         }
         name[..raw.len()].copy_from_slice(raw);
         let period = to_fixed(self.step_period_s, 1e6, 1, i64::from(u32::MAX)).ok_or(

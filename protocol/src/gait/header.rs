@@ -45,9 +45,19 @@ impl GaitHeader {
         plausible.then_some(h)
     }
 
-    /// The name up to the first NUL; `None` if those bytes are not UTF-8.
+    /// The name up to the first NUL; `None` if those bytes are not printable text
+    /// ([`printable_name`]).
     pub fn name_str(&self) -> Option<&str> {
-        let end = self.name.iter().position(|&b| b == 0).unwrap_or(NAME_LEN);
-        core::str::from_utf8(&self.name[..end]).ok()
+        printable_name(&self.name)
     }
+}
+
+/// A stored gait name up to its first NUL, if it is printable text: UTF-8 without control
+/// characters (a name holding an escape sequence would rewrite the user's terminal when shown).
+/// `None` otherwise; every place that shows a name says so instead.
+pub fn printable_name(name: &[u8]) -> Option<&str> {
+    let end = name.iter().position(|&b| b == 0).unwrap_or(name.len());
+    core::str::from_utf8(&name[..end])
+        .ok()
+        .filter(|s| !s.chars().any(char::is_control))
 }

@@ -34,7 +34,7 @@ mod view;
 #[cfg(feature = "std")]
 pub use builder::{BuildError, Field, GaitTableBuilder, JointSpec};
 pub use error::{JointField, TableError};
-pub use header::GaitHeader;
+pub use header::{GaitHeader, printable_name};
 pub use joint::{JointMap, ServoModel, Sign};
 pub use view::{GaitTable, Sample, SliceView};
 

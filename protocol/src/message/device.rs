@@ -104,11 +104,10 @@ pub struct LostCopy {
 }
 
 impl LostCopy {
-    /// [`LostCopy::name`] up to the first NUL; `None` if unknown or not UTF-8.
+    /// [`LostCopy::name`] up to the first NUL; `None` if unknown or not printable text
+    /// ([`crate::gait::printable_name`]).
     pub fn name_str(&self) -> Option<&str> {
-        let name = self.name.as_ref()?;
-        let end = name.iter().position(|&b| b == 0).unwrap_or(name.len());
-        core::str::from_utf8(&name[..end]).ok()
+        crate::gait::printable_name(self.name.as_ref()?)
     }
 }
 

@@ -170,6 +170,21 @@ impl<T: Transport> Board<T> {
                         },
                     ..
                 }) if self.transport.now() < give_up => self.wait(Duration::from_millis(50))?,
+                // Which fault, and on which joint: the refusal alone says only the state.
+                Err(LinkError::Device {
+                    error:
+                        ProtocolError::WrongState {
+                            state: RunState::Fault,
+                        },
+                    ..
+                }) if !matches!(request, Request::GetStatus) => {
+                    let fault = self.status().ok().and_then(|s| s.fault);
+                    return Err(LinkError::Faulted {
+                        port: self.port().to_owned(),
+                        request: name,
+                        fault,
+                    });
+                }
                 r => break r?,
             }
         };

@@ -37,6 +37,14 @@ pub enum LinkError {
     /// The board reads another gait table format.
     #[error("{port}: the board reads gait table format {board}, this dbot writes {host}: update {}", if board > host { "dbot" } else { "the firmware" })]
     TableFormat { port: String, board: u16, host: u16 },
+    /// The board refused the request because it is in a fault: named, with the joint it
+    /// concerns, from the board's status (issue #30: "not allowed in state Fault" named neither).
+    #[error("{port}: {request} refused: the board is in a fault ({}); clear it first", fault.map_or_else(|| "fault unknown: the status did not say".to_owned(), |f| f.to_string()))]
+    Faulted {
+        port: String,
+        request: &'static str,
+        fault: Option<protocol::Fault>,
+    },
     /// The board refused the request and said why.
     #[error("{port}: {request} refused: {error}")]
     Device {

@@ -64,6 +64,10 @@ pub struct Recorder {
     joints: Vec<JointMeta>,
     t0_us: Option<u64>,
     rows: Vec<Row>,
+    /// Records pushed and the latest one's time since the first, s: counted per record, not
+    /// per row, so a board reporting no joints still ends a timed recording (issue #30).
+    records: usize,
+    latest_s: f64,
 }
 
 impl Recorder {
@@ -77,6 +81,8 @@ impl Recorder {
             joints,
             t0_us: None,
             rows: Vec::new(),
+            records: 0,
+            latest_s: 0.0,
         })
     }
 
@@ -90,18 +96,20 @@ impl Recorder {
 
     /// Bus cycles recorded.
     pub fn cycles(&self) -> usize {
-        self.rows.len() / self.joints.len().max(1)
+        self.records
     }
 
     /// Seconds between the first and the latest record.
     pub fn duration_s(&self) -> f64 {
-        self.rows.last().map_or(0.0, |r| r.time_s)
+        self.latest_s
     }
 
     /// Appends one record (one row per joint) and flushes it to the file.
     pub fn push(&mut self, t: &Telemetry) -> std::io::Result<()> {
         let t0 = *self.t0_us.get_or_insert(t.time_us);
         let time_s = t.time_us.saturating_sub(t0) as f64 * 1e-6;
+        self.records += 1;
+        self.latest_s = time_s;
         for (j, f) in t.joints.iter().enumerate() {
             let meta = self.joints.get(j);
             let commanded_rad = angle_to_rad(f.commanded);

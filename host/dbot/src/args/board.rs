@@ -67,10 +67,14 @@ impl BoardArgs {
         let spec = PortSpec::parse(&port);
         // The fallback robot is dbot's own choice, not a path anyone typed: it is created freely.
         let chosen = self.port.is_some() || setup.port.is_some();
-        if let PortSpec::Virtual { image: Some(path) } = &spec
-            && chosen
-        {
-            check_store_exists(path, self.port.is_some(), self.create)?;
+        if let PortSpec::Virtual { image: Some(path) } = &spec {
+            if chosen {
+                check_store_exists(path, self.port.is_some(), self.create)?;
+            } else if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+                // Its folder too (`out/` in a fresh folder): the store's lock file lives there.
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("creating {} for the virtual robot", dir.display()))?;
+            }
         }
         let transport = spec.open()?;
         let mut board =

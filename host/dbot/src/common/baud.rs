@@ -1,5 +1,7 @@
 //! The Dynamixel line rate of `dbot dxl` and `dbot sim-bus`: one default for both (the servos'
-//! factory rate), and `--baud auto`, which tries every rate the MX(2.0) servos support.
+//! factory rate), one parser that accepts only the rates of the MX(2.0) Baud Rate register
+//! (`dynamixel::control_table::BAUD_RATES`: any other rate no servo answers at, and `0` divides
+//! the byte time by zero), and `--baud auto`, which tries every one of them.
 
 use std::str::FromStr;
 
@@ -45,9 +47,35 @@ impl FromStr for BaudChoice {
         if s.eq_ignore_ascii_case("auto") {
             return Ok(Self::Auto);
         }
-        s.parse::<u32>()
+        mx_rate(s)
             .map(Self::Rate)
-            .map_err(|_| format!("`{s}` is neither a rate in bit/s (e.g. 57600) nor `auto`"))
+            .map_err(|e| format!("{e}, or `auto`"))
+    }
+}
+
+/// The rates an MX(2.0) servo supports, bit/s, ascending, as text: `9600, 57600, ...`.
+fn mx_rates() -> String {
+    let mut rates: Vec<u32> = dynamixel::control_table::BAUD_RATES
+        .iter()
+        .map(|(_, b)| *b)
+        .collect();
+    rates.sort_unstable();
+    let rates: Vec<String> = rates.iter().map(u32::to_string).collect();
+    rates.join(", ")
+}
+
+/// A `--baud` / `--new-baud` rate: one of the MX(2.0) rates, bit/s (clap value parser).
+pub fn mx_rate(s: &str) -> Result<u32, String> {
+    let rate: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a rate in bit/s: give one of {}", mx_rates()))?;
+    match dynamixel::control_table::baud_code(rate) {
+        Some(_) => Ok(rate),
+        None => Err(format!(
+            "{rate} bit/s is not a rate an MX(2.0) servo supports: give one of {}",
+            mx_rates()
+        )),
     }
 }
 
@@ -74,5 +102,27 @@ mod tests {
         assert_eq!("AUTO".parse(), Ok(BaudChoice::Auto));
         let e = "fast".parse::<BaudChoice>().unwrap_err();
         assert!(e.contains("`fast`"), "{e}");
+    }
+
+    #[test]
+    fn only_the_rates_of_the_mx_baud_register_are_accepted() {
+        // 0 divided the byte time by zero; 1 bit/s made every reply timeout hours long.
+        for bad in ["0", "1", "57601", "4294967295"] {
+            let e = bad.parse::<BaudChoice>().unwrap_err();
+            assert!(
+                e.contains("not a rate an MX(2.0) servo supports")
+                    && e.contains(
+                        "9600, 57600, 115200, 1000000, 2000000, 3000000, 4000000, 4500000"
+                    ),
+                "{bad}: {e}"
+            );
+            assert!(mx_rate(bad).is_err(), "{bad}");
+        }
+        // The e-manual's Baud Rate (8) table, by hand.
+        for good in [
+            9600, 57_600, 115_200, 1_000_000, 2_000_000, 3_000_000, 4_000_000, 4_500_000,
+        ] {
+            assert_eq!(mx_rate(&good.to_string()), Ok(good));
+        }
     }
 }

@@ -7,7 +7,7 @@ pub fn describe(g: &GaitSummary) -> String {
     let h = &g.header;
     format!(
         "\"{}\" {} joints x {} slices, step {:.3} s, duty {:.2}, CRC {:#010x}",
-        h.name_str().unwrap_or("(name not UTF-8)"),
+        h.name_str().unwrap_or("(name not printable text)"),
         h.joint_count,
         h.slice_count,
         f64::from(h.step_period_us) * 1e-6,

@@ -1,6 +1,6 @@
 //! Helpers that several subcommands use (Ctrl-C handling, whole-file outputs, `--model` specs, the
 //! gait summary line, the Dynamixel default baud, serial-port path checks, the
-//! words for board states, starting and stopping playback, writing a plan directory, what a gait
+//! words for board states and for an error's chain of causes, starting and stopping playback, writing a plan directory, what a gait
 //! slot lost).
 //! Subcommands share these instead of importing each other; nothing here imports a subcommand.
 
@@ -8,6 +8,7 @@ pub mod baud;
 pub mod demo_bias;
 pub mod demo_fit;
 pub mod demo_walk;
+pub mod error_chain;
 pub mod gait_summary;
 pub mod interrupt;
 pub mod model_spec;

@@ -54,10 +54,7 @@ pub fn play_command(
         if let Some(loss) = info.as_ref().and_then(slot_health::loss) {
             bail!("slot {slot} holds no readable gait: {loss}; upload a table again");
         }
-        bail!(
-            "slot {slot} is empty (the board has slots 0..{}); upload a table first",
-            gaits.len()
-        );
+        bail!("{}", slot_health::no_gait_in(slot, gaits.len()));
     };
     let planned = f64::from(gait.header.step_period_us) * 1e-6;
     let period_scale = match period {
@@ -96,7 +93,8 @@ pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<()> {
         | Err(LinkError::Device {
             error: ProtocolError::WrongState { .. },
             ..
-        }) => Ok(()),
+        })
+        | Err(LinkError::Faulted { .. }) => Ok(()),
         Err(e) => Err(anyhow::Error::new(e).context("stopping the walk after Ctrl-C")),
     }
 }

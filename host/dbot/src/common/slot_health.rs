@@ -10,7 +10,7 @@ use crate::common::gait_summary::describe;
 fn lost_copy(l: &LostCopy) -> String {
     let name = match (l.name, l.name_str()) {
         (Some(_), Some(n)) => format!("\"{n}\""),
-        (Some(_), None) => "(name not UTF-8)".to_owned(),
+        (Some(_), None) => "(name not printable text)".to_owned(),
         (None, _) => "(name unreadable)".to_owned(),
     };
     let mut facts = Vec::new();
@@ -57,6 +57,18 @@ pub fn slot_line(slot: &SlotInfo) -> String {
         (Some(g), Some(l)) => format!("slot {}: {g} — {l}", slot.slot),
         (None, Some(l)) => format!("slot {}: {l}", slot.slot),
         (None, None) => format!("slot {}: empty", slot.slot),
+    }
+}
+
+/// Why `slot` has nothing to play on a board of `slots` slots: beyond the last it is out of
+/// range (saying how many there are), else empty.
+pub fn no_gait_in(slot: u8, slots: usize) -> String {
+    match slots.checked_sub(1) {
+        Some(last) if usize::from(slot) > last => {
+            format!("no slot {slot}: the board has {slots} slots, 0 ..= {last}")
+        }
+        Some(_) => format!("slot {slot} is empty; upload a table first"),
+        None => format!("no slot {slot}: the board has no gait slots"),
     }
 }
 
@@ -155,6 +167,12 @@ mod tests {
             lost: None,
         };
         assert_eq!(slot_line(&empty), "slot 2: empty");
+        // Beyond the last slot of four: out of range, not empty (issue #30).
+        assert_eq!(
+            no_gait_in(9, 4),
+            "no slot 9: the board has 4 slots, 0 ..= 3"
+        );
+        assert_eq!(no_gait_in(3, 4), "slot 3 is empty; upload a table first");
         assert_eq!(store_line(&[empty]), None);
     }
 }

@@ -344,8 +344,7 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         joints,
         feet,
     };
-    model.check_legs(file)?;
-    model.check_ranges(file)?;
+    model.validate(file)?;
     Ok(model)
 }
 

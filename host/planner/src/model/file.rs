@@ -365,8 +365,7 @@ impl ModelFile {
             joints,
             feet,
         };
-        model.check_legs(file)?;
-        model.check_ranges(file)?;
+        model.validate(file)?;
         Ok(model)
     }
 }

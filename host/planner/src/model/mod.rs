@@ -22,6 +22,7 @@ mod query;
 mod ranges;
 pub mod spring;
 mod urdf;
+mod validate;
 
 pub use aproj::{ImportOptions, anim_to_rep, import_aproj, import_aproj_file, parse_joint_name};
 pub use builtin::{BUILTIN_NAMES, builtin};

@@ -9,6 +9,9 @@
 use super::{Actuation, EquilibriumSource, JointKind, Model, ParallelSpring};
 use serde::{Deserialize, Serialize};
 
+/// The stiffest parallel spring `--spring` accepts, N m/rad: the model's own bound.
+const MAX_STIFFNESS: f64 = super::ranges::STIFFNESS_NM_PER_RAD.1;
+
 /// The paper's parallel stiffness values (section 3.1.2), as named presets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SpringPreset {
@@ -78,6 +81,13 @@ pub enum SpringError {
         "spring `{spec}`: expected none, paper, drosophibot2, scale-drosophila or a stiffness >= 0 in N m/rad"
     )]
     Unknown { spec: String },
+    /// A stiffness beyond the range every model's parallel spring must lie in
+    /// ([`super::ranges::STIFFNESS_NM_PER_RAD`]): the planner's posture solve does not converge
+    /// under such a spring (`1e300` ran for hours).
+    #[error(
+        "spring `{spec}`: {value:e} N m/rad is outside the range of a parallel stiffness, 0 ..= {max:e} N m/rad"
+    )]
+    OutOfRange { spec: String, value: f64, max: f64 },
     #[error(
         "spring `paper`: the paper gives no parallel stiffness for model `{model}` (it has values for drosophibot2 and scale-drosophila); give one in N m/rad"
     )]
@@ -96,7 +106,12 @@ impl SpringSpec {
             _ => match SpringPreset::ALL.into_iter().find(|p| p.name() == spec) {
                 Some(p) => Ok(SpringSpec::Preset(p)),
                 None => match spec.parse::<f64>() {
-                    Ok(k) if k.is_finite() && k >= 0.0 => Ok(SpringSpec::Stiffness(k)),
+                    Ok(k) if (0.0..=MAX_STIFFNESS).contains(&k) => Ok(SpringSpec::Stiffness(k)),
+                    Ok(k) if k > MAX_STIFFNESS => Err(SpringError::OutOfRange {
+                        spec: spec.to_string(),
+                        value: k,
+                        max: MAX_STIFFNESS,
+                    }),
                     _ => Err(unknown()),
                 },
             },

@@ -48,6 +48,11 @@ pub enum PlanDirError {
     },
     #[error("{file}: {problem}")]
     Shape { file: PathBuf, problem: String },
+    /// The directory contradicts itself (a hand-edited plan.json or feet.csv).
+    #[error(
+        "{file}: {problem}: the plan directory contradicts itself (edited by hand?); plan it again with `dbot plan`"
+    )]
+    Disagrees { file: PathBuf, problem: String },
     #[error("writing {file}: {source}")]
     Write { file: PathBuf, source: ReportError },
     #[error("building the step table of {dir}: {source}")]

@@ -5,9 +5,11 @@
 //! the directory is read without the model's source), model.urdf, joints.csv and feet.csv (columns
 //! named once in [`columns`]), and with the inverse dynamics their torque and force columns and
 //! joint_forces.csv. A directory of another format version, or without one, is refused with an
-//! error naming the version and the file.
+//! error naming the version and the file; one that contradicts itself ([`consistency`]) naming
+//! the field, slice and leg.
 
 pub mod columns;
+mod consistency;
 mod csv_out;
 mod error;
 mod json;

@@ -1,5 +1,6 @@
 //! Reading a plan directory back: plan.json (version checked first), model.toml, the angles and
-//! torques of joints.csv and the stance flags of feet.csv, checked row by row against the model.
+//! torques of joints.csv and the stance flags of feet.csv, checked row by row against the model
+//! and against plan.json's own timing.
 
 use std::path::{Path, PathBuf};
 
@@ -36,6 +37,7 @@ pub fn read(dir: &Path) -> Result<PlanDir, PlanDirError> {
     })?;
     let (angle, torque) = read_joints(&dir.join(JOINTS_CSV), &model, json.slices)?;
     let stance = read_feet(&dir.join(FEET_CSV), &json.legs, json.slices)?;
+    super::consistency::check(dir, &json, &stance)?;
     Ok(PlanDir {
         path: dir.to_path_buf(),
         json,
