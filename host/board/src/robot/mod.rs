@@ -4,7 +4,7 @@
 //! `--port virtual:PATH` keeps its flash in a file between commands.
 
 mod board;
-mod image;
+pub(crate) mod image;
 mod servos;
 mod transport;
 
