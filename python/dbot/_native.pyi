@@ -83,8 +83,17 @@ class Plan:
     def slices(self) -> int: ...
     @property
     def model(self) -> Model: ...
-    def step_table(self, name: str = "dbot-gait", torques: bool = False) -> bytes:
-        """The board's step table; with ``torques`` the planned torques are the bias feed-forward."""
+    def step_table(
+        self, name: str = "dbot-gait", torques: bool = False, allow_infeasible: bool = False
+    ) -> bytes:
+        """The board's step table; with ``torques`` the planned torques are the bias feed-forward.
+
+        Built under the rules ``dbot table`` enforces (the same library call): more slices than a
+        gait slot holds, a servo that cannot follow the plan (speed over the no-load speed, with
+        ``torques`` also torque over stall or the torque-speed line; an inverse-kinematics jump),
+        a stiffness the servo's P gain cannot hold, or an angle outside a joint's limits raise
+        ValueError with ``dbot``'s words (naming joint, slice and margin). ``allow_infeasible``
+        builds an infeasible plan anyway and says what it let through as a UserWarning."""
 
 def plan(
     model: Model,
@@ -141,8 +150,10 @@ class PlanDir:
         """The gait name its step table gets by default."""
     @property
     def model(self) -> Model: ...
-    def step_table(self, name: str | None = None) -> bytes:
-        """The board's step table: the bytes ``dbot table --plan DIR`` writes."""
+    def step_table(self, name: str | None = None, allow_infeasible: bool = False) -> bytes:
+        """The board's step table: the bytes ``dbot table --plan DIR`` writes, refused as it
+        refuses (ValueError, the same words); ``allow_infeasible`` is ``--allow-infeasible``
+        (its warning as a UserWarning)."""
 
 def read_plan_dir(path: str | PathLike[str]) -> PlanDir:
     """Reads a plan directory; ValueError naming the file, line or format version."""
@@ -231,15 +242,31 @@ class Board:
     def upload(self, slot: int, table: bytes) -> int:
         """Uploads and verifies a step table; returns the bytes sent."""
     def upload_plan(
-        self, slot: int, plan: Plan, name: str = "dbot-gait", torques: bool = False
-    ) -> int: ...
+        self,
+        slot: int,
+        plan: Plan | PlanDir,
+        name: str | None = None,
+        torques: bool = False,
+        allow_infeasible: bool = False,
+    ) -> int:
+        """Builds the step table of ``plan`` (``Plan.step_table(name or "dbot-gait", torques)``, or
+        ``PlanDir.step_table(name)`` as ``dbot upload --plan DIR`` does) under the same rules and
+        uploads it; returns the bytes sent. A refusal is ValueError with ``dbot``'s words and
+        nothing reaches the board."""
     def play(
         self,
         slot: int,
         steps: int | None = None,
         period_scale: float = 1.0,
         backward: bool = False,
-    ) -> None: ...
+        allow_infeasible: bool = False,
+    ) -> None:
+        """Plays the gait in ``slot`` at ``period_scale`` times its planned period (0.1 to 10).
+        Faster than planned (``period_scale`` < 1) the table's speeds at that period are checked
+        against the servos as ``dbot run --period`` checks them: ValueError with the same words
+        naming joint, speed and limit, or when the host does not hold the slot's table (one this
+        ``Board`` uploaded, or in a ``virtual:PATH`` image); ``allow_infeasible`` plays it anyway
+        with a UserWarning. Slower than planned needs no check."""
     def stop(self) -> None: ...
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...

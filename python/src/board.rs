@@ -10,10 +10,11 @@ use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use crate::errors::{board_error, value_error};
+use crate::errors::{board_error, rule_error, value_error, warn_overridden};
 use crate::model::Model;
 use crate::names::JointNaming;
 use crate::plan::Plan;
+use crate::plan_dir::PlanDir;
 use crate::records;
 use crate::stream;
 
@@ -174,26 +175,45 @@ impl Board {
         Ok(report.bytes)
     }
 
-    /// Builds the step table of `plan` (with the planned torques as bias if `torques`) and
-    /// uploads it into `slot`.
-    #[pyo3(signature = (slot, plan, name = "dbot-gait", torques = false))]
+    /// Builds the step table of `plan` (a `Plan`, with the planned torques as bias if `torques`;
+    /// or a `PlanDir`, as `dbot upload --plan DIR` does) under the library's rules and uploads it
+    /// into `slot`. A plan the servos cannot follow is refused (ValueError, the words of `dbot
+    /// upload --plan`) unless `allow_infeasible` (then a UserWarning).
+    #[pyo3(signature = (slot, plan, name = None, torques = false, allow_infeasible = false))]
     fn upload_plan(
         &self,
         py: Python<'_>,
         slot: u8,
-        plan: &Plan,
-        name: &str,
+        plan: &Bound<'_, PyAny>,
+        name: Option<&str>,
         torques: bool,
+        allow_infeasible: bool,
     ) -> PyResult<u32> {
-        let table = plan.table_bytes(py, name, torques)?;
-        let report = self.with(py, |l| l.upload(slot, &table, |_, _| {}))?;
-        self.naming().uploaded(slot, table);
+        let table = if let Ok(p) = plan.cast::<Plan>() {
+            p.get()
+                .checked_table(py, name.unwrap_or("dbot-gait"), torques, allow_infeasible)?
+        } else if let Ok(p) = plan.cast::<PlanDir>() {
+            p.get().checked_table(name, allow_infeasible)?
+        } else {
+            return Err(value_error(format!(
+                "upload_plan(): plan must be a Plan or a PlanDir, not {}",
+                plan.get_type().name()?
+            )));
+        };
+        warn_overridden(py, table.warning())?;
+        let report = self.with(py, |l| {
+            ::board::rules::upload::upload_checked(l, slot, &table, |_, _| {}, || false)
+        })?;
+        self.naming().uploaded(slot, table.into_bytes());
         Ok(report.bytes)
     }
 
     /// Plays the gait in `slot`: `steps` whole steps (None: until `stop()`), at `period_scale`
-    /// times the planned step period, backward if asked.
-    #[pyo3(signature = (slot, steps = None, period_scale = 1.0, backward = false))]
+    /// times the planned step period, backward if asked. Faster than planned (`period_scale` < 1)
+    /// the table's speeds at that period are checked against the servos, as `dbot run --period`
+    /// checks them: refused (ValueError, the same words) when a servo could not follow, or when
+    /// this `Board` did not upload the slot's table, unless `allow_infeasible` (a UserWarning).
+    #[pyo3(signature = (slot, steps = None, period_scale = 1.0, backward = false, allow_infeasible = false))]
     fn play(
         &self,
         py: Python<'_>,
@@ -201,6 +221,7 @@ impl Board {
         steps: Option<u32>,
         period_scale: f64,
         backward: bool,
+        allow_infeasible: bool,
     ) -> PyResult<()> {
         let scale = protocol::units::to_fixed(period_scale, 1000.0, 100, 10_000)
             .ok_or_else(|| value_error(format!("period_scale = {period_scale}: give 0.1..=10")))?;
@@ -215,7 +236,26 @@ impl Board {
             steps: steps.map_or(Steps::Continuous, Steps::Count),
         };
         let stored = self.with(py, |l| l.gaits())?;
-        self.with(py, move |l| l.play(command))?;
+        let (known, model) = {
+            let naming = self.naming();
+            let (table, model) = naming.uploaded_table(slot);
+            (table.map(<[u8]>::to_vec), model.clone())
+        };
+        // A table this `Board` did not upload: a `virtual:PATH` robot's image holds it.
+        let known = match known {
+            Some(t) => Some(t),
+            None => ::board::rules::period::table_of_port(&self.port, slot).map_err(value_error)?,
+        };
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        let warning = {
+            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+            let link = guard
+                .as_mut()
+                .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
+            ::board::rules::period::play(link, command, known.as_deref(), &model, overrides)
+                .map_err(rule_error)?
+        };
+        warn_overridden(py, warning.as_ref())?;
         self.naming().played(slot);
         if let Some(msg) = stored
             .iter()

@@ -27,3 +27,25 @@ pub fn value_error(e: impl std::fmt::Display) -> PyErr {
 pub fn board_error(e: impl std::fmt::Display) -> PyErr {
     BoardError::new_err(e.to_string())
 }
+
+/// A refusal of a rule that protects the robot (`board::rules`): `ValueError` with the library's
+/// words, the ones `dbot` prints; a link failure on the way is `dbot.BoardError`.
+pub fn rule_error(e: ::board::rules::RuleError) -> PyErr {
+    match e {
+        ::board::rules::RuleError::Link(e) => board_error(e),
+        other => value_error(other),
+    }
+}
+
+/// Shows what an override let through as a `UserWarning`, in the library's words.
+pub fn warn_overridden(
+    py: pyo3::Python<'_>,
+    warning: Option<&::board::rules::Overridden>,
+) -> pyo3::PyResult<()> {
+    if let Some(w) = warning {
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        let msg = std::ffi::CString::new(w.to_string()).map_err(value_error)?;
+        PyErr::warn(py, &category, &msg, 1)?;
+    }
+    Ok(())
+}

@@ -49,6 +49,16 @@ impl JointNaming {
         }
     }
 
+    /// The table this `Board` uploaded into `slot`, and the model naming its joints (for the
+    /// library's check of a faster-than-planned play).
+    pub fn uploaded_table(&self, slot: u8) -> (Option<&[u8]>, &Model) {
+        let table = self
+            .tables
+            .get(usize::from(slot))
+            .and_then(|t| t.as_deref());
+        (table, &self.model)
+    }
+
     /// The board accepted `Play` of `slot` (it selects that slot's table).
     pub fn played(&mut self, slot: u8) {
         self.active = Some(slot);

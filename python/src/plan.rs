@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
 
 use crate::arrays::rows;
-use crate::errors::value_error;
+use crate::errors::{rule_error, value_error, warn_overridden};
 use crate::model::Model;
 
 /// A planned step cycle of a model.
@@ -87,19 +87,22 @@ fn to_toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
 }
 
 impl Plan {
-    /// The step table bytes (see the Python method `step_table`).
-    pub(crate) fn table_bytes(
+    /// The step table under the library's rules (see the Python method `step_table`).
+    pub(crate) fn checked_table(
         &self,
         py: Python<'_>,
         name: &str,
         torques: bool,
-    ) -> PyResult<Vec<u8>> {
+        allow_infeasible: bool,
+    ) -> PyResult<::board::rules::build::CheckedTable> {
         let tau = if torques {
             Some(py.detach(|| self.solved_torques().cloned())?)
         } else {
             None
         };
-        planner::plan::table::step_table(&self.inner, tau.as_deref(), name).map_err(value_error)
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        ::board::rules::build::plan_table(&self.inner, tau.as_deref(), name, overrides)
+            .map_err(rule_error)
     }
 
     fn solved_torques(&self) -> PyResult<&Vec<Vec<f64>>> {
@@ -206,16 +209,19 @@ impl Plan {
     }
 
     /// The step table for the board (bytes): servo joints, angles and, with `torques=True`, the
-    /// planned torques as the bias feed-forward.
-    #[pyo3(signature = (name = "dbot-gait", torques = false))]
+    /// planned torques as the bias feed-forward. Refused (ValueError, the words of `dbot table`)
+    /// when a servo cannot follow the plan, unless `allow_infeasible` (then a UserWarning).
+    #[pyo3(signature = (name = "dbot-gait", torques = false, allow_infeasible = false))]
     fn step_table<'py>(
         &self,
         py: Python<'py>,
         name: &str,
         torques: bool,
+        allow_infeasible: bool,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let bytes = self.table_bytes(py, name, torques)?;
-        Ok(PyBytes::new(py, &bytes))
+        let table = self.checked_table(py, name, torques, allow_infeasible)?;
+        warn_overridden(py, table.warning())?;
+        Ok(PyBytes::new(py, table.bytes()))
     }
 
     fn __repr__(&self) -> String {

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::rows;
-use crate::errors::value_error;
+use crate::errors::{rule_error, value_error, warn_overridden};
 use crate::model::Model;
 
 /// A plan directory as read: angles, torques and stance per slice, timing, the model.
@@ -24,6 +24,18 @@ pub struct PlanDir {
 pub fn read_plan_dir(path: PathBuf) -> PyResult<PlanDir> {
     let inner = planner::plan_dir::read(&path).map_err(value_error)?;
     Ok(PlanDir { inner })
+}
+
+impl PlanDir {
+    /// The step table under the library's rules (`dbot table --plan`'s).
+    pub(crate) fn checked_table(
+        &self,
+        name: Option<&str>,
+        allow_infeasible: bool,
+    ) -> PyResult<::board::rules::build::CheckedTable> {
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        ::board::rules::build::plan_dir_table(&self.inner, name, overrides).map_err(rule_error)
+    }
 }
 
 #[pymethods]
@@ -92,15 +104,18 @@ impl PlanDir {
     }
 
     /// The step table for the board (bytes), named `name` or else `table_name`: the bytes
-    /// `dbot table --plan DIR` writes.
-    #[pyo3(signature = (name = None))]
+    /// `dbot table --plan DIR` writes, refused as it refuses (ValueError, the same words) unless
+    /// `allow_infeasible` (then a UserWarning, as `--allow-infeasible` warns).
+    #[pyo3(signature = (name = None, allow_infeasible = false))]
     fn step_table<'py>(
         &self,
         py: Python<'py>,
         name: Option<&str>,
+        allow_infeasible: bool,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let bytes = self.inner.step_table(name).map_err(value_error)?;
-        Ok(PyBytes::new(py, &bytes))
+        let table = self.checked_table(name, allow_infeasible)?;
+        warn_overridden(py, table.warning())?;
+        Ok(PyBytes::new(py, table.bytes()))
     }
 
     fn __repr__(&self) -> String {

@@ -1,53 +1,33 @@
 //! Whether the servos can follow a plan: reported by `dbot plan` (feasibility.csv, plan.json,
-//! terminal), and enforced by `dbot table` and `dbot upload --plan` unless --allow-infeasible.
+//! terminal); the override flag of the rule that `dbot table`, `dbot upload --plan` and `dbot run
+//! --period` enforce through the library (`board::rules`), and the printing of its warning.
 
-use anyhow::{Result, bail};
+use board::rules::{Overridden, Overrides};
 use planner::plan::feasibility::{Feasibility, Violation};
 
 /// The override of the servo-feasibility check.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FeasibilityArgs {
-    /// Build the table even when a servo cannot follow the plan (speed over the no-load speed,
-    /// torque over stall or over the torque-speed line, an inverse-kinematics jump).
+    /// Build, upload or play the table even when a servo cannot follow it (speed over the no-load
+    /// speed, torque over stall or over the torque-speed line, an inverse-kinematics jump; for
+    /// `run --period`, at the period asked for).
     #[arg(long)]
     pub allow_infeasible: bool,
 }
 
 impl FeasibilityArgs {
-    /// Checks a plan directory's planned angles and torques against the servos before a step
-    /// table is built from it (`table --plan`, `upload --plan`).
-    pub fn enforce_plan_dir(&self, plan: &planner::plan_dir::PlanDir) -> Result<()> {
-        let check = planner::plan::feasibility::check(
-            &plan.model,
-            &plan.angle,
-            plan.torque.as_deref(),
-            plan.json.dt_s,
-        );
-        self.enforce(&check, &format!("plan {}", plan.path.display()))
+    /// The library's override.
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            allow_infeasible: self.allow_infeasible,
+        }
     }
+}
 
-    /// Refuses an infeasible plan (naming every joint, slice and margin) unless overridden; with
-    /// the override, warns on stderr.
-    pub fn enforce(&self, f: &Feasibility, what: &str) -> Result<()> {
-        if f.is_feasible() {
-            return Ok(());
-        }
-        let list = f
-            .violations
-            .iter()
-            .map(|v| format!("  {v}"))
-            .collect::<Vec<_>>()
-            .join("\n");
-        if self.allow_infeasible {
-            eprintln!(
-                "warning: {what}: the servos cannot follow this plan (--allow-infeasible):\n{list}"
-            );
-            Ok(())
-        } else {
-            bail!(
-                "{what}: the servos cannot follow this plan:\n{list}\nplan a slower step (--swing), or pass --allow-infeasible to build it anyway"
-            )
-        }
+/// Prints what the override let through (the library's words) on stderr.
+pub fn warn(warning: Option<&Overridden>) {
+    if let Some(w) = warning {
+        eprintln!("warning: {w}");
     }
 }
 

@@ -4,7 +4,6 @@
 //! and a `run(self)` that does the work.
 
 mod args;
-mod bounds;
 mod common;
 mod compare;
 mod compare_paper;

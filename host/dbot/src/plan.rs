@@ -10,6 +10,10 @@ use std::path::PathBuf;
 
 use crate::common::plan_output::write_plan_dir;
 
+/// Above this many slices a plan says what it is doing (the inverse dynamics solves one QP per
+/// slice: tens of seconds for a few thousand in a debug build).
+const TELL_ABOVE_SLICES: usize = 500;
+
 /// Plan a step cycle: resting posture, footpaths, inverse kinematics, velocities, accelerations.
 ///
 /// Stepping parameters default to table 1 of the paper for the model at a swing the servos can
@@ -113,8 +117,9 @@ impl Args {
         if self.backward {
             p.translation_m = -p.translation_m.abs();
         }
-        crate::bounds::check_slices("slices", p.slices, crate::bounds::table_joints(&model))?;
-        if p.slices > crate::bounds::TELL_ABOVE_SLICES {
+        use board::rules::slots::{check_slices, table_joints};
+        check_slices("slices", p.slices, table_joints(&model))?;
+        if p.slices > TELL_ABOVE_SLICES {
             eprintln!(
                 "planning {} slices of {} (the inverse dynamics solves one QP per slice)",
                 p.slices, model.name

@@ -30,7 +30,9 @@ pub struct Args {
     /// also stops an endless run 10 s after its host falls silent).
     #[arg(long)]
     pub steps: Option<u32>,
-    /// Step period, s (default: the planned one). Between 0.1 and 10 times the planned period.
+    /// Step period, s (default: the planned one). Between 0.1 and 10 times the planned period;
+    /// shorter than planned only when every servo still follows the table at that period (checked
+    /// on a `virtual:PATH` robot, whose tables the host holds; elsewhere give --allow-infeasible).
     #[arg(long)]
     pub period: Option<f64>,
     /// Walk backward (slices in reverse order on the same footpaths).
@@ -42,6 +44,8 @@ pub struct Args {
     pub detach: bool,
     #[command(flatten)]
     pub board: BoardArgs,
+    #[command(flatten)]
+    pub feasibility: crate::feasibility_args::FeasibilityArgs,
 }
 
 impl Args {
@@ -66,6 +70,20 @@ impl Args {
             );
         }
         let (command, gait) = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        // Faster than planned: the table's speeds at that period against the servos (the
+        // library's rule); the host holds the table of a `virtual:PATH` robot in its image.
+        let known = board::rules::period::table_of_port(s.board.port(), slot)?;
+        let model = crate::common::model_spec::load_model(
+            s.setup.model.as_deref().unwrap_or("drosophibot2"),
+        )?;
+        let warning = board::rules::period::check_play(
+            &mut s.board,
+            &command,
+            known.as_deref(),
+            &model,
+            self.feasibility.overrides(),
+        )?;
+        crate::feasibility_args::warn(warning.as_ref());
         println!("{}", announce(slot, &gait, &command));
         if interrupt::requested() {
             bail!("interrupted before the walk started: nothing was played");

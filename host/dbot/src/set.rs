@@ -16,8 +16,10 @@ use crate::common::words::state_name;
   dbot set --from-config          # stiffness, rate, baud of the setup file")]
 pub struct Args {
     /// Servo stiffness, N m/rad (all joints, or --joint): written to the servos' Position P Gain
-    /// and used by the torque bias; 0 switches the bias off and leaves the gain. 0.0005 to 3911
-    /// (the MX-64's stall torque over one encoder tick).
+    /// and used by the torque bias; 0 switches the bias off and leaves the gain. 0.0173 to 235.7:
+    /// what the P gain register (1 to 16383) holds on every servo model (MX-64: 0.0345 N m/rad
+    /// per unit, MX-28: 0.0144; estimates), so the bias never divides by a stiffness the servo
+    /// does not have.
     #[arg(long)]
     pub stiffness: Option<f64>,
     /// Joint index for --stiffness (default: all joints).
@@ -71,12 +73,12 @@ impl Args {
         // The limits are the hardware's (protocol::limits), the same the setup file and the
         // firmware check; the wire limit is checked for the robot's servos here and again with
         // the board's current baud or rate once connected.
-        use protocol::limits::{
-            CYCLE_HZ, LimitError, MX_BAUDS, ROBOT_SERVOS, check_bus, stiffness_units,
-        };
-        let units = k
-            .map(|k| stiffness_units(k).map_err(|e| anyhow::anyhow!("--stiffness {k}: {e}")))
-            .transpose()?;
+        use protocol::limits::{CYCLE_HZ, LimitError, MX_BAUDS, ROBOT_SERVOS, check_bus};
+        // The board's unit and what every servo's P gain register holds (`board::rules`).
+        if let Some(k) = k {
+            board::rules::stiffness::units(k)
+                .map_err(|e| anyhow::anyhow!("--stiffness {k}: {e}"))?;
+        }
         if let Some(b) = baud
             && !MX_BAUDS.contains(&b)
         {
@@ -121,20 +123,8 @@ impl Args {
                 Err(e) => return Err(anyhow::Error::new(e).context("clearing the fault")),
             }
         }
-        if let (Some(k), Some(units)) = (k, units) {
-            let joints = s.board.settings()?.joints.len() as u8;
-            let list: Vec<u8> = match self.joint {
-                Some(j) => vec![j],
-                None => (0..joints).collect(),
-            };
-            if list.is_empty() {
-                bail!("the board has no joint map yet (upload and play a gait first)");
-            }
-            for j in list {
-                s.board
-                    .set_stiffness(j, units)
-                    .with_context(|| format!("stiffness of joint {j}"))?;
-            }
+        if let Some(k) = k {
+            board::rules::stiffness::set_stiffness(&mut s.board, self.joint, k)?;
             did.push(format!("stiffness {k} N m/rad"));
         }
         if rate.is_some() || baud.is_some() {

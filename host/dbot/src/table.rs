@@ -55,14 +55,14 @@ impl Args {
                 plan.model.name
             );
         }
-        crate::bounds::check_slices(
-            &format!("{}: slices", dir.join("joints.csv").display()),
-            plan.angle.len(),
-            crate::bounds::table_joints(&plan.model),
+        let table = board::rules::build::plan_dir_table(
+            &plan,
+            self.name.as_deref(),
+            self.feasibility.overrides(),
         )?;
-        self.feasibility.enforce_plan_dir(&plan)?;
-        let bytes = plan.step_table(self.name.as_deref())?;
-        replace_file(&self.out, |p| Ok(std::fs::write(p, &bytes)?))?;
+        crate::feasibility_args::warn(table.warning());
+        let bytes = table.bytes();
+        replace_file(&self.out, |p| Ok(std::fs::write(p, bytes)?))?;
         println!(
             "{}: {} slices, period {:.3} s, {} bytes to {}",
             plan.model.name,

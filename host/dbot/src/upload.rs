@@ -40,13 +40,20 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
-        let table = match (&self.table, &self.plan) {
-            (Some(path), _) => std::fs::read(path)
-                .with_context(|| format!("reading the step table {}", path.display()))?,
+        // A plan is built under the rules (slot capacity, servo feasibility unless overridden)
+        // before the board is touched; a table file was built by `dbot table` under the same.
+        let (table, checked) = match (&self.table, &self.plan) {
+            (Some(path), _) => (
+                std::fs::read(path)
+                    .with_context(|| format!("reading the step table {}", path.display()))?,
+                None,
+            ),
             (None, Some(dir)) => {
                 let plan = plan_dir::read(dir)?;
-                self.feasibility.enforce_plan_dir(&plan)?;
-                plan.step_table(None)?
+                let t =
+                    board::rules::build::plan_dir_table(&plan, None, self.feasibility.overrides())?;
+                crate::feasibility_args::warn(t.warning());
+                (t.bytes().to_vec(), Some(t))
             }
             (None, None) => bail!("give --table FILE or --plan DIR"),
         };
@@ -64,12 +71,19 @@ impl Args {
             ProgressStyle::with_template("uploading {bar:40} {bytes}/{total_bytes} {msg}")
                 .expect("template is valid"),
         );
-        let report = s.board.upload_unless(
-            slot,
-            &table,
-            |sent, _| bar.set_position(u64::from(sent)),
-            interrupt::requested,
-        );
+        let progress = |sent, _| bar.set_position(u64::from(sent));
+        let report = match &checked {
+            Some(t) => board::rules::upload::upload_checked(
+                &mut s.board,
+                slot,
+                t,
+                progress,
+                interrupt::requested,
+            ),
+            None => s
+                .board
+                .upload_unless(slot, &table, progress, interrupt::requested),
+        };
         bar.finish_and_clear();
         if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
             // The aborted session ends cleanly (the virtual robot keeps its flash as it is now).

@@ -5,7 +5,7 @@
 
 mod board;
 mod flash;
-mod image;
+pub(crate) mod image;
 mod servos;
 mod transport;
 

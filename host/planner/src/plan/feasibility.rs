@@ -23,12 +23,20 @@ pub struct ServoLimits {
 /// The servo limits of an actuator family (none for a generic actuator such as the fly's muscles).
 /// The one place the planner reads the servo constants ([`dynamixel::ServoModel`]).
 pub fn servo_limits(kind: ActuatorKind) -> Option<ServoLimits> {
-    let servo = dynamixel::ServoModel::try_from(kind).ok()?;
-    Some(ServoLimits {
-        name: servo.name(),
-        no_load_speed: f64::from(servo.no_load_speed_rad_s()),
-        stall_torque: f64::from(servo.stall_torque_nm()),
-    })
+    dynamixel::ServoModel::try_from(kind)
+        .ok()
+        .map(ServoLimits::of)
+}
+
+impl ServoLimits {
+    /// The datasheet limits of `servo` (e-manual, 12 V).
+    pub fn of(servo: dynamixel::ServoModel) -> Self {
+        Self {
+            name: servo.name(),
+            no_load_speed: f64::from(servo.no_load_speed_rad_s()),
+            stall_torque: f64::from(servo.stall_torque_nm()),
+        }
+    }
 }
 
 /// A peak value over the cycle and the slice where it occurs.
@@ -176,16 +184,49 @@ pub const JUMP_RATIO: f64 = 2.0;
 /// Checks angles `q[slice][joint]` (a periodic cycle of slices `dt` apart) and, when known, the
 /// actuator torques `torque[slice][joint]` against each joint's servo.
 pub fn check(model: &Model, q: &[Vec<f64>], torque: Option<&[Vec<f64>]>, dt: f64) -> Feasibility {
+    let servos: Vec<Servo<'_>> = model
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(column, joint)| match &joint.actuation {
+            Actuation::Actuated { actuator, .. } => Some(Servo {
+                column,
+                joint: &joint.name,
+                limits: servo_limits(*actuator),
+            }),
+            Actuation::Fixed { .. } => None,
+        })
+        .collect();
+    check_servos(&servos, q, torque, dt)
+}
+
+/// One servo-driven column of the angles handed to [`check_servos`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Servo<'a> {
+    /// Column of `q[slice]` (and `torque[slice]`) holding the joint.
+    pub column: usize,
+    /// The joint's full name, as violations name it.
+    pub joint: &'a str,
+    /// The servo's limits (none: reported, not checked).
+    pub limits: Option<ServoLimits>,
+}
+
+/// [`check`] over the columns `servos` of `q` (and `torque`): for angles that are not a model's
+/// joint order, such as a step table's joints.
+pub fn check_servos(
+    servos: &[Servo<'_>],
+    q: &[Vec<f64>],
+    torque: Option<&[Vec<f64>]>,
+    dt: f64,
+) -> Feasibility {
     let qd = periodic_central_difference(q, dt);
     let qdd = periodic_central_difference(&qd, dt);
     let n = q.len();
     let mut joints = Vec::new();
     let mut violations = Vec::new();
-    for (j, joint) in model.joints.iter().enumerate() {
-        let limits = match &joint.actuation {
-            Actuation::Actuated { actuator, .. } => servo_limits(*actuator),
-            Actuation::Fixed { .. } => continue,
-        };
+    for servo in servos {
+        let (j, limits) = (servo.column, servo.limits);
+        let joint = servo.joint;
         let peak = |v: &dyn Fn(usize) -> f64| {
             (0..n).fold(
                 Peak {
@@ -211,7 +252,7 @@ pub fn check(model: &Model, q: &[Vec<f64>], torque: Option<&[Vec<f64>]>, dt: f64
         if let Some(l) = limits {
             if speed.value > l.no_load_speed {
                 violations.push(Violation::Speed {
-                    joint: joint.name.clone(),
+                    joint: joint.to_owned(),
                     slice: speed.slice,
                     speed: speed.value,
                     limit: l.no_load_speed,
@@ -220,7 +261,7 @@ pub fn check(model: &Model, q: &[Vec<f64>], torque: Option<&[Vec<f64>]>, dt: f64
             if let Some(t) = torque {
                 if let Some(p) = tq.filter(|p| p.value > l.stall_torque) {
                     violations.push(Violation::Torque {
-                        joint: joint.name.clone(),
+                        joint: joint.to_owned(),
                         slice: p.slice,
                         torque: p.value,
                         limit: l.stall_torque,
@@ -240,7 +281,7 @@ pub fn check(model: &Model, q: &[Vec<f64>], torque: Option<&[Vec<f64>]>, dt: f64
                     let over_stall = tq.is_some_and(|t| t.value > l.stall_torque);
                     if p.value < 0.0 && w <= l.no_load_speed && !over_stall {
                         violations.push(Violation::TorqueAtSpeed {
-                            joint: joint.name.clone(),
+                            joint: joint.to_owned(),
                             slice: p.slice,
                             torque: t[p.slice][j].abs(),
                             speed: w,
@@ -254,13 +295,13 @@ pub fn check(model: &Model, q: &[Vec<f64>], torque: Option<&[Vec<f64>]>, dt: f64
             jumps(q, j)
                 .into_iter()
                 .map(|(slice, step)| Violation::Jump {
-                    joint: joint.name.clone(),
+                    joint: joint.to_owned(),
                     slice,
                     step,
                 }),
         );
         joints.push(JointPeaks {
-            joint: joint.name.clone(),
+            joint: joint.to_owned(),
             limits,
             speed,
             acceleration,

@@ -1,10 +1,11 @@
 //! Bounded work: how many slices a step may have. A step table must fit one gait slot of the
-//! board (the gait store's bank, less its record header), so `plan` and `table` refuse more slices
-//! than that before any work: `plan --slices 10000000` used to grow to the machine's whole memory
-//! with no output, and `table` accepted 10 000 slices that no slot can hold (issue #19).
+//! board (the gait store's bank, less its record header), so planning and building refuse more
+//! slices than that before any work: `plan --slices 10000000` used to grow to the machine's whole
+//! memory with no output, and `table` accepted 10 000 slices that no slot can hold (issue #19).
 
-use anyhow::bail;
-use board::robot::{FLASH_SECTORS, SLOTS, VirtualFlash};
+use crate::robot::{FLASH_SECTORS, SLOTS, VirtualFlash};
+
+use super::RuleError;
 
 /// Bytes of the largest table one slot of the board holds: asked of the firmware's own gait
 /// store, mounted on an erased flash of the board's gait-store size.
@@ -28,20 +29,18 @@ pub fn table_joints(model: &planner::model::Model) -> usize {
         .count()
 }
 
-/// Refuses `slices` beyond [`max_slices`], naming `flag` and the limit.
-pub fn check_slices(flag: &str, slices: usize, joints: usize) -> anyhow::Result<()> {
+/// Refuses `slices` beyond [`max_slices`], naming `what` (a flag or a file) and the limit.
+pub fn check_slices(what: &str, slices: usize, joints: usize) -> Result<(), RuleError> {
     let max = max_slices(joints);
     if slices > max {
-        bail!(
-            "{flag} {slices}: at most {max} slices per step fit a gait slot of the board ({} bytes \
-             for {joints} joints, {} bytes per slice)",
-            slot_capacity_bytes(),
-            protocol::gait::slice_len(joints)
-        );
+        return Err(RuleError::TooManySlices {
+            what: what.to_owned(),
+            slices,
+            max,
+            capacity: slot_capacity_bytes(),
+            joints,
+            per_slice: protocol::gait::slice_len(joints),
+        });
     }
     Ok(())
 }
-
-/// Above this many slices a plan says what it is doing (the inverse dynamics solves one QP per
-/// slice: tens of seconds for a few thousand in a debug build).
-pub const TELL_ABOVE_SLICES: usize = 500;

@@ -1,0 +1,127 @@
+//! Why a rule refused, in the words every door shows, and the warning of an override.
+
+use planner::plan::feasibility::Violation;
+
+/// What a servo cannot do, one indented line per violation (joint, slice, margin).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Violations(pub Vec<Violation>);
+
+impl std::fmt::Display for Violations {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, v) in self.0.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "  {v}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A refusal of a rule that protects the robot (or a failure of the work it guards).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RuleError {
+    /// A servo cannot follow the plan or table (at its planned period).
+    #[error(
+        "{what}: the servos cannot follow this plan:\n{violations}\nplan a slower step (--swing), or pass --allow-infeasible (Python: allow_infeasible=True) to build it anyway"
+    )]
+    Infeasible {
+        what: String,
+        violations: Violations,
+    },
+    /// A servo cannot follow the table at the period it was asked to play at.
+    #[error(
+        "{what}: at {period_s:.3} s per step ({scale:.3} times the planned {planned_s:.3} s) the servos cannot follow it:\n{violations}\nplay it at a longer period, or pass --allow-infeasible (Python: allow_infeasible=True) to play it anyway"
+    )]
+    TooFast {
+        what: String,
+        scale: f64,
+        period_s: f64,
+        planned_s: f64,
+        violations: Violations,
+    },
+    /// Faster than planned, but the host does not hold the table to check it against the servos.
+    #[error(
+        "slot {slot}: playing it {scale:.3} times the planned period needs a check of its speeds against the servos, but this host does not hold its table (CRC {crc:#010x}; the board does not send tables back); play it at its planned period or slower, upload it from here first, or pass --allow-infeasible (Python: allow_infeasible=True) to play it anyway"
+    )]
+    UnknownTable { slot: u8, scale: f64, crc: u32 },
+    /// More slices than one gait slot of the board holds.
+    #[error(
+        "{what} {slices}: at most {max} slices per step fit a gait slot of the board ({capacity} bytes for {joints} joints, {per_slice} bytes per slice)"
+    )]
+    TooManySlices {
+        what: String,
+        slices: usize,
+        max: usize,
+        capacity: usize,
+        joints: usize,
+        per_slice: usize,
+    },
+    /// A stiffness the board or the servo's Position P Gain register cannot hold.
+    #[error(transparent)]
+    Stiffness(super::stiffness::StiffnessError),
+    /// A per-joint setting on a board that has no joints yet.
+    #[error("the board has no joint map yet (upload and play a gait first)")]
+    NoJointMap,
+    /// The board refused a per-joint setting.
+    #[error("stiffness of joint {joint}: {source}")]
+    JointSetting {
+        joint: u8,
+        source: crate::link::LinkError,
+    },
+    /// A joint of a step table whose stiffness its servo's P gain register cannot hold.
+    #[error("{what}: joint {joint}: {source}")]
+    TableStiffness {
+        what: String,
+        joint: String,
+        source: super::stiffness::StiffnessError,
+    },
+    #[error(transparent)]
+    PlanDir(#[from] planner::plan_dir::PlanDirError),
+    #[error("{what}: {source}")]
+    Table {
+        what: String,
+        source: planner::plan::table::TableError,
+    },
+    #[error("{what}: {source}")]
+    BadTable {
+        what: String,
+        source: protocol::gait::TableError,
+    },
+    #[error(transparent)]
+    Link(#[from] crate::link::LinkError),
+}
+
+/// What an override let through: the warning every door shows (`dbot` prefixes `warning: `,
+/// Python raises it as a `UserWarning`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Overridden {
+    /// A plan or table the servos cannot follow.
+    Infeasible {
+        what: String,
+        violations: Violations,
+    },
+    /// A table played faster than planned whose speeds the host could not check.
+    Unchecked { slot: u8, scale: f64, crc: u32 },
+}
+
+impl std::fmt::Display for Overridden {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Infeasible { what, violations } => write!(
+                f,
+                "{what}: the servos cannot follow this plan (--allow-infeasible / allow_infeasible=True):\n{violations}"
+            ),
+            Self::Unchecked { slot, scale, crc } => write!(
+                f,
+                "slot {slot}: played at {scale:.3} times the planned period without a check of its speeds against the servos (this host does not hold its table, CRC {crc:#010x}; --allow-infeasible / allow_infeasible=True)"
+            ),
+        }
+    }
+}
+
+/// A plan directory's place in a message.
+pub(crate) fn plan_dir_what(dir: &std::path::Path) -> String {
+    format!("plan {}", dir.display())
+}

@@ -1,0 +1,163 @@
+//! The rules of `board::rules` on hand-worked cases: a table played faster than planned against the
+//! servos' e-manual limits, a faster play of a table the host does not hold, and the stiffness the
+//! P gain register holds.
+//!
+//! The synthetic gait (firmware testkit) has angle 0.4 sin(2 pi s / N + 0.5 j) rad and torque
+//! 0.3 cos(same) N m: by central differences its joint 0 (an MX-28) peaks at slice 0 at
+//! 0.4 sin(2 pi / N) / dt rad/s, with its full 0.3 N m there, driving its motion.
+
+use std::f64::consts::TAU;
+
+use board::link::Board;
+use board::robot::{VirtualRobot, VirtualTransport};
+use board::rules::period::{check_play, check_scaled};
+use board::rules::stiffness::{StiffnessError, units};
+use board::rules::{Overridden, Overrides, RuleError};
+use firmware::testkit::SyntheticGait;
+use protocol::{Direction, GaitTable, PlayCommand, Steps};
+
+/// MX-28(2.0) at 12 V (e-manual): 55 rev/min no load, 2.5 N m stall.
+const W0: f64 = 55.0 * TAU / 60.0;
+const STALL: f64 = 2.5;
+const CHECK: Overrides = Overrides {
+    allow_infeasible: false,
+};
+const ALLOW: Overrides = Overrides {
+    allow_infeasible: true,
+};
+
+fn names() -> Vec<String> {
+    (0..22).map(|j| format!("J{j}")).collect()
+}
+
+/// Joint 0's peak speed at `scale` times the 1.0 s period of a 100-slice synthetic gait.
+fn peak(scale: f64) -> f64 {
+    0.4 * (TAU / 100.0).sin() / (scale / 100.0)
+}
+
+#[test]
+fn a_faster_play_is_refused_where_the_hand_computed_speed_passes_a_limit() {
+    let bytes = SyntheticGait::new(100, 1.0).build();
+    let t = GaitTable::parse(&bytes).unwrap();
+    // As planned and slower: nothing to check.
+    assert!(check_scaled(&t, &names(), 1, 1.0, CHECK).unwrap().is_none());
+    assert!(check_scaled(&t, &names(), 1, 2.0, CHECK).unwrap().is_none());
+    // The torque-speed line 2.5 (1 - w / w0) N m gives the 0.3 N m up to w = 0.88 w0 = 5.068
+    // rad/s: scale 2.5116 / 5.068 = 0.4955. At 0.50 joint 0 turns at 5.023 rad/s: followed.
+    assert!(peak(0.50) < (1.0 - 0.3 / STALL) * W0 && peak(0.49) > (1.0 - 0.3 / STALL) * W0);
+    assert!(
+        check_scaled(&t, &names(), 1, 0.50, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    // At 0.49 (5.126 rad/s) the servo gives 0.275 N m there, less than the 0.3 N m.
+    let e = check_scaled(&t, &names(), 1, 0.49, CHECK).unwrap_err();
+    let available = STALL * (1.0 - peak(0.49) / W0);
+    let text = e.to_string();
+    assert!(
+        text.contains(&format!(
+            "J0 at slice 0: |torque| 0.300 N m at {:.2} rad/s, over the {available:.3} N m the servo gives",
+            peak(0.49)
+        )),
+        "{text}"
+    );
+    // At 0.40 (6.279 rad/s) it is over the no-load speed itself.
+    let e = check_scaled(&t, &names(), 1, 0.40, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::TooFast { .. }));
+    let text = e.to_string();
+    assert!(
+        text.starts_with("slot 1 (\"synthetic\"): at 0.400 s per step (0.400 times the planned 1.000 s) the servos cannot follow it:\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "J0 at slice 0: {:.2} rad/s, over the servo's no-load speed {W0:.2} rad/s",
+            peak(0.40)
+        )),
+        "{text}"
+    );
+    // The override lets it through with the same lines as a warning.
+    let w = check_scaled(&t, &names(), 1, 0.40, ALLOW).unwrap().unwrap();
+    assert!(
+        w.to_string()
+            .contains(&format!("J0 at slice 0: {:.2} rad/s", peak(0.40)))
+    );
+}
+
+#[test]
+fn a_faster_play_of_a_table_the_host_does_not_hold_is_refused_unless_overridden() {
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let bytes = SyntheticGait::new(100, 1.0).build();
+    let crc = GaitTable::parse(&bytes).unwrap().crc();
+    b.upload(1, &bytes, |_, _| {}).unwrap();
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let play = |scale: u16| PlayCommand {
+        slot: 1,
+        direction: Direction::Forward,
+        period_scale: scale,
+        steps: Steps::Count(1),
+    };
+    // At the planned period and slower the table is not needed.
+    assert!(
+        check_play(&mut b, &play(1000), None, &model, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    assert!(
+        check_play(&mut b, &play(1500), None, &model, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    let e = check_play(&mut b, &play(800), None, &model, CHECK).unwrap_err();
+    assert!(
+        e.to_string().contains(&format!(
+            "this host does not hold its table (CRC {crc:#010x}"
+        )),
+        "{e}"
+    );
+    let w = check_play(&mut b, &play(800), None, &model, ALLOW)
+        .unwrap()
+        .unwrap();
+    assert_eq!(
+        w,
+        Overridden::Unchecked {
+            slot: 1,
+            scale: 0.8,
+            crc
+        }
+    );
+    // Held: 0.8 is fine (joint 0 at 3.14 rad/s), 0.4 is not.
+    assert!(
+        check_play(&mut b, &play(800), Some(&bytes), &model, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    let e = check_play(&mut b, &play(400), Some(&bytes), &model, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::TooFast { .. }), "{e}");
+    // A different table than the slot's is not the slot's.
+    let other = SyntheticGait::new(100, 2.0).build();
+    let e = check_play(&mut b, &play(800), Some(&other), &model, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::UnknownTable { .. }), "{e}");
+}
+
+#[test]
+fn the_stiffness_bound_is_the_p_gain_register_of_every_servo() {
+    // e-manual: P gain / 128 of the 885 PWM units; stall torque per tick (2 pi / 4096 rad).
+    let unit = |stall: f64| 1.0 / 128.0 / 885.0 * stall * 4096.0 / TAU;
+    let max28 = 16383.0 * unit(2.5);
+    let half64 = unit(6.0) / 2.0;
+    assert!(units(max28 - 0.01).is_ok());
+    assert!(units(235.0).is_ok());
+    match units(max28 + 0.05) {
+        Err(StiffnessError::AboveRegister { max, .. }) => assert!((max - max28).abs() < 1e-3),
+        other => panic!("{other:?}"),
+    }
+    assert!(units(half64 + 1e-4).is_ok());
+    match units(half64 - 1e-4) {
+        Err(StiffnessError::BelowRegister { min, .. }) => assert!((min - half64).abs() < 1e-6),
+        other => panic!("{other:?}"),
+    }
+    // The board's own unit range is still the first check.
+    assert!(matches!(units(0.0), Err(StiffnessError::Limit(_))));
+    assert!(matches!(units(f64::NAN), Err(StiffnessError::Limit(_))));
+}

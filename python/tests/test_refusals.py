@@ -1,0 +1,188 @@
+"""The rules that protect the robot refuse from Python as from the CLI, in the same words: the library
+call that builds or uploads a step table (``board::rules``) is the one both doors use.
+
+The same infeasible plan (the paper's 0.5 s swing, ``--preset table1``, too fast for the front FTi
+servos) is refused by ``PlanDir.step_table()``, ``Plan.step_table()`` and ``Board.upload_plan()``
+with the text ``dbot table`` prints; ``allow_infeasible=True`` builds the bytes
+``dbot table --allow-infeasible`` writes, with the CLI's warning. ``Board.play(period_scale=)``
+refuses a scale at which a servo could not follow the table as ``dbot run --period`` does, with the
+speed computed here by hand (planned peak speed / scale against the MX-28's 55 rev/min no-load
+speed from its e-manual).
+
+Needs the CLI binary: ``cargo build -p dbot`` (or ``DBOT_BIN``)."""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import subprocess
+import warnings
+
+import pytest
+
+import dbot
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+#: MX-28(2.0) no-load speed at 12 V: 55 rev/min (e-manual), rad/s.
+MX28_NO_LOAD = 55.0 * 2.0 * math.pi / 60.0
+
+
+def dbot_cli() -> pathlib.Path:
+    if os.environ.get("DBOT_BIN"):
+        return pathlib.Path(os.environ["DBOT_BIN"])
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    exe = target / "debug" / "dbot"
+    # A missing binary is a failure, not a skip: the test would otherwise pass without running.
+    assert exe.exists(), f"{exe} is missing: build it with `cargo build -p dbot` (or set DBOT_BIN)"
+    return exe
+
+
+def cli(*args: str, cwd: pathlib.Path) -> subprocess.CompletedProcess[str]:
+    env = {k: v for k, v in os.environ.items() if k != "DBOT_CONFIG"}
+    env["XDG_CONFIG_HOME"] = str(cwd)
+    env["RUST_BACKTRACE"] = "0"
+    return subprocess.run(
+        [str(dbot_cli()), *args], cwd=cwd, capture_output=True, text=True, timeout=600, env=env
+    )
+
+
+def ok(*args: str, cwd: pathlib.Path) -> str:
+    out = cli(*args, cwd=cwd)
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def refusal(*args: str, cwd: pathlib.Path) -> str:
+    """The text after ``Error: `` of a command that must fail."""
+    out = cli(*args, cwd=cwd)
+    assert out.returncode != 0, out.stdout
+    assert out.stderr.startswith("Error: "), out.stderr
+    return out.stderr.removeprefix("Error: ").rstrip()
+
+
+def peak_speed(q: list[float], dt: float) -> float:
+    """Peak |dq/dt| of a periodic cycle by central differences (the paper's equation 1)."""
+    n = len(q)
+    return max(abs(q[(s + 1) % n] - q[(s - 1) % n]) / (2.0 * dt) for s in range(n))
+
+
+def named_speed(text: str, joint: str) -> float:
+    line = next(ln for ln in text.splitlines() if ln.strip().startswith(f"{joint} at slice"))
+    return float(line.split(": ")[1].split(" ")[0])
+
+
+@pytest.fixture(scope="module")
+def plans(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
+    """``fast``: table 1's 0.5 s swing (1.25 s per step); ``safe``: the default servo-safe preset
+    (2.5 s per step); 50 slices each, with dynamics."""
+    d = tmp_path_factory.mktemp("refusals")
+    ok("plan", "--preset", "table1", "--slices", "50", "--out", "fast", cwd=d)
+    ok("plan", "--slices", "50", "--out", "safe", cwd=d)
+    return d
+
+
+def test_plan_dir_step_table_and_upload_plan_refuse_with_the_cli_words(plans: pathlib.Path) -> None:
+    by_cli = refusal("table", "--plan", "fast", "--out", "t.dbgt", cwd=plans)
+    assert by_cli.startswith("plan fast: the servos cannot follow this plan:\n"), by_cli
+    # The PlanDir read from the same relative path names it as the CLI does.
+    cwd = os.getcwd()
+    os.chdir(plans)
+    try:
+        fast = dbot.read_plan_dir("fast")
+    finally:
+        os.chdir(cwd)
+    with pytest.raises(ValueError) as e:
+        fast.step_table()
+    assert str(e.value) == by_cli
+    with dbot.Board.open("virtual") as board:
+        with pytest.raises(ValueError) as e:
+            board.upload_plan(3, fast)
+        assert str(e.value) == by_cli
+        # Nothing reached the board.
+        assert next(g for g in board.gaits() if g["slot"] == 3)["gait"] is None
+    # The speed named is the peak of the plan's own angles (joints.csv) over 55 rev/min.
+    j = fast.joint_names.index("LF_FTi")
+    peak = peak_speed([float(a) for a in fast.angles[:, j]], fast.period_s / fast.slices)
+    assert peak > MX28_NO_LOAD
+    assert abs(named_speed(by_cli, "LF_FTi") - peak) < 0.006
+    assert f"no-load speed {MX28_NO_LOAD:.2f} rad/s" in by_cli
+
+
+def test_a_plan_in_memory_is_refused_with_the_same_violations(plans: pathlib.Path) -> None:
+    by_cli = refusal("table", "--plan", "fast", "--out", "t.dbgt", cwd=plans)
+    p = dbot.plan(dbot.Model.builtin("drosophibot2"), preset="table1", slices=50)
+    with pytest.raises(ValueError) as e:
+        p.step_table(torques=True)
+    words = str(e.value)
+    assert words.startswith("plan of drosophibot2: the servos cannot follow this plan:\n"), words
+    # After the line naming the plan: the same joints, slices and margins, the same advice.
+    assert words.split("\n", 1)[1] == by_cli.split("\n", 1)[1]
+    with dbot.Board.open("virtual") as board, pytest.raises(ValueError) as e:
+        board.upload_plan(2, p, torques=True)
+    assert str(e.value) == words
+
+
+def test_allow_infeasible_builds_the_cli_bytes_with_the_cli_warning(plans: pathlib.Path) -> None:
+    out = cli("table", "--plan", "fast", "--out", "t.dbgt", "--allow-infeasible", cwd=plans)
+    assert out.returncode == 0, out.stderr
+    cli_bytes = (plans / "t.dbgt").read_bytes()
+    cwd = os.getcwd()
+    os.chdir(plans)
+    try:
+        fast = dbot.read_plan_dir("fast")
+    finally:
+        os.chdir(cwd)
+    with pytest.warns(UserWarning) as w:
+        table = fast.step_table(allow_infeasible=True)
+    assert table == cli_bytes
+    assert out.stderr.rstrip() == "warning: " + str(w[0].message)
+    with dbot.Board.open("virtual") as board:
+        with pytest.warns(UserWarning):
+            sent = board.upload_plan(3, fast, allow_infeasible=True)
+        assert sent == len(cli_bytes)
+
+
+def test_a_period_scale_the_servos_cannot_follow_is_refused_as_run_period(
+    plans: pathlib.Path,
+) -> None:
+    ok("upload", "--plan", "safe", "--slot", "1", "--port", "virtual:robot.flash", "--create",
+       cwd=plans)
+    # 1.0 s per step of a 2.5 s plan: scale 0.4, every speed 2.5 times the planned one.
+    by_cli = refusal("run", "--slot", "1", "--steps", "1", "--period", "1.0",
+                     "--port", "virtual:robot.flash", cwd=plans)
+    cwd = os.getcwd()
+    os.chdir(plans)
+    try:
+        safe = dbot.read_plan_dir("safe")
+    finally:
+        os.chdir(cwd)
+    j = safe.joint_names.index("LF_FTi")
+    planned = peak_speed([float(a) for a in safe.angles[:, j]], safe.period_s / safe.slices)
+    assert planned < MX28_NO_LOAD < planned / 0.4
+    with dbot.Board.open("virtual") as board:
+        board.upload_plan(1, safe)
+        with pytest.raises(ValueError) as e:
+            board.play(1, steps=1, period_scale=0.4)
+        assert str(e.value) == by_cli
+        # Table angles are kept to 1e-4 rad: at most 1e-4 / (2 x 0.02 s) = 0.0025 rad/s off.
+        assert abs(named_speed(by_cli, "LF_FTi") - planned / 0.4) < 0.008
+        assert f"no-load speed {MX28_NO_LOAD:.2f} rad/s" in by_cli
+        # Nothing was played; slower than planned needs no check.
+        assert board.status()["state"] in ("Idle", "Standing")
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            board.play(1, steps=1, period_scale=1.2)
+        board.stop()
+
+
+def test_a_table_the_cli_uploaded_is_checked_from_the_image(plans: pathlib.Path) -> None:
+    ok("upload", "--plan", "safe", "--slot", "2", "--port", "virtual:image.flash", "--create",
+       cwd=plans)
+    by_cli = refusal("run", "--slot", "2", "--steps", "1", "--period", "1.0",
+                     "--port", "virtual:image.flash", cwd=plans)
+    # This `Board` did not upload slot 2: the host reads its table from the robot's image.
+    with dbot.Board.open(f"virtual:{plans / 'image.flash'}") as board:
+        with pytest.raises(ValueError) as e:
+            board.play(2, steps=1, period_scale=0.4)
+        assert str(e.value) == by_cli
