@@ -66,7 +66,11 @@ fn two_paths_to_one_file_take_one_lock() {
     // Through a link, and through `..`: the same lock, so the second holder is refused.
     for other in [link.clone(), sub.join("../robots/robot.flash")] {
         let e = lock_beside(&other, Duration::ZERO, |_| {}).unwrap_err();
-        assert!(matches!(e, FileError::Busy { .. }), "{}: {e}", other.display());
+        assert!(
+            matches!(e, FileError::Busy { .. }),
+            "{}: {e}",
+            other.display()
+        );
     }
     drop(held);
     lock_beside(&link, Duration::ZERO, |_| {}).unwrap();

@@ -14,9 +14,17 @@ fn a_rate_the_silence_limit_cannot_serve_is_refused_naming_both_numbers() {
     check_telemetry_rate(199, 100).unwrap();
     for every in [200, 300, u16::MAX] {
         let e = check_telemetry_rate(every, 100).unwrap_err();
-        assert!(matches!(e, CaptureError::RateTooLow { max_every: 199, .. }), "{e}");
+        assert!(
+            matches!(e, CaptureError::RateTooLow { max_every: 199, .. }),
+            "{e}"
+        );
         let text = e.to_string();
-        for n in [every.to_string(), "100 Hz".into(), "2 s".into(), "199".into()] {
+        for n in [
+            every.to_string(),
+            "100 Hz".into(),
+            "2 s".into(),
+            "199".into(),
+        ] {
             assert!(text.contains(&n), "`{text}` lacks `{n}`");
         }
     }

@@ -29,7 +29,12 @@ fn meta(joints: Vec<String>) -> TrialMeta {
         outcome: Outcome::Complete,
         started: "2026-12-02T06:30:05Z".into(),
         host_version: "9.8.7".into(),
-        command_line: vec!["dbot".into(), "record".into(), "--notes".into(), "a b".into()],
+        command_line: vec![
+            "dbot".into(),
+            "record".into(),
+            "--notes".into(),
+            "a b".into(),
+        ],
         port: "virtual".into(),
         firmware: FirmwareMeta {
             version: "1.2.3".into(),
@@ -141,7 +146,10 @@ fn a_trial_is_read_back_with_every_field_and_every_row() {
     assert_eq!(t.rows.len(), rec.rows().len());
     assert_eq!(t.rows.len(), rec.cycles() * 22);
     for (a, b) in t.rows.iter().zip(rec.rows()) {
-        assert_eq!((a.cycle, a.step, a.slice, a.joint), (b.cycle, b.step, b.slice, b.joint));
+        assert_eq!(
+            (a.cycle, a.step, a.slice, a.joint),
+            (b.cycle, b.step, b.slice, b.joint)
+        );
         assert!((a.time_s - b.time_s).abs() <= 5e-7);
         assert!((a.present_rad - b.present_rad).abs() <= 5e-5);
         // Torque off: the goal cell is empty (no goal driven), read back as NaN.
@@ -168,7 +176,10 @@ fn a_trial_is_read_back_with_every_field_and_every_row() {
         "notes: sand paper, second try",
         "| `present_rad` |",
     ] {
-        assert!(readme.contains(needle), "README lacks `{needle}`:\n{readme}");
+        assert!(
+            readme.contains(needle),
+            "README lacks `{needle}`:\n{readme}"
+        );
     }
     let index = std::fs::read_to_string(trials.join(INDEX_TXT)).unwrap();
     assert_eq!(index.lines().count(), 1);
@@ -234,7 +245,10 @@ fn a_folder_that_exists_or_cannot_be_made_is_refused_before_anything_is_written(
     // The same name again: refused, naming the folder; in any outcome's name as well.
     let e = TrialFolder::begin(dir.path(), Some("walk 1"), start()).unwrap_err();
     assert!(matches!(e, TrialError::Taken { .. }), "{e}");
-    assert!(e.to_string().contains("walk 1") && e.to_string().contains("exists"), "{e}");
+    assert!(
+        e.to_string().contains("walk 1") && e.to_string().contains("exists"),
+        "{e}"
+    );
     std::fs::create_dir(dir.path().join("walk 2 failed")).unwrap();
     let e = TrialFolder::begin(dir.path(), Some("walk 2"), start()).unwrap_err();
     assert!(matches!(e, TrialError::Taken { .. }), "{e}");
@@ -265,7 +279,13 @@ fn a_folder_that_exists_or_cannot_be_made_is_refused_before_anything_is_written(
     left.sort();
     assert_eq!(
         left,
-        [INDEX_TXT, "notes.txt", "trials.jsonl", "walk 1", "walk 2 failed"]
+        [
+            INDEX_TXT,
+            "notes.txt",
+            "trials.jsonl",
+            "walk 1",
+            "walk 2 failed"
+        ]
     );
 }
 
@@ -281,5 +301,8 @@ fn a_trial_of_another_format_version_is_refused_naming_both() {
     )
     .unwrap();
     let e = read_trial(&p).unwrap_err().to_string();
-    assert!(e.contains("trial.json") && e.contains('7') && e.contains('1'), "{e}");
+    assert!(
+        e.contains("trial.json") && e.contains('7') && e.contains('1'),
+        "{e}"
+    );
 }

@@ -34,7 +34,8 @@ fn walking(gait: &[u8], after: Duration) -> Board<VirtualTransport> {
 fn stop_and_record(b: &mut Board<VirtualTransport>, gait: &[u8], bound_s: f64) -> Stopped {
     let table = GaitTable::parse(gait).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let mut rec = Recorder::create(&dir.path().join("t.csv"), joints_of_table(&table, &[])).unwrap();
+    let mut rec =
+        Recorder::create(&dir.path().join("t.csv"), joints_of_table(&table, &[])).unwrap();
     let how = stop_walk(b).unwrap();
     let ended = capture_until_standing(b, &mut rec, |t| {
         assert!(

@@ -52,8 +52,8 @@ impl GaitMeta {
             crc,
             joints: header.joint_count,
             slices: header.slice_count,
-            step_period_s: f64::from(header.step_period_us) * 1e-6,
-            duty: f64::from(header.duty) * 1e-4,
+            step_period_s: f64::from(header.step_period_us) / 1e6,
+            duty: f64::from(header.duty) / 1e4,
         }
     }
 }

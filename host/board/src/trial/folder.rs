@@ -146,11 +146,7 @@ impl TrialFolder {
     /// folder to its final name and appends the trial to the index beside it. Returns the folder.
     pub fn publish(self, meta: &mut TrialMeta) -> Result<PathBuf, TrialError> {
         meta.folder = folder_name(&self.name, meta.outcome);
-        let json = serde_json::to_vec_pretty(&*meta).map_err(|e| TrialError::Write {
-            path: self.work.join(TRIAL_JSON),
-            source: e.into(),
-        })?;
-        write(&self.work.join(TRIAL_JSON), &json)?;
+        write(&self.work.join(TRIAL_JSON), meta.to_json().as_bytes())?;
         write(&self.work.join(README_MD), readme(meta).as_bytes())?;
         let done = self.parent.join(&meta.folder);
         files::rename_new(&self.work, &done).map_err(|e| TrialError::Write {

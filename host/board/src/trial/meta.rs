@@ -52,6 +52,14 @@ pub struct TrialMeta {
     pub missing_records: u64,
 }
 
+impl TrialMeta {
+    /// trial.json's text (what [`super::TrialFolder::publish`] writes).
+    pub fn to_json(&self) -> String {
+        // Every field is a string, number, bool, list or map with string keys: this cannot fail.
+        serde_json::to_string_pretty(self).expect("trial metadata serialises")
+    }
+}
+
 /// How a trial's recording ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
