@@ -166,7 +166,9 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
             board::record::Stopped::AtEndOfStep => state
                 .playback
                 .map_or(String::new(), |p| format!(" after step {}", p.step)),
-            board::record::Stopped::RampHeld | board::record::Stopped::NotWalking => String::new(),
+            board::record::Stopped::RampHeld
+            | board::record::Stopped::StreamingEnded
+            | board::record::Stopped::NotWalking => String::new(),
         };
         let what = format!("{}{step}", how.describe());
         bail!(

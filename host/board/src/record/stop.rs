@@ -1,7 +1,8 @@
 //! Stopping a walk: the one stop path of every command and binding that starts one (`dbot run`,
 //! `dbot record --play`, Python's `Board.stop`), so all stop the same way and say the same.
 //! Walking, the board finishes its step; ramping to the first slice, it holds where the ramp got
-//! to (firmware `safety`); standing or idle, there is nothing to stop.
+//! to (firmware `safety`); streaming, it holds the last setpoint; standing or idle, there is
+//! nothing to stop.
 
 use protocol::{ProtocolError, RunState};
 
@@ -14,6 +15,8 @@ pub enum Stopped {
     AtEndOfStep,
     /// Ramping to the gait's first slice: the board stands where the ramp got to (no step walked).
     RampHeld,
+    /// Following streamed setpoints: the board left streaming, holding the last setpoint.
+    StreamingEnded,
     /// Not walking (standing, idle, booting, in a fault): nothing to stop.
     NotWalking,
 }
@@ -26,6 +29,7 @@ impl Stopped {
             Stopped::RampHeld => {
                 "the ramp to the gait's first slice was stopped where it got to (no step walked)"
             }
+            Stopped::StreamingEnded => "streaming was ended, holding the last setpoint",
             Stopped::NotWalking => "the robot was not walking",
         }
     }
@@ -50,8 +54,9 @@ pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> Result<Stopped, LinkErro
         // The walk ended between the two looks (its last step, or the ramp ended and the stop
         // then came while walking): either way the board stands after its step.
         (RunState::Walking | RunState::Stopping, _) => Stopped::AtEndOfStep,
-        // Boot, Idle, Standing, Streaming (the stop leaves it, holding the last setpoint), Fault,
-        // and any state a newer firmware adds (`RunState` is `#[non_exhaustive]`).
+        (RunState::Streaming, _) => Stopped::StreamingEnded,
+        // Boot, Idle, Standing, Fault, and any state a newer firmware adds (`RunState` is
+        // `#[non_exhaustive]`).
         _ => Stopped::NotWalking,
     })
 }
