@@ -254,7 +254,7 @@ impl Board {
     /// at the end of the current step; ramping, where the ramp got to; streaming, holding the
     /// last setpoint. Returns what it did, in words.
     fn stop(&self, py: Python<'_>) -> PyResult<String> {
-        self.with(py, |l| ::board::record::stop_walk(l))
+        self.with(py, ::board::record::stop_walk)
             .map(|how| how.describe().to_owned())
     }
 

@@ -35,9 +35,7 @@ pub fn read_trial<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, Py
     d.set_item("step", ifirst(&|r| i64::from(r.step)).to_pyarray(py))?;
     d.set_item("slice", ifirst(&|r| i64::from(r.slice)).to_pyarray(py))?;
     let cell = |g: &dyn Fn(&board::record::Row) -> f64| {
-        Array2::from_shape_fn((n, joints), |(i, j)| {
-            records[i].get(j).map_or(f64::NAN, |r| g(r))
-        })
+        Array2::from_shape_fn((n, joints), |(i, j)| records[i].get(j).map_or(f64::NAN, g))
     };
     let none = |v: Option<f64>| v.unwrap_or(f64::NAN);
     d.set_item("planned_rad", cell(&|r| none(r.planned_rad)).to_pyarray(py))?;
@@ -53,7 +51,7 @@ pub fn read_trial<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, Py
         cell(&|r| none(r.modelled_nm)).to_pyarray(py),
     )?;
     let raw = |g: &dyn Fn(&board::record::Row) -> i32| {
-        Array2::from_shape_fn((n, joints), |(i, j)| records[i].get(j).map_or(0, |r| g(r)))
+        Array2::from_shape_fn((n, joints), |(i, j)| records[i].get(j).map_or(0, g))
     };
     d.set_item("load_raw", raw(&|r| i32::from(r.load_raw)).to_pyarray(py))?;
     d.set_item("error", raw(&|r| i32::from(r.error)).to_pyarray(py))?;
