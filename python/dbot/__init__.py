@@ -6,6 +6,7 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
+* :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
   (``Board.open("virtual")``) or the physics robot with a MuJoCo body (``Board.open("physics")``),
   with upload, playback, telemetry and the streaming mode
@@ -25,6 +26,7 @@ from ._native import (
     __version__,
     plan,
     read_plan_dir,
+    read_trial,
 )
 
 __all__ = [
@@ -38,4 +40,5 @@ __all__ = [
     "__version__",
     "plan",
     "read_plan_dir",
+    "read_trial",
 ]

@@ -158,6 +158,36 @@ class PlanDir:
 def read_plan_dir(path: str | PathLike[str]) -> PlanDir:
     """Reads a plan directory; ValueError naming the file, line or format version."""
 
+class Trial(TypedDict):
+    """A trial folder written by ``dbot record``, one record per bus cycle."""
+
+    time_s: npt.NDArray[np.float64]
+    """[record]: board time since the first record, s."""
+    cycle: npt.NDArray[np.int64]
+    step: npt.NDArray[np.int64]
+    slice: npt.NDArray[np.int64]
+    planned_rad: npt.NDArray[np.float64]
+    """[record, joint]; NaN without a step table."""
+    commanded_rad: npt.NDArray[np.float64]
+    """[record, joint]; NaN while torque is off (no goal driven)."""
+    present_rad: npt.NDArray[np.float64]
+    velocity_rad_s: npt.NDArray[np.float64]
+    torque_estimate_nm: npt.NDArray[np.float64]
+    """[record, joint]: an ESTIMATE from the load register; NaN without a step table."""
+    modelled_torque_nm: npt.NDArray[np.float64]
+    load_raw: npt.NDArray[np.int32]
+    error: npt.NDArray[np.int32]
+    flags: npt.NDArray[np.int32]
+    joint_names: list[str]
+    meta: dict[str, Any]
+    """trial.json: format_version, folder, outcome, started, host_version, command_line, port,
+    firmware, settings, gait, plan, direction, period_scale, steps, substrate, strain,
+    perturbation, notes, joints, cycles, duration_s, missing_records."""
+    path: str
+
+def read_trial(path: str | PathLike[str]) -> Trial:
+    """Reads a trial folder; ValueError naming the file and line (or format version)."""
+
 class Fault(TypedDict):
     kind: str
     """The fault with its numbers, e.g. ``ServoStuck { goal_range: 312, present_range: 0 }``."""
@@ -267,7 +297,10 @@ class Board:
         naming joint, speed and limit, or when the host does not hold the slot's table (one this
         ``Board`` uploaded, or in a ``virtual:PATH`` image); ``allow_infeasible`` plays it anyway
         with a UserWarning. Slower than planned needs no check."""
-    def stop(self) -> None: ...
+    def stop(self) -> str:
+        """Stops the walk as ``dbot run`` and ``dbot record`` do: walking, at the end of the step;
+        ramping, where the ramp got to; streaming, holding the last setpoint. Returns what it did,
+        e.g. ``"the walk was stopped at the end of its step"``."""
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
     def set_torque(self, enable: bool, joint: int | None = None) -> None: ...

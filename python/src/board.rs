@@ -290,9 +290,12 @@ impl Board {
         Ok(naming.names(count))
     }
 
-    /// Stops at the end of the current step (or leaves streaming, holding the last setpoint).
-    fn stop(&self, py: Python<'_>) -> PyResult<()> {
-        self.with(py, |l| l.stop())
+    /// Stops the walk as `dbot run` and `dbot record` do (`board::record::stop_walk`): walking,
+    /// at the end of the current step; ramping, where the ramp got to; streaming, holding the
+    /// last setpoint. Returns what it did, in words.
+    fn stop(&self, py: Python<'_>) -> PyResult<String> {
+        self.with(py, ::board::record::stop_walk)
+            .map(|how| how.describe().to_owned())
     }
 
     /// Torque off on every servo at once.

@@ -11,6 +11,7 @@ mod plan;
 mod plan_dir;
 mod records;
 mod stream;
+mod trial;
 
 use pyo3::prelude::*;
 
@@ -29,5 +30,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<plan_dir::PlanDir>()?;
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
+    m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     Ok(())
 }

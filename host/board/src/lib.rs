@@ -1,6 +1,6 @@
 //! Everything on the host that talks to a board or runs one: the link (serial port, pseudo-terminal,
 //! USB device discovery, transport, upload, streaming), the host's Dynamixel bus ends, recording
-//! (capture, per-step statistics, telemetry CSV), the in-process virtual robot, and the rules that
+//! (capture, per-step statistics, telemetry CSV), trial records, the in-process virtual robot, and the rules that
 //! protect the robot, enforced by the calls that build, upload and play a step table (`rules`).
 
 pub mod bus;
@@ -10,3 +10,4 @@ pub mod port;
 pub mod record;
 pub mod robot;
 pub mod rules;
+pub mod trial;

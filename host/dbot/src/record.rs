@@ -1,18 +1,26 @@
-//! `dbot record`: saves the board's telemetry as a tidy CSV (written as it arrives) and plots the
-//! measured against the modelled torque (paper fig. 5) and commanded against present angles.
+//! `dbot record`: records the board's telemetry as a trial (`board::trial`): a new folder in
+//! `--out` per recording, named by its start time, holding the tidy CSV (written as it arrives),
+//! the plots of measured against modelled torque (paper fig. 5) and commanded against present
+//! angles, a README and trial.json, and a line in `TRIAL INDEX.txt` beside the folders.
 //!
-//! The CSV is written to `OUT/.partial-telemetry.csv` and renamed to `OUT/telemetry.csv` when the
-//! recording ends (also when it ends early: every row in it is whole), so a killed `dbot record`
-//! leaves the previous recording in place. Ctrl-C stops the walk at the end of the step (whoever
-//! started it), records until the robot stands, keeps the file and exits non-zero.
+//! The trial is recorded into a hidden `.partial-` folder and published when the recording ends:
+//! as asked under its start time, after Ctrl-C as `... interrupted`, after a failed link as
+//! `... failed`; a recording without a single row is removed. No recording ever replaces another.
+//! Ctrl-C stops the walk (whoever started it: `board::record::stop_walk`, the one stop path),
+//! records until the robot stands, keeps the trial and exits non-zero.
 
 use std::path::{Path, PathBuf};
+use std::time::SystemTime;
 
 use anyhow::{Context, bail};
 use board::link::{Board, Transport};
 use board::record::{
-    CaptureError, Ended, JointMeta, Recorder, Until, capture_while, joint_names, joints_of_table,
-    missing_cycles,
+    CaptureError, Ended, JointMeta, Recorder, Until, capture_until_standing, capture_while,
+    joint_names, joints_of_table, missing_cycles,
+};
+use board::trial::{
+    BoardSettings, FirmwareMeta, GaitMeta, Outcome, PlanMeta, Substrate, TELEMETRY_CSV,
+    TrialFolder, TrialMeta,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use report::recording::{plot_angles, plot_torques};
@@ -20,26 +28,41 @@ use report::recording::{plot_angles, plot_torques};
 use crate::args::board::BoardArgs;
 use crate::common::interrupt;
 use crate::common::output::replace;
+use crate::common::playback;
 
-/// Record telemetry to OUT/telemetry.csv and plot it (OUT/torque.png, OUT/angles.png).
+/// Record a trial: telemetry, plots, README and trial.json in a new folder of OUT.
 ///
-/// Ctrl-C stops the walk at the end of its step, records until the robot stands and keeps the
-/// rows so far in OUT/telemetry.csv.
+/// Each recording is a new trial folder in OUT named by its start time (UTC,
+/// `YYYY-MM-DD HH_MM_SS`), listed in OUT/TRIAL INDEX.txt. Ctrl-C stops the walk at the end of
+/// its step, records until the robot stands and keeps the trial as `... interrupted`.
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
-  dbot record --out rec --table walk.dbgt --play 1 --steps 10
-  dbot record --out rec --table walk.dbgt --seconds 20   # whatever the board is doing")]
+  dbot record --out trials --table walk.dbgt --play 1 --steps 10 --notes first-try
+  dbot record --out trials --port physics --table walk.dbgt --play 0 --steps 2   # uploads, walks, records
+  dbot record --out trials --table walk.dbgt --seconds 20   # whatever the board is doing")]
 pub struct Args {
-    /// Output directory.
+    /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.
     #[arg(long)]
     pub out: PathBuf,
+    /// Name of the trial's folder (default: its start time, UTC); one that exists is refused.
+    #[arg(long)]
+    pub trial: Option<String>,
+    /// Free-text notes, kept in the trial's README, trial.json and the index.
+    #[arg(long, default_value = "")]
+    pub notes: String,
     /// Seconds to record, board clock (default: until the gait started with --play ends, else 10).
     #[arg(long)]
     pub seconds: Option<f64>,
-    /// Step table of the gait being played: its joint map turns load registers into torques and
-    /// gives the modelled torque (without it only raw registers are recorded).
+    /// Step table of the gait: its joint map turns load registers into torques and gives the
+    /// modelled torque (without it only raw registers are recorded). With --play it is uploaded
+    /// into that slot first unless the slot holds it already (so the fresh robot of `--port
+    /// physics` or `--port virtual` walks it).
     #[arg(long)]
     pub table: Option<PathBuf>,
+    /// The plan directory the step table was built from, for the trial's metadata (default: the
+    /// table's folder when it holds a plan.json).
+    #[arg(long, requires = "table")]
+    pub plan: Option<PathBuf>,
     /// Start this gait slot first and record it (the way to record on the virtual robot).
     #[arg(long)]
     pub play: Option<u8>,
@@ -52,11 +75,18 @@ pub struct Args {
     /// With --play: step period, s (default: the planned one).
     #[arg(long, requires = "play")]
     pub period: Option<f64>,
-    /// Telemetry every this many bus cycles (1 to 65535: 0 would record nothing).
+    /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
+    /// silence limit allows at the bus's rate: 199 at 100 Hz).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
     pub every: u16,
     #[command(flatten)]
     pub board: BoardArgs,
+}
+
+/// A step table given with `--table`: its bytes and where it came from.
+struct Table {
+    path: PathBuf,
+    bytes: Vec<u8>,
 }
 
 impl Args {
@@ -67,38 +97,117 @@ impl Args {
             bail!("--seconds {s}: must be a positive number of seconds");
         }
         let table = match &self.table {
-            Some(p) => Some(std::fs::read(p).with_context(|| format!("reading {}", p.display()))?),
+            Some(p) => Some(Table {
+                path: p.clone(),
+                bytes: std::fs::read(p).with_context(|| format!("reading {}", p.display()))?,
+            }),
             None => None,
         };
-        if let Some(b) = &table {
-            let path = self.table.as_deref().unwrap_or(Path::new("?")).display();
-            protocol::GaitTable::parse(b)
-                .with_context(|| format!("{path} (--table) is not a step table"))?;
+        if let Some(t) = &table {
+            protocol::GaitTable::parse(&t.bytes)
+                .with_context(|| format!("{} (--table) is not a step table", t.path.display()))?;
         }
-        // A bad --out fails here, before the robot moves.
-        std::fs::create_dir_all(&self.out)
-            .with_context(|| format!("creating {}", self.out.display()))?;
+        let plan = self.plan_meta()?;
         interrupt::catch()?;
         // Ctrl-C stops a walk (even one another command started) before a second one may exit.
         interrupt::hold();
+        // A trial folder that exists or cannot be written fails here, before the robot moves.
+        let folder = TrialFolder::begin(&self.out, self.trial.as_deref(), SystemTime::now())?;
+        match self.start(table.as_ref(), plan, &folder) {
+            Ok((mut s, joints, until, meta)) => {
+                let slices = table
+                    .as_ref()
+                    .and_then(|t| protocol::GaitTable::parse(&t.bytes).ok())
+                    .map_or(0, |t| t.slice_count());
+                let summary = record_trial(&mut s.board, folder, joints, slices, until, meta)?;
+                println!("{summary}");
+                s.close()
+            }
+            Err(e) => {
+                // Nothing was recorded: no trial.
+                folder.discard();
+                Err(e)
+            }
+        }
+    }
+
+    /// `--plan`, or the table's folder when it is a plan directory.
+    fn plan_meta(&self) -> anyhow::Result<Option<PlanMeta>> {
+        let dir = match (&self.plan, &self.table) {
+            (Some(d), _) => Some(d.clone()),
+            (None, Some(t)) => t
+                .parent()
+                .filter(|d| d.join("plan.json").is_file())
+                .map(Path::to_owned),
+            (None, None) => None,
+        };
+        Ok(match dir {
+            Some(d) => Some(PlanMeta::read(&d)?),
+            None => None,
+        })
+    }
+
+    /// Connects, sets the telemetry rate, uploads the table (with --play) and starts the walk:
+    /// everything before the first record, and the trial's metadata as far as it is known then.
+    fn start(
+        &self,
+        table: Option<&Table>,
+        plan: Option<PlanMeta>,
+        folder: &TrialFolder,
+    ) -> anyhow::Result<(
+        crate::common::session::Session,
+        Vec<JointMeta>,
+        Until,
+        TrialMeta,
+    )> {
         let mut s = self.board.connect()?;
         if s.is_virtual() && self.play.is_none() {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
         }
-        s.board.set_telemetry(self.every)?;
-        let joints = named_joints(&mut s, table.as_deref(), self.play)?;
+        board::record::set_recording_rate(&mut s.board, self.every)
+            .with_context(|| format!("--every {}", self.every))?;
+        if let (Some(slot), Some(t)) = (self.play, table) {
+            playback::upload_table(&mut s, slot, &t.path, &t.bytes)?;
+        }
+        let joints = named_joints(&mut s, table.map(|t| t.bytes.as_slice()), self.play)?;
+        let mut meta = TrialMeta {
+            format_version: board::trial::TRIAL_FORMAT,
+            folder: String::new(),
+            outcome: Outcome::Complete,
+            started: folder.started().iso(),
+            host_version: env!("CARGO_PKG_VERSION").to_owned(),
+            command_line: std::env::args().collect(),
+            port: s.board.port().to_owned(),
+            firmware: FirmwareMeta::of(s.board.info()),
+            settings: BoardSettings::of(&s.board.settings()?),
+            gait: table
+                .and_then(|t| protocol::GaitTable::parse(&t.bytes).ok())
+                .map(|t| GaitMeta::of(&t.header(), t.crc(), None)),
+            plan,
+            direction: None,
+            period_scale: None,
+            steps: None,
+            substrate: Substrate::Unspecified,
+            // `record --strain` (the strain board) sets it once it exists.
+            strain: false,
+            perturbation: None,
+            notes: self.notes.clone(),
+            joints: joints.iter().map(|j| j.name.clone()).collect(),
+            cycles: 0,
+            duration_s: 0.0,
+            missing_records: 0,
+        };
         if let Some(slot) = self.play {
-            let (cmd, gait) = crate::common::playback::play_command(
-                &mut s,
-                slot,
-                self.steps,
-                self.period,
-                self.backward,
-            )?;
+            let (cmd, gait) =
+                playback::play_command(&mut s, slot, self.steps, self.period, self.backward)?;
             if interrupt::requested() {
                 bail!("interrupted before the walk started: nothing was played or recorded");
             }
-            println!("{}", crate::common::playback::announce(slot, &gait, &cmd));
+            println!("{}", playback::announce(slot, &gait, &cmd));
+            meta.gait = Some(GaitMeta::of(&gait.gait.header, gait.gait.crc, Some(slot)));
+            meta.direction = Some(cmd.direction);
+            meta.period_scale = Some(f64::from(cmd.period_scale) / 1000.0);
+            meta.steps = self.steps;
             s.board.discard_telemetry();
             s.board
                 .play(cmd)
@@ -114,13 +223,7 @@ impl Args {
                 }),
             standing: self.play.is_some(),
         };
-        let slices = table
-            .as_ref()
-            .and_then(|b| protocol::GaitTable::parse(b).ok())
-            .map_or(0, |t| t.slice_count());
-        let summary = record_to(&mut s.board, &self.out, joints, slices, until)?;
-        println!("{summary}");
-        s.close()
+        Ok((s, joints, until, meta))
     }
 }
 
@@ -135,7 +238,7 @@ fn named_joints(
     let spec = s.setup.model.as_deref().unwrap_or("drosophibot2");
     let model = crate::common::model_spec::load_model(spec)?;
     let table = table.and_then(|b| protocol::GaitTable::parse(b).ok());
-    Ok(match &table {
+    let mut joints = match &table {
         Some(t) => joints_of_table(t, &joint_names(&model, Some(t), t.joint_count())),
         None if let Some(ids) = s.board.joint_map(play)? => {
             board::record::joint_names_by_ids(&model, &ids.servo_ids)
@@ -150,36 +253,37 @@ fn named_joints(
                 .map(JointMeta::named)
                 .collect()
         }
-    })
-}
-
-/// Records into `dir` (telemetry.csv, then the plots) and returns a short summary. If the board
-/// vanishes or Ctrl-C ends the recording, the rows so far are kept in telemetry.csv, the plots are
-/// drawn from them, and the error says so (after Ctrl-C, once the robot stands).
-pub fn record_to<T: Transport>(
-    board: &mut Board<T>,
-    dir: &Path,
-    joints: Vec<JointMeta>,
-    slices: usize,
-    until: Until,
-) -> anyhow::Result<String> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let csv = dir.join("telemetry.csv");
-    let scratch = dir.join(".partial-telemetry.csv");
-    let mut joints = joints;
+    };
     if joints.is_empty() {
-        joints = (0..board.settings()?.joints.len())
+        joints = (0..s.board.settings()?.joints.len())
             .map(|j| JointMeta::named(format!("J{j}")))
             .collect();
     }
     if joints.is_empty() {
         bail!(
             "{}: the board reports no joints (no gait selected): nothing to record; upload a table and give --play SLOT",
-            board.port()
+            s.board.port()
         );
     }
-    let mut rec = Recorder::create(&scratch, joints)
-        .with_context(|| format!("creating {}", scratch.display()))?;
+    Ok(joints)
+}
+
+/// Records the trial `folder` (telemetry.csv, then the plots, README and trial.json) and
+/// publishes it; returns a short summary. If the board vanishes or Ctrl-C ends the recording,
+/// the rows so far are kept in a trial named so, the plots are drawn from them, and the error
+/// says so (after Ctrl-C, once the robot stands).
+fn record_trial<T: Transport>(
+    board: &mut Board<T>,
+    folder: TrialFolder,
+    joints: Vec<JointMeta>,
+    slices: usize,
+    until: Until,
+    mut meta: TrialMeta,
+) -> anyhow::Result<String> {
+    let dir = folder.work_dir().to_owned();
+    let csv = dir.join(TELEMETRY_CSV);
+    let mut rec =
+        Recorder::create(&csv, joints).with_context(|| format!("creating {}", csv.display()))?;
     let bar = ProgressBar::new_spinner().with_style(
         ProgressStyle::with_template("recording {spinner} {msg}").expect("template is valid"),
     );
@@ -190,96 +294,82 @@ pub fn record_to<T: Transport>(
         }
     };
     let mut result = capture_while(board, &mut rec, until, interrupt::requested, &mut progress);
-    let interrupted = matches!(result, Ok(Ended::Interrupted));
-    if interrupted {
-        bar.println("interrupted: stopping at the end of the step (Ctrl-C again to exit at once)");
-        let stopped = crate::common::playback::stop_walk(board);
+    let mut stopped = None;
+    if matches!(result, Ok(Ended::Interrupted)) {
+        bar.println("interrupted: stopping the walk (Ctrl-C again to exit at once)");
+        let stop = board::record::stop_walk(board);
         interrupt::release();
-        result = match stopped {
-            Ok(()) => capture_while(
-                board,
-                &mut rec,
-                Until {
-                    seconds: None,
-                    standing: true,
-                },
-                || false,
-                &mut progress,
-            ),
-            Err(e) => {
-                bar.finish_and_clear();
-                finish_csv(&scratch, &csv, &rec)?;
-                return Err(e);
+        result = match stop {
+            Ok(how) => {
+                stopped = Some(how);
+                capture_until_standing(board, &mut rec, &mut progress)
             }
+            Err(e) => Err(CaptureError::Link {
+                source: e,
+                cycles: rec.cycles(),
+            }),
         };
     }
     bar.finish_and_clear();
     if let Err(CaptureError::Write(e)) = &result {
-        // A failed write may have left half a row: the scratch file is not a recording.
-        let _ = std::fs::remove_file(&scratch);
-        bail!("writing {}: {e}", scratch.display());
+        // A failed write may have left half a row: the folder is not a recording.
+        folder.discard();
+        bail!("writing {}: {e}", csv.display());
     }
-    finish_csv(&scratch, &csv, &rec)?;
-    replace(dir, "README.md", |p| {
-        Ok(std::fs::write(p, board::record::TELEMETRY_README)?)
-    })?;
-    let plots = draw(dir, &rec, slices);
+    if rec.rows().is_empty() {
+        folder.discard();
+        return match result {
+            Err(e) => Err(anyhow::Error::new(e).context("no telemetry arrived: no trial kept")),
+            Ok(_) => bail!("no telemetry arrived: nothing recorded, no trial kept"),
+        };
+    }
+    meta.outcome = match (&result, stopped) {
+        (Err(_), _) => Outcome::Failed,
+        (Ok(_), Some(_)) => Outcome::Interrupted,
+        (Ok(_), None) => Outcome::Complete,
+    };
+    meta.cycles = rec.cycles();
+    meta.duration_s = rec.duration_s();
+    meta.missing_records = missing_cycles(rec.rows());
+    let plots = draw(&dir, &rec, slices);
+    let path = folder.publish(&mut meta)?;
+    let path = path.display();
     if let Err(e) = result {
         return Err(anyhow::Error::new(e)).with_context(|| {
             format!(
-                "recording stopped: {} rows kept in {}",
-                rec.rows().len(),
-                csv.display()
+                "recording stopped: {} bus cycles kept in the trial {path}",
+                rec.cycles()
             )
         });
     }
     plots?;
-    if interrupted {
+    if let Some(how) = stopped {
         let state = board.status().map_or_else(
             |e| format!("unknown ({e})"),
             |st| crate::common::words::state_name(st.state).to_owned(),
         );
         bail!(
-            "interrupted: the walk was stopped at the end of its step and the robot is {state}; \
-             {} bus cycles ({:.2} s of board time) kept in {}",
+            "interrupted: {} and the robot is {state}; {} bus cycles ({:.2} s of board time) \
+             kept in the trial {path}",
+            how.describe(),
             rec.cycles(),
             rec.duration_s(),
-            csv.display()
         );
     }
-    let missing = missing_cycles(rec.rows());
     Ok(format!(
-        "recorded {} bus cycles ({:.2} s of board time) x {} joints to {}; {}",
+        "recorded {} bus cycles ({:.2} s of board time) x {} joints: trial {path}; {}",
         rec.cycles(),
         rec.duration_s(),
         rec.joints().len(),
-        csv.display(),
-        if missing == 0 {
+        if meta.missing_records == 0 {
             "no telemetry record missing".to_string()
         } else {
-            format!("{missing} telemetry records missing (skipped cycle numbers)")
+            format!(
+                "{} telemetry records missing (skipped cycle numbers)",
+                meta.missing_records
+            )
         }
     ))
-}
-
-/// Puts the finished scratch CSV in place of `csv` (every row in it is whole: rows are flushed
-/// per bus cycle and a write error never gets here). A recording without a single row is not
-/// kept: it would replace a good recording (and leave its plots beside a header-only CSV).
-fn finish_csv(scratch: &Path, csv: &Path, rec: &Recorder) -> anyhow::Result<()> {
-    if rec.rows().is_empty() {
-        let _ = std::fs::remove_file(scratch);
-        bail!(
-            "no telemetry arrived: nothing recorded, {} is left as it was",
-            csv.display()
-        );
-    }
-    board::files::commit_scratch(csv).with_context(|| {
-        format!(
-            "keeping the recording ({} rows in {})",
-            rec.rows().len(),
-            scratch.display()
-        )
-    })
 }
 
 /// Whether to refresh the progress line (every tenth of a second of board time).
@@ -287,11 +377,8 @@ fn rec_tick(t: f64) -> bool {
     ((t * 100.0).round() as u64).is_multiple_of(10)
 }
 
-/// The plots, each through a scratch file (a killed run leaves the previous plot whole).
+/// The plots (the trial folder is new: no plot of an earlier recording can be beside them).
 fn draw(dir: &Path, rec: &Recorder, slices: usize) -> anyhow::Result<()> {
-    if rec.rows().is_empty() {
-        return Ok(());
-    }
     replace(dir, "angles.png", |p| {
         plot_angles(p, rec.rows(), rec.joints())
             .map_err(|e| anyhow::anyhow!("plotting angles: {e}"))
@@ -301,13 +388,6 @@ fn draw(dir: &Path, rec: &Recorder, slices: usize) -> anyhow::Result<()> {
             plot_torques(p, rec.rows(), rec.joints(), slices)
                 .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))
         })?;
-    } else {
-        // A torque plot of an earlier recording must not pass for this one's.
-        let old = dir.join("torque.png");
-        if old.exists() {
-            std::fs::remove_file(&old)
-                .with_context(|| format!("removing {} (of an earlier recording)", old.display()))?;
-        }
     }
     Ok(())
 }

@@ -10,7 +10,7 @@ use protocol::RunState;
 
 use crate::args::board::BoardArgs;
 use crate::common::interrupt;
-use crate::common::playback::{announce, play_command, stop_walk};
+use crate::common::playback::{announce, play_command, stop_walk, upload_table};
 use crate::common::session::Session;
 use crate::common::words::{WalkReport, state_name};
 
@@ -21,7 +21,8 @@ use crate::common::words::{WalkReport, state_name};
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot run --slot 1 --steps 10
-  dbot run --slot 1 --steps 4 --backward --period 2.0   # period in s")]
+  dbot run --slot 1 --steps 4 --backward --period 2.0   # period in s
+  dbot run --port physics --table walk.dbgt --steps 2   # upload and walk on a fresh robot")]
 pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).
     #[arg(long)]
@@ -38,6 +39,11 @@ pub struct Args {
     /// Walk backward (slices in reverse order on the same footpaths).
     #[arg(long)]
     pub backward: bool,
+    /// Step table to put into the slot first, unless the slot holds it already (so the fresh
+    /// robot of `--port physics` or `--port virtual` walks it; on a board it is uploaded, with
+    /// every check of `dbot upload`).
+    #[arg(long)]
+    pub table: Option<std::path::PathBuf>,
     /// Return once the board has started instead of following the steps (needs --steps: the
     /// board stops an endless run whose host is gone).
     #[arg(long)]
@@ -68,6 +74,11 @@ impl Args {
                  after the host falls silent, so a killed host never leaves the robot walking)",
                 protocol::limits::HOST_TIMEOUT_CYCLES / 100
             );
+        }
+        if let Some(path) = &self.table {
+            let bytes = std::fs::read(path)
+                .with_context(|| format!("reading the step table {}", path.display()))?;
+            upload_table(&mut s, slot, path, &bytes)?;
         }
         let (command, gait) = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
         // Faster than planned: the table's speeds at that period against the servos (the
@@ -133,17 +144,15 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
     };
     let mut started = false;
     let mut walked = 0;
-    // After Ctrl-C: the board's state right after it was asked to stop (Stopping: it finishes
-    // the step; Standing: it was still ramping to the first slice and holds where it got to).
-    let mut stopped_in: Option<RunState> = None;
+    // After Ctrl-C: what the stop found (walking: it finishes the step; ramping: it holds where
+    // the ramp got to).
+    let mut stopped: Option<board::record::Stopped> = None;
     let state = loop {
-        if interrupt::requested() && stopped_in.is_none() {
-            bar.println(
-                "interrupted: stopping at the end of the step (Ctrl-C again to exit at once)",
-            );
-            stop_walk(&mut s.board)?;
+        if interrupt::requested() && stopped.is_none() {
+            bar.println("interrupted: stopping the walk (Ctrl-C again to exit at once)");
+            let how = stop_walk(&mut s.board);
             interrupt::release();
-            stopped_in = Some(s.board.status()?.state);
+            stopped = Some(how?);
         }
         s.board.wait(Duration::from_millis(100))?;
         s.board.discard_telemetry();
@@ -155,7 +164,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
         bar.set_message(state_name(st.state));
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
-            RunState::Standing | RunState::Idle if started || stopped_in.is_some() => break st,
+            RunState::Standing | RunState::Idle if started || stopped.is_some() => break st,
             RunState::Fault => {
                 bar.abandon();
                 let fault = st
@@ -170,17 +179,16 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
     };
     bar.finish_and_clear();
     let t = s.board.now().as_secs_f64();
-    if let Some(was) = stopped_in {
-        // A ramp has no step to finish: the board holds where the ramp got to.
-        let what = if matches!(was, RunState::Standing | RunState::Idle) {
-            "the ramp to the gait's first slice was stopped where it got to (no step walked)"
-                .to_owned()
-        } else {
-            let step = state
+    if let Some(how) = stopped {
+        let step = match how {
+            board::record::Stopped::AtEndOfStep => state
                 .playback
-                .map_or(String::new(), |p| format!(" after step {}", p.step));
-            format!("the walk was stopped at the end of its step{step}")
+                .map_or(String::new(), |p| format!(" after step {}", p.step)),
+            board::record::Stopped::RampHeld
+            | board::record::Stopped::StreamingEnded
+            | board::record::Stopped::NotWalking => String::new(),
         };
+        let what = format!("{}{step}", how.describe());
         bail!(
             "interrupted: {what}; the robot is {} (board clock {t:.2} s)",
             state_name(state.state)

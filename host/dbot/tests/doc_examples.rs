@@ -2,7 +2,8 @@
 //! virtual robot, in the order the documents give them, in one scratch folder.
 //!
 //! Board ports in the examples (`/dev/ttyACM0`, or none) become `--port virtual:robot.flash
-//! --create`, so the examples share one virtual robot as they would share one board. An example
+//! --create`, so the examples share one virtual robot as they would share one board; an example
+//! on the physics robot (`--port physics[:SCENE]`) runs there, as written. An example
 //! whose comment starts `[needs a board]` or `[needs servos]` cannot run on the virtual robot
 //! (recording a walk some other command started, a U2D2 adapter): it is listed, not run.
 
@@ -63,8 +64,15 @@ fn examples(file: &str) -> Vec<Example> {
     out
 }
 
-/// The example's words with its board port replaced by the shared virtual robot.
+/// The example's words with its board port replaced by the shared virtual robot (the physics
+/// robot is kept: it runs here as anywhere).
 fn on_virtual_robot(args: &[String]) -> Vec<String> {
+    let physics = args
+        .windows(2)
+        .any(|w| (w[0] == "--port" || w[0] == "-p") && w[1].starts_with("physics"));
+    if physics {
+        return args.to_vec();
+    }
     let mut a: Vec<String> = Vec::new();
     let mut words = args.iter();
     while let Some(w) = words.next() {

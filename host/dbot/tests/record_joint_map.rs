@@ -57,8 +57,10 @@ fn record_without_table_names_joints_by_the_boards_servo_ids() {
     with_table.extend(["--table".to_owned(), t.display().to_string()]);
     run(&with_table.iter().map(String::as_str).collect::<Vec<_>>());
     run(&rec(&b).iter().map(String::as_str).collect::<Vec<_>>());
-    let by_table = first_cycle_joints(&a.join("telemetry.csv"));
-    let by_board = first_cycle_joints(&b.join("telemetry.csv"));
+    // Each recording is the one trial folder in its --out.
+    let trial = |d: &std::path::Path| board::trial::latest_trial(d).unwrap().unwrap();
+    let by_table = first_cycle_joints(&trial(&a).join("telemetry.csv"));
+    let by_board = first_cycle_joints(&trial(&b).join("telemetry.csv"));
     assert_eq!(by_table.len(), 22);
     // Joint 0 of the reversed table is servo 22, the model's last servo joint, not LF_ThC1.
     assert_ne!(by_table[0], "LF_ThC1");

@@ -55,8 +55,11 @@ fn record_names_joints_with_and_without_a_table() {
     let stdout = ok(&run(&[
         "record", "--out", o, "--table", table, "--play", "0", "--steps", "1",
     ]));
+    // Each recording is a new trial folder in --out: the last one indexed.
+    let trial = || board::trial::latest_trial(&out).unwrap().unwrap();
+    let first = trial();
     // The summary counts the cycle numbers the CSV skips (telemetry every cycle here).
-    let text = std::fs::read_to_string(out.join("telemetry.csv")).unwrap();
+    let text = std::fs::read_to_string(first.join("telemetry.csv")).unwrap();
     let mut cycles: Vec<u32> = text
         .lines()
         .skip(1)
@@ -70,14 +73,16 @@ fn record_names_joints_with_and_without_a_table() {
         format!("{skipped} telemetry records missing")
     };
     assert!(stdout.contains(&expect), "{stdout} (expected `{expect}`)");
-    assert_eq!(joint_column(&out.join("telemetry.csv")), model_names);
-    assert!(out.join("torque.png").exists());
-    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    assert_eq!(joint_column(&first.join("telemetry.csv")), model_names);
+    assert!(first.join("torque.png").exists());
+    let readme = std::fs::read_to_string(first.join("README.md")).unwrap();
     assert!(readme.contains("8 = torque off"), "{readme}");
 
     // Without --table: the names from the board's joint-map order, and no stale torque plot.
     ok(&run(&["record", "--out", o, "--play", "0", "--steps", "1"]));
-    assert_eq!(joint_column(&out.join("telemetry.csv")), model_names);
-    assert!(!out.join("torque.png").exists());
-    assert!(out.join("angles.png").exists());
+    let second = trial();
+    assert_ne!(second, first);
+    assert_eq!(joint_column(&second.join("telemetry.csv")), model_names);
+    assert!(!second.join("torque.png").exists());
+    assert!(second.join("angles.png").exists());
 }

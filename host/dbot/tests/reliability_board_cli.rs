@@ -14,8 +14,8 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use board_fakes::cli::{
-    HANG, fails_naming, outputs, run, spawn, strings, table, tree, wait_for, whole_csv_rows,
-    whole_output, with_port,
+    HANG, fails_naming, run, spawn, strings, table, tree, wait_for, whole_csv_rows, whole_output,
+    with_port,
 };
 use board_fakes::{Answer, FakeBoard, RobotServer, host_messages, pty};
 use firmware::safety::State;
@@ -241,10 +241,10 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
         let r = spawn(dir.path(), "walk", &with_port(&cmd, &robot.pty_path), None);
         wait_for(&what, HANG, || robot.state() == when);
         if cmd[0] == "record" {
-            // Once rows arrive, the recording is under way.
-            let scratch = dir.path().join(&cmd[2]).join(".partial-telemetry.csv");
+            // Once rows arrive in the trial being recorded, the recording is under way.
+            let trials = dir.path().join(&cmd[2]);
             wait_for(&what, HANG, || {
-                std::fs::metadata(&scratch).is_ok_and(|m| m.len() > 1000)
+                std::fs::metadata(recording_csv(&trials)).is_ok_and(|m| m.len() > 1000)
             });
         }
         r.signal(Signal::SIGINT);
@@ -304,12 +304,35 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
     std::thread::sleep(Duration::from_millis(300));
     assert_ne!(robot.state(), State::Walking);
     robot.finish();
-    // The interrupted recordings are kept, whole, under their name; no scratch file is left.
+    // The interrupted recordings are kept, whole, as trials named so; none is left unfinished.
     for r in [&rec, &rec2] {
-        assert!(whole_csv_rows(&r.join("telemetry.csv")) > 0);
-        assert!(!r.join(".partial-telemetry.csv").exists());
-        assert!(r.join("angles.png").exists());
+        let trial = board::trial::latest_trial(r).unwrap().unwrap();
+        assert!(
+            trial.to_string_lossy().ends_with(" interrupted"),
+            "{}",
+            trial.display()
+        );
+        assert!(whole_csv_rows(&trial.join("telemetry.csv")) > 0);
+        assert!(trial.join("angles.png").exists());
+        assert!(!recording_csv(r).exists());
     }
+}
+
+/// The telemetry CSV of the trial being recorded in the folder of trials `trials` (a hidden
+/// `.partial-` folder until the recording ends); a path that does not exist when there is none.
+fn recording_csv(trials: &Path) -> std::path::PathBuf {
+    std::fs::read_dir(trials)
+        .into_iter()
+        .flatten()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(".partial-")
+        })
+        .unwrap_or_else(|| trials.join(".partial-none"))
+        .join("telemetry.csv")
 }
 
 /// The `gaits` line of slot 1 of the virtual robot whose flash is `image`.
@@ -432,21 +455,18 @@ fn a_recording_killed_leaves_whole_files() {
         }
         a
     };
-    // The previous good recording, and what a complete new one holds.
+    // The previous good recording (a trial folder in `rec`).
     let d = run(dir.path(), &record(&rec, false));
     assert!(d.status.success(), "{}", d.stderr);
-    let fresh = dir.path().join("fresh");
-    let d = run(dir.path(), &record(&fresh, true));
-    assert!(d.status.success(), "{}", d.stderr);
     let took = d.took;
-    let (old, new) = (outputs(&rec), outputs(&fresh));
+    let good = tree(&rec);
     assert_eq!(
-        old.len(),
-        3,
-        "telemetry.csv, angles.png, README.md: {:?}",
-        old.keys()
+        good.len(),
+        6,
+        "TRIAL INDEX.txt, trials.jsonl and the trial's telemetry.csv, angles.png, README.md, \
+         trial.json: {:?}",
+        good.iter().map(|(n, _)| n).collect::<Vec<_>>()
     );
-    assert_ne!(old["telemetry.csv"], new["telemetry.csv"]);
     // SIGKILL (no chance to clean up) at moments spread over a run. Ctrl-C during a recording
     // is checked on a board in real time (ctrl_c_while_walking_...) and in the demo.
     for k in 1..=4u32 {
@@ -454,11 +474,26 @@ fn a_recording_killed_leaves_whole_files() {
         std::thread::sleep(took * k / 5);
         r.signal(Signal::SIGKILL);
         r.wait();
-        for (name, bytes) in outputs(&rec) {
+        let now: std::collections::BTreeMap<_, _> = tree(&rec).into_iter().collect();
+        for (name, bytes) in &good {
+            let kept = &now[name];
+            // The earlier trial is untouched; the indexes only grow, by whole lines.
+            if name.contains(std::path::MAIN_SEPARATOR) {
+                assert_eq!(kept, bytes, "killed at {k}/5 of {took:?}: {name} changed");
+            } else {
+                assert!(kept.starts_with(bytes) && kept.ends_with(b"\n"), "{name}");
+            }
+        }
+        // A trial killed before it ended stays a hidden `.partial-` folder: every published
+        // trial's files are whole.
+        for (name, bytes) in &now {
+            let file = name.rsplit(std::path::MAIN_SEPARATOR).next().unwrap();
+            if name.starts_with(".partial-") || !name.contains(std::path::MAIN_SEPARATOR) {
+                continue;
+            }
             assert!(
-                old.get(&name) == Some(&bytes) || new.get(&name) == Some(&bytes),
-                "killed at {k}/5 of {took:?}: {name} is neither the previous file nor a \
-                 complete new one ({} bytes)",
+                whole_output(file, bytes),
+                "killed at {k}/5 of {took:?}: {name} is not whole ({} bytes)",
                 bytes.len()
             );
         }

@@ -10,7 +10,7 @@ use std::os::unix::fs::PermissionsExt as _;
 use std::path::Path;
 use std::time::Duration;
 
-use board_fakes::cli::{fails_naming, outputs, run, spawn, strings, table};
+use board_fakes::cli::{fails_naming, run, spawn, strings, table, tree};
 
 fn mode(p: &Path) -> u32 {
     std::fs::metadata(p).unwrap().permissions().mode() & 0o777
@@ -60,7 +60,7 @@ fn record_every_0_into_a_good_recording_is_refused_and_keeps_it() {
     };
     let d = run(dir.path(), &record("4"));
     assert!(d.status.success(), "{}", d.stderr);
-    let good = outputs(&rec);
+    let good = tree(&rec);
     // Before: exit 0 and a telemetry.csv of the header alone beside the old angles.png.
     let d = run(dir.path(), &record("0"));
     assert!(
@@ -69,7 +69,7 @@ fn record_every_0_into_a_good_recording_is_refused_and_keeps_it() {
         d.stdout
     );
     assert!(d.stderr.contains("every"), "{}", d.stderr);
-    assert_eq!(outputs(&rec), good, "the good recording was changed");
+    assert_eq!(tree(&rec), good, "the good recording was changed");
 }
 
 #[test]

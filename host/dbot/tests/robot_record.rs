@@ -171,8 +171,11 @@ fn the_cli_records_a_played_gait_with_plots() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(stdout.contains("x 22 joints"), "{stdout}");
+    let trial = board::trial::latest_trial(&out).unwrap().unwrap();
     for f in ["telemetry.csv", "torque.png", "angles.png"] {
-        let len = std::fs::metadata(out.join(f)).map(|m| m.len()).unwrap_or(0);
+        let len = std::fs::metadata(trial.join(f))
+            .map(|m| m.len())
+            .unwrap_or(0);
         assert!(len > 1000, "{f}: {len} bytes");
     }
     // Without --play the virtual robot has nothing to record: a clear refusal.

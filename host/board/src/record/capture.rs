@@ -32,6 +32,69 @@ pub enum CaptureError {
     Write(#[from] std::io::Error),
     #[error("no telemetry for {seconds} s (is telemetry off, or is the board not walking?)")]
     Silent { seconds: f64 },
+    #[error(
+        "telemetry every {every} bus cycles at {cycle_hz} Hz is one record per {interval_s:.2} s, \
+         and a recording takes {silence_s} s without telemetry for a board that stopped sending: \
+         give at most {max_every} cycles"
+    )]
+    RateTooLow {
+        every: u16,
+        cycle_hz: u16,
+        interval_s: f64,
+        silence_s: f64,
+        max_every: u64,
+    },
+}
+
+/// Refuses a telemetry rate (a record every `every` bus cycles at `cycle_hz`) that the silence
+/// limit of [`capture_while`] cannot serve: a recording of it would end after its first gap.
+pub fn check_telemetry_rate(every: u16, cycle_hz: u16) -> Result<(), CaptureError> {
+    let hz = f64::from(cycle_hz.max(1));
+    let interval_s = f64::from(every) / hz;
+    // The longest interval that still leaves a whole bus cycle of margin before the limit.
+    let max_every = ((SILENCE_S * hz).floor() as u64).saturating_sub(1).max(1);
+    if u64::from(every) > max_every {
+        return Err(CaptureError::RateTooLow {
+            every,
+            cycle_hz,
+            interval_s,
+            silence_s: SILENCE_S,
+            max_every,
+        });
+    }
+    Ok(())
+}
+
+/// Checks `every` against the board's bus cycle rate ([`check_telemetry_rate`]), then asks the
+/// board for telemetry every `every` cycles.
+pub fn set_recording_rate<T: Transport>(
+    board: &mut Board<T>,
+    every: u16,
+) -> Result<(), CaptureError> {
+    let link = |source| CaptureError::Link { source, cycles: 0 };
+    let hz = board.settings().map_err(link)?.cycle_hz;
+    check_telemetry_rate(every, hz)?;
+    board.set_telemetry(every).map_err(link)
+}
+
+/// Records until the board stands after it was asked to stop ([`super::stop_walk`]): its state
+/// is read at once, not only after it was seen moving (a ramp that was stopped stands at once).
+pub fn capture_until_standing<T: Transport>(
+    board: &mut Board<T>,
+    rec: &mut Recorder,
+    progress: impl FnMut(f64),
+) -> Result<Ended, CaptureError> {
+    run(
+        board,
+        rec,
+        Until {
+            seconds: None,
+            standing: true,
+        },
+        true,
+        || false,
+        progress,
+    )
 }
 
 /// How often the loop asks the board for its state when `until.standing`, s of board time.
@@ -64,6 +127,19 @@ pub fn capture_while<T: Transport>(
     board: &mut Board<T>,
     rec: &mut Recorder,
     until: Until,
+    interrupted: impl FnMut() -> bool,
+    progress: impl FnMut(f64),
+) -> Result<Ended, CaptureError> {
+    run(board, rec, until, false, interrupted, progress)
+}
+
+/// The loop of [`capture_while`] and [`capture_until_standing`]; `moving`: the board is known to
+/// have moved (so standing ends the recording at the first look).
+fn run<T: Transport>(
+    board: &mut Board<T>,
+    rec: &mut Recorder,
+    until: Until,
+    mut moving: bool,
     mut interrupted: impl FnMut() -> bool,
     mut progress: impl FnMut(f64),
 ) -> Result<Ended, CaptureError> {
@@ -71,7 +147,6 @@ pub fn capture_while<T: Transport>(
         source,
         cycles: rec.cycles(),
     };
-    let mut moving = false;
     let mut next_poll = 0.0;
     loop {
         if interrupted() {

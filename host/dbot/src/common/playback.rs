@@ -1,10 +1,15 @@
-//! Starting and stopping playback, shared by `run` and `record --play`.
+//! Starting and stopping playback, shared by `run` and `record --play`: the table to upload
+//! first (`--table`), the play command, its announcement, and the stop on Ctrl-C.
 
-use anyhow::bail;
+use std::path::Path;
+
+use anyhow::{Context, bail};
 use board::link::{Board, LinkError, Transport};
-use protocol::{Direction, GaitSummary, PlayCommand, ProtocolError, SlotInfo, Steps};
+use board::record::Stopped;
+use protocol::{Direction, GaitSummary, PlayCommand, SlotInfo, Steps};
 
 use crate::common::gait_summary::describe;
+use crate::common::interrupt;
 use crate::common::session::Session;
 use crate::common::slot_health;
 use crate::common::words::direction_name;
@@ -85,16 +90,42 @@ pub fn play_command(
     Ok((command, Stored { gait, info }))
 }
 
-/// Asks the board to stop walking at the end of the step. A board that refuses because it is not
-/// walking (booting, in a fault) has nothing to stop.
-pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<()> {
-    match board.stop() {
-        Ok(())
-        | Err(LinkError::Device {
-            error: ProtocolError::WrongState { .. },
-            ..
-        })
-        | Err(LinkError::Faulted { .. }) => Ok(()),
-        Err(e) => Err(anyhow::Error::new(e).context("stopping the walk after Ctrl-C")),
+/// Asks the board to stop the walk (the one stop path, `board::record::stop_walk`) and says
+/// what it did.
+pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<Stopped> {
+    board::record::stop_walk(board).context("stopping the walk after Ctrl-C")
+}
+
+/// Puts the step table `bytes` (read from `path`) into `slot` before a walk, unless the slot
+/// holds that very table (same CRC, so a board's flash is not rewritten for nothing): the way a
+/// lab walks its own gait on a robot that each command opens afresh (`--port physics`,
+/// `--port virtual`). The upload is the library's, with every refusal `dbot upload` has.
+pub fn upload_table(s: &mut Session, slot: u8, path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let table = protocol::GaitTable::parse(bytes)
+        .with_context(|| format!("{} (--table) is not a step table", path.display()))?;
+    let held = s
+        .board
+        .gaits()?
+        .iter()
+        .find(|g| g.slot == slot)
+        .and_then(|g| g.gait)
+        .is_some_and(|g| g.crc == table.crc());
+    if held {
+        return Ok(());
     }
+    let report = s
+        .board
+        .upload_unless(slot, bytes, |_, _| {}, interrupt::requested);
+    if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
+        bail!("interrupted: {e}");
+    }
+    let report = report
+        .with_context(|| format!("uploading {} into slot {slot} (--table)", path.display()))?;
+    println!(
+        "slot {slot}: uploaded {} from {} (verified: CRC {:#010x})",
+        describe(&report.stored),
+        path.display(),
+        report.stored.crc
+    );
+    Ok(())
 }
