@@ -7,8 +7,8 @@
   other vertical force. Tolerance: 1 % (the body still sways a little after the gravity ramp; the
   test waits 1.5 s beyond it, and averages 50 cycles);
 * walking, the thorax stays near the height the gait was planned for: the body is set down in the
-  planner's stance (175 mm for the default plan, docs/usage.md), within 15 mm (measured: it sags
-  by under 10 mm while walking the default servo-safe tripod);
+  planner's stance (175 mm for the default plan), within 20 mm (measured: 162 to 176 mm while
+  walking the default servo-safe tripod; it sags most at the end of a tripod's stance);
 * only the physics robot has a body: the virtual robot says so, naming the port.
 """
 
@@ -86,18 +86,22 @@ def test_walking_the_thorax_stays_near_the_planned_height() -> None:
     board.upload_plan(0, gait)
     board.play(0, steps=2)
     heights, xs, stance_contact = [], [], []
-    t_end = board.now() + 0.6 + 2 * gait.period_s
+    t0 = board.now()
+    t_end = t0 + 0.6 + 2 * gait.period_s
     while board.now() < t_end:
         board.wait(0.05)
         b = board.body()
         heights.append(b["thorax_position_m"][2])
         xs.append(b["thorax_position_m"][0])
-        stance_contact.append(int(b["foot_contact"].sum()))
+        # Gravity ramps in over the first second after torque-on (the robot is set down).
+        if b["time_s"] > t0 + 1.0:
+            stance_contact.append(int(b["foot_contact"].sum()))
     assert board.status()["fault"] is None
     heights = np.array(heights)
-    assert np.all(np.abs(heights - PLANNED_HEIGHT_M) < 0.015), (heights.min(), heights.max())
-    # It walked forward (x forward), and a tripod always has at least three feet down.
-    assert xs[-1] - xs[0] > 0.02, (xs[0], xs[-1])
+    assert np.all(np.abs(heights - PLANNED_HEIGHT_M) < 0.020), (heights.min(), heights.max())
+    # It walked forward (x forward; measured 0.32 m in the two steps), and a tripod always has at
+    # least three feet down.
+    assert xs[-1] - xs[0] > 0.2, (xs[0], xs[-1])
     assert min(stance_contact) >= 3, stance_contact
     board.close()
 
