@@ -204,6 +204,17 @@ class Proprioception(Records):
     setpoint_seq: npt.NDArray[np.int64]
     setpoint_age: npt.NDArray[np.int64]
 
+class Settings(TypedDict):
+    baud: int
+    """Bus baud rate, bit/s."""
+    cycle_hz: int
+    telemetry_every: int
+    """Telemetry every this many bus cycles outside streaming (0: off)."""
+    stiffness_nm_rad: npt.NDArray[np.float64]
+    """Per joint of the joint map, N m/rad (empty without a joint map)."""
+    limits_rad: npt.NDArray[np.float64]
+    """Per joint of the joint map: (lower, upper), rad."""
+
 class Body(TypedDict):
     """The physics robot's body at one moment (``Board.body()``): world frame (x forward at the
     start, y left, z up), SI units, feet in the model's order (``feet``)."""
@@ -281,6 +292,8 @@ class Board:
         """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
         proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
     def set_bus(self, baud: int, cycle_hz: int) -> None: ...
+    def settings(self) -> Settings:
+        """The board's run-time settings (as ``dbot status`` shows them)."""
     def set_stiffness(self, joint: int, stiffness_nm_rad: float) -> None:
         """Stiffness of one joint's servo (joint-map index), N m/rad: its P gain and the torque
         bias's divisor, as ``dbot set --stiffness --joint``."""

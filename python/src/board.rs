@@ -301,6 +301,28 @@ impl Board {
         self.with(py, move |l| l.set_bus(baud, cycle_hz))
     }
 
+    /// The board's run-time settings, as `dbot status` shows them: `baud` (bit/s), `cycle_hz`,
+    /// `telemetry_every` (cycles, 0: off) and per joint of the joint map `stiffness_nm_rad`
+    /// (N m/rad) and `limits_rad` ([joint, 2] of lower, upper).
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        use numpy::ToPyArray;
+        let s = self.with(py, |l| l.settings())?;
+        let d = PyDict::new(py);
+        d.set_item("baud", s.baud)?;
+        d.set_item("cycle_hz", s.cycle_hz)?;
+        d.set_item("telemetry_every", s.telemetry_every)?;
+        let k = protocol::units::STIFFNESS_PER_NM_RAD;
+        let stiffness: Vec<f64> = s.joints.iter().map(|j| f64::from(j.stiffness) / k).collect();
+        d.set_item("stiffness_nm_rad", numpy::ndarray::Array1::from(stiffness).to_pyarray(py))?;
+        let a = protocol::units::ANGLE_PER_RAD;
+        let limits = numpy::ndarray::Array2::from_shape_fn((s.joints.len(), 2), |(i, c)| {
+            let j = &s.joints[i];
+            f64::from(if c == 0 { j.min } else { j.max }) / a
+        });
+        d.set_item("limits_rad", limits.to_pyarray(py))?;
+        Ok(d)
+    }
+
     /// Stiffness of the servo of `joint` (joint-map index), N m/rad: the board writes it to the
     /// servo's Position P Gain and the torque bias divides by it; within the hardware's limits,
     /// as `dbot set --stiffness` (protocol::limits).
