@@ -205,13 +205,29 @@ class DbotEnv(gym.Env):
         return board
 
     @staticmethod
-    def _clear_upload_fault(board: Board) -> None:
+    def _wait_cycles(board: Board, cycles: int) -> None:
+        """Lets `cycles` bus cycles pass, counted on the board's own cycle counter (a port's clock
+        is wall time, and the emulator runs slower than real time)."""
+        target = board.status()["counters"]["cycles"] + cycles
+        for _ in range(100 * cycles):
+            if board.status()["counters"]["cycles"] >= target:
+                return
+            board.wait(0.01)
+        raise RuntimeError(f"{board.port}: {cycles} bus cycles did not pass")
+
+    def _clear_upload_fault(self, board: Board) -> None:
         # The emulated board may report ServoMissing while its flash is written (bus cycles
-        # stall; see python/tests/conftest.py `upload`): that fault is cleared here.
-        board.wait(0.3)
+        # stall; see python/tests/conftest.py `upload`): that fault is cleared here. A table with
+        # new servo IDs sends the board back to Boot while it finds them.
+        self._wait_cycles(board, 30)
         if board.status()["state"] == "Fault":
             board.clear_fault()
-            board.wait(0.3)
+            self._wait_cycles(board, 30)
+        for _ in range(1000):
+            if board.status()["state"] in ("Idle", "Standing"):
+                return
+            self._wait_cycles(board, 1)
+        raise RuntimeError(f"{self.port}: not idle after the upload: {board.status()}")
 
     # -- step --------------------------------------------------------------------------------
 
