@@ -110,7 +110,8 @@ impl Board {
                 "{}: no simulated body: this is a {} port; the body exists only on the physics \
                  robot (open `physics` or `physics:SCENE`)",
                 self.port,
-                self.with(py, |l| Ok(l.transport().kind())).unwrap_or("closed")
+                self.with(py, |l| Ok(l.transport().kind()))
+                    .unwrap_or("closed")
             ))
         })?;
         crate::body::body_dict(py, &body)
@@ -312,8 +313,15 @@ impl Board {
         d.set_item("cycle_hz", s.cycle_hz)?;
         d.set_item("telemetry_every", s.telemetry_every)?;
         let k = protocol::units::STIFFNESS_PER_NM_RAD;
-        let stiffness: Vec<f64> = s.joints.iter().map(|j| f64::from(j.stiffness) / k).collect();
-        d.set_item("stiffness_nm_rad", numpy::ndarray::Array1::from(stiffness).to_pyarray(py))?;
+        let stiffness: Vec<f64> = s
+            .joints
+            .iter()
+            .map(|j| f64::from(j.stiffness) / k)
+            .collect();
+        d.set_item(
+            "stiffness_nm_rad",
+            numpy::ndarray::Array1::from(stiffness).to_pyarray(py),
+        )?;
         let a = protocol::units::ANGLE_PER_RAD;
         let limits = numpy::ndarray::Array2::from_shape_fn((s.joints.len(), 2), |(i, c)| {
             let j = &s.joints[i];

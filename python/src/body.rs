@@ -38,7 +38,9 @@ pub fn body_dict<'py>(py: Python<'py>, body: &physics::Body) -> PyResult<Bound<'
     let feet = &body.feet;
     d.set_item(
         "feet",
-        feet.iter().map(|f| f.leg.name().to_owned()).collect::<Vec<_>>(),
+        feet.iter()
+            .map(|f| f.leg.name().to_owned())
+            .collect::<Vec<_>>(),
     )?;
     d.set_item(
         "foot_force_n",

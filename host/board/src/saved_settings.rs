@@ -85,9 +85,9 @@ pub fn apply<T: Transport>(board: &mut Board<T>, store: &Path) -> Result<(), Set
         let path = path.clone();
         move |source| SettingsError::Apply { path, what, source }
     };
-    let now = board
-        .settings()
-        .map_err(failed("nothing (the robot's settings could not be read)".into()))?;
+    let now = board.settings().map_err(failed(
+        "nothing (the robot's settings could not be read)".into(),
+    ))?;
     if (now.baud, now.cycle_hz) != (kept.baud, kept.cycle_hz) {
         board
             .set_bus(kept.baud, kept.cycle_hz)
@@ -126,5 +126,8 @@ pub fn save<T: Transport>(board: &mut Board<T>, store: &Path) -> Result<(), Sett
         stiffness: s.joints.iter().map(|j| j.stiffness).collect(),
     };
     let json = serde_json::to_string_pretty(&kept).expect("plain numbers serialise");
-    Ok(crate::files::write_bytes_atomically(&path, json.as_bytes())?)
+    Ok(crate::files::write_bytes_atomically(
+        &path,
+        json.as_bytes(),
+    )?)
 }

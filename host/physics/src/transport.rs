@@ -17,16 +17,17 @@ use crate::body::Body;
 use crate::error::PhysicsError;
 use crate::robot::{PhysicsRobot, PhysicsTransport};
 
-/// The link under a robot opened by name.
+/// The link under a robot opened by name. (The in-process robots are boxed: each holds a whole
+/// board, flash included, beside a serial port's few bytes.)
 #[derive(Debug)]
 pub enum RobotLink {
     /// A board, or the RP2040 emulator's pseudo-terminal, on a serial device.
     Serial(SerialTransport),
     /// The in-process virtual robot (its servos carry the planned loads), optionally with its
     /// flash in a file.
-    Virtual(VirtualTransport),
+    Virtual(Box<VirtualTransport>),
     /// The virtual robot with a MuJoCo body.
-    Physics(PhysicsTransport),
+    Physics(Box<PhysicsTransport>),
 }
 
 /// A connected robot of any kind: `robot.transport()` says which.
@@ -82,16 +83,16 @@ impl RobotLink {
     fn inner(&mut self) -> &mut dyn Transport {
         match self {
             Self::Serial(t) => t,
-            Self::Virtual(t) => t,
-            Self::Physics(t) => t,
+            Self::Virtual(t) => &mut **t,
+            Self::Physics(t) => &mut **t,
         }
     }
 
     fn inner_ref(&self) -> &dyn Transport {
         match self {
             Self::Serial(t) => t,
-            Self::Virtual(t) => t,
-            Self::Physics(t) => t,
+            Self::Virtual(t) => &**t,
+            Self::Physics(t) => &**t,
         }
     }
 }
@@ -139,8 +140,10 @@ pub fn open_within(port: &str, reply_timeout: Duration) -> Result<Robot, OpenErr
     let spec = PortSpec::parse(port);
     let link = match &spec {
         PortSpec::Serial(path) => RobotLink::Serial(port::open_serial(path)?),
-        PortSpec::Virtual { image } => RobotLink::Virtual(port::open_virtual(image.as_deref())?),
-        PortSpec::Physics { scene } => RobotLink::Physics(open_physics(scene)?),
+        PortSpec::Virtual { image } => {
+            RobotLink::Virtual(Box::new(port::open_virtual(image.as_deref())?))
+        }
+        PortSpec::Physics { scene } => RobotLink::Physics(Box::new(open_physics(scene)?)),
     };
     Ok(port::connect(link, &spec, reply_timeout)?)
 }

@@ -32,7 +32,10 @@ fn board_commands_work_on_every_physics_scene_and_a_bad_scene_is_named() {
         b.wait(Duration::from_millis(100)).unwrap();
         let body = b.transport().body().expect("the physics robot has a body");
         // Simulated time is the link's clock.
-        assert!((body.time_s - b.now().as_secs_f64()).abs() < 0.011, "{port}");
+        assert!(
+            (body.time_s - b.now().as_secs_f64()).abs() < 0.011,
+            "{port}"
+        );
         assert_eq!(body.feet.len(), 6);
     }
     let e = physics::open("physics:moon").unwrap_err().to_string();
