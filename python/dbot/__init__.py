@@ -10,7 +10,11 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
   (``Board.open("virtual")``) or the physics robot with a MuJoCo body (``Board.open("physics")``),
   with upload, playback, telemetry and the streaming mode
-  (``enter_streaming``, ``send_setpoint``, ``next_proprioception``).
+  (``enter_streaming``, ``send_setpoint``, ``next_proprioception``); ``Board.kind`` says which
+  kind a port is and ``Board.body()`` reads the physics robot's simulated body (thorax pose and
+  velocity, foot forces, contact, slip).
+* :mod:`dbot.env` - ``DbotEnv``, a Gymnasium environment over the physics robot or a board port
+  with the firmware in the loop (needs the ``gymnasium`` package; imported on its own).
 
 Units are SI (m, rad, s, N m); arrays are indexed ``[slice, joint]`` / ``[record, joint]``.
 """

@@ -245,14 +245,58 @@ class Proprioception(Records):
     setpoint_seq: npt.NDArray[np.int64]
     setpoint_age: npt.NDArray[np.int64]
 
+class Settings(TypedDict):
+    baud: int
+    """Bus baud rate, bit/s."""
+    cycle_hz: int
+    telemetry_every: int
+    """Telemetry every this many bus cycles outside streaming (0: off)."""
+    stiffness_nm_rad: npt.NDArray[np.float64]
+    """Per joint of the joint map, N m/rad (empty without a joint map)."""
+    limits_rad: npt.NDArray[np.float64]
+    """Per joint of the joint map: (lower, upper), rad."""
+
+class Body(TypedDict):
+    """The physics robot's body at one moment (``Board.body()``): world frame (x forward at the
+    start, y left, z up), SI units, feet in the model's order (``feet``)."""
+
+    time_s: float
+    """Simulated time since power-on, s."""
+    thorax_position_m: npt.NDArray[np.float64]
+    """Origin of the thorax frame, m (3)."""
+    thorax_orientation: npt.NDArray[np.float64]
+    """Unit quaternion (w, x, y, z)."""
+    thorax_rpy_rad: npt.NDArray[np.float64]
+    """Roll, pitch, yaw of the thorax, rad (z-y-x Euler angles)."""
+    thorax_velocity_m_s: npt.NDArray[np.float64]
+    """Velocity of the thorax frame's origin, m/s (3)."""
+    thorax_angular_velocity_rad_s: npt.NDArray[np.float64]
+    """Angular velocity, rad/s, world axes (3)."""
+    feet: list[str]
+    """Leg of each foot row (``LF``, ``LM``, ...)."""
+    foot_force_n: npt.NDArray[np.float64]
+    """Force of the ground on each foot, N, [foot, xyz] (zero in the air)."""
+    foot_contact: npt.NDArray[np.bool_]
+    """Whether each foot touches something with a pushing normal force."""
+    foot_slip_m_s: npt.NDArray[np.float64]
+    """Speed of each foot's contact point along the surface, relative to it, m/s (0 in the air)."""
+
 class Board:
-    """A board, the RP2040 emulator's pseudo-terminal, or the in-process virtual robot."""
+    """A board, the RP2040 emulator's pseudo-terminal, the in-process virtual robot or the
+    physics robot."""
 
     @staticmethod
     def open(port: str, reply_timeout_s: float = 2.0) -> Board:
-        """``/dev/ttyACM0`` or a pty path, ``virtual``, ``virtual:PATH``, ``physics`` or ``physics:SCENE``; checks versions."""
+        """``/dev/ttyACM0`` or a pty path, ``virtual``, ``virtual:PATH``, ``physics`` or
+        ``physics:SCENE``; checks versions. A ``virtual:PATH`` robot gets the settings ``dbot set``
+        kept beside its store."""
     @property
     def port(self) -> str: ...
+    @property
+    def kind(self) -> Literal["serial", "virtual", "physics"]:
+        """What the port is: a board or the emulator's pty, the virtual robot, the physics robot."""
+    def body(self) -> Body:
+        """The physics robot's body now; raises BoardError on any other kind of port."""
     @property
     def joint_names(self) -> list[str]:
         """The board's joints in joint-map order: the model joint each servo of the gait in use
@@ -308,6 +352,11 @@ class Board:
         """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
         proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
     def set_bus(self, baud: int, cycle_hz: int) -> None: ...
+    def settings(self) -> Settings:
+        """The board's run-time settings (as ``dbot status`` shows them)."""
+    def set_stiffness(self, joint: int, stiffness_nm_rad: float) -> None:
+        """Stiffness of one joint's servo (joint-map index), N m/rad: its P gain and the torque
+        bias's divisor, as ``dbot set --stiffness --joint``."""
     def wait(self, seconds: float) -> None:
         """Lets time pass on the board's clock, keeping telemetry and proprioception."""
     def record(self, duration_s: float) -> Telemetry: ...

@@ -5,7 +5,6 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use ::board::link::Transport;
-use ::board::port::PortSpec;
 use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -18,7 +17,8 @@ use crate::plan_dir::PlanDir;
 use crate::records;
 use crate::stream;
 
-type Link = ::board::link::Board<Box<dyn Transport>>;
+/// The robot behind a `Board`; its link says which kind it is (`physics::RobotLink`).
+type Link = physics::Robot;
 
 /// A connected board (real, emulated or virtual).
 ///
@@ -67,20 +67,14 @@ impl Board {
     /// `virtual` (an in-process virtual robot with an erased gait store) or `virtual:PATH` (one
     /// whose flash lives in the file PATH), or `physics` / `physics:SCENE` (the virtual robot with a
     /// MuJoCo body: loads are the body's, not the plan's; scenes `flat`, `incline:DEG`, `ball`,
-    /// `ball-fixed`). Checks the protocol and table format versions.
+    /// `ball-fixed`). Checks the protocol and table format versions. A `virtual:PATH` robot gets
+    /// the settings `dbot set` kept beside its store (bus, telemetry rate, stiffness).
     #[staticmethod]
     #[pyo3(signature = (port, reply_timeout_s = 2.0))]
     fn open(port: &str, reply_timeout_s: f64) -> PyResult<Self> {
         let timeout = seconds(reply_timeout_s, "reply_timeout_s")?;
-        let spec = PortSpec::parse(port);
-        let link = (|| {
-            let transport = spec.open()?;
-            let mut b = ::board::link::Board::connect(transport)?;
-            b.set_reply_timeout(timeout);
-            Ok::<_, ::board::link::LinkError>(b)
-        })()
-        .map_err(board_error)?;
-        let mut link = link;
+        // The library's opener: a `virtual:PATH` robot gets what `dbot set` saved beside it.
+        let mut link = physics::open_within(port, timeout).map_err(board_error)?;
         let mut naming =
             JointNaming::new(planner::model::builtin("drosophibot2").map_err(value_error)?);
         // The gait the board selected at start-up, which this `Board` did not upload.
@@ -97,6 +91,31 @@ impl Board {
     #[getter]
     fn port(&self) -> String {
         self.port.clone()
+    }
+
+    /// What the port is: `"serial"` (a board or the emulator's pseudo-terminal), `"virtual"` or
+    /// `"physics"`.
+    #[getter]
+    fn kind(&self, py: Python<'_>) -> PyResult<&'static str> {
+        self.with(py, |l| Ok(l.transport().kind()))
+    }
+
+    /// The physics robot's body now (see `dbot.Body`): thorax pose and velocity, each foot's
+    /// contact force, contact and slip, simulated time; world frame, SI units. Raises
+    /// `BoardError` on any other kind of port (a board or the virtual robot has no simulated
+    /// body).
+    fn body<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let body = self.with(py, |l| Ok(l.transport().body()))?;
+        let body = body.ok_or_else(|| {
+            board_error(format!(
+                "{}: no simulated body: this is a {} port; the body exists only on the physics \
+                 robot (open `physics` or `physics:SCENE`)",
+                self.port,
+                self.with(py, |l| Ok(l.transport().kind()))
+                    .unwrap_or("closed")
+            ))
+        })?;
+        crate::body::body_dict(py, &body)
     }
 
     /// The board's clock as the host sees it, s: wall time on a port, simulated time on the
@@ -324,6 +343,48 @@ impl Board {
     /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving.
     fn set_bus(&self, py: Python<'_>, baud: u32, cycle_hz: u16) -> PyResult<()> {
         self.with(py, move |l| l.set_bus(baud, cycle_hz))
+    }
+
+    /// The board's run-time settings, as `dbot status` shows them: `baud` (bit/s), `cycle_hz`,
+    /// `telemetry_every` (cycles, 0: off) and per joint of the joint map `stiffness_nm_rad`
+    /// (N m/rad) and `limits_rad` ([joint, 2] of lower, upper).
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        use numpy::ToPyArray;
+        let s = self.with(py, |l| l.settings())?;
+        let d = PyDict::new(py);
+        d.set_item("baud", s.baud)?;
+        d.set_item("cycle_hz", s.cycle_hz)?;
+        d.set_item("telemetry_every", s.telemetry_every)?;
+        let k = protocol::units::STIFFNESS_PER_NM_RAD;
+        let stiffness: Vec<f64> = s
+            .joints
+            .iter()
+            .map(|j| f64::from(j.stiffness) / k)
+            .collect();
+        d.set_item(
+            "stiffness_nm_rad",
+            numpy::ndarray::Array1::from(stiffness).to_pyarray(py),
+        )?;
+        let a = protocol::units::ANGLE_PER_RAD;
+        let limits = numpy::ndarray::Array2::from_shape_fn((s.joints.len(), 2), |(i, c)| {
+            let j = &s.joints[i];
+            f64::from(if c == 0 { j.min } else { j.max }) / a
+        });
+        d.set_item("limits_rad", limits.to_pyarray(py))?;
+        Ok(d)
+    }
+
+    /// Stiffness of the servo of `joint` (joint-map index), N m/rad: the board writes it to the
+    /// servo's Position P Gain and the torque bias divides by it; within the hardware's limits,
+    /// as `dbot set --stiffness` (protocol::limits).
+    fn set_stiffness(&self, py: Python<'_>, joint: u8, stiffness_nm_rad: f64) -> PyResult<()> {
+        // The hardware's limits, as `dbot set --stiffness` and the setup file check them.
+        let units = protocol::limits::stiffness_units(stiffness_nm_rad).map_err(|e| {
+            value_error(format!(
+                "joint {joint}: stiffness {stiffness_nm_rad} N m/rad: {e}"
+            ))
+        })?;
+        self.with(py, move |l| l.set_stiffness(joint, units))
     }
 
     /// Lets `seconds` pass on the board's clock, keeping telemetry and proprioception that

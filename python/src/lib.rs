@@ -1,9 +1,11 @@
 //! `dbot._native`: the PyO3 module behind the `dbot` Python package. Thin bindings over the host
-//! libraries `planner` (models, planning, plan directories) and `board` (the link, streaming); every rule lives in Rust, this crate only
+//! libraries `planner` (models, planning, plan directories), `board` (the link, streaming) and
+//! `physics` (robots opened by name, the physics robot's body); every rule lives in Rust, this crate only
 //! converts between Python/NumPy values and the host types.
 
 mod arrays;
 mod board;
+mod body;
 mod errors;
 mod model;
 mod names;
@@ -18,8 +20,6 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
-    // `Board.open("physics[:SCENE]")` opens the physics robot, as `dbot --port physics` does.
-    physics::register_port();
     m.add("DbotError", py.get_type::<errors::DbotError>())?;
     m.add("BoardError", py.get_type::<errors::BoardError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

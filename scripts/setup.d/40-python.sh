@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Python side: pinned maturin, numpy, pytest and matplotlib in the shared repo-root venv `.venv`,
+# The Python side: pinned maturin, numpy, pytest, matplotlib and gymnasium (dbot.env) in the shared repo-root venv `.venv`,
 # then the `dbot` package (python/, PyO3) built and installed into it with `maturin develop`.
 # Idempotent: pip skips pinned packages already present, cargo rebuilds only what changed.
 set -euo pipefail
@@ -13,7 +13,7 @@ fi
 # numpy 2.4.x is the last series for CPython 3.11 (2.5 needs 3.12). sns-toolbox is not installed:
 # it imports torch at module level, see examples/README.md.
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
-    maturin==1.16.0 numpy==2.4.6 pytest==9.2.0 matplotlib==3.11.2
+    maturin==1.16.0 numpy==2.4.6 pytest==9.2.0 matplotlib==3.11.2 gymnasium==1.4.0
 
 VIRTUAL_ENV="$PWD/.venv" PATH="$PWD/.venv/bin:$PATH" \
     .venv/bin/maturin develop --quiet --release -m python/Cargo.toml

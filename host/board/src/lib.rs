@@ -1,7 +1,8 @@
 //! Everything on the host that talks to a board or runs one: the link (serial port, pseudo-terminal,
 //! USB device discovery, transport, upload, streaming), the host's Dynamixel bus ends, recording
-//! (capture, per-step statistics, telemetry CSV), trial records, the in-process virtual robot, and the rules that
-//! protect the robot, enforced by the calls that build, upload and play a step table (`rules`).
+//! (capture, per-step statistics, telemetry CSV), trial records, the in-process virtual robot, ports by
+//! name, the settings a `virtual:PATH` robot keeps beside its store, and the rules that protect the
+//! robot, enforced by the calls that build, upload and play a step table (`rules`).
 
 pub mod bus;
 pub mod files;
@@ -11,3 +12,4 @@ pub mod record;
 pub mod robot;
 pub mod rules;
 pub mod trial;
+pub mod saved_settings;

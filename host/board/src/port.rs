@@ -1,41 +1,52 @@
-//! Opening a port by name: a serial device path, `virtual` (an in-process virtual robot with a
-//! fresh flash), `virtual:PATH` (one whose flash lives in the file PATH between commands) or
-//! `physics[:SCENE]` (the physics robot: the virtual robot driving a MuJoCo body, registered by the
-//! binary that links the `physics` crate, see [`register_physics`]).
+//! Ports by name: a serial device path, `virtual` (an in-process virtual robot with a fresh
+//! flash), `virtual:PATH` (one whose flash lives in the file PATH between commands) or
+//! `physics[:SCENE]` (the physics robot: the virtual robot driving a MuJoCo body).
+//!
+//! This crate parses every name ([`PortSpec`]) and opens the kinds it owns ([`open_serial`],
+//! [`open_virtual`]); the physics robot needs MuJoCo, which this library builds without, so the
+//! `physics` crate opens it and holds the opener of every kind (`physics::open`, typed: its link
+//! says which robot it is). [`connect`] is the one connection both use: it gives a `virtual:PATH`
+//! robot back the settings saved beside its store ([`crate::saved_settings`]).
 
-use std::path::PathBuf;
-use std::sync::OnceLock;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
 
-use crate::link::{LinkError, SerialTransport, Transport, TransportError};
+use crate::link::{Board, LinkError, SerialTransport, Transport, TransportError};
 use crate::robot::{VirtualRobot, VirtualTransport};
+use crate::saved_settings::{self, SettingsError};
 
-/// A port named on the command line or in the setup file.
+/// A port named on the command line, in the setup file or in Python.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum PortSpec {
+    /// A serial device or pseudo-terminal path.
     Serial(String),
-    Virtual {
-        image: Option<PathBuf>,
-    },
-    /// `physics` or `physics:SCENE`, the whole name.
-    Physics(String),
+    /// `virtual` (no image) or `virtual:PATH`.
+    Virtual { image: Option<PathBuf> },
+    /// `physics` (scene `flat`) or `physics:SCENE`.
+    Physics { scene: String },
 }
 
-/// Opens a `physics[:SCENE]` port; an error is a sentence naming the problem.
-pub type PhysicsOpener = fn(&str) -> Result<Box<dyn Transport>, String>;
-
-static PHYSICS: OnceLock<PhysicsOpener> = OnceLock::new();
-
-/// Makes `physics[:SCENE]` ports open with `open`. The physics robot lives in the `physics` crate
-/// because it needs MuJoCo, which this library must build without; a binary that links it calls
-/// `physics::register_port()` once at start. The first registration wins.
-pub fn register_physics(open: PhysicsOpener) {
-    let _ = PHYSICS.set(open);
+/// Why a port could not be opened and connected.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OpenError {
+    #[error(transparent)]
+    Link(#[from] LinkError),
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
 }
 
 impl PortSpec {
     pub fn parse(s: &str) -> Self {
-        if s == "physics" || s.starts_with("physics:") {
-            return Self::Physics(s.to_owned());
+        if s == "physics" {
+            return Self::Physics {
+                scene: "flat".to_owned(),
+            };
+        }
+        if let Some(scene) = s.strip_prefix("physics:") {
+            return Self::Physics {
+                scene: scene.to_owned(),
+            };
         }
         match s.strip_prefix("virtual") {
             Some("") => Self::Virtual { image: None },
@@ -46,40 +57,47 @@ impl PortSpec {
         }
     }
 
-    /// Opens the transport.
-    pub fn open(&self) -> Result<Box<dyn Transport>, LinkError> {
+    /// The store of a `virtual:PATH` port (its flash image; the saved settings are beside it).
+    pub fn store(&self) -> Option<&Path> {
         match self {
-            Self::Serial(path) => SerialTransport::open(path)
-                .map(|t| Box::new(t) as Box<dyn Transport>)
-                .map_err(|source| LinkError::Open {
-                    port: path.clone(),
-                    source,
-                }),
-            Self::Virtual { image: None } => {
-                Ok(Box::new(VirtualTransport::new(VirtualRobot::new())))
-            }
-            Self::Virtual { image: Some(p) } => VirtualTransport::with_image(p)
-                .map(|t| Box::new(t) as Box<dyn Transport>)
-                .map_err(|e| LinkError::Open {
-                    port: format!("virtual:{}", p.display()),
-                    source: TransportError::Io(std::io::Error::other(e.to_string())),
-                }),
-            Self::Physics(spec) => {
-                let opened = match PHYSICS.get() {
-                    Some(open) => open(spec),
-                    None => Err(
-                        "this program was built without the physics robot (the `physics` \
-                         crate registers it with physics::register_port())"
-                            .to_owned(),
-                    ),
-                };
-                opened.map_err(|e| LinkError::Open {
-                    port: spec.clone(),
-                    source: TransportError::Io(std::io::Error::other(e)),
-                })
-            }
+            Self::Virtual { image } => image.as_deref(),
+            Self::Serial(_) | Self::Physics { .. } => None,
         }
     }
+}
+
+/// Opens the serial device (or pseudo-terminal) at `path`.
+pub fn open_serial(path: &str) -> Result<SerialTransport, LinkError> {
+    SerialTransport::open(path).map_err(|source| LinkError::Open {
+        port: path.to_owned(),
+        source,
+    })
+}
+
+/// Opens the virtual robot: a fresh one, or one booting from the flash image `image` (locked for
+/// this opening, saved at shutdown).
+pub fn open_virtual(image: Option<&Path>) -> Result<VirtualTransport, LinkError> {
+    let Some(p) = image else {
+        return Ok(VirtualTransport::new(VirtualRobot::new()));
+    };
+    VirtualTransport::with_image(p).map_err(|e| LinkError::Open {
+        port: format!("virtual:{}", p.display()),
+        source: TransportError::Io(std::io::Error::other(e.to_string())),
+    })
+}
+
+/// Connects to the board behind `transport` (opened for `spec`), waiting `reply_timeout` for each
+/// reply, and applies the settings saved beside a `virtual:PATH` store.
+pub fn connect<T: Transport>(
+    transport: T,
+    spec: &PortSpec,
+    reply_timeout: Duration,
+) -> Result<Board<T>, OpenError> {
+    let mut board = Board::connect_within(transport, reply_timeout)?;
+    if let Some(store) = spec.store() {
+        saved_settings::apply(&mut board, store)?;
+    }
+    Ok(board)
 }
 
 #[cfg(test)]
@@ -108,15 +126,57 @@ mod tests {
         );
         assert_eq!(
             PortSpec::parse("physics:incline:10"),
-            PortSpec::Physics("physics:incline:10".into())
+            PortSpec::Physics {
+                scene: "incline:10".into()
+            }
         );
         assert_eq!(
             PortSpec::parse("physics"),
-            PortSpec::Physics("physics".into())
+            PortSpec::Physics {
+                scene: "flat".into()
+            }
         );
         assert_eq!(
             PortSpec::parse("physicsx"),
             PortSpec::Serial("physicsx".into())
+        );
+    }
+
+    #[test]
+    fn saved_settings_are_applied_at_every_opening_of_a_store() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = dir.path().join("robot.flash");
+        let spec = PortSpec::parse(&format!("virtual:{}", store.display()));
+        let open = || {
+            let t = open_virtual(spec.store()).unwrap();
+            connect(t, &spec, crate::link::DEFAULT_REPLY_TIMEOUT).unwrap()
+        };
+        let mut b = open();
+        // A fresh robot: the firmware's defaults (1 Mbit/s, 100 Hz; Config::default()).
+        assert_eq!(b.settings().unwrap().cycle_hz, 100);
+        b.set_bus(2_000_000, 200).unwrap();
+        b.set_telemetry(7).unwrap();
+        saved_settings::save(&mut b, spec.store().unwrap()).unwrap();
+        b.transport_mut().shutdown().unwrap();
+        drop(b);
+        let mut again = open();
+        let s = again.settings().unwrap();
+        assert_eq!((s.baud, s.cycle_hz, s.telemetry_every), (2_000_000, 200, 7));
+    }
+
+    #[test]
+    fn a_damaged_settings_file_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = dir.path().join("robot.flash");
+        std::fs::write(saved_settings::settings_path(&store), "{ not json").unwrap();
+        let spec = PortSpec::parse(&format!("virtual:{}", store.display()));
+        let t = open_virtual(spec.store()).unwrap();
+        let e = connect(t, &spec, crate::link::DEFAULT_REPLY_TIMEOUT)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("robot.flash.settings.json") && e.contains("not a settings file"),
+            "{e}"
         );
     }
 }

@@ -5,8 +5,7 @@
 use std::time::Duration;
 
 use anyhow::bail;
-use board::link::{Board, list_boards};
-use board::port::PortSpec;
+use board::link::list_boards;
 
 /// List the Drosophibot II boards plugged in over USB and their firmware and protocol versions.
 #[derive(Debug, clap::Args)]
@@ -61,9 +60,7 @@ impl Args {
         };
         let mut failed = Vec::new();
         for (path, about) in &ports {
-            let info = PortSpec::parse(path)
-                .open()
-                .and_then(|t| Ok(Board::connect_within(t, timeout)?.info().clone()));
+            let info = physics::open_within(path, timeout).map(|b| b.info().clone());
             match info {
                 Ok(i) => println!(
                     "{path}{about}  firmware {}.{}.{}  protocol {}  table format {}  {} slots of {} KB",

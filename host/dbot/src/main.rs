@@ -71,8 +71,6 @@ fn main() -> std::process::ExitCode {
     // panicking in `println!` (Rust ignores SIGPIPE by default).
     // SAFETY: restoring a signal's default action before any thread starts.
     unsafe { nix::libc::signal(nix::libc::SIGPIPE, nix::libc::SIG_DFL) };
-    // `--port physics[:SCENE]` opens the physics robot in every board command.
-    physics::register_port();
     let cli = Cli::parse();
     let result = match cli.cmd {
         Cmd::Demo(a) => a.run(),

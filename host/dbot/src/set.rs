@@ -150,10 +150,10 @@ impl Args {
         let changed =
             k.is_some() || rate.is_some() || baud.is_some() || self.telemetry_every.is_some();
         if let Some(store) = s.store.clone().filter(|_| changed) {
-            crate::args::virtual_settings::save(&mut s.board, &store)?;
+            board::saved_settings::save(&mut s.board, &store)?;
             did.push(format!(
                 "kept in {} for later commands",
-                crate::args::virtual_settings::settings_path(&store).display()
+                board::saved_settings::settings_path(&store).display()
             ));
         }
         println!("{}", did.join(", "));

@@ -3,10 +3,13 @@
 //! position controllers ([`servo`]), and the [`PhysicsRobot`]: the firmware library's board over
 //! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles: the board's
 //! virtual robot with a [`PhysicsRobot`] as its servo dynamics, behind the virtual robot's
-//! transport ([`PhysicsTransport`]).
+//! transport ([`PhysicsTransport`]). Its [`Body`] (thorax pose and velocity, foot contacts,
+//! simulated time) is a typed value. [`open`] opens a robot of any kind by port name, its kind
+//! kept in the type ([`Robot`], [`RobotLink`]).
 //!
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
 
+mod body;
 mod error;
 mod figures;
 mod plant;
@@ -16,10 +19,11 @@ mod timestep;
 mod transport;
 mod walk_log;
 
+pub use body::{Body, Foot, Thorax};
 pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
 pub use timestep::{Stiffest, stiffest_joint};
-pub use transport::{open, register_port};
+pub use transport::{OpenError, Robot, RobotLink, open, open_physics, open_within};
 pub use walk_log::{WalkLog, WalkSample};

@@ -36,10 +36,12 @@ pub struct PlantJoint {
 
 /// A model in MuJoCo.
 pub struct Plant {
-    data: MjData<Box<MjModel>>,
+    pub(crate) data: MjData<Box<MjModel>>,
     joints: Vec<PlantJoint>,
-    feet: Vec<(Leg, usize)>,
-    thorax: usize,
+    /// Each foot's contact sphere (geom id), model feet order.
+    pub(crate) feet: Vec<(Leg, usize)>,
+    /// The thorax's body id.
+    pub(crate) thorax: usize,
     gravity: [f64; 3],
     /// Simulated time at which every servo first held, s.
     held_since: Option<f64>,

@@ -125,6 +125,11 @@ impl PhysicsRobot {
         &self.plant
     }
 
+    /// The body's state now: thorax pose and velocity, foot contacts, simulated time.
+    pub fn body(&self) -> crate::body::Body {
+        self.plant.body()
+    }
+
     /// The MuJoCo side, to change (e.g. cut a servo's stall torque).
     pub fn plant_mut(&mut self) -> &mut Plant {
         &mut self.plant

@@ -1,33 +1,149 @@
-//! The physics robot as a port: `physics[:SCENE]` opens the board's virtual robot with a MuJoCo
-//! body ([`PhysicsRobot::into_transport`]); time passes only while the host waits for bytes, in
-//! simulated time, as on `--port virtual`.
+//! Opening any robot by port name with its kind kept in the type: [`open`] gives a [`Robot`], the
+//! board client over a [`RobotLink`] whose variant says what is behind it (a board on a serial
+//! port, the virtual robot, or the physics robot, whose [`Body`] it reaches). No global: the
+//! physics robot is opened here because this crate is the one that links MuJoCo; the board crate
+//! parses the names and opens the other kinds (`board::port`).
+//!
+//! On the physics robot time passes only while the host waits for bytes, in simulated time, as on
+//! `virtual`.
 
-use board::link::Transport;
+use std::time::Duration;
 
+use board::link::{Board, DEFAULT_REPLY_TIMEOUT, SerialTransport, Transport, TransportError};
+use board::port::{self, PortSpec};
+use board::robot::VirtualTransport;
+
+use crate::body::Body;
 use crate::error::PhysicsError;
 use crate::robot::{PhysicsRobot, PhysicsTransport};
 
-/// Opens a port named `physics` (flat ground) or `physics:SCENE` with Drosophibot II.
-pub fn open(spec: &str) -> Result<PhysicsTransport, PhysicsError> {
-    let scene = match spec.strip_prefix("physics") {
-        Some("") => "flat",
-        Some(rest) if rest.len() > 1 && rest.starts_with(':') => &rest[1..],
-        _ => {
-            return Err(PhysicsError::Port {
-                spec: spec.to_owned(),
-                problem: "not a physics port".into(),
-            });
-        }
-    };
-    Ok(PhysicsRobot::drosophibot(scene)?.into_transport())
+/// The link under a robot opened by name. (The in-process robots are boxed: each holds a whole
+/// board, flash included, beside a serial port's few bytes.)
+#[derive(Debug)]
+pub enum RobotLink {
+    /// A board, or the RP2040 emulator's pseudo-terminal, on a serial device.
+    Serial(SerialTransport),
+    /// The in-process virtual robot (its servos carry the planned loads), optionally with its
+    /// flash in a file.
+    Virtual(Box<VirtualTransport>),
+    /// The virtual robot with a MuJoCo body.
+    Physics(Box<PhysicsTransport>),
 }
 
-/// Registers `physics[:SCENE]` with the host's port parser (`board::port::PortSpec`), so every
-/// board command of a program that calls this once works on the physics robot.
-pub fn register_port() {
-    board::port::register_physics(|spec| {
-        open(spec)
-            .map(|t| Box::new(t) as Box<dyn Transport>)
-            .map_err(|e| e.to_string())
-    });
+/// A connected robot of any kind: `robot.transport()` says which.
+pub type Robot = Board<RobotLink>;
+
+/// Why a port could not be opened.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OpenError {
+    #[error(transparent)]
+    Board(#[from] port::OpenError),
+    #[error(transparent)]
+    Physics(#[from] PhysicsError),
+}
+
+impl From<board::link::LinkError> for OpenError {
+    fn from(e: board::link::LinkError) -> Self {
+        Self::Board(e.into())
+    }
+}
+
+impl RobotLink {
+    /// What kind of robot this is, in a word (`serial`, `virtual`, `physics`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Serial(_) => "serial",
+            Self::Virtual(_) => "virtual",
+            Self::Physics(_) => "physics",
+        }
+    }
+
+    /// The physics robot's body model (`None` for any other kind).
+    pub fn physics(&self) -> Option<&PhysicsRobot> {
+        match self {
+            Self::Physics(t) => Some(t.robot().servos()),
+            Self::Serial(_) | Self::Virtual(_) => None,
+        }
+    }
+
+    /// The physics robot's body model, to change (`None` for any other kind).
+    pub fn physics_mut(&mut self) -> Option<&mut PhysicsRobot> {
+        match self {
+            Self::Physics(t) => Some(t.robot_mut().servos_mut()),
+            Self::Serial(_) | Self::Virtual(_) => None,
+        }
+    }
+
+    /// The simulated body now (`None`: a board or the virtual robot, which have no body).
+    pub fn body(&self) -> Option<Body> {
+        self.physics().map(PhysicsRobot::body)
+    }
+
+    fn inner(&mut self) -> &mut dyn Transport {
+        match self {
+            Self::Serial(t) => t,
+            Self::Virtual(t) => &mut **t,
+            Self::Physics(t) => &mut **t,
+        }
+    }
+
+    fn inner_ref(&self) -> &dyn Transport {
+        match self {
+            Self::Serial(t) => t,
+            Self::Virtual(t) => &**t,
+            Self::Physics(t) => &**t,
+        }
+    }
+}
+
+impl Transport for RobotLink {
+    fn send(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
+        self.inner().send(bytes)
+    }
+    fn recv(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
+        self.inner().recv(buf, timeout)
+    }
+    fn name(&self) -> &str {
+        self.inner_ref().name()
+    }
+    fn now(&self) -> Duration {
+        self.inner_ref().now()
+    }
+    fn shutdown(&mut self) -> Result<(), TransportError> {
+        self.inner().shutdown()
+    }
+}
+
+/// Opens the physics robot (Drosophibot II) on `scene`: `flat`, `incline:DEG`, `ball`,
+/// `ball-fixed`.
+pub fn open_physics(scene: &str) -> Result<PhysicsTransport, PhysicsError> {
+    PhysicsRobot::drosophibot(scene)
+        .map(PhysicsRobot::into_transport)
+        .map_err(|e| match e {
+            PhysicsError::Scene { .. } => PhysicsError::Port {
+                spec: format!("physics:{scene}"),
+                problem: e.to_string(),
+            },
+            other => other,
+        })
+}
+
+/// Opens `port` (see `board::port`) and connects, waiting [`DEFAULT_REPLY_TIMEOUT`] per reply.
+pub fn open(port: &str) -> Result<Robot, OpenError> {
+    open_within(port, DEFAULT_REPLY_TIMEOUT)
+}
+
+/// Opens `port` and connects, waiting `reply_timeout` for each reply; a `virtual:PATH` robot gets
+/// the settings saved beside its store (`board::saved_settings`).
+pub fn open_within(port: &str, reply_timeout: Duration) -> Result<Robot, OpenError> {
+    let spec = PortSpec::parse(port);
+    let link = match &spec {
+        PortSpec::Serial(path) => RobotLink::Serial(port::open_serial(path)?),
+        PortSpec::Virtual { image } => {
+            RobotLink::Virtual(Box::new(port::open_virtual(image.as_deref())?))
+        }
+        PortSpec::Physics { scene } => RobotLink::Physics(Box::new(open_physics(scene)?)),
+    };
+    Ok(port::connect(link, &spec, reply_timeout)?)
 }

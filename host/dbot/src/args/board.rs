@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use crate::common::session::Session;
 use crate::config::RobotConfig;
 use anyhow::{Context, bail};
-use board::link::{Board, list_boards};
+use board::link::list_boards;
 use board::port::PortSpec;
 
 /// Where the default virtual robot keeps its flash between commands.
@@ -15,9 +15,11 @@ pub const DEFAULT_IMAGE: &str = "out/virtual-robot.flash";
 #[derive(Debug, Clone, clap::Args)]
 pub struct BoardArgs {
     /// Board port: a serial device (/dev/ttyACM0, or a pseudo-terminal such as the emulator's
-    /// bridge), `virtual` (an in-process virtual robot with an erased flash), or `virtual:PATH`
-    /// (one whose flash is kept in the file PATH between commands). Default: the setup file's port,
-    /// else the one board plugged in, else `virtual:out/virtual-robot.flash`.
+    /// bridge), `virtual` (an in-process virtual robot with an erased flash), `virtual:PATH`
+    /// (one whose flash, and what `dbot set` set, is kept beside the file PATH between commands),
+    /// or `physics[:SCENE]` (the virtual robot with a MuJoCo body; scenes flat, incline:DEG, ball,
+    /// ball-fixed). Default: the setup file's port, else the one board plugged in, else
+    /// `virtual:out/virtual-robot.flash`.
     #[arg(long, short = 'p', global = true)]
     pub port: Option<String>,
     /// Robot setup file (TOML). Default: $DBOT_CONFIG, ./dbot.toml, ~/.config/dbot/config.toml.
@@ -76,17 +78,9 @@ impl BoardArgs {
                     .with_context(|| format!("creating {} for the virtual robot", dir.display()))?;
             }
         }
-        let transport = spec.open()?;
-        let mut board =
-            Board::connect(transport).with_context(|| format!("connecting to {port}"))?;
-        let store = match spec {
-            PortSpec::Virtual { image } => image,
-            // The physics robot starts afresh at every command (its scene is in the port name).
-            PortSpec::Serial(_) | PortSpec::Physics(_) => None,
-        };
-        if let Some(path) = &store {
-            super::virtual_settings::apply(&mut board, path)?;
-        }
+        // The library applies what `dbot set` saved beside a `virtual:PATH` store.
+        let board = physics::open(&port).with_context(|| format!("connecting to {port}"))?;
+        let store = spec.store().map(std::path::Path::to_owned);
         Ok(Session {
             board,
             setup,

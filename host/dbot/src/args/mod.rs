@@ -5,4 +5,3 @@
 pub mod board;
 pub mod dynamics;
 pub mod setup;
-pub mod virtual_settings;

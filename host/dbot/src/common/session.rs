@@ -1,15 +1,16 @@
 //! An open board and the setup it was opened with (`BoardArgs::connect` opens one).
 
 use anyhow::Context;
-use board::link::{Board, Transport};
-use board::port::PortSpec;
+use board::link::Transport;
+use physics::{Robot, RobotLink};
 
 use crate::config::RobotConfig;
 
 /// An open board and the setup it was opened with.
 #[derive(Debug)]
 pub struct Session {
-    pub board: Board<Box<dyn Transport>>,
+    /// The robot; its link says which kind it is.
+    pub board: Robot,
     pub setup: RobotConfig,
     /// The store file of a `virtual:PATH` robot (its settings are kept beside it).
     pub store: Option<std::path::PathBuf>,
@@ -18,7 +19,10 @@ pub struct Session {
 impl Session {
     /// Whether the board is the in-process virtual robot (it lives only as long as this process).
     pub fn is_virtual(&self) -> bool {
-        matches!(PortSpec::parse(self.board.port()), PortSpec::Virtual { .. })
+        match self.board.transport() {
+            RobotLink::Virtual(_) => true,
+            RobotLink::Serial(_) | RobotLink::Physics(_) => false,
+        }
     }
 
     /// Ends the session (the virtual robot writes its flash image).

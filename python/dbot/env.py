@@ -1,0 +1,306 @@
+"""A Gymnasium environment over a robot with the firmware in the loop: :class:`DbotEnv`.
+
+The same class drives the physics robot (``port="physics[:SCENE]"``: the firmware library over the
+simulated bus moving a MuJoCo body, time passing only while the environment waits, so it runs much
+faster than real time and is deterministic) and a board port (a real board, or the RP2040
+emulator's pseudo-terminal), with the same spaces. It uses only the typed :class:`dbot.Board`.
+
+``reset`` puts the robot in its resting posture, streaming, with no played step:
+
+1. (physics) the robot is opened afresh on the scene: its body stands in the planner's stance
+   with its servos off; (a board) a fault is cleared and a walk or stream is stopped.
+2. A step table of the default plan is uploaded into slot 0 (the board learns its joint map,
+   calibration, limits and stiffness from it; nothing is played), then the stiffness option.
+3. Torque on: the firmware holds the present posture (Idle -> Standing; on the physics robot gravity
+   ramps in over 1 s and the body settles for ``settle_s``).
+4. ``enter_streaming``; the first setpoint is the held posture itself.
+
+``step(action)`` sends the 22 joint targets (rad, ``Model.servo_joint_names`` order, bounded by the
+model's joint limits) for each of ``cycles_per_step`` bus cycles and returns the last cycle's
+proprioception. Observation (a ``Dict``; what the board streams, so a controller tuned here runs on
+a board): ``present_rad`` (22, rad), ``velocity_rad_s`` (22, rad/s), ``load_raw`` (22, register 126
+as read: MX-28 load in 0.1 % of its maximum, MX-64 current in about 3.36 mA), ``setpoint_age`` (1,
+bus cycles since the setpoint in use arrived).
+
+``info`` on the physics robot: ``body`` (``Board.body()``: thorax pose and velocity, foot forces,
+contact and slip, simulated time), ``time_s``, ``state``; on a board only what a board knows:
+``time_s`` (its proprioception's clock) and ``state``.
+
+Termination: a firmware fault (streaming stops: the state is ``Fault``), or on the physics robot a
+fall: thorax below ``fall_height_fraction`` (default 0.5) of its height at reset, or tilted more
+than ``fall_tilt_rad`` (default 30 degrees; the rule of ``physics::Figures::verdict``). Truncation:
+``max_episode_steps`` steps. Default reward: forward progress, the thorax's world x advance in this
+step, m (0 on a board, which cannot see its body); pass ``reward=`` to replace it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Callable
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from ._native import Board, Model, Plan, plan
+
+#: Reward function: (info before the step, info after it, observation, action) -> reward.
+Reward = Callable[[dict[str, Any], dict[str, Any], dict[str, np.ndarray], np.ndarray], float]
+
+#: Bound of the velocity observation, rad/s: the MX register's 1023 units of 0.229 rpm is 24.5
+#: rad/s; twice that leaves room.
+VELOCITY_BOUND = 50.0
+#: Bound of the load register (a signed 16-bit register).
+LOAD_BOUND = 32768.0
+
+
+def forward_progress(before: dict[str, Any], after: dict[str, Any], *_: object) -> float:
+    """The thorax's advance along world x in the step, m (0 without a body)."""
+    if "body" not in before or "body" not in after:
+        return 0.0
+    return float(after["body"]["thorax_position_m"][0] - before["body"]["thorax_position_m"][0])
+
+
+def tilt_rad(orientation: np.ndarray) -> float:
+    """Angle between the thorax's z axis and the world's, rad (quaternion w, x, y, z)."""
+    _, x, y, _ = orientation
+    return math.acos(max(-1.0, min(1.0, 1.0 - 2.0 * (x * x + y * y))))
+
+
+class DbotEnv(gym.Env):
+    """Drosophibot II with its firmware: 22 joint targets in, what the board streams out."""
+
+    metadata = {"render_modes": []}
+
+    def __init__(
+        self,
+        port: str = "physics",
+        *,
+        model: Model | None = None,
+        gait: Plan | None = None,
+        cycles_per_step: int = 1,
+        max_episode_steps: int = 1000,
+        stiffness_nm_rad: float | None = None,
+        settle_s: float = 0.5,
+        timeout_cycles: int = 50,
+        reply_timeout_s: float = 20.0,
+        fall_height_fraction: float = 0.5,
+        fall_tilt_rad: float = math.radians(30.0),
+        reward: Reward = forward_progress,
+    ) -> None:
+        if cycles_per_step < 1:
+            raise ValueError(f"cycles_per_step = {cycles_per_step}: give 1 or more")
+        self.port = port
+        self.model = model if model is not None else Model.builtin("drosophibot2")
+        # The table only tells the board its joint map, calibration, limits and stiffness.
+        self._table = (gait if gait is not None else plan(self.model, slices=20)).step_table()
+        self.cycles_per_step = cycles_per_step
+        self.max_episode_steps = max_episode_steps
+        self.stiffness_nm_rad = stiffness_nm_rad
+        self.settle_s = settle_s
+        self.timeout_cycles = timeout_cycles
+        self.reply_timeout_s = reply_timeout_s
+        self.fall_height_fraction = fall_height_fraction
+        self.fall_tilt_rad = fall_tilt_rad
+        self.reward_fn = reward
+        limits = self.model.limits[self.model.servo_joints]
+        n = len(self.model.servo_joints)
+        self.joint_names = self.model.servo_joint_names
+        self.action_space = spaces.Box(limits[:, 0], limits[:, 1], shape=(n,), dtype=np.float64)
+        angle = spaces.Box(-2 * np.pi, 2 * np.pi, shape=(n,), dtype=np.float64)
+        self.observation_space = spaces.Dict(
+            {
+                "present_rad": angle,
+                "velocity_rad_s": spaces.Box(
+                    -VELOCITY_BOUND, VELOCITY_BOUND, shape=(n,), dtype=np.float64
+                ),
+                "load_raw": spaces.Box(-LOAD_BOUND, LOAD_BOUND, shape=(n,), dtype=np.float64),
+                "setpoint_age": spaces.Box(0.0, 65535.0, shape=(1,), dtype=np.float64),
+            }
+        )
+        self.board: Board | None = None
+        self.scene = self._scene_of(port)
+        self._steps = 0
+        self._info: dict[str, Any] = {}
+        self._start_height = 0.0
+
+    @staticmethod
+    def _scene_of(port: str) -> str | None:
+        if port == "physics":
+            return "flat"
+        if port.startswith("physics:"):
+            return port.split(":", 1)[1]
+        return None
+
+    @property
+    def physics(self) -> bool:
+        """Whether the environment runs on the physics robot."""
+        return self.scene is not None
+
+    # -- reset -------------------------------------------------------------------------------
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """The robot standing in its resting posture, streaming. Options: ``scene`` (physics
+        robot only: ``flat``, ``incline:DEG``, ``ball``, ``ball-fixed``) and ``stiffness_nm_rad``
+        (every servo's stiffness, N m/rad: P gain and torque bias; None: the model's)."""
+        super().reset(seed=seed)
+        options = dict(options or {})
+        if "scene" in options:
+            if not self.physics:
+                raise ValueError(f"scene: the port {self.port} is a board, not the physics robot")
+            self.scene = str(options.pop("scene"))
+        stiffness = options.pop("stiffness_nm_rad", self.stiffness_nm_rad)
+        if options:
+            raise ValueError(f"unknown reset options: {', '.join(sorted(options))}")
+        board = self._fresh_board()
+        board.upload(0, self._table)
+        self._clear_upload_fault(board)
+        if stiffness is not None:
+            for j in range(len(self.joint_names)):
+                board.set_stiffness(j, float(stiffness))
+        board.set_torque(True)
+        # The physics robot's gravity ramps in over 1 s from torque-on; then it settles.
+        board.wait((1.0 if self.physics else 0.0) + self.settle_s)
+        state = board.status()["state"]
+        if state != "Standing":
+            raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
+        board.enter_streaming(timeout_cycles=self.timeout_cycles, feedback_every=1)
+        first = self._next(board)
+        if first is None:
+            raise RuntimeError(f"{self.port}: no proprioception after entering streaming")
+        # The resting posture is what the firmware holds: the first setpoint keeps it.
+        self.rest_rad = np.asarray(first["commanded_rad"][0], dtype=np.float64)
+        self._steps = 0
+        got = self._cycles(self.rest_rad, 1)
+        if got is None:
+            raise RuntimeError(f"{self.port}: streaming stopped at once: {board.status()}")
+        obs, rec = got
+        self._info = self._make_info(rec)
+        if self.physics:
+            self._start_height = float(self._info["body"]["thorax_position_m"][2])
+        return obs, dict(self._info)
+
+    def _fresh_board(self) -> Board:
+        if self.physics:
+            if self.board is not None:
+                self.board.close()
+            self.board = Board.open(f"physics:{self.scene}", reply_timeout_s=self.reply_timeout_s)
+            return self.board
+        if self.board is None:
+            self.board = Board.open(self.port, reply_timeout_s=self.reply_timeout_s)
+        board = self.board
+        state = board.status()["state"]
+        if state == "Fault":
+            board.clear_fault()
+        elif state in ("Streaming", "Walking", "Ramping", "Stopping"):
+            board.stop()
+            for _ in range(3000):
+                if board.status()["state"] in ("Standing", "Idle"):
+                    break
+                board.wait(0.01)
+        if board.status()["state"] == "Standing":
+            board.set_torque(False)
+        return board
+
+    @staticmethod
+    def _wait_cycles(board: Board, cycles: int) -> None:
+        """Lets `cycles` bus cycles pass, counted on the board's own cycle counter (a port's clock
+        is wall time, and the emulator runs slower than real time)."""
+        target = board.status()["counters"]["cycles"] + cycles
+        for _ in range(100 * cycles):
+            if board.status()["counters"]["cycles"] >= target:
+                return
+            board.wait(0.01)
+        raise RuntimeError(f"{board.port}: {cycles} bus cycles did not pass")
+
+    def _clear_upload_fault(self, board: Board) -> None:
+        # The emulated board may report ServoMissing while its flash is written (bus cycles
+        # stall; see python/tests/conftest.py `upload`): that fault is cleared here. A table with
+        # new servo IDs sends the board back to Boot while it finds them.
+        self._wait_cycles(board, 30)
+        if board.status()["state"] == "Fault":
+            board.clear_fault()
+            self._wait_cycles(board, 30)
+        for _ in range(1000):
+            if board.status()["state"] in ("Idle", "Standing"):
+                return
+            self._wait_cycles(board, 1)
+        raise RuntimeError(f"{self.port}: not idle after the upload: {board.status()}")
+
+    # -- step --------------------------------------------------------------------------------
+
+    def step(
+        self, action: np.ndarray
+    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        if self.board is None:
+            raise RuntimeError("call reset() before step()")
+        target = np.clip(
+            np.asarray(action, dtype=np.float64), self.action_space.low, self.action_space.high
+        )
+        before = self._info
+        got = self._cycles(target, self.cycles_per_step)
+        self._steps += 1
+        truncated = self._steps >= self.max_episode_steps
+        if got is None:
+            # Streaming stopped: the firmware went safe (or the link broke).
+            info = {"state": self.board.status()["state"], "time_s": before.get("time_s", 0.0)}
+            if self.physics:
+                info["body"] = self.board.body()
+            self._info = info
+            obs = self._last_obs
+            return obs, 0.0, True, truncated, dict(info)
+        obs, rec = got
+        info = self._make_info(rec)
+        self._info = info
+        terminated = info["state"] == "Fault" or self._fell(info)
+        reward = float(self.reward_fn(before, info, obs, target))
+        return obs, reward, terminated, truncated, dict(info)
+
+    def _next(self, board: Board) -> dict | None:
+        timeout = 1.0 if self.physics else self.reply_timeout_s
+        return board.next_proprioception(timeout_s=timeout)
+
+    def _cycles(
+        self, target: np.ndarray, n: int
+    ) -> tuple[dict[str, np.ndarray], dict] | None:
+        assert self.board is not None
+        rec = None
+        for _ in range(n):
+            self.board.send_setpoint(target)
+            rec = self._next(self.board)
+            if rec is None:
+                return None
+        assert rec is not None
+        obs = {
+            "present_rad": np.asarray(rec["present_rad"][0], dtype=np.float64),
+            "velocity_rad_s": np.asarray(rec["velocity_rad_s"][0], dtype=np.float64),
+            "load_raw": np.asarray(rec["load_raw"][0], dtype=np.float64),
+            "setpoint_age": np.asarray(rec["setpoint_age"][:1], dtype=np.float64),
+        }
+        self._last_obs = obs
+        return obs, rec
+
+    def _make_info(self, rec: dict) -> dict[str, Any]:
+        assert self.board is not None
+        info: dict[str, Any] = {"time_s": float(rec["time_s"][0]), "state": "Streaming"}
+        if self.physics:
+            info["body"] = self.board.body()
+        return info
+
+    def _fell(self, info: dict[str, Any]) -> bool:
+        if "body" not in info:
+            return False
+        body = info["body"]
+        low = body["thorax_position_m"][2] < self.fall_height_fraction * self._start_height
+        return bool(low or tilt_rad(body["thorax_orientation"]) > self.fall_tilt_rad)
+
+    def close(self) -> None:
+        if self.board is not None:
+            try:
+                if not self.physics and self.board.status()["state"] == "Streaming":
+                    self.board.leave_streaming()
+            finally:
+                self.board.close()
+                self.board = None

@@ -1,0 +1,100 @@
+"""`dbot.env.DbotEnv`, the Gymnasium environment over a robot with the firmware in the loop:
+
+* Gymnasium's own conformance checker (`gymnasium.utils.env_checker.check_env`, an external
+  reference) passes on the physics robot;
+* deterministic: the same seed and actions give bit-identical observations (two environments,
+  each its own physics robot);
+* reset leaves the robot standing in its resting posture, streaming, no step played, and a
+  standing robot is not a fall; holding the rest posture, the thorax stays at its height;
+* the same class opens on the emulated board's pty (the release firmware image in the RP2040
+  emulator, conftest.py's `emulator_port`) with the same spaces, and its `info` holds only what a
+  board knows (no `body`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+from dbot.env import DbotEnv
+
+
+def test_check_env_passes_on_the_physics_robot() -> None:
+    env = DbotEnv("physics", max_episode_steps=20)
+    # skip_render_check: the environment has no render modes yet.
+    check_env(env, skip_render_check=True)
+    env.close()
+
+
+def test_same_seed_and_actions_give_bit_identical_observations() -> None:
+    runs = []
+    for _ in range(2):
+        env = DbotEnv("physics", max_episode_steps=100)
+        obs, _ = env.reset(seed=3)
+        low, high = env.action_space.low, env.action_space.high
+        rest = env.rest_rad
+        actions = np.random.default_rng(7).uniform(-0.05, 0.05, size=(40, rest.size)) + rest
+        trace = [obs]
+        for a in actions:
+            obs, *_ = env.step(np.clip(a, low, high))
+            trace.append(obs)
+        runs.append(trace)
+        env.close()
+    for a, b in zip(*runs, strict=True):
+        for key in a:
+            assert a[key].tobytes() == b[key].tobytes(), key
+
+
+def test_reset_stands_streaming_in_the_resting_posture() -> None:
+    env = DbotEnv("physics", max_episode_steps=50)
+    obs, info = env.reset(seed=0)
+    assert env.board is not None
+    st = env.board.status()
+    assert st["state"] == "Streaming"
+    # Nothing was played: the playback position is None or at its start (no step completed).
+    assert st["playback"] is None or st["playback"][0] == 0, st["playback"]
+    assert obs["setpoint_age"][0] <= 1
+    body = info["body"]
+    h0 = body["thorax_position_m"][2]
+    # Holding the rest posture for 1 s: the robot stands (no fall, no fault) at its height.
+    for _ in range(100):
+        obs, reward, terminated, truncated, info = env.step(env.rest_rad)
+        assert not terminated
+    h1 = info["body"]["thorax_position_m"][2]
+    assert abs(h1 - h0) < 2e-3, (h0, h1)
+    # Standing still, forward progress (the default reward) is about nothing.
+    assert abs(reward) < 1e-3
+    # Present angles follow the held posture within 0.05 rad (the servos' deflection under the
+    # body's weight: load / stiffness, 2.5 N m / 14.3 N m/rad = 0.17 rad at the very most).
+    assert np.max(np.abs(obs["present_rad"] - env.rest_rad)) < 0.17
+    assert "body" in info and info["state"] == "Streaming"
+    env.close()
+
+
+def test_a_fall_terminates() -> None:
+    # The rule: thorax below a fraction of its height at reset (default half) or tilted over 30
+    # degrees ends the episode; at a fraction of 2 a standing robot has "fallen".
+    env = DbotEnv("physics", max_episode_steps=10, fall_height_fraction=2.0)
+    env.reset(seed=0)
+    _, _, terminated, _, _ = env.step(env.rest_rad)
+    assert terminated
+    env.close()
+
+
+def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
+    phys = DbotEnv("physics", max_episode_steps=5)
+    board_env = DbotEnv(emulator_port, max_episode_steps=5)
+    assert board_env.action_space == phys.action_space
+    assert board_env.observation_space == phys.observation_space
+    obs, info = board_env.reset(seed=0)
+    assert board_env.observation_space.contains(obs)
+    assert set(info) == {"time_s", "state"}
+    assert board_env.board is not None and board_env.board.kind == "serial"
+    for _ in range(3):
+        obs, reward, terminated, truncated, info = board_env.step(board_env.rest_rad)
+        assert board_env.observation_space.contains(obs)
+        assert "body" not in info and reward == 0.0
+        assert not terminated
+    board_env.close()
+    phys.close()
