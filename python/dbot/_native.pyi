@@ -240,6 +240,15 @@ class Board:
         period_scale: float = 1.0,
         backward: bool = False,
     ) -> None: ...
+    def queue_gait(
+        self,
+        slot: int,
+        steps: int | None = None,
+        period_scale: float = 1.0,
+        backward: bool = False,
+    ) -> None:
+        """Plays ``slot`` after the gait playing, at a step boundary without standing still;
+        raises if it cannot follow (the reason names the legs or the joint, jump and bound)."""
     def stop(self) -> None: ...
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
