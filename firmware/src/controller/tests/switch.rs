@@ -104,15 +104,15 @@ fn a_gait_queued_mid_step_takes_over_at_the_boundary_with_continuous_goals() {
     assert_eq!(n, 70);
     // Before: the synthetic gait at slice 99; after: the turn at its slice 0, which is the
     // synthetic gait's slice 0 (the turn's extra is sin(0) = 0 there).
-    for j in 0..JOINTS {
+    for (j, &l) in last.iter().enumerate() {
         let before = r.gait.goal(99.0, j, STIFFNESS);
         let after = turn_goal(&r.gait, 0.0, j);
-        assert!((last[j] as f64 - before).abs() <= 1.0, "joint {j} before");
+        assert!((l as f64 - before).abs() <= 1.0, "joint {j} before");
         assert!(
             (r.servos.pos[j] as f64 - after).abs() <= 1.0,
             "joint {j} after"
         );
-        let step = (r.servos.pos[j] - last[j]).abs() as f64;
+        let step = (r.servos.pos[j] - l).abs() as f64;
         assert!(
             (step - (after - before).abs()).abs() <= 2.0 && step <= BOUND_TICKS,
             "joint {j}: {step} ticks across the switch, bound {BOUND_TICKS:.1}"
