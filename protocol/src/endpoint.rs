@@ -16,8 +16,8 @@ use crate::MAX_CHUNK_LEN;
 use crate::client::{IntoResponse, Reply};
 use crate::gait::GaitHeader;
 use crate::message::{
-    DeviceInfo, JointIds, PlayCommand, ProtocolError, Request, Response, ServoSelect, Settings,
-    SlotInfo, Status, StreamConfig,
+    DeviceInfo, JointIds, PlayCommand, ProtocolError, QueueCommand, Request, Response, ServoSelect,
+    Settings, SlotInfo, Status, StreamConfig,
 };
 
 /// A request that names its reply.
@@ -207,4 +207,8 @@ endpoints! {
     /// Servo IDs of the joints of the table in `slot`, or of the selected gait with `None`
     /// (reply `None`: the slot is empty, or no gait is selected).
     GetJointMap { slot: Option<u8> } => Option<JointIds>, get_joint_map;
+    /// Plays a gait next, at a step boundary, without standing still.
+    QueueGait(QueueCommand) => (), queue_gait;
+    /// Drops the queued gaits.
+    ClearQueue => (), clear_queue;
 }

@@ -18,6 +18,12 @@ fn unsupported<T>() -> Result<T, ProtocolError> {
 }
 
 impl Handler for FakeBoard {
+    fn queue_gait(&mut self, _: QueueCommand) -> Result<(), ProtocolError> {
+        unsupported()
+    }
+    fn clear_queue(&mut self, _: ep::ClearQueue) -> Result<(), ProtocolError> {
+        unsupported()
+    }
     fn get_device_info(&mut self, _: ep::GetDeviceInfo) -> Result<DeviceInfo, ProtocolError> {
         unsupported()
     }

@@ -45,7 +45,8 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 3: RunState::Boot appended (a board still looking for its servos no longer reads as Idle).
     // 4: SlotInfo::lost (a damaged copy the slot fell back from), Request::GetJointMap and
     //    Response::JointMap appended.
-    assert_eq!(PROTOCOL_VERSION, 4);
+    // 5: Request::QueueGait / ClearQueue and ProtocolError::Switch appended (gait switching).
+    assert_eq!(PROTOCOL_VERSION, 5);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 

@@ -345,6 +345,15 @@ class Board:
         """Stops the walk as ``dbot run`` and ``dbot record`` do: walking, at the end of the step;
         ramping, where the ramp got to; streaming, holding the last setpoint. Returns what it did,
         e.g. ``"the walk was stopped at the end of its step"``."""
+    def queue_gait(
+        self,
+        slot: int,
+        steps: int | None = None,
+        period_scale: float = 1.0,
+        backward: bool = False,
+    ) -> None:
+        """Plays ``slot`` after the gait playing, at a step boundary without standing still;
+        raises if it cannot follow (the reason names the legs or the joint, jump and bound)."""
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
     def set_torque(self, enable: bool, joint: int | None = None) -> None: ...

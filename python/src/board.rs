@@ -291,6 +291,33 @@ impl Board {
         Ok(())
     }
 
+    /// Queues the gait in `slot` to play after the one playing (or the last queued), at a step
+    /// boundary without standing still; the board refuses one that cannot follow (different legs
+    /// on the ground at the boundary, a joint jump beyond one bus cycle of its servo), saying why.
+    #[pyo3(signature = (slot, steps = None, period_scale = 1.0, backward = false))]
+    fn queue_gait(
+        &self,
+        py: Python<'_>,
+        slot: u8,
+        steps: Option<u32>,
+        period_scale: f64,
+        backward: bool,
+    ) -> PyResult<()> {
+        let scale = protocol::units::to_fixed(period_scale, 1000.0, 100, 10_000)
+            .ok_or_else(|| value_error(format!("period_scale = {period_scale}: give 0.1..=10")))?;
+        let command = protocol::QueueCommand {
+            slot,
+            direction: if backward {
+                Direction::Backward
+            } else {
+                Direction::Forward
+            },
+            period_scale: scale as u16,
+            steps: steps.map_or(Steps::Continuous, Steps::Count),
+        };
+        self.with(py, move |l| l.queue_gait(command))
+    }
+
     /// Names the joints of records and setpoints after `model`'s joints (default: the built-in
     /// drosophibot2), by the servo IDs of the table this `Board` uploaded for the gait in use.
     fn set_model(&self, model: &Model) {

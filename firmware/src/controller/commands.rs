@@ -33,6 +33,8 @@ pub enum CommandError {
     OutOfRange { what: Setting, value: i64 },
     /// The gait store refused.
     Store(StoreError),
+    /// A queued gait cannot follow the one before it (`protocol::switch`).
+    Switch(protocol::SwitchError),
 }
 
 /// Which setting was out of range: the protocol's own names.
@@ -59,8 +61,25 @@ pub struct PlayParams {
     pub steps: Option<u32>,
 }
 
+/// The period scale (100 ..= 10 000) and step count (not 0) of a play or queue command.
+pub(crate) fn check_play_params(p: &PlayParams) -> Result<(), CommandError> {
+    if !(100..=10_000).contains(&p.period_scale) {
+        return Err(CommandError::OutOfRange {
+            what: Setting::PeriodScale,
+            value: p.period_scale.into(),
+        });
+    }
+    if p.steps == Some(0) {
+        return Err(CommandError::OutOfRange {
+            what: Setting::StepCount,
+            value: 0,
+        });
+    }
+    Ok(())
+}
+
 impl<F: NorFlash + FlashWindow> Controller<F> {
-    fn apply(&mut self, event: Event) -> Result<(), CommandError> {
+    pub(crate) fn apply(&mut self, event: Event) -> Result<(), CommandError> {
         let state = self.state;
         if self.event(event) {
             Ok(())
@@ -100,6 +119,16 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             .ok_or(CommandError::SlotEmpty { slot })?;
         let checked =
             gait_view::check(bytes).map_err(|error| CommandError::BadTable { slot, error })?;
+        self.adopt(slot, checked, crc.unwrap_or(0))
+    }
+
+    /// Takes over a checked table of `slot` (its CRC `crc`): joint map, stiffness, limits.
+    pub(crate) fn adopt(
+        &mut self,
+        slot: u8,
+        checked: gait_view::Checked,
+        crc: u32,
+    ) -> Result<(), CommandError> {
         let layout = checked.layout;
         let maps = checked.joints;
         let same_servos = maps.len() == self.joints.len()
@@ -113,11 +142,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.stiffness = checked.stiffness;
         self.gains_wanted = self.gains_wanted.wrapping_add(1);
         self.joints = maps;
-        self.selected = Some(Selected {
-            slot,
-            layout,
-            crc: crc.unwrap_or(0),
-        });
+        self.selected = Some(Selected { slot, layout, crc });
         if !same_servos {
             self.known = [false; MAX_JOINTS];
             self.misses.reset();
@@ -141,18 +166,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 event: Event::Start,
             }));
         }
-        if !(100..=10_000).contains(&p.period_scale) {
-            return Err(CommandError::OutOfRange {
-                what: Setting::PeriodScale,
-                value: p.period_scale.into(),
-            });
-        }
-        if p.steps == Some(0) {
-            return Err(CommandError::OutOfRange {
-                what: Setting::StepCount,
-                value: 0,
-            });
-        }
+        check_play_params(&p)?;
         self.select(p.slot)?;
         let Some(sel) = self.selected else {
             return Err(CommandError::SlotEmpty { slot: p.slot });
@@ -167,6 +181,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let mut clock = PlayClock::new(sel.layout.period_us, p.direction, p.steps);
         clock.set_scale(p.period_scale.into());
         self.play = Some(clock);
+        self.steps_before = 0;
         self.host_quiet = 0;
         self.apply(Event::Start)
     }

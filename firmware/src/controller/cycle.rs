@@ -223,7 +223,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// `host_timeout_cycles` cycles stops at the end of the step (finite runs end by themselves).
     fn check_host(&mut self) {
         let limit = self.config.host_timeout_cycles;
-        let endless = self.play.as_ref().is_some_and(|p| p.endless());
+        let endless = self.play.as_ref().is_some_and(|p| p.endless()) || self.queue_endless();
         if limit == 0 || !endless {
             return;
         }
@@ -277,19 +277,24 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     }
 
     fn walk_goals(&mut self, dt: u32) {
-        let Some(sel) = self.selected else { return };
         let Some(play) = self.play.as_mut() else {
             return;
         };
         let adv = play.advance(dt);
-        if adv.finished {
+        let boundary = adv.finished || (adv.steps_ended > 0 && play.endless());
+        let stopping = self.state == State::Stopping;
+        if adv.steps_ended > 0 && stopping && !adv.finished {
+            play.rest_at_boundary();
+        }
+        if boundary && self.switch_at_boundary() {
+            // The queued gait took over at this boundary; its clock starts at its slice 0.
+        } else if adv.finished {
             self.event(Event::StepsDone);
         } else if adv.steps_ended > 0 {
-            if self.state == State::Stopping {
-                play.rest_at_boundary();
-            }
             self.event(Event::EndOfStep);
         }
+        // After a switch, the new gait's table and clock.
+        let Some(sel) = self.selected else { return };
         let Some(play) = self.play.as_ref() else {
             return;
         };
@@ -373,7 +378,12 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }
             State::Ramping => self.ramp = None,
             State::Safe(_) => self.ramp = None,
-            State::Walking | State::Stopping => {}
+            State::Stopping => {}
+            State::Walking => {}
+        }
+        if !matches!(to, State::Ramping | State::Walking) {
+            // Stopping, a fault, a lost host: nothing waits to walk on afterwards.
+            self.queue.clear();
         }
     }
 }

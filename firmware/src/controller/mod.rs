@@ -11,6 +11,7 @@ mod feedback;
 mod gain_wire_tests;
 #[cfg(test)]
 mod limits_tests;
+mod switch;
 #[cfg(test)]
 mod tests;
 
@@ -26,6 +27,7 @@ use crate::telemetry::{DropQueue, Record};
 pub use crate::telemetry::SetpointStamp;
 pub use commands::{CommandError, PlayParams, Setting};
 pub use cycle::{BusAction, CyclePlan, Outcome};
+pub use switch::QUEUE_LEN;
 
 /// Telemetry records the queue holds before it drops (about 400 B each).
 pub const TELEMETRY_QUEUE: usize = 8;
@@ -151,6 +153,11 @@ pub struct Controller<F> {
     stream: cycle::Stream,
     /// Bus cycles of an endless run since the host was last heard from.
     host_quiet: u32,
+    /// Gaits to play next, each checked against the one before it when queued.
+    queue: heapless::Deque<switch::Queued, { switch::QUEUE_LEN }>,
+    /// Steps the gaits before the one playing completed in this run (the step count of status and
+    /// telemetry runs on across switches).
+    steps_before: u32,
     counters: Counters,
     telemetry: DropQueue<Record, TELEMETRY_QUEUE>,
     telemetry_countdown: u16,
@@ -189,6 +196,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             last_plan_us: None,
             stream: cycle::Stream::default(),
             host_quiet: 0,
+            queue: heapless::Deque::new(),
+            steps_before: 0,
             counters: Counters::default(),
             telemetry: DropQueue::new(),
             telemetry_countdown: 0,
@@ -250,7 +259,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     pub fn playback(&self) -> Option<(u32, u16)> {
         let s = self.selected?;
         let p = self.play.as_ref()?;
-        Some((p.steps_done(), p.sample(s.layout.slices).slice as u16))
+        let step = self.steps_before.saturating_add(p.steps_done());
+        Some((step, p.sample(s.layout.slices).slice as u16))
     }
 
     pub fn play_clock(&self) -> Option<&PlayClock> {

@@ -11,6 +11,8 @@ use crate::store::nor_double::NorDouble;
 use crate::store::record::CRC32;
 use crate::testkit::{JOINTS, STIFFNESS, SyntheticGait};
 
+mod switch;
+
 type Flash = NorDouble<4>;
 
 /// 22 servos that are wherever their goal is once torque is on.

@@ -130,6 +130,7 @@ pub fn command_error(e: CommandError) -> ProtocolError {
             value: value.clamp(i32::MIN.into(), i32::MAX.into()) as i32,
         },
         CommandError::Store(e) => store_error(e),
+        CommandError::Switch(e) => ProtocolError::Switch(e),
         // CommandError is non_exhaustive for its users, not for this crate.
     }
 }

@@ -10,9 +10,9 @@ use protocol::gait::{FORMAT_VERSION, GaitTable};
 use protocol::upload::verify_stored;
 use protocol::{
     Capabilities, DeviceInfo, FirmwareVersion, GaitHeader, GaitSummary, JointIds, JointSettings,
-    LossReason, LostCopy, PROTOCOL_VERSION, PlayCommand, PlaybackPosition, ProtocolError, Request,
-    Response, ServoSelect, Setpoint, Settings, SlotInfo, Status, Steps, StreamConfig, UploadLimits,
-    UploadTracker,
+    LossReason, LostCopy, PROTOCOL_VERSION, PlayCommand, PlaybackPosition, ProtocolError,
+    QueueCommand, Request, Response, ServoSelect, Setpoint, Settings, SlotInfo, Status, Steps,
+    StreamConfig, UploadLimits, UploadTracker,
 };
 
 use super::convert::{command_error, fault, run_state, store_error};
@@ -241,19 +241,18 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
 
     fn play(&mut self, p: PlayCommand) -> Result<(), ProtocolError> {
         self.c
-            .play(PlayParams {
-                slot: p.slot,
-                direction: match p.direction {
-                    protocol::Direction::Forward => Direction::Forward,
-                    protocol::Direction::Backward => Direction::Backward,
-                },
-                period_scale: p.period_scale,
-                steps: match p.steps {
-                    Steps::Continuous => None,
-                    Steps::Count(n) => Some(n),
-                },
-            })
+            .play(play_params(p.slot, p.direction, p.period_scale, p.steps))
             .map_err(command_error)
+    }
+
+    fn queue_gait(&mut self, q: QueueCommand) -> Result<(), ProtocolError> {
+        self.c
+            .queue_gait(play_params(q.slot, q.direction, q.period_scale, q.steps))
+            .map_err(command_error)
+    }
+
+    fn clear_queue(&mut self, _: ep::ClearQueue) -> Result<(), ProtocolError> {
+        self.c.clear_queue().map_err(command_error)
     }
 
     fn stop(&mut self, _: ep::Stop) -> Result<(), ProtocolError> {
@@ -379,6 +378,27 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
                 .map(|m| m.servo_id)
                 .collect(),
         }))
+    }
+}
+
+/// The controller's play parameters of a `Play` or `QueueGait`.
+fn play_params(
+    slot: u8,
+    direction: protocol::Direction,
+    period_scale: u16,
+    steps: Steps,
+) -> PlayParams {
+    PlayParams {
+        slot,
+        direction: match direction {
+            protocol::Direction::Forward => Direction::Forward,
+            protocol::Direction::Backward => Direction::Backward,
+        },
+        period_scale,
+        steps: match steps {
+            Steps::Continuous => None,
+            Steps::Count(n) => Some(n),
+        },
     }
 }
 

@@ -11,7 +11,14 @@
 //!                    │                 │ └EnterStreaming─> Streaming ─LeaveStreaming─┘
 //!  Safe(r) / EStop ─ClearFault─┘   any ─Fault(r)─> Safe(r)   any ─EStop─> EStop
 //!  Idle / Standing / Safe / EStop ─Reboot─> Boot
+//!  Ramping / Walking ─Queue─> itself        Walking ─Switch─> Walking (the queued gait, at a boundary)
+//!  Idle / Standing / Ramping / Walking / Stopping ─ClearQueue─> itself
 //! ```
+//!
+//! Gait switching adds no state: a queued gait waits in the controller while the robot ramps or
+//! walks, and `Switch` is the step boundary at which it takes over. Stopping refuses `Queue` and
+//! `Switch` (a stop has been promised at the end of this step), and every state but Ramping and
+//! Walking drops the queue on entry, so a lost host or a fault never leaves a gait waiting.
 
 pub mod stuck;
 
@@ -97,6 +104,12 @@ pub enum Event {
     ClearFault,
     /// Host: reboot the servos and look for them again.
     Reboot,
+    /// Host: play another gait next, at a step boundary (checked by `protocol::switch` first).
+    Queue,
+    /// Host: drop the queued gaits.
+    ClearQueue,
+    /// Playback reached the step boundary at which a queued gait takes over.
+    Switch,
 }
 
 /// An event the current state does not accept; the state stays as it was.
@@ -136,6 +149,9 @@ impl State {
             (S::Stopping, E::EndOfStep) => S::Standing,
             (S::Stopping, E::Stop) => S::Stopping,
             (S::Streaming, E::LeaveStreaming | E::Stop) => S::Standing,
+            (S::Ramping | S::Walking, E::Queue) => self,
+            (S::Idle | S::Standing | S::Ramping | S::Walking | S::Stopping, E::ClearQueue) => self,
+            (S::Walking, E::Switch) => S::Walking,
             (state, event) => return Err(Refused { state, event }),
         };
         Ok(next)

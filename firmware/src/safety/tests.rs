@@ -21,7 +21,7 @@ const STATES: [State; 9] = [
     State::EStop,
 ];
 
-const EVENTS: [Event; 14] = [
+const EVENTS: [Event; 17] = [
     Event::BootDone,
     Event::TorqueOn,
     Event::TorqueOff,
@@ -36,6 +36,9 @@ const EVENTS: [Event; 14] = [
     Event::Fault(HW),
     Event::ClearFault,
     Event::Reboot,
+    Event::Queue,
+    Event::ClearQueue,
+    Event::Switch,
 ];
 
 #[test]
@@ -47,17 +50,17 @@ fn every_transition_matches_the_design_table() {
     }
     // Rows: states in STATES order; columns: events in EVENTS order. `X` = refused.
     #[rustfmt::skip]
-    let table: [[Option<State>; 14]; 9] = [
-        //           BootDone  TorqOn       TorqOff  Start       RampDone    Stop           EndOfStep    StepsDone      EnterStr       LeaveStr       EStop     Fault(HW)       Clear    Reboot
-        /*Boot*/    [s(Idle),  X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X],
-        /*Idle*/    [X,        s(Standing), s(Idle), s(Ramping), X,          s(Idle),       X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot)],
-        /*Standing*/[X,        s(Standing), s(Idle), s(Ramping), X,          s(Standing),   X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot)],
-        /*Ramping*/ [X,        X,           X,       X,          s(Walking), s(Standing),   X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X],
-        /*Walking*/ [X,        X,           X,       X,          X,          s(Stopping),   s(Walking),  s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X],
-        /*Stopping*/[X,        X,           X,       X,          X,          s(Stopping),   s(Standing), s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X],
-        /*Streamin*/[X,        X,           X,       X,          X,          s(Standing),   X,           X,             X,             s(Standing),   s(EStop), s(Safe(HW)),    X,       X],
-        /*Safe(WD)*/[X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(WD)),    s(Idle), s(Boot)],
-        /*EStop*/   [X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(EStop),       s(Idle), s(Boot)],
+    let table: [[Option<State>; 17]; 9] = [
+        //           BootDone  TorqOn       TorqOff  Start       RampDone    Stop           EndOfStep    StepsDone      EnterStr       LeaveStr       EStop     Fault(HW)       Clear    Reboot     Queue        ClearQueue     Switch
+        /*Boot*/    [s(Idle),  X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X, X,           X,             X],
+        /*Idle*/    [X,        s(Standing), s(Idle), s(Ramping), X,          s(Idle),       X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot), X,           s(Idle),       X],
+        /*Standing*/[X,        s(Standing), s(Idle), s(Ramping), X,          s(Standing),   X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot), X,           s(Standing),   X],
+        /*Ramping*/ [X,        X,           X,       X,          s(Walking), s(Standing),   X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X, s(Ramping), s(Ramping),    X],
+        /*Walking*/ [X,        X,           X,       X,          X,          s(Stopping),   s(Walking),  s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X, s(Walking), s(Walking),    s(Walking)],
+        /*Stopping*/[X,        X,           X,       X,          X,          s(Stopping),   s(Standing), s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X, X,           s(Stopping),   X],
+        /*Streamin*/[X,        X,           X,       X,          X,          s(Standing),   X,           X,             X,             s(Standing),   s(EStop), s(Safe(HW)),    X,       X, X,           X,             X],
+        /*Safe(WD)*/[X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(WD)),    s(Idle), s(Boot), X,           X,             X],
+        /*EStop*/   [X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(EStop),       s(Idle), s(Boot), X,           X,             X],
     ];
     for (s, row) in STATES.iter().zip(table) {
         for (e, want) in EVENTS.iter().zip(row) {

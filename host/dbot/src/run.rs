@@ -22,7 +22,8 @@ use crate::common::words::{WalkReport, state_name};
 #[command(after_help = "Examples:
   dbot run --slot 1 --steps 10
   dbot run --slot 1 --steps 4 --backward --period 2.0   # period in s
-  dbot run --port physics --table walk.dbgt --steps 2   # upload and walk on a fresh robot")]
+  dbot run --port physics --table walk.dbgt --steps 2   # upload and walk on a fresh robot
+  dbot run --slot 0 --steps 2 --then 1 --then 0:back      # forward, slot 1, backward, stop")]
 pub struct Args {
     /// Gait slot (default: the setup file's slot, else 0).
     #[arg(long)]
@@ -48,6 +49,10 @@ pub struct Args {
     /// board stops an endless run whose host is gone).
     #[arg(long)]
     pub detach: bool,
+    /// Gait to play next without standing still, `SLOT` or `SLOT:back` (repeatable, in order),
+    /// each for --steps at --period; the board refuses one that cannot follow, saying why.
+    #[arg(long, value_name = "SLOT[:back]", value_parser = parse_then)]
+    pub then: Vec<(u8, bool)>,
     #[command(flatten)]
     pub board: BoardArgs,
     #[command(flatten)]
@@ -103,14 +108,40 @@ impl Args {
         s.board
             .play(command)
             .with_context(|| format!("playing slot {slot}"))?;
+        for &(next, back) in &self.then {
+            let (c, _) = play_command(&mut s, next, self.steps, self.period, back)?;
+            let queued = protocol::QueueCommand {
+                slot: c.slot,
+                direction: c.direction,
+                period_scale: c.period_scale,
+                steps: c.steps,
+            };
+            s.board
+                .queue_gait(queued)
+                .with_context(|| format!("queueing slot {next} after the gait before it"))?;
+        }
         if self.detach {
             println!("slot {slot}: playing");
             return s.close();
         }
-        let steps = follow(&mut s, self.steps)?;
+        let total = self.steps.map(|k| k * (1 + self.then.len() as u32));
+        let steps = follow(&mut s, total)?;
         println!("{}", report(&mut s, before, steps)?.line());
         s.close()
     }
+}
+
+/// `--then 3` or `--then 3:back`.
+fn parse_then(v: &str) -> Result<(u8, bool), String> {
+    let (slot, back) = match v.split_once(':') {
+        Some((slot, "back")) => (slot, true),
+        Some((_, other)) => return Err(format!("`{other}` after the slot: only `:back` is known")),
+        None => (v, false),
+    };
+    let slot = slot
+        .parse()
+        .map_err(|_| format!("`{slot}` is not a slot number"))?;
+    Ok((slot, back))
 }
 
 /// What the walk did: steps, board time and the counters' growth since `before` (board time, s,

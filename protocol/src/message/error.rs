@@ -3,6 +3,7 @@
 use core::fmt;
 
 use super::RunState;
+use crate::switch::SwitchError;
 use crate::{FrameError, TableError, UploadError};
 
 /// A run-time setting named in [`ProtocolError::InvalidSetting`].
@@ -49,6 +50,8 @@ pub enum ProtocolError {
     Flash { offset: u32 },
     /// A frame could not be decoded.
     Frame(FrameError),
+    /// A queued gait cannot follow the one before it (appended: protocol version 5).
+    Switch(SwitchError),
 }
 
 impl fmt::Display for ProtocolError {
@@ -71,6 +74,7 @@ impl fmt::Display for ProtocolError {
             Self::Table(e) => write!(f, "gait table: {e}"),
             Self::Flash { offset } => write!(f, "flash error at store offset {offset:#x}"),
             Self::Frame(e) => write!(f, "frame: {e}"),
+            Self::Switch(e) => write!(f, "gait switch: {e}"),
         }
     }
 }
@@ -80,6 +84,12 @@ impl core::error::Error for ProtocolError {}
 impl From<UploadError> for ProtocolError {
     fn from(e: UploadError) -> Self {
         Self::Upload(e)
+    }
+}
+
+impl From<SwitchError> for ProtocolError {
+    fn from(e: SwitchError) -> Self {
+        Self::Switch(e)
     }
 }
 

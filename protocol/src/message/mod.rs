@@ -14,7 +14,9 @@ pub use device::{
     SlotInfo,
 };
 pub use error::{Fault, FaultKind, ProtocolError, Setting};
-pub use request::{Direction, PlayCommand, Request, ServoSelect, Steps, StreamConfig};
+pub use request::{
+    Direction, PlayCommand, QueueCommand, Request, ServoSelect, Steps, StreamConfig,
+};
 pub use status::{
     Counters, JointSettings, PlaybackPosition, RunState, Settings, Status, UploadProgress,
 };

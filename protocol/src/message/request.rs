@@ -70,6 +70,13 @@ pub enum Request {
     /// one playing, last played or last uploaded), so a host that did not upload the table can name
     /// the joints. Reply: `JointMap`.
     GetJointMap { slot: Option<u8> },
+    /// Plays `slot` next, without standing still: at the next step boundary of an endless gait,
+    /// or once a counted gait has played its steps. Checked when queued with
+    /// [`crate::switch::check_switch`] against the gait it follows (refused with
+    /// [`crate::ProtocolError::Switch`]). Reply: `Ack`.
+    QueueGait(QueueCommand),
+    /// Drops every queued gait; the one playing plays on. Reply: `Ack`.
+    ClearQueue,
 }
 
 /// Which servos a command addresses.
@@ -104,6 +111,17 @@ pub enum Steps {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PlayCommand {
+    pub slot: u8,
+    pub direction: Direction,
+    /// Step period scale, 1e-3 (2000 = half speed).
+    pub period_scale: u16,
+    pub steps: Steps,
+}
+
+/// Parameters of [`Request::QueueGait`]: a [`PlayCommand`] that waits for its step boundary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct QueueCommand {
     pub slot: u8,
     pub direction: Direction,
     /// Step period scale, 1e-3 (2000 = half speed).

@@ -9,7 +9,8 @@ use protocol::client::Reply;
 use protocol::endpoint::{self as ep, Endpoint};
 use protocol::{
     Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Proprioception,
-    ProtocolError, Request, Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
+    ProtocolError, QueueCommand, Request, Response, RunState, ServoSelect, Settings, SlotInfo,
+    Status, Telemetry,
 };
 
 use super::error::LinkError;
@@ -315,6 +316,18 @@ impl<T: Transport> Board<T> {
 
     pub fn stop(&mut self) -> Result<(), LinkError> {
         self.call(ep::Stop)
+    }
+
+    /// Queues a gait to play after the one playing, at a step boundary, without standing still
+    /// (the board refuses one that cannot follow: `protocol::switch`, e.g. a joint jump beyond
+    /// one bus cycle of its servo, naming the joint).
+    pub fn queue_gait(&mut self, command: QueueCommand) -> Result<(), LinkError> {
+        self.call(command)
+    }
+
+    /// Drops the queued gaits; the one playing plays on.
+    pub fn clear_queue(&mut self) -> Result<(), LinkError> {
+        self.call(ep::ClearQueue)
     }
 
     pub fn emergency_stop(&mut self) -> Result<(), LinkError> {
