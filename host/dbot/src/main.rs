@@ -23,9 +23,11 @@ mod run;
 mod servos;
 mod set;
 mod sim_bus;
+mod sim_strain;
 mod spring_args;
 mod status;
 mod stop;
+mod strain;
 mod table;
 mod upload;
 mod validate;
@@ -63,6 +65,8 @@ enum Cmd {
     Set(set::Args),
     Record(record::Args),
     SimBus(sim_bus::Args),
+    SimStrain(sim_strain::Args),
+    Strain(strain::Args),
     Dxl(dxl::Args),
     Validate(validate::Args),
 }
@@ -93,6 +97,8 @@ fn main() -> anyhow::Result<()> {
         Cmd::Set(a) => a.run(),
         Cmd::Record(a) => a.run(),
         Cmd::SimBus(a) => a.run(),
+        Cmd::SimStrain(a) => a.run(),
+        Cmd::Strain(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
         Cmd::Validate(a) => a.run(),
     }

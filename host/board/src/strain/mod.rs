@@ -6,6 +6,7 @@
 pub mod baseline;
 pub mod calibration;
 pub mod channels;
+pub mod check;
 pub mod driver;
 pub mod error;
 pub mod line;
