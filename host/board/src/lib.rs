@@ -2,7 +2,8 @@
 //! USB device discovery, transport, upload, streaming), the host's Dynamixel bus ends, recording
 //! (capture, per-step statistics, telemetry CSV), trial records, the in-process virtual robot, ports by
 //! name, the settings a `virtual:PATH` robot keeps beside its store, and the rules that protect the
-//! robot, enforced by the calls that build, upload and play a step table (`rules`).
+//! robot, enforced by the calls that build, upload and play a step table (`rules`); the lab's strain
+//! board (driver, recorder, virtual board).
 
 pub mod bus;
 pub mod files;
@@ -13,3 +14,4 @@ pub mod robot;
 pub mod rules;
 pub mod trial;
 pub mod saved_settings;
+pub mod strain;

@@ -22,9 +22,11 @@ mod run;
 mod servos;
 mod set;
 mod sim_bus;
+mod sim_strain;
 mod spring_args;
 mod status;
 mod stop;
+mod strain;
 mod table;
 mod upload;
 mod validate;
@@ -62,6 +64,8 @@ enum Cmd {
     Set(set::Args),
     Record(record::Args),
     SimBus(sim_bus::Args),
+    SimStrain(sim_strain::Args),
+    Strain(strain::Args),
     Dxl(dxl::Args),
     Validate(validate::Args),
 }
@@ -90,6 +94,8 @@ fn main() -> std::process::ExitCode {
         Cmd::Set(a) => a.run(),
         Cmd::Record(a) => a.run(),
         Cmd::SimBus(a) => a.run(),
+        Cmd::SimStrain(a) => a.run(),
+        Cmd::Strain(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
         Cmd::Validate(a) => a.run(),
     };

@@ -58,21 +58,19 @@ pub struct Served {
     pub baud: u32,
 }
 
-/// A chain served on a pseudo-terminal.
+/// A pseudo-terminal in raw mode whose slave path is symlinked at a link path; the link is
+/// removed when it is dropped. The master is the server's end.
 #[derive(Debug)]
-pub struct PtyServer {
-    master: File,
-    // Kept open so the master never sees a hang-up between clients.
-    slave: OwnedFd,
+pub struct LinkedPty {
+    pub master: File,
+    slave: Option<OwnedFd>,
     slave_path: String,
     link: PathBuf,
-    chain: VirtualChain,
-    baud: u32,
 }
 
-impl PtyServer {
+impl LinkedPty {
     /// Opens a pseudo-terminal, raw mode, and links its slave path at `link`.
-    pub fn open(chain: VirtualChain, baud: u32, link: &Path) -> Result<Self, PtyError> {
+    pub fn open(link: &Path) -> Result<Self, PtyError> {
         let pty = openpty(None, None).map_err(PtyError::Open)?;
         let slave_path = nix::unistd::ttyname(pty.slave.as_fd())
             .map_err(PtyError::Open)?
@@ -101,16 +99,55 @@ impl PtyServer {
         })?;
         Ok(Self {
             master: File::from(pty.master),
-            slave: pty.slave,
+            slave: Some(pty.slave),
             slave_path,
             link: link.to_path_buf(),
+        })
+    }
+
+    /// The slave's path (`/dev/pts/N`).
+    pub fn slave_path(&self) -> &str {
+        &self.slave_path
+    }
+
+    /// Closes the server's own hold on the slave, so that the master sees a hang-up (POLLHUP,
+    /// reads fail with EIO) whenever no client has the port open: how a server can tell a
+    /// client's open, as a USB device sees its port opened.
+    pub fn close_slave(&mut self) {
+        self.slave = None;
+    }
+}
+
+impl Drop for LinkedPty {
+    fn drop(&mut self) {
+        // Remove our link only if it still points at our terminal.
+        if std::fs::read_link(&self.link).is_ok_and(|t| t == Path::new(&self.slave_path)) {
+            let _ = std::fs::remove_file(&self.link);
+        }
+    }
+}
+
+/// A chain served on a pseudo-terminal.
+#[derive(Debug)]
+pub struct PtyServer {
+    // Its slave is kept open so the master never sees a hang-up between clients.
+    pty: LinkedPty,
+    chain: VirtualChain,
+    baud: u32,
+}
+
+impl PtyServer {
+    /// Opens a pseudo-terminal, raw mode, and links its slave path at `link`.
+    pub fn open(chain: VirtualChain, baud: u32, link: &Path) -> Result<Self, PtyError> {
+        Ok(Self {
+            pty: LinkedPty::open(link)?,
             chain,
             baud,
         })
     }
 
     pub fn slave_path(&self) -> &str {
-        &self.slave_path
+        self.pty.slave_path()
     }
 
     pub fn chain_mut(&mut self) -> &mut VirtualChain {
@@ -119,7 +156,11 @@ impl PtyServer {
 
     /// The baud the client set on its end, or the server's default.
     fn client_baud(&self) -> u32 {
-        termios2_speed(&self.slave).unwrap_or(self.baud)
+        self.pty
+            .slave
+            .as_ref()
+            .and_then(termios2_speed)
+            .unwrap_or(self.baud)
     }
 
     /// Serves until `stop` is set, calling `log` for every request answered or ignored.
@@ -134,7 +175,7 @@ impl PtyServer {
         let mut last_byte = Instant::now();
         let mut buf = [0u8; 512];
         while !stop.load(Ordering::Relaxed) {
-            let mut fds = [PollFd::new(self.master.as_fd(), PollFlags::POLLIN)];
+            let mut fds = [PollFd::new(self.pty.master.as_fd(), PollFlags::POLLIN)];
             let ready = match poll(&mut fds, PollTimeout::from(50u16)) {
                 Ok(n) => n,
                 Err(nix::Error::EINTR) => continue,
@@ -143,7 +184,7 @@ impl PtyServer {
             if ready == 0 {
                 continue;
             }
-            let n = match self.master.read(&mut buf) {
+            let n = match self.pty.master.read(&mut buf) {
                 Ok(n) => n,
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
                 // No client has the slave open right now.
@@ -190,7 +231,7 @@ impl PtyServer {
                         match r.bytes {
                             Some(bytes) => {
                                 sleep_until(due);
-                                self.master.write_all(&bytes)?;
+                                self.pty.master.write_all(&bytes)?;
                                 due += byte_time * bytes.len() as u32;
                                 served.replied.push(r.id);
                             }
@@ -203,15 +244,6 @@ impl PtyServer {
             }
         }
         Ok(())
-    }
-}
-
-impl Drop for PtyServer {
-    fn drop(&mut self) {
-        // Remove our link only if it still points at our terminal.
-        if std::fs::read_link(&self.link).is_ok_and(|t| t == Path::new(&self.slave_path)) {
-            let _ = std::fs::remove_file(&self.link);
-        }
     }
 }
 

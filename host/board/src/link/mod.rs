@@ -17,6 +17,7 @@ pub use board::{BOOT_WAIT, Board, DEFAULT_REPLY_TIMEOUT, request_name};
 pub use devices::{BoardPort, list_boards};
 pub use error::LinkError;
 pub use serial::SerialTransport;
+pub(crate) use serial::{explain_open_error, is_gone, not_a_port};
 pub use stream::{SetpointError, setpoint_from_si};
 pub use transport::{Transport, TransportError};
 pub use upload::{UploadReport, Uploaded};

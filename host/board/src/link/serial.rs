@@ -74,7 +74,7 @@ impl Transport for SerialTransport {
 
 /// Why `path` cannot be a serial port, found before trying to open it (a missing device or a
 /// regular file would otherwise be reported as an OS error code's text such as "Not a typewriter").
-fn not_a_port(path: &str) -> Option<std::io::Error> {
+pub(crate) fn not_a_port(path: &str) -> Option<std::io::Error> {
     use std::io::Error;
     match std::fs::metadata(path) {
         Err(e) if e.kind() == ErrorKind::NotFound => Some(Error::new(
@@ -106,7 +106,7 @@ fn permission_denied() -> std::io::Error {
 /// The serialport crate's open error, in words: a device that exists but is not a terminal, a
 /// port another program holds, no permission. (The crate's error keeps only the OS message, so
 /// the cases are told apart by looking at the device again.)
-fn explain_open_error(path: &str, e: serialport::Error) -> std::io::Error {
+pub(crate) fn explain_open_error(path: &str, e: serialport::Error) -> std::io::Error {
     use std::io::Error;
     let io: Error = e.into();
     if io.kind() == ErrorKind::PermissionDenied {
@@ -144,18 +144,23 @@ fn is_terminal(path: &str) -> Option<bool> {
 /// Errors that mean the device went away (USB unplug gives EIO or ENXIO, a closed pty EIO or a
 /// broken pipe) become [`TransportError::Closed`].
 fn closed_or_io(path: &str, e: std::io::Error) -> TransportError {
-    let gone = matches!(
-        e.kind(),
-        ErrorKind::BrokenPipe | ErrorKind::UnexpectedEof | ErrorKind::NotConnected
-    ) || matches!(
-        e.raw_os_error(),
-        Some(5 /* EIO */) | Some(6 /* ENXIO */) | Some(19 /* ENODEV */)
-    );
-    if gone {
+    if is_gone(&e) {
         TransportError::Closed {
             reason: format!("{path}: {e}"),
         }
     } else {
         TransportError::Io(e)
     }
+}
+
+/// Whether an I/O error means the device went away (USB unplug gives EIO or ENXIO, a closed pty
+/// EIO or a broken pipe). Also the strain board's test for an unplugged board.
+pub(crate) fn is_gone(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        ErrorKind::BrokenPipe | ErrorKind::UnexpectedEof | ErrorKind::NotConnected
+    ) || matches!(
+        e.raw_os_error(),
+        Some(5 /* EIO */) | Some(6 /* ENXIO */) | Some(19 /* ENODEV */)
+    )
 }
