@@ -3,13 +3,11 @@
 //! the solver's joint force and moment at the segment's proximal joint minus the proximal part's
 //! own inertial and gravity loads. They must agree to rounding (1e-9 of the leg's load scale).
 
-use planner::dynamics::motion::body_motions;
-use planner::dynamics::wrench::required_wrenches;
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
 use planner::model::builtin;
 use planner::plan::plan;
-use planner::strain::cut::{Site, distal_wrench, in_section_frame, proximal_wrench};
+use planner::strain::cut::{Site, SliceBodies, distal_wrench, in_section_frame, proximal_wrench};
 use planner::strain::predict;
 
 fn check(model_name: &str) {
@@ -32,26 +30,15 @@ fn check(model_name: &str) {
         .collect();
     let mut peak: f64 = 0.0;
     for (s, (input, sol)) in inputs.iter().zip(&cycle.slices).enumerate() {
-        let motions = body_motions(model, input);
-        let required = required_wrenches(model, &motions, &input.gravity);
+        let bodies = SliceBodies::of(model, input);
         for (gi, (g, site)) in model.gauges.iter().zip(&sites).enumerate() {
-            let frame = site.frame(g, &motions[site.segment]);
-            let main = distal_wrench(
-                model,
-                site,
-                &frame,
-                &motions,
-                &required,
-                &input.gravity,
-                &sol.grf,
-            );
+            let frame = site.frame(g, &bodies.motions[site.segment]);
+            let main = distal_wrench(model, site, &frame, &bodies, &sol.grf);
             let other = proximal_wrench(
                 model,
                 site,
                 &frame,
-                &motions,
-                &required,
-                &input.gravity,
+                &bodies,
                 &sol.joint_force,
                 &sol.joint_moment,
             );

@@ -14,11 +14,35 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::StrainError;
 use super::section::SectionWrench;
-use crate::dynamics::motion::BodyMotion;
+use crate::dynamics::SliceInput;
+use crate::dynamics::motion::{BodyMotion, body_motions};
+use crate::dynamics::wrench::required_wrenches;
 use crate::model::{Gauge, Model};
 
 /// A force and a moment, thorax frame.
 pub type Wrench = (Vector3<f64>, Vector3<f64>);
+
+/// The bodies' motion in a slice and what each needs from outside, as the dynamics computes them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SliceBodies {
+    pub motions: Vec<BodyMotion>,
+    /// Per body `m (a - g)` and `I alpha + w x I w` (about its centre of mass).
+    pub required: Vec<Wrench>,
+    pub gravity: Vector3<f64>,
+}
+
+impl SliceBodies {
+    /// The forward recursion and Newton-Euler of the inverse dynamics for one slice.
+    pub fn of(model: &Model, input: &SliceInput) -> Self {
+        let motions = body_motions(model, input);
+        let required = required_wrenches(model, &motions, &input.gravity);
+        Self {
+            motions,
+            required,
+            gravity: input.gravity,
+        }
+    }
+}
 
 /// What a gauge's cut needs from the model, worked out once per gauge.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,13 +142,12 @@ pub fn distal_wrench(
     model: &Model,
     site: &Site,
     frame: &SectionFrame,
-    motions: &[BodyMotion],
-    required: &[Wrench],
-    gravity: &Vector3<f64>,
+    bodies: &SliceBodies,
     grf: &[Vector3<f64>],
 ) -> Wrench {
+    let (motions, required) = (&bodies.motions, &bodies.required);
     let p = frame.centroid;
-    let (fd, md, cd) = site.distal_part(model, &motions[site.segment], gravity);
+    let (fd, md, cd) = site.distal_part(model, &motions[site.segment], &bodies.gravity);
     let mut force = fd;
     let mut moment = md + (cd - p).cross(&fd);
     for &b in &site.distal_bodies {
@@ -146,21 +169,18 @@ pub fn distal_wrench(
 /// joint's force and moment (parent on segment, about the joint origin, from the solution) and by
 /// the section wrench; so the section wrench is the proximal part's required wrench (the whole
 /// segment's minus the distal part's) less the joint's.
-#[allow(clippy::too_many_arguments)]
 pub fn proximal_wrench(
     model: &Model,
     site: &Site,
     frame: &SectionFrame,
-    motions: &[BodyMotion],
-    required: &[Wrench],
-    gravity: &Vector3<f64>,
+    bodies: &SliceBodies,
     joint_force: &[Vector3<f64>],
     joint_moment: &[Vector3<f64>],
 ) -> Wrench {
     let p = frame.centroid;
-    let m = &motions[site.segment];
-    let (fb, mb) = required[site.segment];
-    let (fd, md, cd) = site.distal_part(model, m, gravity);
+    let m = &bodies.motions[site.segment];
+    let (fb, mb) = bodies.required[site.segment];
+    let (fd, md, cd) = site.distal_part(model, m, &bodies.gravity);
     let (jf, jm) = (joint_force[site.joint], joint_moment[site.joint]);
     let force = fb - fd - jf;
     let moment = (mb + (m.com - p).cross(&fb))

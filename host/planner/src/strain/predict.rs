@@ -2,10 +2,8 @@
 //! resolved into microstrain.
 
 use super::StrainError;
-use super::cut::{Site, distal_wrench, in_section_frame};
+use super::cut::{Site, SliceBodies, distal_wrench, in_section_frame};
 use super::section::{SectionWrench, gauge_strain};
-use crate::dynamics::motion::body_motions;
-use crate::dynamics::wrench::required_wrenches;
 use crate::dynamics::{CycleSolution, SliceInput, plan_inputs};
 use crate::model::Model;
 use crate::plan::Plan;
@@ -57,23 +55,14 @@ pub fn predict(
         .iter()
         .zip(&cycle.slices)
         .map(|(input, sol)| {
-            let motions = body_motions(model, input);
-            let required = required_wrenches(model, &motions, &input.gravity);
+            let bodies = SliceBodies::of(model, input);
             model
                 .gauges
                 .iter()
                 .zip(&sites)
                 .map(|(g, site)| {
-                    let frame = site.frame(g, &motions[site.segment]);
-                    let w = distal_wrench(
-                        model,
-                        site,
-                        &frame,
-                        &motions,
-                        &required,
-                        &input.gravity,
-                        &sol.grf,
-                    );
+                    let frame = site.frame(g, &bodies.motions[site.segment]);
+                    let w = distal_wrench(model, site, &frame, &bodies, &sol.grf);
                     let wrench = in_section_frame(&frame, &w);
                     GaugeReading {
                         microstrain: 1e6
