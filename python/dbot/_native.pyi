@@ -82,6 +82,14 @@ class Plan:
     @property
     def slices(self) -> int: ...
     @property
+    def strain(self) -> npt.NDArray[np.float64]:
+        """Predicted gauge strain from the inverse dynamics (floating base), microstrain:
+        [slice, gauge] in ``gauge_names`` order (docs/strain.md)."""
+    @property
+    def gauge_names(self) -> list[str]:
+        """The model's strain gauges, e.g. ``LF_troch_axial`` (Drosophibot II: the strain board's
+        channel order)."""
+    @property
     def model(self) -> Model: ...
     def step_table(
         self, name: str = "dbot-gait", torques: bool = False, allow_infeasible: bool = False

@@ -201,6 +201,27 @@ impl Plan {
         self.inner.slices()
     }
 
+    /// Predicted strain of every gauge of the model (docs/strain.md), microstrain: array
+    /// [slice, gauge] in `gauge_names` order, from the inverse dynamics (floating base, the
+    /// paper's problem), solved on each access. Width 0 for a model without gauges.
+    #[getter]
+    fn strain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = py.detach(|| predicted_strain(&self.inner))?;
+        Ok(rows(py, &s))
+    }
+
+    /// The model's gauges, e.g. `LF_troch_axial`, in the order of `strain`'s columns (for the
+    /// built-in Drosophibot II, the strain board's channel order).
+    #[getter]
+    fn gauge_names(&self) -> Vec<String> {
+        self.inner
+            .model
+            .gauges
+            .iter()
+            .map(|g| g.name.clone())
+            .collect()
+    }
+
     #[getter]
     fn model(&self) -> Model {
         Model {
@@ -233,4 +254,14 @@ impl Plan {
             self.inner.params.duty
         )
     }
+}
+
+/// `microstrain[slice][gauge]` of a plan, its dynamics solved with the default options.
+fn predicted_strain(plan: &planner::plan::Plan) -> PyResult<Vec<Vec<f64>>> {
+    let inputs = planner::dynamics::plan_inputs(plan);
+    let options = planner::dynamics::DynamicsOptions::default();
+    let cycle =
+        planner::dynamics::solve_cycle(&plan.model, &inputs, &options).map_err(value_error)?;
+    let strain = planner::strain::predict(&plan.model, &inputs, &cycle).map_err(value_error)?;
+    Ok(strain.microstrain())
 }

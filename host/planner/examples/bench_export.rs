@@ -173,6 +173,7 @@ fn one_leg(model: &Model, leg: Leg) -> Model {
         bodies,
         joints,
         feet: vec![foot],
+        gauges: Vec::new(),
     }
 }
 
@@ -438,6 +439,7 @@ fn scaling_study(model: &Model, params: &planner::gait::StepParams) -> Result<Va
             bodies,
             joints,
             feet,
+            gauges: Vec::new(),
         };
         let input = SliceInput::still(&m, q);
         let t = time_per_call(7, 200, || {

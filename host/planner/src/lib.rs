@@ -1,5 +1,5 @@
 //! The Drosophibot II planner: organism models, terrain, gait, kinematics, inverse dynamics (a QP
-//! per slice), robot-versus-fly analysis, the step table built from a plan, and the planner's own
+//! per slice), predicted gauge strain, robot-versus-fly analysis, the step table built from a plan, and the planner's own
 //! file formats (model TOML / .aproj / URDF, the plan directory). Pure computation and its formats:
 //! no CLI, no board I/O, no plots (those live in the `board`, `report` and `dbot` crates).
 
@@ -12,4 +12,5 @@ pub mod number;
 pub mod plan;
 pub mod plan_dir;
 pub mod qp;
+pub mod strain;
 pub mod terrain;

@@ -1,5 +1,5 @@
 //! Every figure the host draws, reachable from the CLI and from Python without the CLI: plan plots
-//! (joint angles, footfall, feet), the dynamics' torque and GRF plots, per-leg panels of
+//! (joint angles, footfall, feet), the dynamics' torque and GRF plots, the predicted gauge strain, per-leg panels of
 //! comparisons, and the recording's plots. PNG via plotters with an embedded font.
 
 mod bitmap;
@@ -10,6 +10,7 @@ pub mod paper_robot;
 pub mod plan;
 pub mod recording;
 pub mod robot;
+pub mod strain;
 pub mod style;
 
 /// What each file of a plan directory holds (columns, units, conventions): README.md beside them.

@@ -1,6 +1,7 @@
 //! Writing a plan directory, as `plan` and `demo` do: the planner's own files (plan.json,
 //! model.toml, model.urdf, joints.csv, feet.csv: `planner::plan_dir`), the plan's plots, and with
-//! the inverse dynamics its torque and force columns, joint_forces.csv and plots.
+//! the inverse dynamics its torque and force columns, joint_forces.csv and plots, and for a model
+//! with gauges the predicted strain (strain.csv, strain.png).
 
 use std::path::Path;
 
@@ -69,6 +70,28 @@ pub fn write_plan_dir(
     ]);
     if let Some(d) = dynamics {
         files.extend(d.write_files(plan, dir)?);
+        files.extend(write_strain(dir, plan, &d.cycle)?);
     }
     Ok((files, feasible))
+}
+
+/// strain.csv and strain.png, the gauges' predicted strain, when the model has gauges.
+fn write_strain(
+    dir: &Path,
+    plan: &Plan,
+    cycle: &planner::dynamics::CycleSolution,
+) -> Result<Vec<&'static str>> {
+    use planner::strain::csv::{STRAIN_CSV, write_strain_csv};
+    if plan.model.gauges.is_empty() {
+        return Ok(vec![]);
+    }
+    let strain = planner::strain::predict_plan(plan, cycle)?;
+    replace(dir, STRAIN_CSV, |p| {
+        let f = std::fs::File::create(p)?;
+        Ok(write_strain_csv(f, &plan.model, plan.dt, &strain)?)
+    })?;
+    replace(dir, "strain.png", |p| {
+        Ok(report::strain::plot_strain(plan, &strain, p)?)
+    })?;
+    Ok(vec![STRAIN_CSV, "strain.png"])
 }

@@ -343,6 +343,8 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         bodies,
         joints,
         feet,
+        // AnimatLab has no strain gauges: add `[[gauge]]` entries to the written model file.
+        gauges: Vec::new(),
     };
     model.validate(file)?;
     Ok(model)

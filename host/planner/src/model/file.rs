@@ -21,6 +21,9 @@ pub struct ModelFile {
     pub joints: Vec<JointEntry>,
     #[serde(rename = "foot")]
     pub feet: Vec<FootEntry>,
+    /// Strain gauges (docs/strain.md); optional.
+    #[serde(default, rename = "gauge", skip_serializing_if = "Vec::is_empty")]
+    pub gauges: Vec<super::GaugeEntry>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -359,13 +362,15 @@ impl ModelFile {
                 point: Vector3::from(f.point_m),
             });
         }
-        let model = Model {
+        let mut model = Model {
             name: self.name.clone(),
             bodies,
             joints,
             feet,
+            gauges: Vec::new(),
         };
         model.validate(file)?;
+        model.gauges = super::gauge_file::gauges_from_entries(&self.gauges, &model, file)?;
         Ok(model)
     }
 }

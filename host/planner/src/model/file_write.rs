@@ -86,12 +86,18 @@ impl ModelFile {
                 source: source(&format!("{}_foot", f.leg.name())),
             })
             .collect();
+        let gauges = model
+            .gauges
+            .iter()
+            .map(|g| super::GaugeEntry::from_gauge(g, model, source(&g.name)))
+            .collect();
         ModelFile {
             name: model.name.clone(),
             notes: notes.to_string(),
             bodies,
             joints,
             feet,
+            gauges,
         }
     }
 }

@@ -17,6 +17,8 @@ mod builtin;
 mod error;
 mod file;
 mod file_write;
+mod gauge_file;
+mod gauges;
 mod mjcf;
 mod query;
 mod ranges;
@@ -29,6 +31,8 @@ pub use builtin::{BUILTIN_NAMES, builtin};
 pub use error::ModelError;
 pub use file::{ModelFile, from_toml_str, load};
 pub use file_write::{rpy_of, to_toml_string};
+pub use gauge_file::GaugeEntry;
+pub use gauges::{Gauge, GaugeDirection, Material, Section};
 pub use mjcf::{
     BALL_MASS_KG, DEFAULT_TIMESTEP_S, FOOT_RADIUS_M, MUJOCO_FLOOR, MjcfOptions, Scene,
     ServoActuator, hinge_order, servo_actuator, to_mjcf,

@@ -209,4 +209,7 @@ pub struct Model {
     pub joints: Vec<Joint>,
     /// One foot per leg.
     pub feet: Vec<Foot>,
+    /// Strain gauges on the leg segments ([`super::gauges`]); none unless the model file lists them.
+    #[serde(default)]
+    pub gauges: Vec<super::Gauge>,
 }

@@ -128,6 +128,7 @@ pub fn toy_hexapod() -> Model {
         bodies,
         joints,
         feet,
+        gauges: Vec::new(),
     }
 }
 

@@ -1,0 +1,182 @@
+//! A one-legged robot standing still on its foot (a "pogo", balanced over the foot so the foot
+//! force is its whole weight, by hand), with gauges on its horizontal femur: the section wrench
+//! is the foot force moved to the section plus the weight of what hangs distal of it, and the
+//! readings follow by hand. Read through the model file format, so the gauge section is too.
+
+use nalgebra::Vector3;
+use planner::dynamics::{DynamicsOptions, SliceInput, solve_cycle};
+use planner::model::{Model, from_toml_str};
+use planner::strain::predict;
+
+/// The planner's standard gravity, m/s^2 (`SliceInput::still` uses it).
+const G: f64 = 9.81;
+
+/// Thorax 2 kg (CoM at x = L1 + m1 L1 / 2M = 0.1075 m, over the foot with the legs), a yaw hip
+/// (z) and a pitch hip (y) at the origin, femur along +x (0.3 kg, L1 = 0.1 m, CoM at 0.05 m),
+/// knee (y) at x = 0.1, tibia hanging down (0.2 kg, L2 = 0.15 m, CoM 0.075 m below the knee),
+/// foot at its end. Gauges on the femur's top face (+z) at half its length, a tube of 20 mm
+/// outer diameter and 2 mm wall, E = 2.4 GPa, nu = 0.39.
+const POGO: &str = r#"
+name = "pogo"
+[[body]]
+name = "thorax"
+mass_kg = 2.0
+com_m = [0.1075, 0.0, 0.0]
+inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
+[[body]]
+name = "coxa"
+mass_kg = 0.0
+com_m = [0.0, 0.0, 0.0]
+inertia_kg_m2 = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+[[body]]
+name = "femur"
+mass_kg = 0.3
+com_m = [0.05, 0.0, 0.0]
+inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
+[[body]]
+name = "tibia"
+mass_kg = 0.2
+com_m = [0.0, 0.0, -0.075]
+inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
+[[joint]]
+leg = "LM"
+kind = "ThC1"
+parent = "thorax"
+child = "coxa"
+origin_xyz_m = [0.0, 0.0, 0.0]
+origin_rpy_rad = [0.0, 0.0, 0.0]
+axis = [0.0, 0.0, 1.0]
+limits_rad = [-3.0, 3.0]
+actuation = "mx28"
+stiffness_nm_per_rad = 2.0
+[[joint]]
+leg = "LM"
+kind = "CTr"
+parent = "coxa"
+child = "femur"
+origin_xyz_m = [0.0, 0.0, 0.0]
+origin_rpy_rad = [0.0, 0.0, 0.0]
+axis = [0.0, 1.0, 0.0]
+limits_rad = [-3.0, 3.0]
+actuation = "mx28"
+stiffness_nm_per_rad = 2.0
+[[joint]]
+leg = "LM"
+kind = "FTi"
+parent = "femur"
+child = "tibia"
+origin_xyz_m = [0.1, 0.0, 0.0]
+origin_rpy_rad = [0.0, 0.0, 0.0]
+axis = [0.0, 1.0, 0.0]
+limits_rad = [-3.0, 3.0]
+actuation = "mx28"
+stiffness_nm_per_rad = 2.0
+[[foot]]
+leg = "LM"
+body = "tibia"
+point_m = [0.0, 0.0, -0.15]
+[[gauge]]
+name = "LM_femur_axial"
+leg = "LM"
+segment = "femur"
+position_fraction = 0.5
+face = [0.0, 0.0, 1.0]
+direction = "axial"
+section = { shape = "circular_tube", outer_diameter_m = 0.02, wall_m = 0.002 }
+material = { youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }
+[[gauge]]
+name = "LM_femur_transverse"
+leg = "LM"
+segment = "femur"
+position_fraction = 0.5
+face = [0.0, 0.0, 1.0]
+direction = "transverse"
+section = { shape = "circular_tube", outer_diameter_m = 0.02, wall_m = 0.002 }
+material = { youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }
+[[gauge]]
+name = "LM_femur_hip"
+leg = "LM"
+segment = "femur"
+position_fraction = 0.0
+face = [0.0, 0.0, 1.0]
+direction = "axial"
+section = { shape = "circular_tube", outer_diameter_m = 0.02, wall_m = 0.002 }
+material = { youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }
+"#;
+
+fn pogo() -> Model {
+    from_toml_str(POGO, "pogo.toml").unwrap()
+}
+
+#[test]
+fn standing_leg_section_wrench_is_the_foot_force_moved_to_the_section_plus_distal_weight() {
+    let model = pogo();
+    let input = SliceInput::still(&model, vec![0.0; 3]);
+    let cycle = solve_cycle(
+        &model,
+        std::slice::from_ref(&input),
+        &DynamicsOptions::default(),
+    )
+    .unwrap();
+    let w_total = 2.5 * G;
+    assert!((cycle.slices[0].grf[0] - Vector3::new(0.0, 0.0, w_total)).norm() < 1e-9 * w_total);
+    let strain = predict(&model, &[input], &cycle).unwrap();
+    let r = strain.readings[0][0];
+    // By hand, section at P = (0.05, 0, 0); distal: the tibia (0.2 kg at (0.1, 0, -0.075)) and
+    // the femur's distal half (0.15 kg at (0.075, 0, 0)). Force of the distal part on the
+    // proximal: the foot force plus the distal weight, (0, 0, W - 0.35 g) = (0, 0, 21.0915) N.
+    // Moment about P: (0.05, 0, -0.15) x (0, 0, W) + (0.05, 0, -0.075) x (0, 0, -0.2 g)
+    // + (0.025, 0, 0) x (0, 0, -0.15 g) = (0, -0.05 W + 0.01 g + 0.00375 g, 0)
+    // = (0, -1.0913625, 0) N m. Section frame (a, n, t) = (+x, +z, -y).
+    let fz = w_total - 0.35 * G;
+    let m_t = 0.05 * w_total - 0.01375 * G;
+    assert!((fz - 21.0915).abs() < 1e-12 && (m_t - 1.0913625).abs() < 1e-12);
+    let want_f = Vector3::new(0.0, fz, 0.0);
+    let want_m = Vector3::new(0.0, 0.0, m_t);
+    assert!(
+        (r.wrench.force - want_f).norm() < 1e-9,
+        "force {:?} vs {want_f:?}",
+        r.wrench.force
+    );
+    assert!(
+        (r.wrench.moment - want_m).norm() < 1e-9,
+        "moment {:?} vs {want_m:?}",
+        r.wrench.moment
+    );
+    // The femur is pushed up at its end: the top face is compressed, sigma = -M_t c / I with
+    // I = 4.636991e-9 m^4: -1.0913625 * 0.01 / I / 2.4e9 = -980.667 microstrain; the
+    // transverse gauge -nu times that.
+    assert!(
+        (r.microstrain - -980.666_986).abs() < 1e-4,
+        "{}",
+        r.microstrain
+    );
+    let tr = strain.readings[0][1].microstrain;
+    assert!((tr - 0.39 * 980.666_986).abs() < 1e-4, "{tr}");
+}
+
+/// At the proximal end (fraction 0) the whole femur is distal, so the section carries what the
+/// hip joint carries: the joint's force and moment (parent on child) with the sign flipped.
+#[test]
+fn a_cut_at_the_proximal_joint_carries_the_joint_wrench() {
+    let model = pogo();
+    let input = SliceInput::still(&model, vec![0.0; 3]);
+    let cycle = solve_cycle(
+        &model,
+        std::slice::from_ref(&input),
+        &DynamicsOptions::default(),
+    )
+    .unwrap();
+    let strain = predict(&model, &[input], &cycle).unwrap();
+    let r = strain.readings[0][2];
+    let (jf, jm) = (
+        cycle.slices[0].joint_force[1],
+        cycle.slices[0].joint_moment[1],
+    );
+    // Section frame (+x, +z, -y).
+    let frame = |v: Vector3<f64>| Vector3::new(v.x, v.z, -v.y);
+    assert!((r.wrench.force + frame(jf)).norm() < 1e-9);
+    assert!((r.wrench.moment + frame(jm)).norm() < 1e-9);
+    // By hand, the hip moment (the pogo test's) L1 g (M + m1 / 2) = 0.1 g 2.15 about +y.
+    assert!((jm.y - 0.215 * G).abs() < 1e-9, "{jm:?}");
+}

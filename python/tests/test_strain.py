@@ -1,0 +1,43 @@
+"""Predicted gauge strain through the bindings: ``Plan.strain`` and ``Plan.gauge_names``.
+
+Independent truths: the gauge order is the lab's strain board's (``../shared/reference/
+lab-practice.md``: legs LH, RH, LM, RM, LF, RF; per leg trochanter axial, transverse, 45 deg,
+femur +45, -45 deg, axial), and at one site the transverse gauge reads minus Poisson's ratio
+(0.39 in the model file) times the axial gauge (Hooke's law in plane stress, whatever the load).
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+
+import dbot
+
+BOARD_LEGS = ["LH", "RH", "LM", "RM", "LF", "RF"]
+MODEL_FILE = pathlib.Path(__file__).resolve().parents[2] / "host" / "planner" / "models" / "drosophibot2.toml"
+PER_LEG = ["troch_axial", "troch_transverse", "troch_45", "femur_plus45", "femur_minus45", "femur_axial"]
+
+
+def test_plan_strain_is_slice_by_gauge_in_board_order() -> None:
+    p = dbot.plan(dbot.Model.builtin("drosophibot2"), slices=20)
+    assert p.gauge_names == [f"{leg}_{g}" for leg in BOARD_LEGS for g in PER_LEG]
+    s = p.strain
+    assert s.shape == (20, 36)
+    assert np.all(np.isfinite(s))
+    # Stance legs carry the robot: hundreds of microstrain somewhere, not zero.
+    assert np.max(np.abs(s)) > 50.0
+    names = p.gauge_names
+    for leg in BOARD_LEGS:
+        axial = s[:, names.index(f"{leg}_troch_axial")]
+        transverse = s[:, names.index(f"{leg}_troch_transverse")]
+        np.testing.assert_allclose(transverse, -0.39 * axial, rtol=1e-12, atol=1e-9)
+
+
+def test_a_model_without_gauges_has_an_empty_strain_array(tmp_path) -> None:
+    text = MODEL_FILE.read_text()
+    path = tmp_path / "no-gauges.toml"
+    path.write_text(text[: text.index("[[gauge]]")])
+    p = dbot.plan(dbot.Model.load(path), slices=20)
+    assert p.gauge_names == []
+    assert p.strain.shape == (20, 0)
