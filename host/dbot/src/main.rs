@@ -7,7 +7,6 @@ mod args;
 mod bounds;
 mod common;
 mod compare;
-mod compare_paper;
 mod config;
 mod demo;
 mod devices;
