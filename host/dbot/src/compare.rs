@@ -1,16 +1,12 @@
 //! `dbot compare`: R-squared of angle and torque regressions per common DoF of two plans
-//! (tables S2 to S8 of the paper) with overlaid plots, or a speed sweep over swing durations.
+//! (tables S2 to S8 of the paper) with overlaid plots, or a speed sweep over swing durations
+//! (`lab::plan_comparison`), or the paper's comparison (`lab::paper_comparison`). This file
+//! parses, shows the sweep's progress and prints the tables.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use planner::analysis::{DofTrace, classify_sweep, compare};
-use planner::model::{JointKind, Leg};
-use planner::plan_dir::{self, columns};
-
-use crate::common::output::replace;
-use crate::common::overlay::{folder_name, overlay};
+use lab::plan_comparison::{inertial_share, r2_cell, summed_in};
 
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
@@ -53,7 +49,7 @@ impl Args {
             }
             std::fs::create_dir_all(&self.out)
                 .with_context(|| format!("creating {}", self.out.display()))?;
-            let c = crate::compare_paper::run_paper(&self.out, self.slices)?;
+            let c = lab::paper_comparison::run_paper(&self.out, self.slices)?;
             println!("{}", c.markdown);
             println!(
                 "wrote tables.md tables.csv and per-case plots to {}",
@@ -76,70 +72,11 @@ impl Args {
     }
 }
 
-/// DoF traces of a plan directory (torques required): one per model joint, keyed by leg and kind.
-fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
-    let plan = plan_dir::read(dir)?;
-    let torque = plan.torque.as_ref().with_context(|| {
-        format!(
-            "{}: no `{}` column (planned with --no-dynamics?)",
-            dir.join(columns::JOINTS_CSV).display(),
-            columns::TORQUE_NM
-        )
-    })?;
-    let mut map: BTreeMap<(Leg, JointKind), (Vec<f64>, Vec<f64>)> = BTreeMap::new();
-    for (angles, torques) in plan.angle.iter().zip(torque) {
-        for (joint, (a, t)) in plan.model.joints.iter().zip(angles.iter().zip(torques)) {
-            let e = map.entry((joint.leg, joint.kind)).or_default();
-            e.0.push(*a);
-            e.1.push(*t);
-        }
-    }
-    Ok(map
-        .into_iter()
-        .map(|((leg, kind), (angle, torque))| {
-            let (lo, hi) = angle
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), a| {
-                    (l.min(*a), h.max(*a))
-                });
-            DofTrace {
-                leg,
-                kind,
-                mobile: hi - lo > 1e-9,
-                angle,
-                torque,
-            }
-        })
-        .collect())
-}
-
-fn fmt(v: Option<f64>) -> String {
-    v.map_or("-".into(), |v| format!("{v:.3}"))
-}
-
 fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
-    let (ta, tb) = (read_traces(a)?, read_traces(b)?);
-    let rows = compare(&ta, &tb);
-    if rows.is_empty() {
-        bail!("{} and {} have no DoF in common", a.display(), b.display());
-    }
-    // Built in memory and written through a scratch file: a killed run leaves the old file whole.
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["leg", "dof", "summed_in", "r2_angle", "r2_torque"])?;
+    let rows = lab::plan_comparison::compare_dirs(a, b, out)?;
     println!("| leg | DoF | R^2 angle | R^2 torque |\n|---|---|---|---|");
     for r in &rows {
-        let summed = match r.summed_side {
-            Some(0) => "A",
-            Some(_) => "B",
-            None => "",
-        };
-        w.write_record([
-            r.leg.name(),
-            &r.dof,
-            summed,
-            &fmt(r.r2_angle),
-            &fmt(r.r2_torque),
-        ])?;
+        let summed = summed_in(r);
         let label = if summed.is_empty() {
             r.dof.clone()
         } else {
@@ -148,13 +85,10 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
         println!(
             "| {} | {label} | {} | {} |",
             r.leg.name(),
-            fmt(r.r2_angle),
-            fmt(r.r2_torque)
+            r2_cell(r.r2_angle),
+            r2_cell(r.r2_torque)
         );
     }
-    let bytes = w.into_inner().context("building compare.csv")?;
-    replace(out, "compare.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
-    overlay(&ta, &tb, &rows, out, [&folder_name(a), &folder_name(b)])?;
     println!(
         "wrote compare.csv compare_angles.png compare_torques.png to {}",
         out.display()
@@ -164,40 +98,21 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
 
 fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
     let model = crate::common::model_spec::load_model(model)?;
-    let mut points = Vec::new();
     let bar = indicatif::ProgressBar::new(swings.len() as u64);
-    for &sw in swings {
-        if !(sw > 0.0 && sw.is_finite()) {
-            bail!("--swing {sw}: swing durations must be positive seconds");
-        }
-        let mut p = planner::gait::StepParams::table1(&model.name);
-        p.swing_s = sw;
-        points.push(planner::analysis::sweep_point(&model, &p)?);
-        bar.inc(1);
-    }
+    let swept = lab::plan_comparison::sweep(&model, swings, out, || bar.inc(1));
     bar.finish_and_clear();
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
-        "period_s",
-        "peak_torque_nm",
-        "peak_inertial_torque_nm",
-        "inertial_share",
-    ])?;
+    let (points, regime) = swept?;
     println!("| period (s) | peak torque (N m) | inertial part (N m) | share |\n|---|---|---|---|");
     for p in &points {
-        let share = p.peak_inertial_torque / p.peak_torque;
-        w.write_record(
-            [p.period, p.peak_torque, p.peak_inertial_torque, share]
-                .map(|v| planner::number::plain(v, 7)),
-        )?;
         println!(
             "| {:.3} | {:.4e} | {:.4e} | {:.3} |",
-            p.period, p.peak_torque, p.peak_inertial_torque, share
+            p.period,
+            p.peak_torque,
+            p.peak_inertial_torque,
+            inertial_share(p)
         );
     }
-    let bytes = w.into_inner().context("building sweep.csv")?;
-    replace(out, "sweep.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
-    if let Some(r) = classify_sweep(&points) {
+    if let Some(r) = regime {
         println!(
             "inertial torque ~ T^{:.2} (-2 for pure inertia); quasi-static where the inertial share is below ~0.1",
             r.inertial_exponent

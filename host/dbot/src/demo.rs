@@ -6,9 +6,10 @@
 //! backward while recording, and prints a summary whose numbers all come from this run; on the
 //! physics robot also what each walk did to the body (distance per step against the plan, heading
 //! drift, thorax height and tilt, slip per foot), the plan's GRF and torques against the simulated
-//! contact forces and servo loads (R^2, `common::demo_fit`), a third walk with the torque bias off
-//! and what the bias buys (`common::demo_bias`), and `walk.gif` (`common::demo_walk`). The summary
-//! is also written to `summary.txt`.
+//! contact forces and servo loads (R^2 of the plan's prediction), a third walk with the torque bias
+//! off and what the bias buys, and `walk.gif`. The walks and their figures are `lab::demo`; this
+//! file parses, announces the stages and prints (`common::walk_summary`). The summary is also
+//! written to `summary.txt`.
 //!
 //! Every output goes through a scratch file renamed when complete, so a demo that is killed or
 //! interrupted leaves each file either as the previous run wrote it or complete from this run.
@@ -20,22 +21,17 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use board::link::Board;
-use board::record::{Ended, JointMeta, Recorder, joints_of_table, tracking};
-use board::robot::{PlannedLoads, ServoDynamics, VirtualRobot, VirtualTransport};
-use physics::{Figures, PhysicsRobot, WalkLog};
+use board::robot::{VirtualRobot, VirtualTransport};
+use lab::demo::{DemoBody, DemoInput, DemoProgress, has_body, walk_all};
+use physics::PhysicsRobot;
 use planner::gait::StepParams;
-use planner::model::Leg;
 use planner::plan_dir;
-use protocol::Direction;
-use report::recording::{plot_angles, plot_torques};
 
 use crate::args::dynamics::DynamicsArgs;
-use crate::common::demo_walk::{self, Walk};
 use crate::common::interrupt;
 use crate::common::output::replace;
-use crate::common::physics_walk;
 use crate::common::plan_output::write_plan_dir;
+use crate::common::walk_summary::{print_bias, print_body, print_fits, print_tracking};
 
 /// The demo's gait name in its plan directory and step table.
 const GAIT_NAME: &str = "dbII tripod";
@@ -50,39 +46,24 @@ fn check_interrupt(stage: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// What moves the demo robot's servos, and what it can say about the body after a walk.
-trait DemoBody: ServoDynamics + std::fmt::Debug {
-    /// Starts measuring a walk, logging a pose every `pose_every` bus cycles.
-    fn start_walk(&mut self, _pose_every: usize) {}
-    /// What the walk did to the body (`None`: the robot has no body).
-    fn walk_figures(&self) -> Option<Figures> {
-        None
-    }
-    /// The walk's log (`None`: the robot has no body).
-    fn take_log(&mut self) -> Option<WalkLog> {
-        None
-    }
-    /// The thorax height the plan keeps, m (`None`: no body).
-    fn planned_height_m(&self) -> Option<f64> {
-        None
-    }
+/// The demo's stage lines while it walks, and Ctrl-C.
+struct Stages {
+    total: usize,
 }
 
-impl DemoBody for PlannedLoads {}
-
-impl DemoBody for PhysicsRobot {
-    fn start_walk(&mut self, pose_every: usize) {
-        self.reset_figures();
-        self.start_log(pose_every);
+impl DemoProgress for Stages {
+    fn walking(&mut self, index: usize, _walks: usize, steps: u32, label: &str) {
+        println!(
+            "[{}/{}] walking {steps} steps {label}, recording",
+            4 + index,
+            self.total
+        );
     }
-    fn walk_figures(&self) -> Option<Figures> {
-        self.figures().cloned()
+    fn drawing(&mut self) {
+        println!("[{0}/{0}] drawing the walk (walk.gif)", self.total);
     }
-    fn take_log(&mut self) -> Option<WalkLog> {
-        PhysicsRobot::take_log(self)
-    }
-    fn planned_height_m(&self) -> Option<f64> {
-        Some(PhysicsRobot::planned_height_m(self))
+    fn stop_requested(&self) -> bool {
+        interrupt::requested()
     }
 }
 
@@ -199,100 +180,20 @@ impl Args {
             t_dyn,
             ..
         } = *ctx;
-        let mut board = Board::connect(transport)?;
-        let up = board.upload(0, table, |_, _| {})?;
-        let parsed = protocol::GaitTable::parse(table)?;
-        let joints = joints_of_table(&parsed, names);
-        let has_body = board
-            .transport()
-            .robot()
-            .servos()
-            .planned_height_m()
-            .is_some();
-        // With a body, a third walk: forward again with the firmware's torque bias switched off.
-        let mut plans = vec![
-            (Direction::Forward, "forward", "forward", true),
-            (Direction::Backward, "backward", "backward", true),
-        ];
-        if has_body {
-            plans.push((
-                Direction::Forward,
-                BIAS_OFF_LABEL,
-                "forward-bias-off",
-                false,
-            ));
-        }
-        let stages = stage_count(has_body);
-        let mut walks = Vec::new();
-        for (i, (direction, label, dir_name, bias_on)) in plans.into_iter().enumerate() {
-            let mut meta = joints.clone();
-            if !bias_on {
-                // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
-                for j in 0..joints.len() {
-                    board.set_stiffness(j as u8, 0)?;
-                }
-                // The goals are now the planned angles: the recorder must not subtract a bias.
-                for m in &mut meta {
-                    m.stiffness_nm_per_rad = None;
-                }
-            }
-            println!(
-                "[{}/{stages}] walking {} steps {label}, recording",
-                4 + i,
-                self.steps
-            );
-            let dir = out.join("record").join(dir_name);
-            let wall = Instant::now();
-            board
-                .transport_mut()
-                .robot_mut()
-                .servos_mut()
-                .start_walk(POSE_EVERY_CYCLES);
-            let rec = walk(
-                &mut board,
-                direction,
-                self.steps,
-                &dir,
-                meta,
-                parsed.slice_count(),
-            )?;
-            let servos = board.transport_mut().robot_mut().servos_mut();
-            let figures = servos.walk_figures();
-            let log = servos.take_log();
-            walks.push(Walk {
-                label,
-                bias_on,
-                dir,
-                rec,
-                wall: wall.elapsed(),
-                figures,
-                log,
-            });
-        }
-
-        let mut s = String::new();
-        let robot = board.transport().robot();
-        let timing = robot.timing();
-        let (to_servos, to_master) = robot.bus_bytes();
-        let sim_s = robot.now_us() as f64 * 1e-6;
-        let planned_height = robot.servos().planned_height_m();
-        let gif = match planned_height {
-            Some(_) => {
-                println!("[{stages}/{stages}] drawing the walk (walk.gif)");
-                Some(demo_walk::write_walk_gif(out, &plan.model, &walks)?)
-            }
-            None => None,
+        let mut stages = Stages {
+            total: stage_count(has_body(&transport)),
         };
-        let mut fits = Vec::new();
-        for w in walks.iter().filter(|w| w.bias_on) {
-            if let Some(log) = &w.log {
-                fits.push((
-                    w.label,
-                    demo_walk::write_fits(w, log, names, &plan.legs, ctx.grf_z, self.steps)?,
-                ));
-            }
-        }
-
+        let input = DemoInput {
+            plan,
+            table,
+            names,
+            grf_z: ctx.grf_z,
+        };
+        let done = walk_all(transport, &input, self.steps, out, &mut stages)?;
+        let (up, walks, timing) = (&done.upload, &done.walks, &done.timing);
+        let (to_servos, to_master) = done.bus_bytes;
+        let sim_s = done.simulated_s;
+        let mut s = String::new();
         writeln!(s, "outputs")?;
         writeln!(s, "  plan (CSV, JSON, URDF, plots)  {}", plan_dir.display())?;
         writeln!(
@@ -302,7 +203,7 @@ impl Args {
             up.bytes,
             up.stored.crc
         )?;
-        for w in &walks {
+        for w in walks {
             writeln!(
                 s,
                 "  recording {:<18} {}/telemetry.csv, torque.png, angles.png{}",
@@ -315,7 +216,7 @@ impl Args {
                 }
             )?;
         }
-        if let Some((path, frames)) = &gif {
+        if let Some((path, frames)) = &done.gif {
             writeln!(
                 s,
                 "  animation                      {} ({frames} frames, simulated body poses)",
@@ -348,7 +249,7 @@ impl Args {
             timing.max_busy_us,
             (to_servos + to_master) as f64 / timing.cycles.max(1) as f64
         )?;
-        for w in &walks {
+        for w in walks {
             writeln!(
                 s,
                 "tracking error {} (present - planned angle, RMS over joints and cycles; {} cycles, {:.1} s simulated in {:.2} s of wall time)",
@@ -359,16 +260,16 @@ impl Args {
             )?;
             print_tracking(&mut s, &w.rec, names)?;
         }
-        for w in &walks {
+        for w in walks {
             if let Some(f) = &w.figures {
-                print_body(&mut s, w.label, f, plan, self.steps, w.rec.duration_s())?;
+                print_body(&mut s, w, f, plan, self.steps)?;
             }
         }
-        for (label, (loads, grf)) in &fits {
-            demo_walk::print_fits(&mut s, label, loads, grf, self.steps)?;
+        for (label, loads, grf) in &done.fits {
+            print_fits(&mut s, label, loads, grf, self.steps)?;
         }
-        if let Some(h) = planned_height {
-            demo_walk::print_bias(&mut s, &walks, h, self.steps)?;
+        if let Some(h) = done.planned_height_m {
+            print_bias(&mut s, walks, h, self.steps)?;
         }
         print!("\n{s}");
         replace(out, SUMMARY, |p| Ok(std::fs::write(p, &s)?))?;
@@ -382,10 +283,6 @@ fn stage_count(has_body: bool) -> usize {
     if has_body { 7 } else { 5 }
 }
 
-/// Bus cycles between two poses of the animation (0.25 s at the board's 100 Hz).
-const POSE_EVERY_CYCLES: usize = 25;
-/// The label (and record directory) of the walk without the torque bias.
-const BIAS_OFF_LABEL: &str = "forward, bias off";
 /// The summary file in the output directory: what the demo prints after the walks.
 const SUMMARY: &str = "summary.txt";
 
@@ -401,136 +298,4 @@ struct Walked<'a> {
     dynamics_summary: String,
     /// The plan's vertical GRF, `[slice][leg]` in `plan.legs` order, N.
     grf_z: &'a [Vec<f64>],
-}
-
-/// The body's figures of one walk against the plan. The plan moves the thorax at translation /
-/// stance time for the whole cycle (0.085 m / 1.5 s x 2.5 s = 0.142 m per step for the servo-safe
-/// preset, as for table 1's 0.75 s of 1.25 s; 0.085 m is each foot's stroke), keeps the resting body height and does not tilt or turn.
-fn print_body(
-    s: &mut String,
-    label: &str,
-    f: &Figures,
-    plan: &planner::plan::Plan,
-    steps: u32,
-    seconds: f64,
-) -> std::fmt::Result {
-    let planned = plan.thorax_velocity.x * plan.period_s;
-    let sign = if label == "backward" { -1.0 } else { 1.0 };
-    let per_step = sign * f.forward_m / f64::from(steps);
-    writeln!(
-        s,
-        "body {label} (physics robot, sampled every bus cycle over the walk's {seconds:.1} s)"
-    )?;
-    writeln!(
-        s,
-        "  distance {:.4} m per step, planned {:.4} m ({:+.1} %; the feet's stroke is {:.3} m); lateral {:+.4} m",
-        per_step,
-        planned,
-        (per_step / planned - 1.0) * 100.0,
-        plan.params.translation_m,
-        f.lateral_m
-    )?;
-    writeln!(
-        s,
-        "  heading drift {:+.2} deg; thorax height {:.1} mm at the start, {:.1} mm lowest, {:.1} mm at the end (plan: constant); tilt up to {:.2} deg (plan: 0)",
-        f.heading_rad.to_degrees(),
-        f.height_start_m * 1e3,
-        f.height_min_m * 1e3,
-        f.height_end_m * 1e3,
-        f.tilt_max_rad.to_degrees()
-    )?;
-    let slip: Vec<String> = f
-        .slip_m
-        .iter()
-        .map(|(leg, x)| format!("{} {:.1}", leg.name(), x * 1e3))
-        .collect();
-    writeln!(s, "  slip while loaded, mm: {}", slip.join(", "))?;
-    match f.verdict(0.01) {
-        None => writeln!(
-            s,
-            "  the robot carried the gait (no sag over 10 mm, no fall)"
-        ),
-        Some(v) => writeln!(s, "  {v}"),
-    }
-}
-
-/// Plays `steps` steps in `direction` and records them into `dir`.
-fn walk<S: DemoBody>(
-    board: &mut Board<VirtualTransport<S>>,
-    direction: Direction,
-    steps: u32,
-    dir: &Path,
-    joints: Vec<JointMeta>,
-    slices: usize,
-) -> anyhow::Result<Recorder> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let csv = dir.join("telemetry.csv");
-    let scratch = dir.join(".partial-telemetry.csv");
-    let (rec, ended) = physics_walk::play_and_record(board, direction, steps, &scratch, joints)?;
-    if ended == Ended::Interrupted {
-        // An interrupted walk is not the demo's recording: the previous one stays.
-        let _ = std::fs::remove_file(&scratch);
-        check_interrupt(&format!("while recording into {}", dir.display()))?;
-    }
-    board::files::commit_scratch(&csv)?;
-    // Only whole walking steps go into the per-step statistics (not the start ramp).
-    let walking: Vec<_> = rec
-        .rows()
-        .iter()
-        .filter(|r| r.step < steps)
-        .cloned()
-        .collect();
-    replace(dir, "torque.png", |p| {
-        plot_torques(p, &walking, rec.joints(), slices)
-            .map_err(|e| anyhow::anyhow!("plotting torques: {e}"))
-    })?;
-    replace(dir, "angles.png", |p| {
-        plot_angles(p, rec.rows(), rec.joints())
-            .map_err(|e| anyhow::anyhow!("plotting angles: {e}"))
-    })?;
-    Ok(rec)
-}
-
-/// RMS tracking error per leg, over the steps after the first (the first starts from the ramp).
-fn print_tracking(s: &mut String, rec: &Recorder, names: &[String]) -> std::fmt::Result {
-    let rows: Vec<_> = rec.rows().iter().filter(|r| r.step >= 1).cloned().collect();
-    // With one step there is no step after the ramp's to measure: say so rather than print
-    // zeros over an empty window.
-    if rows.is_empty() {
-        writeln!(
-            s,
-            "  no tracking error: it is measured from the second step on (give --steps 2 or more)"
-        )?;
-        return Ok(());
-    }
-    let per_joint = tracking(&rows, names.len());
-    for leg in Leg::ALL {
-        let mine: Vec<_> = per_joint
-            .iter()
-            .filter(|t| {
-                names
-                    .get(t.joint)
-                    .is_some_and(|n| n.starts_with(leg.name()))
-            })
-            .collect();
-        if mine.is_empty() {
-            continue;
-        }
-        let n: usize = mine.iter().map(|t| t.samples).sum();
-        let sq: f64 = mine
-            .iter()
-            .map(|t| t.rms_rad * t.rms_rad * t.samples as f64)
-            .sum();
-        let max = mine.iter().map(|t| t.max_abs_rad).fold(0.0, f64::max);
-        writeln!(
-            s,
-            "  {}: RMS {:.4} rad ({:.2} deg), max {:.4} rad over {} joints",
-            leg.name(),
-            (sq / n.max(1) as f64).sqrt(),
-            (sq / n.max(1) as f64).sqrt().to_degrees(),
-            max,
-            mine.len()
-        )?;
-    }
-    Ok(())
 }

@@ -6,7 +6,6 @@
 mod args;
 mod common;
 mod compare;
-mod compare_paper;
 mod config;
 mod demo;
 mod devices;

@@ -1,22 +1,13 @@
-//! `dbot paper-robot`: the paper's robot experiments (figures 5 to 7) on the physics robot.
-//! Figure 5: forward walking planned at step periods of 1, 2 and 4 s; figure 6: forward against
-//! backward at 2 s; figure 7: up a 15 degree incline against flat ground at 2 s. Each run's
-//! per-slice load statistics go to `phase_torques.csv`, the plots (one per leg pair for figure 5)
-//! are drawn from it, and the physics section of docs/validation.md is rendered from it
-//! (`--from DIR --write/--check FILE`).
-
-mod block;
-mod csv_io;
-mod experiment;
-mod metrics;
+//! `dbot paper-robot`: the paper's robot experiments (figures 5 to 7) on the physics robot
+//! (`lab::paper_robot`: the runs, `phase_torques.csv`, the plots and the physics section of
+//! docs/validation.md, `--from DIR --write/--check FILE`). This file parses, announces the runs
+//! and prints their summary.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use protocol::Direction;
-
-use crate::common::output::replace;
-use experiment::{Experiment, PhaseRow};
+use lab::paper_robot::experiment::PhaseRow;
+use lab::paper_robot::{block, csv_io, experiments, metrics, run_all, splice};
 
 /// The paper's figures 5 to 7 on the physics robot (MuJoCo body, firmware in the loop).
 #[derive(Debug, clap::Args)]
@@ -50,29 +41,6 @@ pub struct Args {
     /// Fail if the physics section of this file differs from the rendered one.
     #[arg(long, group = "doc")]
     check: Option<PathBuf>,
-}
-
-/// The runs of the full set (paper: 10 steps on flat ground, 5 on the incline; one more each
-/// here, the first being left out) or of `--quick`.
-fn experiments(quick: bool, periods: &[f64]) -> Vec<Experiment> {
-    if quick {
-        let periods = if periods.is_empty() {
-            &[2.0][..]
-        } else {
-            periods
-        };
-        return periods
-            .iter()
-            .map(|&t| Experiment::new(t, Direction::Forward, "flat", 3))
-            .collect();
-    }
-    let mut v: Vec<Experiment> = [1.0, 2.0, 4.0]
-        .into_iter()
-        .map(|t| Experiment::new(t, Direction::Forward, "flat", 11))
-        .collect();
-    v.push(Experiment::new(2.0, Direction::Backward, "flat", 11));
-    v.push(Experiment::new(2.0, Direction::Forward, "incline:15", 6));
-    v
 }
 
 impl Args {
@@ -112,58 +80,29 @@ impl Args {
 
     fn simulate(&self, out: &Path) -> Result<Vec<PhaseRow>> {
         crate::common::interrupt::catch()?;
-        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        if let Some(t) = self
-            .periods
-            .iter()
-            .find(|t| !(t.is_finite() && (0.5..=10.0).contains(*t)))
-        {
-            bail!("--periods: {t} s is not a step period in 0.5..=10 s");
-        }
         let runs = experiments(self.quick, &self.periods);
-        let mut rows = Vec::new();
-        for (i, e) in runs.iter().enumerate() {
-            println!(
-                "[{}/{}] {}: period {} s, {} steps on {}",
-                i + 1,
-                runs.len(),
-                e.name,
-                e.period_s,
-                e.steps,
-                e.terrain
-            );
-            let dir = out.join("runs").join(&e.name);
-            rows.extend(experiment::run(e, self.telemetry.then_some(dir.as_path()))?);
-        }
-        replace(out, csv_io::FILE, |p| csv_io::write(p, &rows))?;
-        // Everything downstream uses the file's numbers (see csv_io).
-        let rows = csv_io::read(&out.join(csv_io::FILE))?;
-        plots(out, &rows)?;
+        let rows = run_all(
+            out,
+            &runs,
+            self.telemetry,
+            |i, e| {
+                println!(
+                    "[{}/{}] {}: period {} s, {} steps on {}",
+                    i + 1,
+                    runs.len(),
+                    e.name,
+                    e.period_s,
+                    e.steps,
+                    e.terrain
+                )
+            },
+            crate::common::interrupt::requested,
+        )?;
         println!("wrote {} and plots in {}", csv_io::FILE, out.display());
         for line in summary(&rows) {
             println!("  {line}");
         }
         Ok(rows)
-    }
-}
-
-/// `text` with its physics section replaced by `section` (markers included).
-fn splice(text: &str, section: &str) -> Result<String> {
-    match (text.find(block::BEGIN), text.find(block::END)) {
-        (Some(b), Some(e)) if b < e => {
-            let end = e + block::END.len();
-            let end = if text[end..].starts_with('\n') {
-                end + 1
-            } else {
-                end
-            };
-            Ok(format!("{}{}{}", &text[..b], section, &text[end..]))
-        }
-        _ => bail!(
-            "no `{}` ... `{}` pair, in that order",
-            block::BEGIN,
-            block::END
-        ),
     }
 }
 
@@ -182,90 +121,10 @@ fn summary(rows: &[PhaseRow]) -> Vec<String> {
                 "{e:<22} {:<14} load - planned RMS {:.3} N m, R^2 {}, SD over steps {:.3} N m",
                 g.name(),
                 metrics::load_vs_plan(rows, e, g).unwrap_or(f64::NAN),
-                metrics::r_squared(rows, e, g).map_or("-".into(), |v| format!("{v:.2}")),
+                metrics::load_r2(rows, e, g).map_or("-".into(), |v| format!("{v:.2}")),
                 metrics::spread(rows, e, g).unwrap_or(f64::NAN),
             ));
         }
     }
     out
-}
-
-/// Figure 5 per leg pair (the left leg, as the paper shows one leg per pair), figures 6 and 7
-/// with all three left legs.
-fn plots(out: &Path, rows: &[PhaseRow]) -> Result<()> {
-    let present = |e: &str| rows.iter().any(|r| r.experiment == e);
-    let draw = |file: &str, title: &str, legs: &[&str], runs: &[(&str, &str)]| -> Result<()> {
-        let runs: Vec<(&str, &str)> = runs.iter().copied().filter(|(e, _)| present(e)).collect();
-        if runs.is_empty() {
-            return Ok(());
-        }
-        let mut joints: Vec<String> = Vec::new();
-        for r in rows.iter().filter(|r| r.experiment == runs[0].0) {
-            if legs.iter().any(|l| r.joint.starts_with(l)) && !joints.contains(&r.joint) {
-                joints.push(r.joint.clone());
-            }
-        }
-        let column = |e: &str, j: &str, f: fn(&PhaseRow) -> f64| -> Vec<f64> {
-            rows.iter()
-                .filter(|r| r.experiment == e && r.joint == j)
-                .map(f)
-                .collect()
-        };
-        let stance: Vec<Vec<bool>> = joints
-            .iter()
-            .map(|j| {
-                rows.iter()
-                    .filter(|r| r.experiment == runs[0].0 && r.joint == *j)
-                    .map(|r| r.stance)
-                    .collect()
-            })
-            .collect();
-        let series: Vec<report::paper_robot::Run> = runs
-            .iter()
-            .map(|(e, label)| report::paper_robot::Run {
-                label: (*label).to_owned(),
-                planned: joints
-                    .iter()
-                    .map(|j| column(e, j, |r| r.planned_nm))
-                    .collect(),
-                mean: joints.iter().map(|j| column(e, j, |r| r.mean_nm)).collect(),
-                sd: joints.iter().map(|j| column(e, j, |r| r.sd_nm)).collect(),
-            })
-            .collect();
-        replace(out, file, |p| {
-            report::paper_robot::plot_runs(p, title, &joints, &stance, &series)
-                .map_err(|e| anyhow::anyhow!("plotting {file}: {e}"))
-        })
-    };
-    let fwd = [
-        ("forward-1s", "1 s"),
-        ("forward-2s", "2 s"),
-        ("forward-4s", "4 s"),
-    ];
-    for (leg, pair) in [("LF", "front"), ("LM", "middle"), ("LH", "hind")] {
-        draw(
-            &format!("fig5-{pair}.png"),
-            &format!(
-                "Figure 5 in simulation, {leg} ({pair} leg): torque from servo load at step periods 1, 2, 4 s, beside the planner's"
-            ),
-            &[leg],
-            &fwd,
-        )?;
-    }
-    draw(
-        "fig6.png",
-        "Figure 6 in simulation: forward vs backward at 2 s, each beside its own plan, LF, LM, LH",
-        &["LF", "LM", "LH"],
-        &[("forward-2s", "forward"), ("backward-2s", "backward")],
-    )?;
-    draw(
-        "fig7.png",
-        "Figure 7 in simulation: 15 deg incline vs flat at 2 s, LF, LM, LH",
-        &["LF", "LM", "LH"],
-        &[
-            ("forward-2s", "flat"),
-            ("forward-incline15-2s", "incline 15 deg"),
-        ],
-    )?;
-    Ok(())
 }

@@ -1,7 +1,7 @@
 //! The robot-versus-fly statistics against published and hand-computed values.
 
 use planner::analysis::{
-    DofTrace, SweepPoint, classify_sweep, compare, r_squared, resample_periodic,
+    DofTrace, SweepPoint, classify_sweep, compare, fit::regression_r2, resample_periodic,
 };
 use planner::model::{JointKind, Leg};
 
@@ -20,26 +20,26 @@ fn anscombe_quartet_r_squared() {
         7.46, 6.77, 12.74, 7.11, 7.81, 8.84, 6.08, 5.39, 8.15, 6.42, 5.73,
     ];
     for y in [y1, y2, y3] {
-        let r2 = r_squared(&x, &y).unwrap();
+        let r2 = regression_r2(&x, &y).unwrap();
         assert!((r2.sqrt() - 0.816).abs() < 5e-4, "{r2}");
     }
     let x4 = [8.0, 8.0, 8.0, 8.0, 8.0, 8.0, 8.0, 19.0, 8.0, 8.0, 8.0];
     let y4 = [
         6.58, 5.76, 7.71, 8.84, 8.47, 7.04, 5.25, 12.50, 5.56, 7.91, 6.89,
     ];
-    assert!((r_squared(&x4, &y4).unwrap().sqrt() - 0.817).abs() < 5e-4);
+    assert!((regression_r2(&x4, &y4).unwrap().sqrt() - 0.817).abs() < 5e-4);
 }
 
 #[test]
 fn r_squared_edge_cases() {
     let x: Vec<f64> = (-5..=5).map(f64::from).collect();
     let line: Vec<f64> = x.iter().map(|v| -3.0 * v + 2.0).collect();
-    assert!((r_squared(&x, &line).unwrap() - 1.0).abs() < 1e-15);
+    assert!((regression_r2(&x, &line).unwrap() - 1.0).abs() < 1e-15);
     // A parabola symmetric about the mean of x has no linear trend at all.
     let parabola: Vec<f64> = x.iter().map(|v| v * v).collect();
-    assert!(r_squared(&x, &parabola).unwrap().abs() < 1e-15);
-    assert_eq!(r_squared(&x, &[1.0; 11]), None);
-    assert_eq!(r_squared(&x[..3], &line), None);
+    assert!(regression_r2(&x, &parabola).unwrap().abs() < 1e-15);
+    assert_eq!(regression_r2(&x, &[1.0; 11]), None);
+    assert_eq!(regression_r2(&x[..3], &line), None);
 }
 
 #[test]

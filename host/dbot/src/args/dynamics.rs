@@ -32,12 +32,12 @@ pub struct DynamicsArgs {
 
 impl DynamicsArgs {
     /// The choice of the physics walks (`demo`, `paper-robot`): `dbot plan`'s defaults, the
-    /// dynamics solved, mu 0.5 for the slip report.
+    /// dynamics solved, the walks' mu for the slip report (`lab::walk::walk_dynamics`).
     pub const WALK: Self = Self {
         no_dynamics: false,
         friction_cone: false,
         push_only: false,
-        mu: 0.5,
+        mu: lab::walk::WALK_MU,
         torque_limits: false,
         parallel: false,
     };

@@ -1,24 +1,20 @@
 //! Helpers that several subcommands use (Ctrl-C handling, whole-file outputs, `--model` specs, the
 //! gait summary line, the Dynamixel default baud, serial-port path checks, the
-//! words for board states and for an error's chain of causes, starting and stopping playback, writing a plan directory, what a gait
-//! slot lost).
+//! words for board states and for an error's chain of causes, starting and stopping playback,
+//! writing a plan directory, what a gait slot lost, the words of the demo's walk figures).
 //! Subcommands share these instead of importing each other; nothing here imports a subcommand.
 
 pub mod baud;
-pub mod demo_bias;
-pub mod demo_fit;
-pub mod demo_walk;
 pub mod error_chain;
 pub mod gait_summary;
 pub mod interrupt;
 pub mod model_spec;
 pub mod output;
-pub mod overlay;
-pub mod physics_walk;
 pub mod plan_dynamics;
 pub mod plan_output;
 pub mod playback;
 pub mod serial_path;
 pub mod session;
 pub mod slot_health;
+pub mod walk_summary;
 pub mod words;

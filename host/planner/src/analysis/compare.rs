@@ -1,6 +1,7 @@
 //! Per-DoF comparison of two organisms walking the same footpaths.
 
-use super::{r_squared, resample_periodic};
+use super::fit::regression_r2;
+use super::resample_periodic;
 use crate::model::{JointKind, Leg};
 
 /// Angle and torque of one joint of one organism over a step cycle.
@@ -76,8 +77,8 @@ pub fn compare(a: &[DofTrace], b: &[DofTrace]) -> Vec<ComparisonRow> {
                     leg,
                     dof: format!("{:?}", da.kind),
                     summed_side: None,
-                    r2_angle: r_squared(&aa, &ab),
-                    r2_torque: r_squared(&ta, &tb),
+                    r2_angle: regression_r2(&aa, &ab),
+                    r2_torque: regression_r2(&ta, &tb),
                 });
             }
         }
@@ -100,7 +101,8 @@ pub fn compare(a: &[DofTrace], b: &[DofTrace]) -> Vec<ComparisonRow> {
                         .map(|k| format!("{k:?}"))
                         .collect::<Vec<_>>()
                         .join("+");
-                    let (r2_angle, r2_torque) = (r_squared(&angle, &sa), r_squared(&torque, &st));
+                    let (r2_angle, r2_torque) =
+                        (regression_r2(&angle, &sa), regression_r2(&torque, &st));
                     rows.push(ComparisonRow {
                         leg,
                         dof: label,

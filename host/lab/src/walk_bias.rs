@@ -6,6 +6,10 @@
 
 use board::record::Row;
 use physics::WalkLog;
+use planner::analysis::fit::rms;
+
+use crate::walk_files::Walk;
+use crate::walk_fits::counted;
 
 /// Posture error of one walk.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,25 +30,23 @@ pub fn posture(
     steps: u32,
     bias_on: bool,
 ) -> Posture {
-    let counted = |step: u32| step >= 1 && step < steps;
-    let (mut n, mut sq) = (0usize, 0.0);
-    for r in rows.iter().filter(|r| counted(r.step)) {
+    let errors = rows.iter().filter(|r| counted(r.step, steps)).map(|r| {
         let reference = if bias_on {
             r.planned_rad.unwrap_or(r.commanded_rad)
         } else {
             r.commanded_rad
         };
-        n += 1;
-        sq += (r.present_rad - reference).powi(2);
-    }
+        r.present_rad - reference
+    });
+    let rms_rad = rms(errors).unwrap_or(0.0);
     let sags: Vec<f64> = log
         .samples
         .iter()
-        .filter(|s| s.walking && s.playback.is_some_and(|(step, _)| counted(step)))
+        .filter(|s| s.walking && s.playback.is_some_and(|(step, _)| counted(step, steps)))
         .map(|s| planned_height_m - s.thorax.0[2])
         .collect();
     Posture {
-        rms_rad: if n > 0 { (sq / n as f64).sqrt() } else { 0.0 },
+        rms_rad,
         sag_mean_m: if sags.is_empty() {
             0.0
         } else {
@@ -52,4 +54,20 @@ pub fn posture(
         },
         sag_max_m: sags.iter().copied().reduce(f64::max).unwrap_or(0.0),
     }
+}
+
+/// The posture error of the forward walk with the bias and of the one without it, among `walks`
+/// (`None` unless both were walked with a body).
+pub fn bias_gain(walks: &[Walk], planned_height_m: f64, steps: u32) -> Option<(Posture, Posture)> {
+    let find = |bias_on: bool| {
+        walks
+            .iter()
+            .find(|w| w.bias_on == bias_on && w.direction == protocol::Direction::Forward)
+    };
+    let (on, off) = (find(true)?, find(false)?);
+    let (log_on, log_off) = (on.log.as_ref()?, off.log.as_ref()?);
+    Some((
+        posture(on.rec.rows(), log_on, planned_height_m, steps, true),
+        posture(off.rec.rows(), log_off, planned_height_m, steps, false),
+    ))
 }

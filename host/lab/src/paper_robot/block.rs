@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use super::experiment::PhaseRow;
 use super::metrics::{
-    Group, Pair, apart, joint_change, lag, load_vs_plan, peak_apart, r_squared, spread, stance_load,
+    Group, Pair, apart, joint_change, lag, load_r2, load_vs_plan, peak_apart, spread, stance_load,
 };
 
 pub const BEGIN: &str = "<!-- physics:begin -->";
@@ -101,9 +101,9 @@ SD over steps at 4 s | load - planned at 1 s / 2 s / 4 s | R^2 of planned for lo
             f3(load_vs_plan(rows, t1, g)),
             f3(load_vs_plan(rows, t2, g)),
             f3(load_vs_plan(rows, t4, g)),
-            f2(r_squared(rows, t1, g)),
-            f2(r_squared(rows, t2, g)),
-            f2(r_squared(rows, t4, g)),
+            f2(load_r2(rows, t1, g)),
+            f2(load_r2(rows, t2, g)),
+            f2(load_r2(rows, t4, g)),
         );
     }
     s.push('\n');

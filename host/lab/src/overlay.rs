@@ -1,17 +1,17 @@
 //! Overlay plots of two plans' common DoF (angles, and torques normalised by each plan's peak), used
-//! by `dbot compare` and `dbot compare --paper`.
+//! by `dbot compare` and the paper's comparison ([`crate::paper_comparison`]).
 
 use std::path::Path;
 
-use anyhow::Result;
+use board::files::write_atomically;
 use planner::analysis::{ComparisonRow, DofTrace};
 use planner::model::Leg;
 use report::legs::{Panel, Trace, plot_leg_panels};
 
-use crate::common::output::replace;
+use crate::error::Result;
 
 /// How a plan directory is named in the plots: its last component (`out/walk` -> `walk`).
-pub(crate) fn folder_name(dir: &Path) -> String {
+pub fn folder_name(dir: &Path) -> String {
     dir.file_name().map_or_else(
         || dir.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -20,7 +20,7 @@ pub(crate) fn folder_name(dir: &Path) -> String {
 
 /// Angle (deg) overlays and torque overlays normalised by each plan's peak torque, A solid, B
 /// dashed, each named by its folder.
-pub(crate) fn overlay(
+pub fn overlay(
     ta: &[DofTrace],
     tb: &[DofTrace],
     rows: &[ComparisonRow],
@@ -89,7 +89,7 @@ pub(crate) fn overlay(
         } else {
             "angle (deg)"
         };
-        replace(out, file, |p| {
+        write_atomically(&out.join(file), |p| {
             Ok(plot_leg_panels(
                 p,
                 &panels,

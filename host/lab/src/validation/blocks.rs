@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
 use planner::analysis::{SweepPoint, classify_sweep, sweep_point};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
@@ -15,6 +15,7 @@ use planner::model::{Actuation, JointKind, Leg, builtin};
 use planner::plan::feasibility;
 
 /// The generated blocks by name, and the plots (file name, PNG bytes) the document shows.
+#[derive(Debug)]
 pub struct Generated {
     pub blocks: BTreeMap<&'static str, String>,
     pub plots: Vec<(&'static str, Vec<u8>)>,
@@ -332,7 +333,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     // The paper's comparison.
     std::fs::create_dir_all(plots_dir)
         .with_context(|| format!("creating {}", plots_dir.display()))?;
-    let c = crate::compare_paper::run_paper(plots_dir, 50)?;
+    let c = crate::paper_comparison::run_paper(plots_dir, 50)?;
     b.insert("paper", c.markdown);
     let springs = super::springs::spring_blocks(plots_dir)?;
     b.insert("spring-stiffness", springs.flat);

@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use anyhow::Result;
+use crate::error::Result;
 use nix::time::{ClockId, clock_gettime};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;

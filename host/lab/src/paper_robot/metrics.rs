@@ -4,6 +4,8 @@
 
 use std::collections::HashMap;
 
+use planner::analysis::fit::{prediction_r2, rms};
+
 use super::experiment::PhaseRow;
 
 /// A leg pair, named by the second letter of its legs (`LF`, `RF` -> front).
@@ -65,11 +67,6 @@ impl Group {
     }
 }
 
-fn rms(xs: impl Iterator<Item = f64>) -> Option<f64> {
-    let (n, sq) = xs.fold((0usize, 0.0), |(n, sq), x| (n + 1, sq + x * x));
-    (n > 0).then(|| (sq / n as f64).sqrt())
-}
-
 fn rows<'a>(all: &'a [PhaseRow], exp: &'a str, g: Group) -> impl Iterator<Item = &'a PhaseRow> {
     all.iter()
         .filter(move |r| r.experiment == exp && g.holds(r))
@@ -80,17 +77,13 @@ pub fn load_vs_plan(all: &[PhaseRow], exp: &str, g: Group) -> Option<f64> {
     rms(rows(all, exp, g).map(|r| r.mean_nm - r.planned_nm))
 }
 
-/// Coefficient of determination of the planned torque as a predictor of the load in `g`
-/// (1 - residual / total sum of squares about the loads' mean).
-pub fn r_squared(all: &[PhaseRow], exp: &str, g: Group) -> Option<f64> {
-    let rs: Vec<&PhaseRow> = rows(all, exp, g).collect();
-    if rs.len() < 2 {
-        return None;
-    }
-    let mean = rs.iter().map(|r| r.mean_nm).sum::<f64>() / rs.len() as f64;
-    let tot: f64 = rs.iter().map(|r| (r.mean_nm - mean).powi(2)).sum();
-    let res: f64 = rs.iter().map(|r| (r.mean_nm - r.planned_nm).powi(2)).sum();
-    (tot > 0.0).then(|| 1.0 - res / tot)
+/// The R^2 of the planned torque as a predictor of the load in `g` (`prediction_r2`: 1 -
+/// residual / total sum of squares about the loads' mean).
+pub fn load_r2(all: &[PhaseRow], exp: &str, g: Group) -> Option<f64> {
+    let pairs: Vec<(f64, f64)> = rows(all, exp, g)
+        .map(|r| (r.mean_nm, r.planned_nm))
+        .collect();
+    prediction_r2(&pairs)
 }
 
 /// RMS of the step-to-step SD of the loads of `exp` in `g`, N m.
@@ -245,7 +238,7 @@ mod tests {
     #[test]
     fn rms_figures_match_a_hand_calculation() {
         // Front swing: loads off the plan by 0.3 and 0.4 -> RMS sqrt((0.09 + 0.16) / 2).
-        let rows = vec![
+        let mut rows = vec![
             row("a", "LF_ThC1", 0, false, 1.0, 1.3),
             row("a", "RF_ThC1", 0, false, 0.0, -0.4),
             row("a", "LH_CTr", 0, false, 5.0, 0.0),
@@ -265,9 +258,13 @@ mod tests {
             peak_apart(&rows, "a", "b", g, true),
             Some((1.0, "LF_ThC1".to_string()))
         );
-        // Loads 1.3 and -0.4 about their mean 0.45: tot = 2 x 0.85^2; res = 0.25.
-        let r2 = r_squared(&rows, "a", g).unwrap();
-        assert!((r2 - (1.0 - 0.25 / (2.0 * 0.85f64.powi(2)))).abs() < 1e-12);
+        // Two rows are too few for an R^2 (fit::MIN_SAMPLES); with a third, loads 1.3, -0.4 and
+        // 0.6 (planned 0.5) about their mean 0.5: tot = 0.64 + 0.81 + 0.01 = 1.46; res = 0.09 +
+        // 0.16 + 0.01 = 0.26.
+        assert_eq!(load_r2(&rows, "a", g), None);
+        rows.push(row("a", "LF_ThC2", 0, false, 0.5, 0.6));
+        let r2 = load_r2(&rows, "a", g).unwrap();
+        assert!((r2 - (1.0 - 0.26 / 1.46)).abs() < 1e-12);
         assert_eq!(
             load_vs_plan(
                 &rows,

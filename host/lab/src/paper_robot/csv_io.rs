@@ -5,7 +5,8 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use crate::bail;
+use crate::error::{Context, Result};
 
 use super::experiment::PhaseRow;
 

@@ -1,13 +1,12 @@
-//! The demo's model-vs-measured comparisons over a walk's whole steps (the first excluded: it
-//! starts from the ramp): servo loads against the planned joint torques per joint, and the contact
-//! force on each foot against the plan's ground reaction force per leg, each as R^2 and RMS
-//! difference over every sample, and per phase of the step (mean, SD) for the CSVs and plots.
-//!
-//! R^2 = 1 - sum (measured - model)^2 / sum (measured - mean measured)^2: 1 when the model
-//! predicts every sample, 0 when it predicts no better than the measured mean, negative when worse.
+//! A walk's model-vs-measured comparisons over its whole steps (the first excluded: it starts
+//! from the ramp): servo loads against the planned joint torques per joint, and the contact force
+//! on each foot against the plan's ground reaction force per leg, each as the R^2 of the plan's
+//! prediction ([`prediction_r2`]: 1 - SS_res / SS_tot) and RMS difference over every sample, and
+//! per phase of the step (mean, SD) for the CSVs and plots.
 
 use board::record::{PhaseStats, Row};
 use physics::WalkLog;
+use planner::analysis::fit::{MeanSdSums, prediction_r2, rms_difference};
 use planner::model::Leg;
 
 /// How well a model predicts one series of measurements.
@@ -25,47 +24,37 @@ pub struct Fit {
     pub measured: Vec<PhaseStats>,
 }
 
-/// R^2 of `model` predicting `measured` (pairs), and the RMS difference.
-pub fn r_squared(pairs: &[(f64, f64)]) -> (Option<f64>, f64) {
-    let n = pairs.len();
-    if n == 0 {
-        return (None, 0.0);
-    }
-    let mean = pairs.iter().map(|p| p.0).sum::<f64>() / n as f64;
-    let ss_tot: f64 = pairs.iter().map(|p| (p.0 - mean).powi(2)).sum();
-    let ss_res: f64 = pairs.iter().map(|p| (p.0 - p.1).powi(2)).sum();
-    let r2 = (ss_tot > 0.0).then(|| 1.0 - ss_res / ss_tot);
-    (r2, (ss_res / n as f64).sqrt())
+/// The R^2 of the model predicting the measurements `pairs` (measured, model), and the RMS
+/// difference (0 without samples).
+fn fit_figures(pairs: &[(f64, f64)]) -> (Option<f64>, f64) {
+    (prediction_r2(pairs), rms_difference(pairs).unwrap_or(0.0))
 }
 
 /// Mean and SD per slice of `(slice, value)` samples over a table of `slices` slices.
 fn per_slice(samples: &[(usize, f64)], slices: usize) -> Vec<PhaseStats> {
-    let mut acc = vec![(0usize, 0.0f64, 0.0f64); slices];
+    let mut acc = vec![MeanSdSums::default(); slices];
     for &(s, x) in samples {
         if let Some(a) = acc.get_mut(s) {
-            a.0 += 1;
-            a.1 += x;
-            a.2 += x * x;
+            a.add(x);
         }
     }
     acc.into_iter()
         .enumerate()
-        .filter(|(_, a)| a.0 > 0)
-        .map(|(s, (n, sum, sq))| {
-            let mean = sum / n as f64;
-            PhaseStats {
+        .filter_map(|(s, a)| {
+            let m = a.finish()?;
+            Some(PhaseStats {
                 phase: s as f64 / slices as f64,
                 modelled_nm: None,
-                mean_nm: mean,
-                sd_nm: (sq / n as f64 - mean * mean).max(0.0).sqrt(),
-                n,
-            }
+                mean_nm: m.mean,
+                sd_nm: m.sd,
+                n: m.n,
+            })
         })
         .collect()
 }
 
 /// Whether a sample of step `step` counts: a whole step after the first (of `steps` played).
-fn counted(step: u32, steps: u32) -> bool {
+pub(crate) fn counted(step: u32, steps: u32) -> bool {
     step >= 1 && step < steps
 }
 
@@ -89,7 +78,7 @@ pub fn load_fits(rows: &[Row], names: &[String], modelled: &[Vec<f64>], steps: u
                 .filter_map(|r| Some((usize::from(r.slice), r.torque_estimate_nm?)))
                 .collect();
             let table = modelled.get(j).cloned().unwrap_or_default();
-            let (r2, rms) = r_squared(&pairs);
+            let (r2, rms) = fit_figures(&pairs);
             Fit {
                 name: name.clone(),
                 r2,
@@ -126,7 +115,7 @@ pub fn grf_fits(log: &WalkLog, legs: &[Leg], grf_z: &[Vec<f64>], steps: u32) -> 
                 pairs.push((f[2], grf_z[slice][k]));
                 by_slice.push((slice, f[2]));
             }
-            let (r2, rms) = r_squared(&pairs);
+            let (r2, rms) = fit_figures(&pairs);
             Fit {
                 name: leg.name().to_owned(),
                 r2,
@@ -171,20 +160,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn r_squared_is_one_for_a_perfect_model_zero_for_the_mean_and_negative_when_worse() {
-        let perfect = [(1.0, 1.0), (2.0, 2.0), (3.0, 3.0)];
-        assert_eq!(r_squared(&perfect), (Some(1.0), 0.0));
+    fn fit_figures_are_the_prediction_r2_and_the_rms_difference() {
         // The mean (2) predicts with SS_res = SS_tot = 2: R^2 = 0, RMS sqrt(2/3).
-        let mean = [(1.0, 2.0), (2.0, 2.0), (3.0, 2.0)];
-        let (r2, rms) = r_squared(&mean);
+        let (r2, rms) = fit_figures(&[(1.0, 2.0), (2.0, 2.0), (3.0, 2.0)]);
         assert!(r2.unwrap().abs() < 1e-12);
         assert!((rms - (2.0f64 / 3.0).sqrt()).abs() < 1e-12);
-        // Reversed: SS_res = 4 + 0 + 4 = 8, SS_tot = 2: R^2 = -3.
-        let reversed = [(1.0, 3.0), (2.0, 2.0), (3.0, 1.0)];
-        assert!((r_squared(&reversed).0.unwrap() + 3.0).abs() < 1e-12);
-        // Constant measurements: undefined.
-        assert_eq!(r_squared(&[(1.0, 0.0), (1.0, 2.0)]).0, None);
-        assert_eq!(r_squared(&[]).0, None);
+        assert_eq!(fit_figures(&[]), (None, 0.0));
     }
 
     #[test]

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
 use planner::analysis::paper::{self, Quantity, TABLES, TRIPOD};
 use planner::analysis::{ComparisonRow, DofTrace, compare};
 use planner::dynamics::{CycleSolution, DynamicsOptions, plan_inputs, solve_cycle};
@@ -13,10 +13,11 @@ use planner::gait::StepParams;
 use planner::model::{EquilibriumSource, Leg, SpringSpec, builtin};
 use planner::plan::Plan;
 
-use crate::common::output::replace;
+use board::files::write_bytes_atomically;
 
 /// One organism planned and solved under one condition.
-pub(crate) struct Run {
+#[derive(Debug)]
+pub struct Run {
     pub plan: Plan,
     pub cycle: CycleSolution,
     pub traces: Vec<DofTrace>,
@@ -36,7 +37,7 @@ fn run(model: &str, swing: f64, terrain: &str, spring: SpringSpec, slices: usize
 }
 
 /// As [`run`], the springs' equilibrium from `from`.
-pub(crate) fn run_from(
+pub fn run_from(
     model: &str,
     swing: f64,
     terrain: &str,
@@ -66,6 +67,7 @@ pub(crate) fn run_from(
 }
 
 /// Everything the comparison found, as markdown (also the body of docs/validation.md's section).
+#[derive(Debug)]
 pub struct PaperComparison {
     pub markdown: String,
 }
@@ -96,13 +98,7 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
             let r = compare(&robot.traces, &fly.traces);
             let dir = out.join(format!("{terrain}-{tag}"));
             std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-            crate::common::overlay::overlay(
-                &robot.traces,
-                &fly.traces,
-                &r,
-                &dir,
-                ["robot", "fly"],
-            )?;
+            crate::overlay::overlay(&robot.traces, &fly.traces, &r, &dir, ["robot", "fly"])?;
             rows.push((terrain, tag, r));
             grf.push((terrain, tag, mean_grf(&robot), mean_grf(&fly)));
             if tag == "springs" {
@@ -113,7 +109,7 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
     let fly_terrains = compare(&fly_sprung[0].traces, &fly_sprung[1].traces);
     let dir = out.join("fly-flat-vs-ball");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    crate::common::overlay::overlay(
+    crate::overlay::overlay(
         &fly_sprung[0].traces,
         &fly_sprung[1].traces,
         &fly_terrains,
@@ -242,13 +238,13 @@ pub fn run_paper(out: &Path, slices: usize) -> Result<PaperComparison> {
         }
     }
     let bytes = csv.into_inner().context("building tables.csv")?;
-    replace(out, "tables.csv", |p| Ok(std::fs::write(p, &bytes)?))?;
-    replace(out, "tables.md", |p| Ok(std::fs::write(p, &md)?))?;
+    write_bytes_atomically(&out.join("tables.csv"), &bytes)?;
+    write_bytes_atomically(&out.join("tables.md"), md.as_bytes())?;
     Ok(PaperComparison { markdown: md })
 }
 
 /// |GRF| over each leg's stance slices, N, per leg in [`Leg::ALL`] order.
-pub(crate) fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
+pub fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
     Leg::ALL
         .iter()
         .map(|leg| {
@@ -272,7 +268,7 @@ pub(crate) fn mean_grf(r: &Run) -> Vec<Vec<f64>> {
 
 /// Largest |spring torque| over the largest |axis moment| (actuator + spring), over the tripod's
 /// actuated joints.
-pub(crate) fn spring_share(r: &Run) -> f64 {
+pub fn spring_share(r: &Run) -> f64 {
     let (mut spring, mut total) = (0.0f64, 0.0f64);
     for sl in &r.cycle.slices {
         for (j, joint) in r.plan.model.joints.iter().enumerate() {
@@ -286,7 +282,7 @@ pub(crate) fn spring_share(r: &Run) -> f64 {
 }
 
 /// Our R^2 counts for each of the paper's claims: "N of M > threshold".
-pub(crate) fn our_counts(r2: &[f64], claims: &[paper::Claim]) -> Vec<String> {
+pub fn our_counts(r2: &[f64], claims: &[paper::Claim]) -> Vec<String> {
     claims
         .iter()
         .map(|c| {

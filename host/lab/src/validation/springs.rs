@@ -6,18 +6,19 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
 use planner::analysis::paper::{self, Claim, Quantity, TABLES, TRIPOD};
 use planner::analysis::{ComparisonRow, compare};
 use planner::model::{EquilibriumSource, JointKind, Leg, SpringSpec};
 use report::legs::{Panel, Trace, plot_leg_panels};
 
-use crate::compare_paper::{Run, mean_grf, our_counts, run_from, spring_share};
+use crate::paper_comparison::{Run, mean_grf, our_counts, run_from, spring_share};
 
 /// Robot parallel stiffnesses of the sweep, N m/rad (the paper's is 1).
 const STIFFNESS: [f64; 5] = [1.0, 2.0, 3.0, 5.0, 10.0];
 
 /// The generated blocks and the plot.
+#[derive(Debug)]
 pub struct SpringBlocks {
     /// Table S4 with springs (flat) against the robot's stiffness.
     pub flat: String,

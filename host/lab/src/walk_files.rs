@@ -1,21 +1,20 @@
-//! The demo's walks after the fact: the animation of the simulated body (`walk.gif`, drawn by
-//! `report::robot`), the model-vs-measured fits written beside each recording, and the summary
-//! lines of the fits and of what the torque bias buys.
+//! A recorded walk and the files made from it after the fact: the animation of the simulated
+//! body (`walk.gif`, drawn by `report::robot`) and the model-vs-measured fits written beside each
+//! recording (CSVs and the GRF plot). Every file is written atomically
+//! (`board::files::write_atomically`).
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use board::files::{write_atomically, write_bytes_atomically};
 use board::record::Recorder;
 use physics::{Figures, WalkLog};
-use planner::model::Model;
+use planner::model::{Leg, Model};
+use protocol::Direction;
+use report::recording::{PhasePanel, plot_phase_panels};
 use report::robot::{WalkPose, animate_walk};
 
-use super::demo_bias::posture;
-use planner::model::Leg;
-use report::recording::{PhasePanel, plot_phase_panels};
-
-use super::demo_fit::{Fit, grf_fits, load_fits, phase_csv, r2_text};
-use super::output::replace;
+use crate::error::Result;
+use crate::walk_fits::{Fit, grf_fits, load_fits, phase_csv, r2_text};
 
 /// A foot counts as in stance in the animation above this vertical force, N.
 const STANCE_N: f64 = 1.0;
@@ -25,8 +24,10 @@ const SPEEDUP: f64 = 2.0;
 pub const WALK_GIF: &str = "walk.gif";
 
 /// One recorded walk.
+#[derive(Debug)]
 pub struct Walk {
     pub label: &'static str,
+    pub direction: Direction,
     /// Whether the firmware added the torque bias.
     pub bias_on: bool,
     pub dir: PathBuf,
@@ -75,11 +76,7 @@ pub fn walk_poses(model: &Model, walks: &[Walk]) -> Vec<(f64, WalkPose)> {
 }
 
 /// Writes `walk.gif` into `out`; returns its path and frame count.
-pub fn write_walk_gif(
-    out: &Path,
-    model: &Model,
-    walks: &[Walk],
-) -> anyhow::Result<(PathBuf, usize)> {
+pub fn write_walk_gif(out: &Path, model: &Model, walks: &[Walk]) -> Result<(PathBuf, usize)> {
     let poses = walk_poses(model, walks);
     let dt = poses
         .windows(2)
@@ -88,7 +85,7 @@ pub fn write_walk_gif(
         .unwrap_or(0.25);
     let delay_ms = (dt / SPEEDUP * 1e3).round() as u32;
     let frames: Vec<WalkPose> = poses.into_iter().map(|p| p.1).collect();
-    replace(out, WALK_GIF, |p| {
+    write_atomically(&out.join(WALK_GIF), |p| {
         animate_walk(model, &frames, p, delay_ms)?;
         Ok(())
     })?;
@@ -104,7 +101,7 @@ pub fn write_fits(
     legs: &[Leg],
     grf_z: &[Vec<f64>],
     steps: u32,
-) -> anyhow::Result<(Vec<Fit>, Vec<Fit>)> {
+) -> Result<(Vec<Fit>, Vec<Fit>)> {
     let modelled: Vec<Vec<f64>> = w
         .rec
         .joints()
@@ -114,12 +111,14 @@ pub fn write_fits(
     let loads = load_fits(w.rec.rows(), names, &modelled, steps);
     let grf = grf_fits(log, legs, grf_z, steps);
     let dir = &w.dir;
-    replace(dir, "loads_vs_plan.csv", |p| {
-        Ok(std::fs::write(p, phase_csv(&loads, "joint", "nm"))?)
-    })?;
-    replace(dir, "grf_vs_plan.csv", |p| {
-        Ok(std::fs::write(p, phase_csv(&grf, "leg", "n"))?)
-    })?;
+    write_bytes_atomically(
+        &dir.join("loads_vs_plan.csv"),
+        phase_csv(&loads, "joint", "nm").as_bytes(),
+    )?;
+    write_bytes_atomically(
+        &dir.join("grf_vs_plan.csv"),
+        phase_csv(&grf, "leg", "n").as_bytes(),
+    )?;
     let mut csv = String::from("kind,name,r2,rms,samples\n");
     for (kind, fits) in [("load_nm", &loads), ("grf_z_n", &grf)] {
         for f in fits {
@@ -130,7 +129,7 @@ pub fn write_fits(
             ));
         }
     }
-    replace(dir, "fit.csv", |p| Ok(std::fs::write(p, &csv)?))?;
+    write_bytes_atomically(&dir.join("fit.csv"), csv.as_bytes())?;
     let panels: Vec<PhasePanel> = grf
         .iter()
         .map(|f| PhasePanel {
@@ -141,8 +140,8 @@ pub fn write_fits(
             stance: Vec::new(),
         })
         .collect();
-    replace(dir, "grf_vs_plan.png", |p| {
-        plot_phase_panels(
+    write_atomically(&dir.join("grf_vs_plan.png"), |p| {
+        Ok(plot_phase_panels(
             p,
             [
                 "Vertical ground reaction force per phase of the step: plan vs simulated contact force over the recorded steps",
@@ -151,101 +150,7 @@ pub fn write_fits(
             "N",
             &panels,
         )
-        .map_err(|e| anyhow::anyhow!("plotting GRF: {e}"))
+        .map_err(|e| format!("plotting GRF: {e}"))?)
     })?;
     Ok((loads, grf))
-}
-
-/// The summary lines of one walk's fits.
-pub fn print_fits(
-    s: &mut String,
-    label: &str,
-    loads: &[Fit],
-    grf: &[Fit],
-    steps: u32,
-) -> std::fmt::Result {
-    let window = if steps >= 2 {
-        format!("steps 2 to {steps}")
-    } else {
-        "no whole step after the first: give --steps 2 or more".to_owned()
-    };
-    writeln!(
-        s,
-        "model vs simulation {label} (R^2 over every bus cycle of {window}; 1 = the plan predicts every sample, 0 = no better than the mean)"
-    )?;
-    let list = |fits: &[Fit], unit: &str| -> String {
-        fits.iter()
-            .map(|f| format!("{} {} ({:.2} {unit})", f.name, r2_text(f.r2), f.rms))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    writeln!(
-        s,
-        "  vertical contact force vs the plan's GRF per leg, R^2 (RMS difference): {}",
-        list(grf, "N")
-    )?;
-    writeln!(
-        s,
-        "  servo load (ESTIMATE from Present Load) vs planned torque per joint, R^2 (RMS difference):"
-    )?;
-    for chunk in loads.chunks(6) {
-        writeln!(s, "    {}", list(chunk, "N m"))?;
-    }
-    Ok(())
-}
-
-/// The summary lines of what the torque bias buys: posture error of the forward walk with the
-/// bias against the one without it.
-pub fn print_bias(
-    s: &mut String,
-    walks: &[Walk],
-    planned_height_m: f64,
-    steps: u32,
-) -> std::fmt::Result {
-    let find = |bias_on: bool| {
-        walks
-            .iter()
-            .find(|w| w.bias_on == bias_on && w.label.starts_with("forward"))
-    };
-    let (Some(on), Some(off)) = (find(true), find(false)) else {
-        return Ok(());
-    };
-    let (Some(log_on), Some(log_off)) = (&on.log, &off.log) else {
-        return Ok(());
-    };
-    let p_on = posture(on.rec.rows(), log_on, planned_height_m, steps, true);
-    let p_off = posture(off.rec.rows(), log_off, planned_height_m, steps, false);
-    writeln!(
-        s,
-        "torque bias (forward walk with it vs without it, stiffness 0 on every joint; steps 2 to {steps})"
-    )?;
-    writeln!(
-        s,
-        "  joint angle error (present - planned, RMS over joints and cycles): bias on {:.4} rad ({:.2} deg), bias off {:.4} rad ({:.2} deg)",
-        p_on.rms_rad,
-        p_on.rms_rad.to_degrees(),
-        p_off.rms_rad,
-        p_off.rms_rad.to_degrees()
-    )?;
-    writeln!(
-        s,
-        "  thorax sag below the planned {:.1} mm: bias on {:.1} mm mean, {:.1} mm most; bias off {:.1} mm mean, {:.1} mm most",
-        planned_height_m * 1e3,
-        p_on.sag_mean_m * 1e3,
-        p_on.sag_max_m * 1e3,
-        p_off.sag_mean_m * 1e3,
-        p_off.sag_max_m * 1e3
-    )?;
-    let verdict = if p_off.rms_rad > p_on.rms_rad && p_off.sag_mean_m > p_on.sag_mean_m {
-        "the bias buys"
-    } else {
-        "NOT a gain on both counts: the bias buys"
-    };
-    writeln!(
-        s,
-        "  {verdict} {:.4} rad less joint error ({:.0} %) and {:.1} mm less mean sag",
-        p_off.rms_rad - p_on.rms_rad,
-        (1.0 - p_on.rms_rad / p_off.rms_rad.max(1e-12)) * 100.0,
-        (p_off.sag_mean_m - p_on.sag_mean_m) * 1e3
-    )
 }

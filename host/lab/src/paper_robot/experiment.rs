@@ -6,15 +6,15 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
 use board::link::Board;
-use board::record::{joints_of_table, phase_stats};
+use board::record::{Ended, joints_of_table, phase_stats};
 use physics::PhysicsRobot;
 use planner::gait::StepParams;
 use planner::model::Leg;
 use protocol::Direction;
 
-use crate::common::{interrupt, physics_walk};
+use crate::error::{Context, LabError, Result};
+use crate::walk::{play_and_record, solve_walk_dynamics};
 
 /// One walk to simulate.
 #[derive(Debug, Clone, PartialEq)]
@@ -79,8 +79,9 @@ pub fn params(period_s: f64, terrain: &str) -> Result<StepParams> {
 }
 
 /// Plans, walks and reduces `e`; the recording goes to `dir/telemetry.csv`, or to a scratch file
-/// removed afterwards without `dir`.
-pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
+/// removed afterwards without `dir`. `stop` returning true ends the walk early, with
+/// [`LabError::Interrupted`].
+pub fn run(e: &Experiment, dir: Option<&Path>, stop: impl Fn() -> bool) -> Result<Vec<PhaseRow>> {
     let model = planner::model::builtin("drosophibot2")?;
     let mut p = params(e.period_s, &e.terrain)?;
     // Backward is planned as its own gait (the planner walks backward at a negative translation)
@@ -91,10 +92,9 @@ pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
     }
     let plan = planner::plan::plan(&model, &p)
         .with_context(|| format!("{}: planning the step", e.name))?;
-    let dynamics = crate::args::dynamics::DynamicsArgs::WALK
-        .solve(&plan)?
-        .with_context(|| format!("{}: inverse dynamics", e.name))?;
-    let torque = planner::dynamics::output::torque_rows(&dynamics.cycle);
+    let cycle =
+        solve_walk_dynamics(&plan).with_context(|| format!("{}: inverse dynamics", e.name))?;
+    let torque = planner::dynamics::output::torque_rows(&cycle);
     let table = planner::plan::table::step_table(&plan, Some(&torque), "paper robot")
         .with_context(|| format!("{}: step table", e.name))?;
     let servo_joints = planner::plan::table::servo_joints(&model);
@@ -122,14 +122,16 @@ pub fn run(e: &Experiment, dir: Option<&Path>) -> Result<Vec<PhaseRow>> {
         )),
     };
     // The backward walk plays its own plan (below) forward.
-    let (rec, _) =
-        physics_walk::play_and_record(&mut board, Direction::Forward, e.steps, &csv, joints)
-            .with_context(|| format!("{}: recording", e.name))?;
+    let (rec, ended) = play_and_record(&mut board, Direction::Forward, e.steps, &csv, joints, stop)
+        .with_context(|| format!("{}: recording", e.name))?;
     if dir.is_none() {
         let _ = std::fs::remove_file(&csv);
     }
-    if interrupt::requested() {
-        anyhow::bail!("interrupted while walking {}", e.name);
+    if ended == Ended::Interrupted {
+        return Err(LabError::Interrupted(format!(
+            "interrupted while walking {}",
+            e.name
+        )));
     }
     let first = u32::from(e.steps >= 2);
     let walking: Vec<_> = rec

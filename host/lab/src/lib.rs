@@ -1,0 +1,30 @@
+//! `lab`: everything a researcher computes with Drosophibot II, reachable from Rust and Python
+//! alike (`dbot` parses arguments, calls this and prints; progress and Ctrl-C come in as
+//! callbacks). The fit statistics themselves (the two R^2, RMS, mean and SD) are
+//! `planner::analysis::fit`.
+//!
+//! - [`walk`]: playing and recording one walk; the walks' inverse dynamics.
+//! - [`walk_body`], [`walk_fits`], [`walk_bias`]: the figures of a recorded walk against its plan
+//!   (distance per step, tracking per leg, loads and contact forces against the plan, what the
+//!   torque bias buys).
+//! - [`walk_files`]: a recorded walk, its animation and fit files.
+//! - [`demo`]: the walks of `dbot demo` on one robot.
+//! - [`paper_robot`]: the paper's robot experiments (figures 5 to 7) on the physics robot.
+//! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
+//! - [`plan_comparison`], [`overlay`]: two plans DoF by DoF, a speed sweep, their plots.
+//! - [`validation`]: the run results of docs/validation.md.
+
+pub mod demo;
+pub mod error;
+pub mod overlay;
+pub mod paper_comparison;
+pub mod paper_robot;
+pub mod plan_comparison;
+pub mod validation;
+pub mod walk;
+pub mod walk_bias;
+pub mod walk_body;
+pub mod walk_files;
+pub mod walk_fits;
+
+pub use error::{Context, LabError, Result};

@@ -1,0 +1,142 @@
+//! Comparing plans: per common DoF of two plan directories the R^2 of a linear regression of
+//! the angles and of the torques (`planner::analysis::compare`, tables S2 to S8 of the paper) with
+//! `compare.csv` and the overlay plots, and a speed sweep of one model over swing durations
+//! (`sweep.csv`). `dbot compare` prints what these return.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use board::files::write_bytes_atomically;
+use planner::analysis::{
+    ComparisonRow, DofTrace, SweepPoint, SweepRegime, classify_sweep, compare,
+};
+use planner::model::{JointKind, Leg, Model};
+use planner::plan_dir::{self, columns};
+
+use crate::bail;
+use crate::error::{Context, Result};
+use crate::overlay::{folder_name, overlay};
+
+/// DoF traces of a plan directory (torques required): one per model joint, keyed by leg and kind.
+pub fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
+    let plan = plan_dir::read(dir)?;
+    let torque = plan.torque.as_ref().with_context(|| {
+        format!(
+            "{}: no `{}` column (planned with --no-dynamics?)",
+            dir.join(columns::JOINTS_CSV).display(),
+            columns::TORQUE_NM
+        )
+    })?;
+    let mut map: BTreeMap<(Leg, JointKind), (Vec<f64>, Vec<f64>)> = BTreeMap::new();
+    for (angles, torques) in plan.angle.iter().zip(torque) {
+        for (joint, (a, t)) in plan.model.joints.iter().zip(angles.iter().zip(torques)) {
+            let e = map.entry((joint.leg, joint.kind)).or_default();
+            e.0.push(*a);
+            e.1.push(*t);
+        }
+    }
+    Ok(map
+        .into_iter()
+        .map(|((leg, kind), (angle, torque))| {
+            let (lo, hi) = angle
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), a| {
+                    (l.min(*a), h.max(*a))
+                });
+            DofTrace {
+                leg,
+                kind,
+                mobile: hi - lo > 1e-9,
+                angle,
+                torque,
+            }
+        })
+        .collect())
+}
+
+/// An R^2 as written: three decimals, or `-` where there is none.
+pub fn r2_cell(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.3}"))
+}
+
+/// Which plan a summed DoF is summed in: `A`, `B` or empty.
+pub fn summed_in(r: &ComparisonRow) -> &'static str {
+    match r.summed_side {
+        Some(0) => "A",
+        Some(_) => "B",
+        None => "",
+    }
+}
+
+/// Compares the plan directories `a` and `b` DoF by DoF; writes `compare.csv`,
+/// `compare_angles.png` and `compare_torques.png` into `out` and returns the rows.
+pub fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<Vec<ComparisonRow>> {
+    let (ta, tb) = (read_traces(a)?, read_traces(b)?);
+    let rows = compare(&ta, &tb);
+    if rows.is_empty() {
+        bail!("{} and {} have no DoF in common", a.display(), b.display());
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["leg", "dof", "summed_in", "r2_angle", "r2_torque"])?;
+    for r in &rows {
+        w.write_record([
+            r.leg.name(),
+            &r.dof,
+            summed_in(r),
+            &r2_cell(r.r2_angle),
+            &r2_cell(r.r2_torque),
+        ])?;
+    }
+    let bytes = w.into_inner().context("building compare.csv")?;
+    write_bytes_atomically(&out.join("compare.csv"), &bytes)?;
+    overlay(&ta, &tb, &rows, out, [&folder_name(a), &folder_name(b)])?;
+    Ok(rows)
+}
+
+/// A speed sweep: `model` planned at table 1 with each swing duration of `swings` (calling
+/// `on_point` after each); writes `sweep.csv` into `out` and returns the points and the regime
+/// they show.
+pub fn sweep(
+    model: &Model,
+    swings: &[f64],
+    out: &Path,
+    mut on_point: impl FnMut(),
+) -> Result<(Vec<SweepPoint>, Option<SweepRegime>)> {
+    let mut points = Vec::new();
+    for &sw in swings {
+        if !(sw > 0.0 && sw.is_finite()) {
+            bail!("--swing {sw}: swing durations must be positive seconds");
+        }
+        let mut p = planner::gait::StepParams::table1(&model.name);
+        p.swing_s = sw;
+        points.push(planner::analysis::sweep_point(model, &p)?);
+        on_point();
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "period_s",
+        "peak_torque_nm",
+        "peak_inertial_torque_nm",
+        "inertial_share",
+    ])?;
+    for p in &points {
+        w.write_record(
+            [
+                p.period,
+                p.peak_torque,
+                p.peak_inertial_torque,
+                inertial_share(p),
+            ]
+            .map(|v| planner::number::plain(v, 7)),
+        )?;
+    }
+    let bytes = w.into_inner().context("building sweep.csv")?;
+    write_bytes_atomically(&out.join("sweep.csv"), &bytes)?;
+    let regime = classify_sweep(&points);
+    Ok((points, regime))
+}
+
+/// The inertial part's share of a sweep point's peak torque.
+pub fn inertial_share(p: &SweepPoint) -> f64 {
+    p.peak_inertial_torque / p.peak_torque
+}
