@@ -12,6 +12,6 @@ pub mod port;
 pub mod record;
 pub mod robot;
 pub mod rules;
-pub mod trial;
 pub mod saved_settings;
 pub mod strain;
+pub mod trial;

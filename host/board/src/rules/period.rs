@@ -148,7 +148,7 @@ pub fn table_of_port(port: &str, slot: u8) -> Result<Option<Vec<u8>>, crate::rob
         crate::port::PortSpec::Virtual { image: Some(path) } => table_in_image(&path, slot),
         crate::port::PortSpec::Virtual { image: None }
         | crate::port::PortSpec::Serial(_)
-        | crate::port::PortSpec::Physics(_) => Ok(None),
+        | crate::port::PortSpec::Physics { .. } => Ok(None),
     }
 }
 
