@@ -21,7 +21,9 @@ pub const MAX_COUNT: f64 = 1023.0;
 /// 36 raw counts, in column order ([`Channel::at_column`]).
 pub type Counts = [f64; CHANNELS];
 
-/// What a line says.
+/// What a line says. (Samples are nearly every line the board sends: kept inline rather than
+/// boxed, so a sample costs no allocation.)
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum BoardLine {
     /// `Waiting on MATLAB...`: the board has just reset.

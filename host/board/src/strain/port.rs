@@ -52,12 +52,12 @@ pub fn open_virtual(mut board: VirtualStrainBoard) -> std::io::Result<Box<dyn St
 /// of the same device). The virtual strain board is never the servo board.
 pub fn check_not_servo_port(strain: &str, servo: &str) -> Result<(), StrainError> {
     // `virtual` names two different things: the in-process strain board and the virtual robot.
-    let same = strain != VIRTUAL && strain == servo
-        || strain != VIRTUAL
-            && matches!(
+    let same = strain != VIRTUAL
+        && (strain == servo
+            || matches!(
                 (Path::new(strain).canonicalize(), Path::new(servo).canonicalize()),
                 (Ok(a), Ok(b)) if a == b
-            );
+            ));
     if same {
         return Err(StrainError::ServoPort {
             port: strain.to_owned(),
