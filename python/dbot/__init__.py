@@ -6,6 +6,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
+* :func:`physics_walk` / :func:`walk_figures` - walk a plan directory's gait on a fresh physics
+  robot and compute the figures ``dbot demo`` prints for a walk (the ``lab`` crate's functions).
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
   (``Board.open("virtual")``) or the physics robot with a MuJoCo body (``Board.open("physics")``),
   with upload, playback, telemetry and the streaming mode
@@ -21,10 +23,13 @@ from ._native import (
     DbotError,
     Model,
     Plan,
+    PhysicsWalk,
     PlanDir,
     __version__,
+    physics_walk,
     plan,
     read_plan_dir,
+    walk_figures,
 )
 
 __all__ = [
@@ -34,8 +39,11 @@ __all__ = [
     "DbotError",
     "Model",
     "Plan",
+    "PhysicsWalk",
     "PlanDir",
     "__version__",
+    "physics_walk",
     "plan",
     "read_plan_dir",
+    "walk_figures",
 ]

@@ -5,6 +5,7 @@
 mod arrays;
 mod board;
 mod errors;
+mod lab;
 mod model;
 mod names;
 mod plan;
@@ -29,5 +30,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<plan_dir::PlanDir>()?;
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
+    lab::register(m)?;
     Ok(())
 }
