@@ -7,6 +7,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
+* :func:`physics_walk` / :func:`walk_figures` - walk a plan directory's gait on a fresh physics
+  robot and compute the figures ``dbot demo`` prints for a walk (the ``lab`` crate's functions).
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
   (``Board.open("virtual")``) or the physics robot with a MuJoCo body (``Board.open("physics")``),
   with upload, playback, telemetry and the streaming mode
@@ -26,11 +28,14 @@ from ._native import (
     DbotError,
     Model,
     Plan,
+    PhysicsWalk,
     PlanDir,
     __version__,
+    physics_walk,
     plan,
     read_plan_dir,
     read_trial,
+    walk_figures,
 )
 
 __all__ = [
@@ -40,9 +45,12 @@ __all__ = [
     "DbotError",
     "Model",
     "Plan",
+    "PhysicsWalk",
     "PlanDir",
     "__version__",
+    "physics_walk",
     "plan",
     "read_plan_dir",
     "read_trial",
+    "walk_figures",
 ]

@@ -393,3 +393,57 @@ class Board:
     def next_proprioception(self, timeout_s: float = 0.1) -> Proprioception | None: ...
     def drain_proprioception(self) -> Proprioception: ...
 
+class PhysicsWalk:
+    """A recorded walk of a plan directory's gait on the physics robot (:func:`physics_walk`)."""
+    @property
+    def steps(self) -> int: ...
+    @property
+    def cycles(self) -> int:
+        """Bus cycles recorded."""
+    @property
+    def duration_s(self) -> float:
+        """Simulated seconds recorded."""
+
+def physics_walk(
+    plan_dir: str | PathLike[str],
+    steps: int,
+    out: str | PathLike[str],
+    backward: bool = False,
+    scene: str = "flat",
+) -> PhysicsWalk:
+    """Walks the gait of ``plan_dir`` (written by ``dbot plan`` / ``dbot demo``; its step table is
+    ``dbot table --plan``'s) for ``steps`` steps on a fresh physics robot on ``scene``, recording
+    into ``out`` (telemetry.csv, torque.png, angles.png). ValueError naming the file or the count."""
+
+class LegTrackingFigures(TypedDict):
+    rms_rad: float
+    max_abs_rad: float
+    joints: int
+
+class LoadFit(TypedDict):
+    r2: float | None
+    """R^2 of the planned torque predicting the load (1 - SS_res / SS_tot; None: no variation)."""
+    rms_nm: float
+    samples: int
+
+class WalkFigures(TypedDict):
+    distance_per_step_m: float
+    planned_per_step_m: float
+    distance_off_percent: float
+    stroke_m: float
+    lateral_m: float
+    heading_rad: float
+    height_start_m: float
+    height_min_m: float
+    height_end_m: float
+    tilt_max_rad: float
+    slip_m: dict[str, float]
+    """Horizontal distance each foot moved while loaded, by leg name."""
+    tracking: dict[str, LegTrackingFigures]
+    """Present - planned angle per leg over the steps after the first (empty with one step)."""
+    loads: dict[str, LoadFit]
+    """Servo load (ESTIMATE from Present Load) against the planned torque, by joint name, over the
+    whole steps after the first."""
+
+def walk_figures(walk: PhysicsWalk) -> WalkFigures:
+    """The figures ``dbot demo`` prints for a walk, from what it recorded (SI units)."""

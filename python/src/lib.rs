@@ -7,6 +7,7 @@ mod arrays;
 mod board;
 mod body;
 mod errors;
+mod lab;
 mod model;
 mod names;
 mod plan;
@@ -31,5 +32,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
+    lab::register(m)?;
     Ok(())
 }

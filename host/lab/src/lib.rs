@@ -8,7 +8,8 @@
 //!   (distance per step, tracking per leg, loads and contact forces against the plan, what the
 //!   torque bias buys).
 //! - [`walk_files`]: a recorded walk, its animation and fit files.
-//! - [`demo`]: the walks of `dbot demo` on one robot.
+//! - [`demo`]: the walks of `dbot demo` on one robot; [`plan_walk`]: a walk of a plan directory
+//!   on a fresh physics robot and its figures (what Python calls).
 //! - [`paper_robot`]: the paper's robot experiments (figures 5 to 7) on the physics robot.
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
 //! - [`plan_comparison`], [`overlay`]: two plans DoF by DoF, a speed sweep, their plots.
@@ -20,6 +21,7 @@ pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;
 pub mod plan_comparison;
+pub mod plan_walk;
 pub mod validation;
 pub mod walk;
 pub mod walk_bias;

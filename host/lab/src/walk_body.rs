@@ -22,9 +22,14 @@ pub struct Distance {
     pub off_percent: f64,
 }
 
-/// The distance per step of a walk of `steps` steps in `direction` whose body did `f`.
-pub fn distance(f: &Figures, plan: &Plan, steps: u32, direction: Direction) -> Distance {
-    let planned = plan.thorax_velocity.x * plan.period_s;
+/// The plan's thorax travel per step, m.
+pub fn planned_per_step_m(plan: &Plan) -> f64 {
+    plan.thorax_velocity.x * plan.period_s
+}
+
+/// The distance per step of a walk of `steps` steps in `direction` whose body did `f`, against
+/// the plan's `planned` m per step ([`planned_per_step_m`]).
+pub fn distance(f: &Figures, planned: f64, steps: u32, direction: Direction) -> Distance {
     let sign = match direction {
         Direction::Forward => 1.0,
         Direction::Backward => -1.0,

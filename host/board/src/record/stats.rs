@@ -1,5 +1,7 @@
 //! Statistics of a recording: measured torque per phase of the step across steps (mean and spread),
-//! and angle tracking error per joint.
+//! and angle tracking error per joint (the sums themselves: `planner::analysis::fit`).
+
+use planner::analysis::fit::{MeanSdSums, rms};
 
 use super::csv_out::Row;
 
@@ -18,29 +20,25 @@ pub struct PhaseStats {
 /// Per slice of the step, the statistics of `joint` over the rows that carry a torque estimate.
 /// Rows of the start ramp (step 0 before walking) count like any other: the caller filters.
 pub fn phase_stats(rows: &[Row], joint: usize, slices: usize) -> Vec<PhaseStats> {
-    let mut acc = vec![(0usize, 0.0f64, 0.0f64, None); slices];
+    let mut acc = vec![(MeanSdSums::default(), None); slices];
     for r in rows.iter().filter(|r| r.joint == joint) {
         let (Some(x), Some(a)) = (r.torque_estimate_nm, acc.get_mut(usize::from(r.slice))) else {
             continue;
         };
-        a.0 += 1;
-        a.1 += x;
-        a.2 += x * x;
-        a.3 = r.modelled_nm.or(a.3);
+        a.0.add(x);
+        a.1 = r.modelled_nm.or(a.1);
     }
     acc.into_iter()
         .enumerate()
-        .filter(|(_, a)| a.0 > 0)
-        .map(|(s, (n, sum, sq, modelled))| {
-            let mean = sum / n as f64;
-            let var = (sq / n as f64 - mean * mean).max(0.0);
-            PhaseStats {
+        .filter_map(|(s, (sums, modelled))| {
+            let m = sums.finish()?;
+            Some(PhaseStats {
                 phase: s as f64 / slices as f64,
                 modelled_nm: modelled,
-                mean_nm: mean,
-                sd_nm: var.sqrt(),
-                n,
-            }
+                mean_nm: m.mean,
+                sd_nm: m.sd,
+                n: m.n,
+            })
         })
         .collect()
 }
@@ -62,18 +60,16 @@ pub struct JointTracking {
 pub fn tracking(rows: &[Row], joints: usize) -> Vec<JointTracking> {
     (0..joints)
         .map(|j| {
-            let (mut n, mut sq, mut max) = (0usize, 0.0f64, 0.0f64);
-            for r in rows.iter().filter(|r| r.joint == j) {
-                let e = r.present_rad - r.planned_rad.unwrap_or(r.commanded_rad);
-                n += 1;
-                sq += e * e;
-                max = max.max(e.abs());
-            }
+            let errors: Vec<f64> = rows
+                .iter()
+                .filter(|r| r.joint == j)
+                .map(|r| r.present_rad - r.planned_rad.unwrap_or(r.commanded_rad))
+                .collect();
             JointTracking {
                 joint: j,
-                rms_rad: if n > 0 { (sq / n as f64).sqrt() } else { 0.0 },
-                max_abs_rad: max,
-                samples: n,
+                rms_rad: rms(errors.iter().copied()).unwrap_or(0.0),
+                max_abs_rad: errors.iter().fold(0.0f64, |m, e| m.max(e.abs())),
+                samples: errors.len(),
             }
         })
         .collect()

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use board::record::Recorder;
 use lab::walk_bias::bias_gain;
-use lab::walk_body::{distance, leg_tracking};
+use lab::walk_body::{distance, leg_tracking, planned_per_step_m};
 use lab::walk_files::Walk;
 use lab::walk_fits::{Fit, r2_text};
 use physics::Figures;
@@ -21,7 +21,7 @@ pub fn print_body(
 ) -> std::fmt::Result {
     let label = w.label;
     let seconds = w.rec.duration_s();
-    let d = distance(f, plan, steps, w.direction);
+    let d = distance(f, planned_per_step_m(plan), steps, w.direction);
     writeln!(
         s,
         "body {label} (physics robot, sampled every bus cycle over the walk's {seconds:.1} s)"

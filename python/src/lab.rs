@@ -1,0 +1,126 @@
+//! `dbot.physics_walk(...)` and `dbot.walk_figures(walk)`: a walk the user runs themselves (a plan
+//! directory's gait on a fresh physics robot, `lab::plan_walk`) and the figures `dbot demo`
+//! prints for it, computed by the same functions (`lab`), so the numbers are the demo's.
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::value_error;
+
+/// A recorded walk of a plan directory's gait on the physics robot.
+#[pyclass(frozen, module = "dbot._native")]
+#[derive(Debug)]
+pub struct PhysicsWalk {
+    inner: lab::plan_walk::PlanWalk,
+}
+
+/// Walks the gait of the plan directory `plan_dir` (written by `dbot plan` or `dbot demo`) for
+/// `steps` steps on a fresh physics robot on `scene`, recording into `out` (telemetry.csv and
+/// plots). ValueError naming the file or the step count.
+#[pyfunction]
+#[pyo3(signature = (plan_dir, steps, out, backward = false, scene = "flat"))]
+pub fn physics_walk(
+    py: Python<'_>,
+    plan_dir: PathBuf,
+    steps: u32,
+    out: PathBuf,
+    backward: bool,
+    scene: &str,
+) -> PyResult<PhysicsWalk> {
+    let direction = if backward {
+        protocol::Direction::Backward
+    } else {
+        protocol::Direction::Forward
+    };
+    let inner = py
+        .detach(|| {
+            lab::plan_walk::walk_plan_dir(&plan_dir, scene, steps, direction, &out, || false)
+        })
+        .map_err(|e| value_error(e.chain_text()))?;
+    Ok(PhysicsWalk { inner })
+}
+
+#[pymethods]
+impl PhysicsWalk {
+    /// Steps played.
+    #[getter]
+    fn steps(&self) -> u32 {
+        self.inner.steps
+    }
+
+    /// Bus cycles recorded.
+    #[getter]
+    fn cycles(&self) -> usize {
+        self.inner.walk.rec.cycles()
+    }
+
+    /// Simulated seconds recorded.
+    #[getter]
+    fn duration_s(&self) -> f64 {
+        self.inner.walk.rec.duration_s()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "PhysicsWalk({} steps {}, {} cycles)",
+            self.inner.steps,
+            self.inner.walk.label,
+            self.inner.walk.rec.cycles()
+        )
+    }
+}
+
+/// The figures `dbot demo` prints for a walk: a dict of the body's distance per step against the
+/// plan, heading, thorax height, tilt, slip per foot, tracking error per leg and the servo loads'
+/// fit to the planned torques (R^2 of the plan's prediction, RMS difference), in SI units.
+#[pyfunction]
+pub fn walk_figures<'py>(py: Python<'py>, walk: &PhysicsWalk) -> PyResult<Bound<'py, PyDict>> {
+    let f = lab::plan_walk::walk_figures(&walk.inner).ok_or_else(|| {
+        value_error("the walk has no body: it was not walked on the physics robot")
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("distance_per_step_m", f.distance.per_step_m)?;
+    d.set_item("planned_per_step_m", f.distance.planned_m)?;
+    d.set_item("distance_off_percent", f.distance.off_percent)?;
+    d.set_item("stroke_m", walk.inner.translation_m)?;
+    d.set_item("lateral_m", f.body.lateral_m)?;
+    d.set_item("heading_rad", f.body.heading_rad)?;
+    d.set_item("height_start_m", f.body.height_start_m)?;
+    d.set_item("height_min_m", f.body.height_min_m)?;
+    d.set_item("height_end_m", f.body.height_end_m)?;
+    d.set_item("tilt_max_rad", f.body.tilt_max_rad)?;
+    let slip = PyDict::new(py);
+    for (leg, m) in &f.body.slip_m {
+        slip.set_item(leg.name(), m)?;
+    }
+    d.set_item("slip_m", slip)?;
+    let tracking = PyDict::new(py);
+    for t in &f.tracking {
+        let row = PyDict::new(py);
+        row.set_item("rms_rad", t.rms_rad)?;
+        row.set_item("max_abs_rad", t.max_abs_rad)?;
+        row.set_item("joints", t.joints)?;
+        tracking.set_item(t.leg.name(), row)?;
+    }
+    d.set_item("tracking", tracking)?;
+    let loads = PyDict::new(py);
+    for l in &f.loads {
+        let row = PyDict::new(py);
+        row.set_item("r2", l.r2)?;
+        row.set_item("rms_nm", l.rms)?;
+        row.set_item("samples", l.samples)?;
+        loads.set_item(&l.name, row)?;
+    }
+    d.set_item("loads", loads)?;
+    Ok(d)
+}
+
+/// Adds the lab's classes and functions to the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PhysicsWalk>()?;
+    m.add_function(wrap_pyfunction!(physics_walk, m)?)?;
+    m.add_function(wrap_pyfunction!(walk_figures, m)?)?;
+    Ok(())
+}
