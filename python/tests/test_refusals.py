@@ -168,8 +168,10 @@ def test_a_period_scale_the_servos_cannot_follow_is_refused_as_run_period(
         # Table angles are kept to 1e-4 rad: at most 1e-4 / (2 x 0.02 s) = 0.0025 rad/s off.
         assert abs(named_speed(by_cli, "LF_FTi") - planned / 0.4) < 0.008
         assert f"no-load speed {MX28_NO_LOAD:.2f} rad/s" in by_cli
-        # Nothing was played; slower than planned needs no check.
-        assert board.status()["state"] in ("Idle", "Standing")
+        # Nothing was played. (Boot: the upload selected slot 1 of an erased store, new servo IDs,
+        # so the board is finding them; no simulated time passes between these calls.)
+        assert board.status()["state"] in ("Boot", "Idle", "Standing")
+        # Slower than planned needs no check.
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             board.play(1, steps=1, period_scale=1.2)
