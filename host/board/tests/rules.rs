@@ -157,7 +157,10 @@ fn the_stiffness_bound_is_the_p_gain_register_of_every_servo() {
         Err(StiffnessError::BelowRegister { min, .. }) => assert!((min - half64).abs() < 1e-6),
         other => panic!("{other:?}"),
     }
+    // 0 is the firmware's "bias off" (no division, the gains kept): taken as it is.
+    assert_eq!(units(0.0).unwrap(), 0);
+    assert_eq!(units(-0.0).unwrap(), 0);
     // The board's own unit range is still the first check.
-    assert!(matches!(units(0.0), Err(StiffnessError::Limit(_))));
+    assert!(matches!(units(-0.01), Err(StiffnessError::Limit(_))));
     assert!(matches!(units(f64::NAN), Err(StiffnessError::Limit(_))));
 }
