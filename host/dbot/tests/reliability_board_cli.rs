@@ -540,6 +540,8 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
         "plan/step.gif",
         "plan/feasibility.md",
         "plan/README.md",
+        "plan/strain.csv",
+        "plan/strain.png",
         "drosophibot2-tripod.dbgt",
         "record/forward/telemetry.csv",
         "record/forward/torque.png",
