@@ -318,6 +318,10 @@ class Board:
     def __enter__(self) -> Board: ...
     def __exit__(self, *args: object) -> bool: ...
     def info(self) -> dict[str, Any]: ...
+    def gaits(self) -> list[dict[str, Any]]:
+        """Every gait slot, as ``dbot gaits`` lists them: ``slot``, ``gait`` (None for an empty
+        slot, else ``name``, ``crc``, ``joints``, ``slices``, ``period_s``, ``duty``), ``lost`` (None, or what a damaged copy
+        lost) and ``message`` (the loss in words)."""
     def status(self) -> Status:
         """State, fault, torque mask, playback position and the counters since boot
         (:class:`Counters`, named integers)."""
