@@ -320,8 +320,8 @@ class Board:
     def info(self) -> dict[str, Any]: ...
     def gaits(self) -> list[dict[str, Any]]:
         """Every gait slot, as ``dbot gaits`` lists them: ``slot``, ``gait`` (None for an empty
-        slot, else ``name``, ``crc``, ``joints``, ``slices``, ``period_s``, ``duty``), ``lost`` (None, or what a damaged copy
-        lost) and ``message`` (the loss in words)."""
+        slot, else ``name``, ``crc``, ``joints``, ``slices``, ``period_s``, ``duty``), ``lost``
+        (None, or what a damaged copy lost) and ``message`` (the loss in words)."""
     def status(self) -> Status:
         """State, fault, torque mask, playback position and the counters since boot
         (:class:`Counters`, named integers)."""
