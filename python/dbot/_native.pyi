@@ -196,6 +196,22 @@ class Trial(TypedDict):
 def read_trial(path: str | PathLike[str]) -> Trial:
     """Reads a trial folder; ValueError naming the file and line (or format version)."""
 
+class ComparisonRow(TypedDict):
+    leg: str
+    dof: str
+    #: ``"A"`` or ``"B"``: the side whose joints were summed (ThC2+CTr); ``""`` for a plain DoF.
+    summed_in: str
+    r2_angle: float | None
+    r2_torque: float | None
+
+def compare(
+    a: str | PathLike[str], b: str | PathLike[str], out: str | PathLike[str]
+) -> list[ComparisonRow]:
+    """Per common DoF of ``a`` and ``b`` (plan directories or trial folders, in any mix) the R^2 of
+    a linear regression of the angles and of the torques, as ``dbot compare A B``; writes
+    compare.csv and the overlay plots into ``out``. A trial's traces are its measured angles and
+    estimated torques averaged per slice over steps 1 to the last whole one."""
+
 class Fault(TypedDict):
     kind: str
     """The fault with its numbers, e.g. ``ServoStuck { goal_range: 312, present_range: 0 }``."""
