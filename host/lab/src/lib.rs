@@ -28,5 +28,6 @@ pub mod walk_bias;
 pub mod walk_body;
 pub mod walk_files;
 pub mod walk_fits;
+pub mod walk_turn;
 
 pub use error::{Context, LabError, Result};
