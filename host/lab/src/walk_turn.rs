@@ -68,6 +68,15 @@ fn wrap(a: f64) -> f64 {
     a.sin().atan2(a.cos())
 }
 
+/// The thorax's yaw change from the log's first sample to its last, unwrapped (so more than a
+/// half turn counts whole), rad.
+pub fn heading_change(log: &WalkLog) -> f64 {
+    log.samples
+        .windows(2)
+        .map(|w| wrap(yaw(w[1].thorax.1) - yaw(w[0].thorax.1)))
+        .sum()
+}
+
 /// Thorax (x, y, unwrapped yaw) at the first sample of each step `from..=to` of `log` (the first
 /// bus cycle whose playback has completed that many steps); `None` if the log lacks one.
 pub fn boundary_poses(log: &WalkLog, from: u32, to: u32) -> Option<Vec<[f64; 3]>> {
