@@ -86,7 +86,7 @@ impl Turn {
                 }
                 let rotation = p.translation_m / r;
                 let turn = rotation / p.duty;
-                if !(turn.abs() < MAX_TURN_DEG.to_radians()) {
+                if turn.abs() >= MAX_TURN_DEG.to_radians() {
                     return Err(bad(
                         "radius_m",
                         r,
