@@ -107,6 +107,8 @@ def plan(
     model: Model,
     *,
     preset: str | None = None,
+    turn_deg: float | None = None,
+    radius_m: float | None = None,
     swing_s: float = ...,
     duty: float = ...,
     step_height_m: dict[str, float] = ...,
@@ -125,7 +127,11 @@ def plan(
     Drosophibot II; ``table1`` has the original solver's 0.5 s; also ``physical-robot``,
     ``paper-comparison``); keyword arguments override the preset's values
     (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c};
-    ``placement``: {forward_m: {..}, outward_m: {..}})."""
+    ``placement``: {forward_m: {..}, outward_m: {..}}). ``turn_deg`` (thorax yaw per step, deg,
+    positive left) and ``radius_m`` (of the thorax path, m, positive with the centre on the left)
+    plan a curve as ``dbot plan --turn --radius`` does: ``turn_deg`` alone keeps the stride,
+    ``radius_m`` alone sets the turn from the stride, both set the stride (``radius_m=0``: on the
+    spot); out-of-range values raise ``ValueError`` naming the parameter."""
 
 class PlanDir:
     """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /

@@ -10,6 +10,8 @@
 //! - [`walk_files`]: a recorded walk, its animation and fit files.
 //! - [`demo`]: the walks of `dbot demo` on one robot; [`plan_walk`]: a walk of a plan directory
 //!   on a fresh physics robot and its figures (what Python calls).
+//! - [`walk_turn`]: a planned curve walked on the physics robot, its turn per step and radius
+//!   measured; [`walk_sequence`]: several gaits (straight, a curve, backward) as one run.
 //! - [`paper_robot`]: the paper's robot experiments (figures 5 to 7) on the physics robot.
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
 //! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
@@ -30,5 +32,7 @@ pub mod walk_bias;
 pub mod walk_body;
 pub mod walk_files;
 pub mod walk_fits;
+pub mod walk_sequence;
+pub mod walk_turn;
 
 pub use error::{Context, LabError, Result};

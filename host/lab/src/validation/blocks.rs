@@ -1,7 +1,7 @@
 //! The run results of docs/validation.md's generated blocks: the built-in models at table 1's
 //! parameters (weight, peak torques, plots), the servo feasibility and the choice of the default
 //! swing, the IK's continuity on the fly's ball walk, the 15 degree incline, the resting posture,
-//! the speed sweep and the paper's comparison.
+//! the speed sweep, the paper's comparison and curves walked on the physics robot.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -369,6 +369,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     }
 
     b.insert("sweep", sweep()?);
+    b.insert("turning", super::turning::turning()?);
     b.insert("performance", super::timing::performance()?);
     Ok(Generated { blocks: b, plots })
 }
