@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 mod blocks;
 mod ground;
-pub use blocks::{Blocks, Cell, GAP_DEPTH_M, splitmix64};
+pub use blocks::{Blocks, Cell, FIELD_X_M, FIELD_Y_M, GAP_DEPTH_M, splitmix64};
 pub use ground::{BallMount, GROUND_SYNTAX, Ground};
 
 /// Standard gravity, m/s^2.

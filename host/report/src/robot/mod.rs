@@ -4,6 +4,7 @@
 //! [`write_gif`] or [`draw_views`].
 
 mod animation;
+mod blocks;
 mod figure;
 mod plan_views;
 mod views;
@@ -13,4 +14,4 @@ pub use animation::{FRAME_SIZE, Frame, write_gif, write_gif_following};
 pub use figure::{Bone, FigureError, FootMark, Part, StickFigure};
 pub use plan_views::{MAX_FRAMES, PHASES, animate_step, plan_ground, plot_robot};
 pub use views::{Bounds, Ground, View, ViewLayout, draw_legend, draw_views};
-pub use walk::{WalkGif, WalkPose, animate_walk, walk_figure};
+pub use walk::{WalkGif, WalkPose, animate_walk, animate_walk_on, walk_figure};
