@@ -13,6 +13,7 @@ mod names;
 mod plan;
 mod plan_dir;
 mod records;
+mod render;
 mod stream;
 mod trial;
 
@@ -33,5 +34,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     lab::register(m)?;
+    render::register(m)?;
     Ok(())
 }
