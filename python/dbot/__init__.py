@@ -7,6 +7,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
+* :func:`compare` - two plan directories or trials DoF by DoF (R^2 of angles and torques), as
+  ``dbot compare A B``.
 * :func:`physics_walk` / :func:`walk_figures` - walk a plan directory's gait on a fresh physics
   robot and compute the figures ``dbot demo`` prints for a walk (the ``lab`` crate's functions).
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
@@ -34,6 +36,7 @@ from ._native import (
     PlanDir,
     __version__,
     camera_half_extent,
+    compare,
     physics_walk,
     plan,
     read_plan_dir,
@@ -59,6 +62,7 @@ __all__ = [
     "read_plan_dir",
     "read_trial",
     "render_pose",
+    "compare",
     "walk_figures",
     "write_walk_gif",
 ]

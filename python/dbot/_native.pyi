@@ -199,6 +199,22 @@ class Trial(TypedDict):
 def read_trial(path: str | PathLike[str]) -> Trial:
     """Reads a trial folder; ValueError naming the file and line (or format version)."""
 
+class ComparisonRow(TypedDict):
+    leg: str
+    dof: str
+    #: ``"A"`` or ``"B"``: the side whose joints were summed (ThC2+CTr); ``""`` for a plain DoF.
+    summed_in: str
+    r2_angle: float | None
+    r2_torque: float | None
+
+def compare(
+    a: str | PathLike[str], b: str | PathLike[str], out: str | PathLike[str]
+) -> list[ComparisonRow]:
+    """Per common DoF of ``a`` and ``b`` (plan directories or trial folders, in any mix) the R^2 of
+    a linear regression of the angles and of the torques, as ``dbot compare A B``; writes
+    compare.csv and the overlay plots into ``out``. A trial's traces are its measured angles and
+    estimated torques averaged per slice over steps 1 to the last whole one."""
+
 class Fault(TypedDict):
     kind: str
     """The fault with its numbers, e.g. ``ServoStuck { goal_range: 312, present_range: 0 }``."""
@@ -321,6 +337,10 @@ class Board:
     def __enter__(self) -> Board: ...
     def __exit__(self, *args: object) -> bool: ...
     def info(self) -> dict[str, Any]: ...
+    def gaits(self) -> list[dict[str, Any]]:
+        """Every gait slot, as ``dbot gaits`` lists them: ``slot``, ``gait`` (None for an empty
+        slot, else ``name``, ``crc``, ``joints``, ``slices``, ``period_s``, ``duty``), ``lost``
+        (None, or what a damaged copy lost) and ``message`` (the loss in words)."""
     def status(self) -> Status:
         """State, fault, torque mask, playback position and the counters since boot
         (:class:`Counters`, named integers)."""

@@ -12,7 +12,8 @@
 //!   on a fresh physics robot and its figures (what Python calls).
 //! - [`paper_robot`]: the paper's robot experiments (figures 5 to 7) on the physics robot.
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
-//! - [`plan_comparison`], [`overlay`]: two plans DoF by DoF, a speed sweep, their plots.
+//! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
+//!   speed sweep, their plots.
 //! - [`validation`]: the run results of docs/validation.md.
 
 pub mod demo;
@@ -22,6 +23,7 @@ pub mod paper_comparison;
 pub mod paper_robot;
 pub mod plan_comparison;
 pub mod plan_walk;
+pub mod trial_traces;
 pub mod validation;
 pub mod walk;
 pub mod walk_bias;
