@@ -140,3 +140,20 @@ def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
         assert not terminated
     board_env.close()
     phys.close()
+
+
+def test_torques_reach_the_emulated_board_as_a_bias(emulator_port) -> None:
+    # The same Dict action on the release firmware image: its commanded angle is the target plus
+    # torque / stiffness, as on the physics robot (2 %: the P gain's quantisation).
+    k = 10.0
+    env = DbotEnv(emulator_port, max_episode_steps=10, torques=True, stiffness_nm_rad=k)
+    env.reset(seed=0)
+    torque = np.zeros(len(env.joint_names))
+    torque[3] = 0.8
+    for _ in range(3):
+        obs, _, terminated, _, _ = env.step({"angles_rad": env.rest_rad, "torques_nm": torque})
+        assert not terminated
+    shift = np.asarray(env.last_record["commanded_rad"][0]) - env.rest_rad
+    assert abs(shift[3] / 0.08 - 1) < 0.02, shift[3]
+    assert np.max(np.abs(np.delete(shift, 3))) < 3e-4
+    env.close()
