@@ -26,12 +26,15 @@ pub enum Terrain {
     Incline { angle_rad: f64 },
 }
 
-/// A terrain description could not be understood, or the planner cannot plan for it.
+/// A terrain description could not be understood (`syntax`: the forms it may take), or the
+/// planner cannot plan for it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("terrain `{text}`: {problem} (expected {syntax})", syntax = GROUND_SYNTAX)]
+#[error("terrain `{text}`: {problem}{}", if *.syntax { format!(" (expected {GROUND_SYNTAX})") } else { String::new() })]
 pub struct TerrainError {
     pub text: String,
     pub problem: String,
+    /// Whether the text was not understood (the message then lists the forms).
+    pub syntax: bool,
 }
 
 impl Terrain {

@@ -58,6 +58,7 @@ impl Ground {
         let err = |p: String| TerrainError {
             text: text.to_string(),
             problem: p,
+            syntax: true,
         };
         let mut parts = text.split(':');
         let head = parts.next().unwrap_or("").trim();
@@ -153,6 +154,7 @@ impl Ground {
     ) -> Result<Terrain, TerrainError> {
         let refuse = |what: &str| TerrainError {
             text: self.to_string(),
+            syntax: false,
             problem: format!(
                 "the planner plans for flat, incline and the held ball only; {what} is a scene of \
                  the physics robot: plan for flat and walk the plan on `physics:{self}`"
