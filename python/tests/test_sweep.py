@@ -91,3 +91,12 @@ def test_async_vector_env_matches_one_environment() -> None:
             assert obs[k][i].tobytes() == ref[k].tobytes(), k
     venv.close()
     one.close()
+
+
+def test_plot_pareto_writes_the_plot_and_returns_the_front(tmp_path) -> None:
+    from dbot.sweep import plot_pareto
+
+    rows = [{"d": 1.0, "s": 0.1}, {"d": 2.0, "s": 0.3}, {"d": 1.5, "s": 0.35}]
+    png = tmp_path / "pareto.png"
+    assert plot_pareto(rows, "d", "s", str(png)) == [0, 1]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
