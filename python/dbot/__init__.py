@@ -17,6 +17,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   (``enter_streaming``, ``send_setpoint``, ``next_proprioception``); ``Board.kind`` says which
   kind a port is and ``Board.body()`` reads the physics robot's simulated body (thorax pose and
   velocity, foot forces, contact, slip).
+* :func:`render_pose` / :func:`write_walk_gif` - the walk drawing of a simulated pose as RGB
+  pixels or a GIF (the environment's ``rgb_array``).
 * :mod:`dbot.env` - ``DbotEnv``, a Gymnasium environment over the physics robot or a board port
   with the firmware in the loop (needs the ``gymnasium`` package; imported on its own).
 
@@ -33,12 +35,15 @@ from ._native import (
     PhysicsWalk,
     PlanDir,
     __version__,
+    camera_half_extent,
     compare,
     physics_walk,
     plan,
     read_plan_dir,
     read_trial,
+    render_pose,
     walk_figures,
+    write_walk_gif,
 )
 
 __all__ = [
@@ -51,10 +56,13 @@ __all__ = [
     "PhysicsWalk",
     "PlanDir",
     "__version__",
+    "camera_half_extent",
     "physics_walk",
     "plan",
     "read_plan_dir",
     "read_trial",
+    "render_pose",
     "compare",
     "walk_figures",
+    "write_walk_gif",
 ]

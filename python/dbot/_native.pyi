@@ -37,6 +37,9 @@ class Model:
     def servo_joints(self) -> list[int]:
         """Indices into ``joint_names`` of the servo joints."""
     @property
+    def servo_stall_torques_nm(self) -> list[float]:
+        """Stall torque of each servo joint's actuator, N m (``servo_joint_names`` order)."""
+    @property
     def legs(self) -> list[str]: ...
     @property
     def limits(self) -> npt.NDArray[np.float64]:
@@ -473,3 +476,20 @@ class WalkFigures(TypedDict):
 
 def walk_figures(walk: PhysicsWalk) -> WalkFigures:
     """The figures ``dbot demo`` prints for a walk, from what it recorded (SI units)."""
+
+# -- pictures of a pose (render.rs) ------------------------------------------------------------
+
+def camera_half_extent(model: Model, pose: dict[str, Any], scene: str = "flat") -> list[float]:
+    """Camera half-extent (m, x y z) holding ``pose`` around its thorax on ``scene``."""
+
+def render_pose(
+    model: Model, pose: dict[str, Any], half_extent_m: list[float], scene: str = "flat"
+) -> npt.NDArray[np.uint8]:
+    """One RGB frame (420, 1200, 3) of ``pose`` (thorax_position_m, thorax_orientation (w, x, y,
+    z), q (one angle per model joint), stance (one flag per foot), caption) on ``scene``."""
+
+def write_walk_gif(
+    model: Model, poses: list[dict[str, Any]], path: str | PathLike[str], scene: str = "flat",
+    delay_ms: int = 100,
+) -> int:
+    """Writes ``poses`` as a looping GIF, the camera following the thorax; returns the frame count."""

@@ -14,6 +14,7 @@ mod names;
 mod plan;
 mod plan_dir;
 mod records;
+mod render;
 mod stream;
 mod trial;
 
@@ -35,5 +36,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     lab::register(m)?;
+    render::register(m)?;
     Ok(())
 }

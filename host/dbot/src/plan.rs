@@ -29,9 +29,10 @@ const TELL_ABOVE_SLICES: usize = 500;
 pub struct Args {
     #[command(flatten)]
     model: crate::args::setup::ModelArgs,
-    /// flat, ball[:RADIUS_M[:OFFSET_M]] (m) or incline:DEG (degrees). Default: table 1 (flat).
+    /// flat, ball[:RADIUS_M[:OFFSET_M]] (m) or incline:DEG (degrees); the physics robot's other
+    /// scenes (ball-fixed, blocks) are refused, saying so. Default: table 1 (flat).
     #[arg(long)]
-    terrain: Option<String>,
+    terrain: Option<planner::terrain::Ground>,
     /// tripod, tetrapod, wave or PHI_I:PHI_C (fractions of the cycle). Default: table 1 (tripod).
     #[arg(long)]
     gait: Option<String>,

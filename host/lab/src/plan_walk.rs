@@ -36,7 +36,7 @@ pub struct PlanWalk {
 /// physics robot on `scene`, recording into `out` (telemetry.csv, torque.png, angles.png).
 pub fn walk_plan_dir(
     plan_dir: &Path,
-    scene: &str,
+    scene: &planner::terrain::Ground,
     steps: u32,
     direction: Direction,
     out: &Path,
