@@ -376,7 +376,17 @@ class Board:
         bias's divisor, as ``dbot set --stiffness --joint``."""
     def wait(self, seconds: float) -> None:
         """Lets time pass on the board's clock, keeping telemetry and proprioception."""
-    def record(self, duration_s: float) -> Telemetry: ...
+    def record(
+        self,
+        duration_s: float,
+        strain: str | None = None,
+        strain_dir: str | PathLike[str] | None = None,
+    ) -> Telemetry:
+        """Telemetry for ``duration_s`` of board time. With ``strain`` (a strain board's port or
+        ``"virtual"``; the servo board's port is refused) the strain board is calibrated, then
+        recorded beside it into ``strain_dir`` as ``dbot record --strain`` does; the dict gains
+        ``strain_time_s`` (on ``time_s``'s clock), ``strain_counts`` ([sample, 36] raw counts),
+        ``strain_names`` and ``strain_error`` (why the strain stream stopped early, else None)."""
     def enter_streaming(self, timeout_cycles: int = 5, feedback_every: int = 1) -> None:
         """From standing only. No setpoint for ``timeout_cycles`` cycles: hold, then safe
         (state ``Fault``, fault kind ``SetpointTimeout``). Proprioception every

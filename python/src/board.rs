@@ -423,16 +423,51 @@ impl Board {
 
     /// Reads playback telemetry for `duration_s` on the board's clock (plus what was already
     /// received): a dict of NumPy arrays, see `dbot.Telemetry`.
-    fn record<'py>(&self, py: Python<'py>, duration_s: f64) -> PyResult<Bound<'py, PyDict>> {
+    ///
+    /// With `strain` (a strain board's port, or `"virtual"`) the strain board is recorded beside
+    /// it into `strain_dir` as `dbot record --strain` does (`board::strain::StrainBeside`: it
+    /// calibrates first; the servo board's port is refused): the dict gains `strain_time_s` (on
+    /// the telemetry's `time_s` clock), `strain_counts` ([sample, 36] raw counts),
+    /// `strain_names` and `strain_error` (why the strain stream stopped early, else None; the
+    /// telemetry is whole either way).
+    #[pyo3(signature = (duration_s, strain = None, strain_dir = None))]
+    fn record<'py>(
+        &self,
+        py: Python<'py>,
+        duration_s: f64,
+        strain: Option<&str>,
+        strain_dir: Option<std::path::PathBuf>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let d = seconds(duration_s, "duration_s")?;
-        let recs = self.with(py, move |l| {
+        let mut beside = match (strain, &strain_dir) {
+            (None, _) => None,
+            (Some(p), None) => {
+                return Err(value_error(format!(
+                    "strain = {p:?}: give strain_dir, the folder for strain.csv"
+                )));
+            }
+            (Some(p), Some(dir)) => {
+                let servo = self.port.clone();
+                // Calibration takes seconds on the lab's board: other Python threads may run.
+                Some(
+                    py.detach(|| ::board::strain::StrainBeside::start(p, &servo, dir))
+                        .map_err(|e| value_error(format!("strain = {p:?}: {e}")))?,
+                )
+            }
+        };
+        let recs = self.with(py, |l| {
             let deadline = l.now() + d;
             let mut out = Vec::new();
             loop {
                 let now = l.now();
                 let left = deadline.saturating_sub(now);
                 match l.telemetry(left)? {
-                    Some(t) => out.push(t),
+                    Some(t) => {
+                        if let Some(b) = beside.as_mut() {
+                            b.note(t.time_us as f64 * 1e-6);
+                        }
+                        out.push(t);
+                    }
                     None => break,
                 }
                 if left.is_zero() {
@@ -441,7 +476,11 @@ impl Board {
             }
             Ok(out)
         })?;
-        records::telemetry_dict(py, &recs, &self.naming())
+        let dict = records::telemetry_dict(py, &recs, &self.naming())?;
+        if let (Some(b), Some(dir)) = (beside, strain_dir) {
+            records::strain_items(py, &dict, b.finish(), &dir)?;
+        }
+        Ok(dict)
     }
 
     /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new

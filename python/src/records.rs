@@ -210,3 +210,28 @@ pub fn slot_dict<'py>(py: Python<'py>, s: &SlotInfo) -> PyResult<Bound<'py, PyDi
     d.set_item("message", loss_message(s))?;
     Ok(d)
 }
+
+/// Adds a strain recording's arrays to a telemetry dict (see `Board.record`).
+pub fn strain_items(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    end: ::board::strain::StrainEnd,
+    dir: &std::path::Path,
+) -> PyResult<()> {
+    let mut error = end.recording.err().map(|e| e.to_string());
+    if let Err(e) = &end.clock {
+        error.get_or_insert_with(|| e.to_string());
+    }
+    let csv = dir.join(::board::strain::recorder::STRAIN_CSV);
+    let a = ::board::strain::beside::read_aligned(&csv).map_err(crate::errors::value_error)?;
+    let t = Array1::from_iter(a.time_s.iter().map(|t| t.unwrap_or(f64::NAN)));
+    let n = a.counts.len();
+    let counts = Array2::from_shape_fn((n, ::board::strain::channels::CHANNELS), |(i, c)| {
+        a.counts[i][c]
+    });
+    d.set_item("strain_time_s", t.to_pyarray(py))?;
+    d.set_item("strain_counts", counts.to_pyarray(py))?;
+    d.set_item("strain_names", ::board::strain::channels::names())?;
+    d.set_item("strain_error", error)?;
+    Ok(())
+}

@@ -41,3 +41,42 @@ def test_a_model_without_gauges_has_an_empty_strain_array(tmp_path) -> None:
     p = dbot.plan(dbot.Model.load(path), slices=20)
     assert p.gauge_names == []
     assert p.strain.shape == (20, 0)
+
+
+def test_board_record_with_the_virtual_strain_board_beside_it(tmp_path) -> None:
+    # The in-process strain board at zero strain streams what calibration trimmed every gauge
+    # to: 300 counts (lab-practice.md: 300 +- 75), 36 gauges in the board's order.
+    from conftest import open_board
+
+    plan = dbot.plan(dbot.Model.builtin("drosophibot2"), slices=20)
+
+    def walk(**strain) -> dict:
+        board = open_board("virtual")
+        board.upload_plan(0, plan)
+        board.set_telemetry(1)
+        board.play(0, steps=1)
+        return board.record(plan.period_s + 1.0, **strain)
+
+    rec = walk(strain="virtual", strain_dir=tmp_path)
+    assert rec["strain_error"] is None
+    assert rec["strain_names"] == [f"{leg}_{g}" for leg in BOARD_LEGS for g in PER_LEG]
+    counts = rec["strain_counts"]
+    assert counts.shape[1] == 36 and counts.shape[0] >= 1
+    assert np.all(counts == 300.0)
+    assert np.all(np.isfinite(rec["strain_time_s"]))
+    assert (tmp_path / "strain.csv").is_file() and (tmp_path / "strain_clock.csv").is_file()
+    # The telemetry is the same walk's as without strain (the virtual robot's clock is simulated).
+    np.testing.assert_array_equal(rec["cycle"], walk()["cycle"])
+    assert "strain_counts" not in walk()
+
+
+def test_strain_without_a_folder_is_refused_by_name() -> None:
+    from conftest import open_board
+
+    board = open_board("virtual")
+    try:
+        board.record(0.1, strain="virtual")
+    except ValueError as e:
+        assert 'strain = "virtual": give strain_dir' in str(e)
+    else:
+        raise AssertionError("strain without strain_dir was accepted")
