@@ -181,3 +181,59 @@ fn the_servo_boards_port_is_refused_as_the_strain_port() {
     // Refused before anything was opened or made: no trial folder.
     assert!(!out.exists());
 }
+
+/// `dbot compare --strain` on a recording of the in-process strain board, which reads its
+/// baseline whatever the robot does: no strain measured, so every gauge's fitted gain is 0
+/// counts per microstrain (and no R^2: the counts do not vary), for the gauges the plan predicts.
+#[test]
+fn compare_fits_a_zero_gain_to_a_board_that_measures_no_strain() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let plan = dir.join("p");
+    let p = plan.to_str().unwrap();
+    let d = run(dir, &strings(&["plan", "--slices", "20", "--out", p]));
+    assert!(d.status.success(), "{}", d.stderr);
+    let t = plan.join("walk.dbgt");
+    let t = t.to_str().unwrap();
+    let d = run(dir, &strings(&["table", "--plan", p, "--out", t]));
+    assert!(d.status.success(), "{}", d.stderr);
+    let out = dir.join("trials");
+    let d = record(dir, &out, t, &["--strain", "virtual"]);
+    assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
+    let trial = latest_trial(&out).unwrap().unwrap();
+    let cmp = dir.join("cmp");
+    let d = run(
+        dir,
+        &strings(&[
+            "compare",
+            "--strain",
+            trial.to_str().unwrap(),
+            p,
+            "--out",
+            cmp.to_str().unwrap(),
+        ]),
+    );
+    assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
+    let gains = std::fs::read_to_string(cmp.join("strain_gains.csv")).unwrap();
+    let lines: Vec<&str> = gains.lines().collect();
+    assert_eq!(lines[0], "gauge,counts_per_microstrain,r2,samples");
+    // The built-in model predicts all 36 of the board's gauges.
+    assert_eq!(lines.len(), 37, "{gauges}", gauges = gains);
+    for l in &lines[1..] {
+        let c: Vec<&str> = l.split(',').collect();
+        let samples: usize = c[3].parse().unwrap();
+        assert!(samples > 0, "{l}");
+        assert_eq!((c[1], c[2]), ("0.000000", ""), "{l}");
+    }
+    // One plan directory, not two, with --strain.
+    let d = run(
+        dir,
+        &strings(&["compare", "--strain", trial.to_str().unwrap(), p, p]),
+    );
+    assert!(
+        d.stderr
+            .contains("--strain TRIAL compares with one plan directory"),
+        "{}",
+        d.stderr
+    );
+}

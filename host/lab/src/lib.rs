@@ -13,6 +13,7 @@
 //! - [`paper_robot`]: the paper's robot experiments (figures 5 to 7) on the physics robot.
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
 //! - [`plan_comparison`], [`overlay`]: two plans DoF by DoF, a speed sweep, their plots.
+//! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge.
 //! - [`validation`]: the run results of docs/validation.md.
 
 pub mod demo;
@@ -22,6 +23,7 @@ pub mod paper_comparison;
 pub mod paper_robot;
 pub mod plan_comparison;
 pub mod plan_walk;
+pub mod strain_compare;
 pub mod validation;
 pub mod walk;
 pub mod walk_bias;
