@@ -201,8 +201,8 @@ mod tests {
     use super::*;
 
     /// Counts = 0.5 x prediction exactly: gain 0.5, R^2 1, no residual. Counts = -2 x prediction
-    /// + noise of +-1 count alternating (sums to zero against an alternating-free prediction):
-    /// gain near -2. A flat prediction has no gain and no R^2.
+    /// plus an alternating noise of 1 count: gain near -2. A flat prediction has no gain and no
+    /// R^2.
     #[test]
     fn gains_and_r2_against_hand_built_pairs() {
         let x: Vec<f64> = (0..20)
