@@ -1,0 +1,147 @@
+//! The model's strain gauges measured on the physics robot (issue 26 item 3), turned into
+//! readings by the planner's own code (`planner::strain::slice_readings`), so a simulated and a
+//! predicted reading differ only by what the two worlds differ in.
+//!
+//! What is measured in MuJoCo: every joint's angle, velocity and acceleration (`qpos`, `qvel`,
+//! `qacc`), the thorax's motion (its free joint: world-frame linear velocity and acceleration of
+//! its origin, body-frame angular ones), gravity as MuJoCo applies it now (it ramps in at power
+//! on) and each foot sphere's contact force. The section wrench is then the distal free body's:
+//! the cut segment's distal part and every body beyond it, their `m (a - g)` from that motion,
+//! less the measured contact forces on their feet.
+//!
+//! Why this and not an MJCF split into welded bodies with a force-torque sensor at the section:
+//! for rigid bodies the two are the same number. A weld sensor reports the interaction wrench of
+//! the welded child with its parent, which MuJoCo itself computes (`mj_rnePostConstraint`) by
+//! summing over the child's subtree exactly these `m (a - g)` and contact forces, from the same
+//! `qacc`. The split would add bodies to the MJCF (merged beside other changes to it), and to
+//! keep the segment's inertia exactly its two halves would need inertias that are not always
+//! physical (a slender segment cut near its proximal end: `s I < m s (1 - s) L^2 / 4`), while the
+//! segment's mass is shared out along its axis here exactly as in the planner (`cut.rs`: a
+//! uniform rod), so the dynamics of the physics robot are untouched.
+
+use mujoco_rs::prelude::MjtObjBase;
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use planner::dynamics::{SliceInput, ThoraxMotion};
+use planner::model::{Actuation, Model};
+use planner::strain::cut::Site;
+use planner::strain::{GaugeReading, StrainError};
+
+use crate::plant::Plant;
+
+/// The gauges of one model on a plant of it.
+#[derive(Debug, Clone)]
+pub struct SimulatedGauges {
+    model: Model,
+    sites: Vec<Site>,
+    /// Per model joint: its `qpos` and `dof` addresses (None: a fixed joint, at its angle).
+    joints: Vec<Option<(usize, usize)>>,
+    /// The thorax's free joint `dof` address (None: the thorax is held, as on the fly's rig).
+    free_dof: Option<usize>,
+}
+
+/// Every gauge's simulated reading at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulatedStrain {
+    /// Simulated time, s.
+    pub time_s: f64,
+    /// Gauge names, `model.gauges` order (the strain board's for the built-in robot).
+    pub names: Vec<String>,
+    pub readings: Vec<GaugeReading>,
+}
+
+impl SimulatedStrain {
+    /// Microstrain per gauge, in `names` order.
+    pub fn microstrain(&self) -> Vec<f64> {
+        self.readings.iter().map(|r| r.microstrain).collect()
+    }
+}
+
+impl SimulatedGauges {
+    /// The gauges of `model` on `plant` (a plant of `model`).
+    pub fn new(model: &Model, plant: &Plant) -> Result<Self, StrainError> {
+        let sites = planner::strain::sites(model)?;
+        let mj = plant.data.model();
+        let joints = model
+            .joints
+            .iter()
+            .map(|j| match j.actuation {
+                Actuation::Fixed { .. } => None,
+                Actuation::Actuated { .. } => mj
+                    .name_to_id(MjtObjBase::mjOBJ_JOINT, &j.name)
+                    .map(|id| (mj.jnt_qposadr()[id] as usize, mj.jnt_dofadr()[id] as usize)),
+            })
+            .collect();
+        let thorax = plant.thorax;
+        let free_dof = (mj.body_jntnum()[thorax] > 0)
+            .then(|| mj.jnt_dofadr()[mj.body_jntadr()[thorax] as usize] as usize);
+        Ok(Self {
+            model: model.clone(),
+            sites,
+            joints,
+            free_dof,
+        })
+    }
+
+    /// The gauges' names.
+    pub fn names(&self) -> Vec<String> {
+        self.model.gauges.iter().map(|g| g.name.clone()).collect()
+    }
+
+    /// The planner's slice input measured on `plant` now, and the contact force on each foot,
+    /// both in the thorax frame.
+    pub fn measured(&self, plant: &Plant) -> (SliceInput, Vec<Vector3<f64>>) {
+        let d = &plant.data;
+        let (qpos, qvel, qacc) = (d.qpos(), d.qvel(), d.qacc());
+        let n = self.model.joints.len();
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for (j, joint) in self.model.joints.iter().enumerate() {
+            match (self.joints[j], &joint.actuation) {
+                (Some((p, v)), _) => (q[j], qd[j], qdd[j]) = (qpos[p], qvel[v], qacc[v]),
+                (None, Actuation::Fixed { angle }) => q[j] = *angle,
+                (None, Actuation::Actuated { .. }) => {}
+            }
+        }
+        let (_, w) = plant.thorax_pose();
+        let r: Matrix3<f64> =
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w[0], w[1], w[2], w[3]))
+                .to_rotation_matrix()
+                .into_inner();
+        let rt = r.transpose();
+        let v3 = |s: &[f64]| Vector3::new(s[0], s[1], s[2]);
+        let thorax = match self.free_dof {
+            // A free joint: linear parts world frame, angular parts body frame (MuJoCo's rule).
+            Some(f) => ThoraxMotion {
+                linear_velocity: rt * v3(&qvel[f..f + 3]),
+                angular_velocity: v3(&qvel[f + 3..f + 6]),
+                linear_acceleration: rt * v3(&qacc[f..f + 3]),
+                angular_acceleration: v3(&qacc[f + 3..f + 6]),
+            },
+            None => ThoraxMotion {
+                linear_velocity: Vector3::zeros(),
+                angular_velocity: Vector3::zeros(),
+                linear_acceleration: Vector3::zeros(),
+                angular_acceleration: Vector3::zeros(),
+            },
+        };
+        let gravity = rt * Vector3::from(d.model().opt().gravity);
+        let mut input = SliceInput::still(&self.model, q);
+        input.qd = qd;
+        input.qdd = qdd;
+        input.thorax = thorax;
+        input.gravity = gravity;
+        let forces = plant.foot_forces();
+        input.stance = forces.iter().map(|(_, f)| f[2] != 0.0).collect();
+        let grf = forces.iter().map(|(_, f)| rt * Vector3::from(*f)).collect();
+        (input, grf)
+    }
+
+    /// Every gauge's reading on `plant` now.
+    pub fn read(&self, plant: &Plant) -> SimulatedStrain {
+        let (input, grf) = self.measured(plant);
+        SimulatedStrain {
+            time_s: plant.time(),
+            names: self.names(),
+            readings: planner::strain::slice_readings(&self.model, &self.sites, &input, &grf),
+        }
+    }
+}
