@@ -83,7 +83,8 @@ pub struct Args {
     #[arg(long, requires = "play")]
     pub period: Option<f64>,
     /// Record the lab's strain board on this port beside the servos (a serial path, or `virtual`
-    /// for a board in this process at its baseline); it calibrates before the robot moves.
+    /// for a board in this process: fed by the body's simulated gauges on `--port physics`, at
+    /// zero strain otherwise); it calibrates before the robot moves.
     #[arg(long, value_name = "PORT")]
     pub strain: Option<String>,
     /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
@@ -196,8 +197,11 @@ impl Args {
         let strain = match &self.strain {
             Some(p) => {
                 println!("strain board on {p}: calibrating");
+                // `virtual` beside the physics robot reads the body's simulated gauges.
+                let feed = s.board.transport_mut().strain_feed(p);
+                let port = s.board.port().to_owned();
                 Some(
-                    StrainBeside::start(p, s.board.port(), folder.work_dir())
+                    StrainBeside::start_fed(p, &port, folder.work_dir(), feed)
                         .with_context(|| format!("--strain {p}"))?,
                 )
             }

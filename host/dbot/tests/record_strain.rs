@@ -237,3 +237,50 @@ fn compare_fits_a_zero_gain_to_a_board_that_measures_no_strain() {
         d.stderr
     );
 }
+
+/// `--port physics --strain virtual`: the in-process strain board reads the body's simulated
+/// gauges (counts = 300 + 0.5 x microstrain, saturating at 0..1023). Its first sample, the
+/// baseline, is taken before gravity ramps in (the physics robot powers on weightless), so it is
+/// the 300 counts calibration trimmed to; once the body stands on its legs the gauges move off it
+/// by far more than the 1-count ADC step (the standing prediction reaches 470 microstrain, 235
+/// counts, `physics/tests/strain_standing.rs`).
+#[test]
+fn the_physics_robots_gauges_feed_the_virtual_strain_board() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let t = table(dir, "g.dbgt", 40, 2.0);
+    let out = dir.join("trials");
+    let mut a = strings(&[
+        "record",
+        "--out",
+        out.to_str().unwrap(),
+        "--table",
+        &t,
+        "--play",
+        "0",
+        "--steps",
+        "1",
+        "--port",
+        "physics",
+        "--strain",
+        "virtual",
+    ]);
+    a.extend(strings(&[]));
+    let d = run(dir, &a);
+    assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
+    let trial = latest_trial(&out).unwrap().unwrap();
+    let base = std::fs::read_to_string(trial.join("strain_baseline.csv")).unwrap();
+    let row: Vec<&str> = base.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(row[0], "first_sample");
+    assert!(row[1..].iter().all(|v| *v == "300"), "{base}");
+    let rows = strain_rows(&trial);
+    let mut largest = 0.0f64;
+    for r in &rows[1..] {
+        for v in r.split(',').skip(2) {
+            let c: f64 = v.parse().unwrap();
+            assert!((0.0..=1023.0).contains(&c), "{r}");
+            largest = largest.max((c - 300.0).abs());
+        }
+    }
+    assert!(largest > 50.0, "largest deviation {largest} counts");
+}

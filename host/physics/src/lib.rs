@@ -24,7 +24,7 @@ mod walk_log;
 pub use body::{Body, Foot, Thorax};
 pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
-pub use gauges::{SimulatedGauges, SimulatedStrain};
+pub use gauges::{STRAIN_SAMPLE_S, SimulatedGauges, SimulatedStrain};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
 pub use timestep::{Stiffest, stiffest_joint};

@@ -51,8 +51,19 @@ impl StrainBeside {
     /// beside the servo board on `servo_port` (refused as the strain port, by name), and waits
     /// until it has calibrated and sent its first sample. Its failure to get there is the error.
     pub fn start(port: &str, servo_port: &str, dir: &Path) -> Result<Self, StrainError> {
+        Self::start_fed(port, servo_port, dir, None)
+    }
+
+    /// [`Self::start`], a `virtual` strain board's gauges reading `feed` when given: the physics
+    /// robot's simulated gauges (`physics::PhysicsRobot::feed_strain`).
+    pub fn start_fed(
+        port: &str,
+        servo_port: &str,
+        dir: &Path,
+        feed: Option<super::source::Shared>,
+    ) -> Result<Self, StrainError> {
         let epoch = Instant::now();
-        let recorder = StrainRecorder::start(port, servo_port, dir, epoch)?;
+        let recorder = StrainRecorder::start_fed(port, servo_port, dir, epoch, feed)?;
         Self::ready(recorder, epoch, dir)
     }
 
