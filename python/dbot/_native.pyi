@@ -1,7 +1,7 @@
 """Type stubs of the native module ``dbot._native`` (PyO3). See the package docstring."""
 
 from os import PathLike
-from typing import Any, Literal, TypedDict
+from typing import Any, Literal, NotRequired, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -252,6 +252,17 @@ class Proprioception(Records):
     time_us: npt.NDArray[np.int64]
     setpoint_seq: npt.NDArray[np.int64]
     setpoint_age: npt.NDArray[np.int64]
+    strain_names: NotRequired[list[str]]
+    """Physics robot only: the simulated gauges (the strain board's names)."""
+    strain_microstrain: NotRequired[npt.NDArray[np.float64]]
+    """[record, gauge]: the latest simulated sample at or before each record (NaN: none)."""
+    strain_age_s: NotRequired[npt.NDArray[np.float64]]
+    """[record]: the record's time less that sample's (0 to 24 ms)."""
+
+class SimulatedStrain(TypedDict):
+    time_s: float
+    names: list[str]
+    microstrain: npt.NDArray[np.float64]
 
 class Settings(TypedDict):
     baud: int
@@ -305,6 +316,9 @@ class Board:
         """What the port is: a board or the emulator's pty, the virtual robot, the physics robot."""
     def body(self) -> Body:
         """The physics robot's body now; raises BoardError on any other kind of port."""
+    def strain(self) -> SimulatedStrain | None:
+        """The physics robot's simulated strain gauges, latest sample (every 24 ms of simulated
+        time); None before the first bus cycle; raises BoardError on any other kind of port."""
     @property
     def joint_names(self) -> list[str]:
         """The board's joints in joint-map order: the model joint each servo of the gait in use

@@ -5,6 +5,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use ::board::link::Transport;
+use numpy::ToPyArray;
 use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -42,6 +43,31 @@ fn seconds(s: f64, what: &str) -> PyResult<Duration> {
 }
 
 impl Board {
+    /// Proprioception records as a dict; on the physics robot with the strain each record knew
+    /// (`records::proprioception_strain`).
+    fn proprioception<'py>(
+        &self,
+        py: Python<'py>,
+        recs: &[protocol::Proprioception],
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let d = records::proprioception_dict(py, recs, &self.naming())?;
+        let strain = self.with(py, |l| {
+            let t = l.transport();
+            Ok(t.physics().map(|p| {
+                let names = p.gauge_names();
+                let s: Vec<_> = recs
+                    .iter()
+                    .map(|r| t.strain_at(r.time_us as f64 * 1e-6))
+                    .collect();
+                (names, s)
+            }))
+        })?;
+        if let Some((names, s)) = strain {
+            records::proprioception_strain(py, &d, recs, &s, &names)?;
+        }
+        Ok(d)
+    }
+
     /// Runs `f` on the link.
     fn with<R>(
         &self,
@@ -538,14 +564,40 @@ impl Board {
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
         let d = seconds(timeout_s, "timeout_s")?;
         let rec = self.with(py, move |l| l.proprioception(d))?;
-        rec.map(|p| records::proprioception_dict(py, &[p], &self.naming()))
-            .transpose()
+        rec.map(|p| self.proprioception(py, &[p])).transpose()
     }
 
     /// Every proprioception record received so far, without waiting: a dict of arrays.
     fn drain_proprioception<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let recs = self.with(py, |l| l.drain_proprioception())?;
-        records::proprioception_dict(py, &recs, &self.naming())
+        self.proprioception(py, &recs)
+    }
+
+    /// The physics robot's simulated strain gauges, the latest sample (taken every 24 ms of
+    /// simulated time, as the strain board's lines come): `time_s`, `names` (the strain board's
+    /// gauge names, e.g. `LF_troch_axial`) and `microstrain` (per gauge). None before the first
+    /// bus cycle; BoardError on any other kind of port.
+    fn strain<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let physics = self.with(py, |l| Ok(l.transport().physics().is_some()))?;
+        if !physics {
+            return Err(board_error(format!(
+                "{}: no simulated strain gauges: they exist only on the physics robot (open \
+                 `physics` or `physics:SCENE`)",
+                self.port
+            )));
+        }
+        let s = self.with(py, |l| Ok(l.transport().strain()))?;
+        s.map(|s| {
+            let d = PyDict::new(py);
+            d.set_item("time_s", s.time_s)?;
+            d.set_item("names", s.names.clone())?;
+            d.set_item(
+                "microstrain",
+                numpy::ndarray::Array1::from(s.microstrain()).to_pyarray(py),
+            )?;
+            Ok(d)
+        })
+        .transpose()
     }
 
     fn __repr__(&self) -> String {

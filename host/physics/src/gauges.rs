@@ -25,6 +25,8 @@
 //! times the leg's turn since the stance (measured at most 1.3e-4 N m standing, of section
 //! moments up to about 1 N m).
 
+use std::collections::VecDeque;
+
 use mujoco_rs::prelude::MjtObjBase;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use planner::dynamics::{SliceInput, ThoraxMotion};
@@ -38,11 +40,15 @@ use crate::plant::Plant;
 /// line period (a line of 36 values at 115200 bit/s and its 2 ms pause, ESTIMATE 24 ms).
 pub const STRAIN_SAMPLE_S: f64 = 0.024;
 
+/// Samples kept for [`StrainSampler::at`]: about 3 s, longer than a record waits in a queue.
+const HISTORY: usize = 128;
+
 /// The physics robot's gauges sampled every [`STRAIN_SAMPLE_S`] as it steps.
 #[derive(Debug, Clone)]
 pub(crate) struct StrainSampler {
     pub(crate) gauges: SimulatedGauges,
-    pub(crate) latest: Option<SimulatedStrain>,
+    /// The last [`HISTORY`] samples, oldest first.
+    pub(crate) history: VecDeque<SimulatedStrain>,
     pub(crate) feed: Option<board::strain::source::Shared>,
     /// Per gauge its strain board column (None: a gauge the board does not have).
     columns: Vec<Option<usize>>,
@@ -61,7 +67,7 @@ impl StrainSampler {
             .collect();
         Ok(Self {
             gauges,
-            latest: None,
+            history: VecDeque::with_capacity(HISTORY),
             feed: None,
             columns,
         })
@@ -70,8 +76,8 @@ impl StrainSampler {
     /// Samples the gauges when a sample period has passed since the last one.
     pub(crate) fn sample(&mut self, plant: &Plant) {
         let due = self
-            .latest
-            .as_ref()
+            .history
+            .back()
             .is_none_or(|l| plant.time() - l.time_s >= STRAIN_SAMPLE_S - 1e-9);
         if !due || self.gauges.model.gauges.is_empty() {
             return;
@@ -86,7 +92,15 @@ impl StrainSampler {
             }
             feed.set(out);
         }
-        self.latest = Some(s);
+        if self.history.len() == HISTORY {
+            self.history.pop_front();
+        }
+        self.history.push_back(s);
+    }
+
+    /// The latest sample taken at or before `t_s` (None: none kept that old, or none yet).
+    pub(crate) fn at(&self, t_s: f64) -> Option<&SimulatedStrain> {
+        self.history.iter().rev().find(|s| s.time_s <= t_s + 1e-9)
     }
 }
 
@@ -230,15 +244,19 @@ mod tests {
         s.feed = Some(feed.clone());
         plant.advance_to(1.2);
         s.sample(&plant);
-        let first = s.latest.clone().unwrap();
+        let first = s.history.back().cloned().unwrap();
         // 10 ms later: not due (24 ms), the sample stays.
         plant.advance_to(1.21);
         s.sample(&plant);
-        assert_eq!(s.latest.as_ref().unwrap().time_s, first.time_s);
+        assert_eq!(s.history.back().unwrap().time_s, first.time_s);
         plant.advance_to(1.225);
         s.sample(&plant);
-        let latest = s.latest.clone().unwrap();
+        let latest = s.history.back().cloned().unwrap();
         assert!(latest.time_s > first.time_s);
+        // A record of a time between the two samples gets the older one; before both, none.
+        assert_eq!(s.at(first.time_s + 0.01).unwrap().time_s, first.time_s);
+        assert_eq!(s.at(latest.time_s).unwrap().time_s, latest.time_s);
+        assert!(s.at(first.time_s - 0.001).is_none());
         let board::strain::Reading::Microstrain(fed) = feed.reading(0, 0.0) else {
             panic!("the feed gives microstrain");
         };

@@ -153,12 +153,23 @@ impl PhysicsRobot {
     /// The latest sample of the simulated gauges (every [`crate::STRAIN_SAMPLE_S`] of simulated time,
     /// as the strain board's lines come; None before the first bus cycle).
     pub fn latest_strain(&self) -> Option<&SimulatedStrain> {
-        self.strain.latest.as_ref()
+        self.strain.history.back()
+    }
+
+    /// The latest sample of the simulated gauges taken at or before `t_s` s of simulated time
+    /// (the board's clock: a proprioception record's `time_us` x 1e-6); the last 3 s are kept.
+    pub fn strain_at(&self, t_s: f64) -> Option<&SimulatedStrain> {
+        self.strain.at(t_s)
     }
 
     /// The simulated gauges read now.
     pub fn strain_now(&self) -> SimulatedStrain {
         self.strain.gauges.read(&self.plant)
+    }
+
+    /// The simulated gauges' names, model order (the strain board's for the built-in robot).
+    pub fn gauge_names(&self) -> Vec<String> {
+        self.strain.gauges.names()
     }
 
     /// From now on each sample of the simulated gauges is also set into `feed`, by the strain

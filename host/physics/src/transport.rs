@@ -86,6 +86,12 @@ impl RobotLink {
         self.physics().and_then(|p| p.latest_strain().cloned())
     }
 
+    /// The physics robot's latest gauge sample at or before board time `t_s`, s (see
+    /// `PhysicsRobot::strain_at`; `None`: not the physics robot, or no sample that old).
+    pub fn strain_at(&self, t_s: f64) -> Option<crate::SimulatedStrain> {
+        self.physics().and_then(|p| p.strain_at(t_s).cloned())
+    }
+
     /// A feed of the physics robot's simulated gauges for a virtual strain board on
     /// `strain_port` (`board::strain::StrainBeside::start_fed`): Some only when the strain port
     /// is `virtual` and this is the physics robot, so `record --port physics --strain virtual`
