@@ -7,6 +7,7 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
+* :func:`compare_strain` - a trial's recorded strain against a plan's prediction, per gauge.
 * :func:`physics_walk` / :func:`walk_figures` - walk a plan directory's gait on a fresh physics
   robot and compute the figures ``dbot demo`` prints for a walk (the ``lab`` crate's functions).
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
@@ -31,6 +32,7 @@ from ._native import (
     PhysicsWalk,
     PlanDir,
     __version__,
+    compare_strain,
     physics_walk,
     plan,
     read_plan_dir,
@@ -48,6 +50,7 @@ __all__ = [
     "PhysicsWalk",
     "PlanDir",
     "__version__",
+    "compare_strain",
     "physics_walk",
     "plan",
     "read_plan_dir",

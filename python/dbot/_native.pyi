@@ -469,5 +469,17 @@ class WalkFigures(TypedDict):
     """Servo load (ESTIMATE from Present Load) against the planned torque, by joint name, over the
     whole steps after the first."""
 
+class GaugeFit(TypedDict):
+    gauge: str
+    samples: int
+    r2: float | None
+    """R^2 over the step phase of counts above baseline against predicted microstrain."""
+    gain: float | None
+    """Counts per predicted microstrain, fitted through the origin (a calibration)."""
+    rms_residual_counts: float | None
+
+def compare_strain(trial: str | PathLike[str], plan_dir: str | PathLike[str]) -> list[GaugeFit]:
+    """A trial's strain against ``plan_dir``'s prediction per gauge (``dbot compare --strain``)."""
+
 def walk_figures(walk: PhysicsWalk) -> WalkFigures:
     """The figures ``dbot demo`` prints for a walk, from what it recorded (SI units)."""

@@ -127,3 +127,14 @@ def test_strain_of_a_robot_without_a_body_is_refused_by_name() -> None:
         assert "virtual: no simulated strain gauges" in str(e)
     else:
         raise AssertionError("strain() on the virtual robot was accepted")
+
+
+def test_compare_strain_names_a_folder_that_is_not_a_trial(tmp_path) -> None:
+    # The comparison itself (lab::strain_compare) is tested in Rust and through `dbot compare
+    # --strain`; here: the binding reaches it and its refusal names the folder.
+    try:
+        dbot.compare_strain(tmp_path / "nothing", tmp_path)
+    except ValueError as e:
+        assert str(tmp_path / "nothing") in str(e)
+    else:
+        raise AssertionError("a missing trial was accepted")
