@@ -7,6 +7,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
+* :func:`compare` - two plan directories or trials DoF by DoF (R^2 of angles and torques), as
+  ``dbot compare A B``.
 * :func:`compare_strain` - a trial's recorded strain against a plan's prediction, per gauge.
 * :func:`physics_walk` / :func:`walk_figures` - walk a plan directory's gait on a fresh physics
   robot and compute the figures ``dbot demo`` prints for a walk (the ``lab`` crate's functions).
@@ -16,6 +18,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   (``enter_streaming``, ``send_setpoint``, ``next_proprioception``); ``Board.kind`` says which
   kind a port is and ``Board.body()`` reads the physics robot's simulated body (thorax pose and
   velocity, foot forces, contact, slip).
+* :func:`render_pose` / :func:`write_walk_gif` - the walk drawing of a simulated pose as RGB
+  pixels or a GIF (the environment's ``rgb_array``).
 * :mod:`dbot.env` - ``DbotEnv``, a Gymnasium environment over the physics robot or a board port
   with the firmware in the loop (needs the ``gymnasium`` package; imported on its own).
 
@@ -32,12 +36,16 @@ from ._native import (
     PhysicsWalk,
     PlanDir,
     __version__,
+    camera_half_extent,
+    compare,
     compare_strain,
     physics_walk,
     plan,
     read_plan_dir,
     read_trial,
+    render_pose,
     walk_figures,
+    write_walk_gif,
 )
 
 __all__ = [
@@ -50,10 +58,14 @@ __all__ = [
     "PhysicsWalk",
     "PlanDir",
     "__version__",
+    "camera_half_extent",
+    "compare",
     "compare_strain",
     "physics_walk",
     "plan",
     "read_plan_dir",
     "read_trial",
+    "render_pose",
     "walk_figures",
+    "write_walk_gif",
 ]

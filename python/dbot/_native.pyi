@@ -37,6 +37,9 @@ class Model:
     def servo_joints(self) -> list[int]:
         """Indices into ``joint_names`` of the servo joints."""
     @property
+    def servo_stall_torques_nm(self) -> list[float]:
+        """Stall torque of each servo joint's actuator, N m (``servo_joint_names`` order)."""
+    @property
     def legs(self) -> list[str]: ...
     @property
     def limits(self) -> npt.NDArray[np.float64]:
@@ -107,6 +110,8 @@ def plan(
     model: Model,
     *,
     preset: str | None = None,
+    turn_deg: float | None = None,
+    radius_m: float | None = None,
     swing_s: float = ...,
     duty: float = ...,
     step_height_m: dict[str, float] = ...,
@@ -125,7 +130,11 @@ def plan(
     Drosophibot II; ``table1`` has the original solver's 0.5 s; also ``physical-robot``,
     ``paper-comparison``); keyword arguments override the preset's values
     (``step_height_m``/``body_height_m``: {hind, middle, front}; ``gait``: {phi_i, phi_c};
-    ``placement``: {forward_m: {..}, outward_m: {..}})."""
+    ``placement``: {forward_m: {..}, outward_m: {..}}). ``turn_deg`` (thorax yaw per step, deg,
+    positive left) and ``radius_m`` (of the thorax path, m, positive with the centre on the left)
+    plan a curve as ``dbot plan --turn --radius`` does: ``turn_deg`` alone keeps the stride,
+    ``radius_m`` alone sets the turn from the stride, both set the stride (``radius_m=0``: on the
+    spot); out-of-range values raise ``ValueError`` naming the parameter."""
 
 class PlanDir:
     """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /
@@ -195,6 +204,22 @@ class Trial(TypedDict):
 
 def read_trial(path: str | PathLike[str]) -> Trial:
     """Reads a trial folder; ValueError naming the file and line (or format version)."""
+
+class ComparisonRow(TypedDict):
+    leg: str
+    dof: str
+    #: ``"A"`` or ``"B"``: the side whose joints were summed (ThC2+CTr); ``""`` for a plain DoF.
+    summed_in: str
+    r2_angle: float | None
+    r2_torque: float | None
+
+def compare(
+    a: str | PathLike[str], b: str | PathLike[str], out: str | PathLike[str]
+) -> list[ComparisonRow]:
+    """Per common DoF of ``a`` and ``b`` (plan directories or trial folders, in any mix) the R^2 of
+    a linear regression of the angles and of the torques, as ``dbot compare A B``; writes
+    compare.csv and the overlay plots into ``out``. A trial's traces are its measured angles and
+    estimated torques averaged per slice over steps 1 to the last whole one."""
 
 class Fault(TypedDict):
     kind: str
@@ -332,6 +357,10 @@ class Board:
     def __enter__(self) -> Board: ...
     def __exit__(self, *args: object) -> bool: ...
     def info(self) -> dict[str, Any]: ...
+    def gaits(self) -> list[dict[str, Any]]:
+        """Every gait slot, as ``dbot gaits`` lists them: ``slot``, ``gait`` (None for an empty
+        slot, else ``name``, ``crc``, ``joints``, ``slices``, ``period_s``, ``duty``), ``lost``
+        (None, or what a damaged copy lost) and ``message`` (the loss in words)."""
     def status(self) -> Status:
         """State, fault, torque mask, playback position and the counters since boot
         (:class:`Counters`, named integers)."""
@@ -483,3 +512,20 @@ def compare_strain(trial: str | PathLike[str], plan_dir: str | PathLike[str]) ->
 
 def walk_figures(walk: PhysicsWalk) -> WalkFigures:
     """The figures ``dbot demo`` prints for a walk, from what it recorded (SI units)."""
+
+# -- pictures of a pose (render.rs) ------------------------------------------------------------
+
+def camera_half_extent(model: Model, pose: dict[str, Any], scene: str = "flat") -> list[float]:
+    """Camera half-extent (m, x y z) holding ``pose`` around its thorax on ``scene``."""
+
+def render_pose(
+    model: Model, pose: dict[str, Any], half_extent_m: list[float], scene: str = "flat"
+) -> npt.NDArray[np.uint8]:
+    """One RGB frame (420, 1200, 3) of ``pose`` (thorax_position_m, thorax_orientation (w, x, y,
+    z), q (one angle per model joint), stance (one flag per foot), caption) on ``scene``."""
+
+def write_walk_gif(
+    model: Model, poses: list[dict[str, Any]], path: str | PathLike[str], scene: str = "flat",
+    delay_ms: int = 100,
+) -> int:
+    """Writes ``poses`` as a looping GIF, the camera following the thorax; returns the frame count."""

@@ -17,7 +17,11 @@ emulator's pseudo-terminal), with the same spaces. It uses only the typed :class
 
 ``step(action)`` sends the 22 joint targets (rad, ``Model.servo_joint_names`` order, bounded by the
 model's joint limits) for each of ``cycles_per_step`` bus cycles and returns the last cycle's
-proprioception. Observation (a ``Dict``; what the board streams, so a controller tuned here runs on
+proprioception. With ``torques=True`` the action is a ``Dict``: ``angles_rad`` (the targets) and
+``torques_nm`` (22, N m, each bounded by its servo's stall torque, ``Model.servo_stall_torques_nm``:
+2.5 N m for an MX-28, 6.0 for an MX-64 at 12 V), the torque feed-forward of the board's streaming
+setpoint (``JointSetpoint::torque``, mN m on the wire): the firmware adds ``torque / stiffness`` to
+the angle, the same torque bias it applies to a played gait. Observation (a ``Dict``; what the board streams, so a controller tuned here runs on
 a board): ``present_rad`` (22, rad), ``velocity_rad_s`` (22, rad/s), ``load_raw`` (22, register 126
 as read: MX-28 load in 0.1 % of its maximum, MX-64 current in about 3.36 mA), ``setpoint_age`` (1,
 bus cycles since the setpoint in use arrived).
@@ -25,6 +29,16 @@ bus cycles since the setpoint in use arrived).
 ``info`` on the physics robot: ``body`` (``Board.body()``: thorax pose and velocity, foot forces,
 contact and slip, simulated time), ``time_s``, ``state``; on a board only what a board knows:
 ``time_s`` (its proprioception's clock) and ``state``.
+
+Rendering: ``render_mode="rgb_array"`` gives the demo's walk drawing of the present pose (top,
+side and front views on the scene's ground, blocks included; a ball is not drawn), 1200 x 420
+pixels, the camera centred on the thorax at the scale fixed at reset; on a board the thorax is
+drawn upright at the origin (a board cannot see its body). ``write_gif(path)`` writes the episode
+so far as a GIF with the camera following the thorax. MuJoCo's own renderer is not used.
+
+Scenes (``physics:SCENE`` or the ``scene`` reset option): ``flat``, ``incline:DEG``, ``ball``,
+``ball-fixed``, ``blocks[:SEED[:HEIGHT_M[:SIZE_M[:GAPS]]]]`` (seeded random block heights; the
+planner plans for flat, incline and ball only).
 
 Termination: a firmware fault (streaming stops: the state is ``Fault``), or on the physics robot a
 fall: thorax below ``fall_height_fraction`` (default 0.5) of its height at reset, or tilted more
@@ -42,7 +56,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ._native import Board, Model, Plan, plan
+from ._native import Board, Model, Plan, camera_half_extent, plan, render_pose, write_walk_gif
 
 #: Reward function: (info before the step, info after it, observation, action) -> reward.
 Reward = Callable[[dict[str, Any], dict[str, Any], dict[str, np.ndarray], np.ndarray], float]
@@ -70,7 +84,7 @@ def tilt_rad(orientation: np.ndarray) -> float:
 class DbotEnv(gym.Env):
     """Drosophibot II with its firmware: 22 joint targets in, what the board streams out."""
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 100}
 
     def __init__(
         self,
@@ -87,7 +101,13 @@ class DbotEnv(gym.Env):
         fall_height_fraction: float = 0.5,
         fall_tilt_rad: float = math.radians(30.0),
         reward: Reward = forward_progress,
+        torques: bool = False,
+        render_mode: str | None = None,
     ) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode {render_mode!r}: give None or 'rgb_array'")
+        self.render_mode = render_mode
+        self.metadata = {**self.metadata, "render_fps": 100 / cycles_per_step}
         if cycles_per_step < 1:
             raise ValueError(f"cycles_per_step = {cycles_per_step}: give 1 or more")
         self.port = port
@@ -106,7 +126,20 @@ class DbotEnv(gym.Env):
         limits = self.model.limits[self.model.servo_joints]
         n = len(self.model.servo_joints)
         self.joint_names = self.model.servo_joint_names
-        self.action_space = spaces.Box(limits[:, 0], limits[:, 1], shape=(n,), dtype=np.float64)
+        angles = spaces.Box(limits[:, 0], limits[:, 1], shape=(n,), dtype=np.float64)
+        self.torques = torques
+        self.stall_nm = np.asarray(self.model.servo_stall_torques_nm, dtype=np.float64)
+        self.action_space: spaces.Space = (
+            spaces.Dict(
+                {
+                    "angles_rad": angles,
+                    "torques_nm": spaces.Box(-self.stall_nm, self.stall_nm, dtype=np.float64),
+                }
+            )
+            if torques
+            else angles
+        )
+        self._angles_space = angles
         angle = spaces.Box(-2 * np.pi, 2 * np.pi, shape=(n,), dtype=np.float64)
         self.observation_space = spaces.Dict(
             {
@@ -123,6 +156,8 @@ class DbotEnv(gym.Env):
         self._steps = 0
         self._info: dict[str, Any] = {}
         self._start_height = 0.0
+        self._poses: list[dict[str, Any]] = []
+        self._camera: list[float] | None = None
 
     @staticmethod
     def _scene_of(port: str) -> str | None:
@@ -180,6 +215,11 @@ class DbotEnv(gym.Env):
         self._info = self._make_info(rec)
         if self.physics:
             self._start_height = float(self._info["body"]["thorax_position_m"][2])
+        self._poses = []
+        self._camera = None
+        if self.render_mode is not None:
+            self._poses.append(self._pose(obs))
+            self._camera = list(camera_half_extent(self.model, self._poses[0], self._scene_text()))
         return obs, dict(self._info)
 
     def _fresh_board(self) -> Board:
@@ -236,11 +276,9 @@ class DbotEnv(gym.Env):
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         if self.board is None:
             raise RuntimeError("call reset() before step()")
-        target = np.clip(
-            np.asarray(action, dtype=np.float64), self.action_space.low, self.action_space.high
-        )
+        target, torque = self._split(action)
         before = self._info
-        got = self._cycles(target, self.cycles_per_step)
+        got = self._cycles(target, self.cycles_per_step, torque)
         self._steps += 1
         truncated = self._steps >= self.max_episode_steps
         if got is None:
@@ -254,6 +292,8 @@ class DbotEnv(gym.Env):
         obs, rec = got
         info = self._make_info(rec)
         self._info = info
+        if self.render_mode is not None:
+            self._poses.append(self._pose(obs))
         terminated = info["state"] == "Fault" or self._fell(info)
         reward = float(self.reward_fn(before, info, obs, target))
         return obs, reward, terminated, truncated, dict(info)
@@ -262,17 +302,32 @@ class DbotEnv(gym.Env):
         timeout = 1.0 if self.physics else self.reply_timeout_s
         return board.next_proprioception(timeout_s=timeout)
 
+    def _split(self, action: Any) -> tuple[np.ndarray, np.ndarray | None]:
+        """The clipped joint targets and, with ``torques=True``, the clipped torques."""
+        low, high = self._angles_space.low, self._angles_space.high
+        if not self.torques:
+            return np.clip(np.asarray(action, dtype=np.float64), low, high), None
+        angles = np.clip(np.asarray(action["angles_rad"], dtype=np.float64), low, high)
+        torques = np.clip(
+            np.asarray(action["torques_nm"], dtype=np.float64), -self.stall_nm, self.stall_nm
+        )
+        return angles, torques
+
     def _cycles(
-        self, target: np.ndarray, n: int
+        self, target: np.ndarray, n: int, torque: np.ndarray | None = None
     ) -> tuple[dict[str, np.ndarray], dict] | None:
         assert self.board is not None
         rec = None
         for _ in range(n):
-            self.board.send_setpoint(target)
+            if torque is None:
+                self.board.send_setpoint(target)
+            else:
+                self.board.send_setpoint(target, torque)
             rec = self._next(self.board)
             if rec is None:
                 return None
         assert rec is not None
+        self.last_record = rec
         obs = {
             "present_rad": np.asarray(rec["present_rad"][0], dtype=np.float64),
             "velocity_rad_s": np.asarray(rec["velocity_rad_s"][0], dtype=np.float64),
@@ -295,6 +350,52 @@ class DbotEnv(gym.Env):
         body = info["body"]
         low = body["thorax_position_m"][2] < self.fall_height_fraction * self._start_height
         return bool(low or tilt_rad(body["thorax_orientation"]) > self.fall_tilt_rad)
+
+    # -- rendering ---------------------------------------------------------------------------
+
+    def _scene_text(self) -> str:
+        return self.scene if self.scene is not None else "flat"
+
+    def _pose(self, obs: dict[str, np.ndarray]) -> dict[str, Any]:
+        """The present pose for the drawing: the body's thorax and foot contacts on the physics
+        robot; upright at the origin, every foot down, on a board."""
+        q = np.zeros(len(self.model.joint_names))
+        q[self.model.servo_joints] = obs["present_rad"]
+        body = self._info.get("body")
+        if body is not None:
+            position = np.asarray(body["thorax_position_m"], dtype=np.float64)
+            orientation = np.asarray(body["thorax_orientation"], dtype=np.float64)
+            stance = [bool(c) for c in body["foot_contact"]]
+        else:
+            position = np.array([0.0, 0.0, 0.0])
+            orientation = np.array([1.0, 0.0, 0.0, 0.0])
+            stance = [True] * len(self.model.legs)
+        t = float(self._info.get("time_s", 0.0))
+        return {
+            "thorax_position_m": position,
+            "thorax_orientation": orientation,
+            "q": q,
+            "stance": stance,
+            "caption": f"{self.port} on {self._scene_text()}: t = {t:.2f} s, step {self._steps}",
+        }
+
+    def render(self) -> np.ndarray | None:
+        """The present pose as an RGB array (420, 1200, 3), or None without ``render_mode``."""
+        if self.render_mode is None:
+            return None
+        if not self._poses or self._camera is None:
+            raise RuntimeError("call reset() before render()")
+        return render_pose(self.model, self._poses[-1], self._camera, self._scene_text())
+
+    def write_gif(self, path: str, every: int = 1) -> int:
+        """Writes the episode so far (every ``every``-th step) as a GIF at ``path``, the camera
+        following the thorax, one frame per drawn step at the simulated pace; returns the frame
+        count. Needs ``render_mode="rgb_array"`` (the poses are kept only then)."""
+        if self.render_mode is None:
+            raise RuntimeError("write_gif needs render_mode='rgb_array'")
+        poses = self._poses[:: max(1, every)]
+        delay_ms = round(10 * self.cycles_per_step * max(1, every))
+        return write_walk_gif(self.model, poses, path, self._scene_text(), delay_ms)
 
     def close(self) -> None:
         if self.board is not None:

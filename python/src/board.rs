@@ -431,12 +431,10 @@ impl Board {
     /// servo's Position P Gain and the torque bias divides by it; within the hardware's limits,
     /// as `dbot set --stiffness` (protocol::limits).
     fn set_stiffness(&self, py: Python<'_>, joint: u8, stiffness_nm_rad: f64) -> PyResult<()> {
-        // The hardware's limits, as `dbot set --stiffness` and the setup file check them.
-        let units = protocol::limits::stiffness_units(stiffness_nm_rad).map_err(|e| {
-            value_error(format!(
-                "joint {joint}: stiffness {stiffness_nm_rad} N m/rad: {e}"
-            ))
-        })?;
+        // The library's rule, as `dbot set --stiffness` applies it: the board's unit range and
+        // the P gain register of every servo model (0: the torque bias off).
+        let units = ::board::rules::stiffness::units(stiffness_nm_rad)
+            .map_err(|e| value_error(format!("joint {joint}: {e}")))?;
         self.with(py, move |l| l.set_stiffness(joint, units))
     }
 

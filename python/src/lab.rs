@@ -35,9 +35,10 @@ pub fn physics_walk(
     } else {
         protocol::Direction::Forward
     };
+    let scene = planner::terrain::Ground::parse(scene).map_err(|e| value_error(e.to_string()))?;
     let inner = py
         .detach(|| {
-            lab::plan_walk::walk_plan_dir(&plan_dir, scene, steps, direction, &out, || false)
+            lab::plan_walk::walk_plan_dir(&plan_dir, &scene, steps, direction, &out, || false)
         })
         .map_err(|e| value_error(e.chain_text()))?;
     Ok(PhysicsWalk { inner })

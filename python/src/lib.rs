@@ -6,6 +6,7 @@
 mod arrays;
 mod board;
 mod body;
+mod compare;
 mod errors;
 mod lab;
 mod model;
@@ -13,6 +14,7 @@ mod names;
 mod plan;
 mod plan_dir;
 mod records;
+mod render;
 mod stream;
 mod trial;
 
@@ -32,6 +34,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     lab::register(m)?;
+    render::register(m)?;
     Ok(())
 }

@@ -69,6 +69,22 @@ impl Model {
         planner::plan::table::servo_joints(&self.inner)
     }
 
+    /// Stall torque of each servo joint's actuator, N m, `servo_joint_names` order (the MJCF
+    /// export's force limit: the e-manual's 12 V stall torque; infinite for a generic actuator).
+    #[getter]
+    fn servo_stall_torques_nm(&self) -> Vec<f64> {
+        planner::plan::table::servo_joints(&self.inner)
+            .into_iter()
+            .map(|j| match self.inner.joints[j].actuation {
+                planner::model::Actuation::Actuated {
+                    actuator,
+                    stiffness,
+                } => planner::model::servo_actuator(actuator, stiffness).stall_nm,
+                planner::model::Actuation::Fixed { .. } => 0.0,
+            })
+            .collect()
+    }
+
     /// Legs of the model (`LF`, ...), in foot order.
     #[getter]
     fn legs(&self) -> Vec<&'static str> {

@@ -24,12 +24,17 @@ pub struct Plan {
 /// `dbot plan --preset` does, and defaults to the CLI's default ([`planner::gait::DEFAULT_PRESET`],
 /// `servo-safe`: table 1 at a swing the servos can follow). Keyword arguments override the preset's
 /// values (fields of a parameter file: swing_s, duty, step_height_m, translation_m, rotation_rad,
-/// body_height_m, gait, slices, terrain, ball_radius_m, ball_offset_m, placement).
+/// body_height_m, gait, slices, terrain, ball_radius_m, ball_offset_m, placement). `turn_deg`
+/// (thorax yaw per step, positive left) and `radius_m` (of the thorax path, positive with the
+/// centre on the left; 0 with `turn_deg` turns on the spot) plan a curve as `dbot plan --turn
+/// --radius` does, by the same rule ([`planner::gait::Turn::apply`]), after the other parameters.
 #[pyfunction]
-#[pyo3(signature = (model, *, preset = None, **params))]
+#[pyo3(signature = (model, *, preset = None, turn_deg = None, radius_m = None, **params))]
 pub fn plan(
     model: &Model,
     preset: Option<&str>,
+    turn_deg: Option<f64>,
+    radius_m: Option<f64>,
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Plan> {
     let preset = preset.unwrap_or(planner::gait::DEFAULT_PRESET);
@@ -46,6 +51,9 @@ pub fn plan(
             .map_err(value_error)?;
         file.apply(&mut base);
     }
+    planner::gait::Turn { turn_deg, radius_m }
+        .apply(&mut base)
+        .map_err(value_error)?;
     let inner = planner::plan::plan(&model.inner, &base).map_err(value_error)?;
     Ok(Plan {
         inner,

@@ -21,9 +21,51 @@ from dbot.env import DbotEnv
 
 
 def test_check_env_passes_on_the_physics_robot() -> None:
-    env = DbotEnv("physics", max_episode_steps=20)
-    # skip_render_check: the environment has no render modes yet.
+    env = DbotEnv("physics", max_episode_steps=20, render_mode="rgb_array")
+    check_env(env)
+    env.close()
+
+
+def test_check_env_passes_with_torques_in_the_action() -> None:
+    env = DbotEnv("physics:blocks:3", max_episode_steps=20, torques=True)
     check_env(env, skip_render_check=True)
+    # Bounded by each servo's stall torque (e-manual, 12 V): MX-28 2.5 N m, MX-64 6.0 N m.
+    high = env.action_space["torques_nm"].high
+    assert set(np.round(high, 6)) <= {2.5, 6.0} and np.array_equal(high, -env.action_space["torques_nm"].low)
+    env.close()
+
+
+def test_a_torque_in_the_action_biases_the_commanded_angle_by_torque_over_stiffness() -> None:
+    # The firmware's torque bias: goal = angle + torque / stiffness (protocol JointSetpoint).
+    k = 10.0
+    env = DbotEnv("physics", max_episode_steps=20, torques=True, stiffness_nm_rad=k)
+    env.reset(seed=0)
+    torque = np.zeros(len(env.joint_names))
+    torque[0], torque[5] = 0.5, -1.2
+    env.step({"angles_rad": env.rest_rad, "torques_nm": torque})
+    shift = np.asarray(env.last_record["commanded_rad"][0]) - env.rest_rad
+    # 0.5 / 10 = 0.05 rad and -1.2 / 10 = -0.12 rad, within 2 %: the board holds the stiffness
+    # as the servo's nearest Position P Gain (host/physics/src/servo.rs), about 1 % off here.
+    assert abs(shift[0] / 0.05 - 1) < 0.02 and abs(shift[5] / -0.12 - 1) < 0.02, shift[[0, 5]]
+    assert np.max(np.abs(np.delete(shift, [0, 5]))) < 3e-4
+    env.close()
+
+
+def test_render_draws_the_robot_on_its_blocks_and_an_episode_becomes_a_gif(tmp_path) -> None:
+    env = DbotEnv("physics", max_episode_steps=30, render_mode="rgb_array")
+    env.reset(seed=0, options={"scene": "blocks:5"})
+    for _ in range(10):
+        env.step(env.rest_rad)
+    frame = env.render()
+    assert frame.shape == (420, 1200, 3) and frame.dtype == np.uint8
+    # The drawing's colours: the foot red of stance feet (report/src/robot/views.rs FOOT) and,
+    # from above, the shaded blocks (not white) fill most of the top view's plot.
+    assert np.any(np.all(frame == [214, 39, 40], axis=-1))
+    top = frame[80:330, 60:380]
+    assert np.mean(np.any(top != 255, axis=-1)) > 0.8
+    gif = tmp_path / "episode.gif"
+    assert env.write_gif(str(gif), every=2) == 6
+    assert gif.read_bytes()[:6] == b"GIF89a"
     env.close()
 
 
@@ -98,3 +140,20 @@ def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
         assert not terminated
     board_env.close()
     phys.close()
+
+
+def test_torques_reach_the_emulated_board_as_a_bias(emulator_port) -> None:
+    # The same Dict action on the release firmware image: its commanded angle is the target plus
+    # torque / stiffness, as on the physics robot (2 %: the P gain's quantisation).
+    k = 10.0
+    env = DbotEnv(emulator_port, max_episode_steps=10, torques=True, stiffness_nm_rad=k)
+    env.reset(seed=0)
+    torque = np.zeros(len(env.joint_names))
+    torque[3] = 0.8
+    for _ in range(3):
+        obs, _, terminated, _, _ = env.step({"angles_rad": env.rest_rad, "torques_nm": torque})
+        assert not terminated
+    shift = np.asarray(env.last_record["commanded_rad"][0]) - env.rest_rad
+    assert abs(shift[3] / 0.08 - 1) < 0.02, shift[3]
+    assert np.max(np.abs(np.delete(shift, 3))) < 3e-4
+    env.close()

@@ -10,24 +10,13 @@ Needs the CLI binary: `cargo build -p dbot` (scripts/test.sh builds it before py
 from __future__ import annotations
 
 import math
-import os
 import pathlib
 import subprocess
 
 import dbot
+from dbot_cli import dbot_cli
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
 STEPS = 2
-
-
-def dbot_cli() -> pathlib.Path:
-    if os.environ.get("DBOT_BIN"):
-        return pathlib.Path(os.environ["DBOT_BIN"])
-    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    exe = target / "debug" / "dbot"
-    # A missing binary is a failure, not a skip: the test would otherwise pass without running.
-    assert exe.exists(), f"{exe} is missing: build it with `cargo build -p dbot` (or set DBOT_BIN)"
-    return exe
 
 
 def section(lines: list[str], head: str) -> list[str]:

@@ -10,34 +10,14 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
 import pathlib
-import subprocess
 
 import numpy as np
 import pytest
 
 import dbot
+from dbot_cli import dbot_cli, run
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-def dbot_cli() -> pathlib.Path:
-    if os.environ.get("DBOT_BIN"):
-        return pathlib.Path(os.environ["DBOT_BIN"])
-    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    exe = target / "debug" / "dbot"
-    # A missing binary is a failure, not a skip: the test would otherwise pass without running.
-    assert exe.exists(), f"{exe} is missing: build it with `cargo build -p dbot` (or set DBOT_BIN)"
-    return exe
-
-
-def run(*args: str, cwd: pathlib.Path) -> str:
-    out = subprocess.run(
-        [str(dbot_cli()), *args], cwd=cwd, capture_output=True, text=True, timeout=600
-    )
-    assert out.returncode == 0, out.stderr
-    return out.stdout
 
 
 @pytest.fixture(scope="module")

@@ -22,20 +22,10 @@ import warnings
 import pytest
 
 import dbot
+from dbot_cli import dbot_cli
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: MX-28(2.0) no-load speed at 12 V: 55 rev/min (e-manual), rad/s.
 MX28_NO_LOAD = 55.0 * 2.0 * math.pi / 60.0
-
-
-def dbot_cli() -> pathlib.Path:
-    if os.environ.get("DBOT_BIN"):
-        return pathlib.Path(os.environ["DBOT_BIN"])
-    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    exe = target / "debug" / "dbot"
-    # A missing binary is a failure, not a skip: the test would otherwise pass without running.
-    assert exe.exists(), f"{exe} is missing: build it with `cargo build -p dbot` (or set DBOT_BIN)"
-    return exe
 
 
 def cli(*args: str, cwd: pathlib.Path) -> subprocess.CompletedProcess[str]:
@@ -72,6 +62,17 @@ def named_speed(text: str, joint: str) -> float:
     return float(line.split(": ")[1].split(" ")[0])
 
 
+def read_relative(plans: pathlib.Path, name: str) -> dbot.PlanDir:
+    """The plan directory `name` read from inside `plans`, by the relative path the CLI was given,
+    so that it is named in messages as the CLI names it."""
+    cwd = os.getcwd()
+    os.chdir(plans)
+    try:
+        return dbot.read_plan_dir(name)
+    finally:
+        os.chdir(cwd)
+
+
 @pytest.fixture(scope="module")
 def plans(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
     """``fast``: table 1's 0.5 s swing (1.25 s per step); ``safe``: the default servo-safe preset
@@ -86,12 +87,7 @@ def test_plan_dir_step_table_and_upload_plan_refuse_with_the_cli_words(plans: pa
     by_cli = refusal("table", "--plan", "fast", "--out", "t.dbgt", cwd=plans)
     assert by_cli.startswith("plan fast: the servos cannot follow this plan:\n"), by_cli
     # The PlanDir read from the same relative path names it as the CLI does.
-    cwd = os.getcwd()
-    os.chdir(plans)
-    try:
-        fast = dbot.read_plan_dir("fast")
-    finally:
-        os.chdir(cwd)
+    fast = read_relative(plans, "fast")
     with pytest.raises(ValueError) as e:
         fast.step_table()
     assert str(e.value) == by_cli
@@ -127,12 +123,7 @@ def test_allow_infeasible_builds_the_cli_bytes_with_the_cli_warning(plans: pathl
     out = cli("table", "--plan", "fast", "--out", "t.dbgt", "--allow-infeasible", cwd=plans)
     assert out.returncode == 0, out.stderr
     cli_bytes = (plans / "t.dbgt").read_bytes()
-    cwd = os.getcwd()
-    os.chdir(plans)
-    try:
-        fast = dbot.read_plan_dir("fast")
-    finally:
-        os.chdir(cwd)
+    fast = read_relative(plans, "fast")
     with pytest.warns(UserWarning) as w:
         table = fast.step_table(allow_infeasible=True)
     assert table == cli_bytes
@@ -151,12 +142,7 @@ def test_a_period_scale_the_servos_cannot_follow_is_refused_as_run_period(
     # 1.0 s per step of a 2.5 s plan: scale 0.4, every speed 2.5 times the planned one.
     by_cli = refusal("run", "--slot", "1", "--steps", "1", "--period", "1.0",
                      "--port", "virtual:robot.flash", cwd=plans)
-    cwd = os.getcwd()
-    os.chdir(plans)
-    try:
-        safe = dbot.read_plan_dir("safe")
-    finally:
-        os.chdir(cwd)
+    safe = read_relative(plans, "safe")
     j = safe.joint_names.index("LF_FTi")
     planned = peak_speed([float(a) for a in safe.angles[:, j]], safe.period_s / safe.slices)
     assert planned < MX28_NO_LOAD < planned / 0.4
@@ -188,3 +174,23 @@ def test_a_table_the_cli_uploaded_is_checked_from_the_image(plans: pathlib.Path)
         with pytest.raises(ValueError) as e:
             board.play(2, steps=1, period_scale=0.4)
         assert str(e.value) == by_cli
+
+
+def test_a_stiffness_the_p_gain_register_cannot_hold_is_refused_as_by_set(
+    plans: pathlib.Path,
+) -> None:
+    ok("upload", "--plan", "safe", "--slot", "0", "--port", "virtual:stiff.flash", "--create",
+       cwd=plans)
+    by_cli = refusal("set", "--stiffness", "240", "--port", "virtual:stiff.flash", cwd=plans)
+    # The CLI names its flag, Python the joint; the rule's words after that are the same.
+    words = by_cli.removeprefix("--stiffness 240: ")
+    assert words.startswith("stiffness 240 N m/rad is more than the MX-28(2.0)'s"), by_cli
+    with dbot.Board.open("virtual") as board:
+        safe = read_relative(plans, "safe")
+        board.upload_plan(0, safe)
+        with pytest.raises(ValueError) as e:
+            board.set_stiffness(0, 240.0)
+        assert str(e.value) == "joint 0: " + words
+        # 0 is the torque bias off, as `dbot set --stiffness 0`.
+        board.set_stiffness(0, 0.0)
+        assert board.settings()["stiffness_nm_rad"][0] == 0.0

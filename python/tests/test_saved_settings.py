@@ -6,7 +6,6 @@ Needs the CLI binary: `cargo build -p dbot --bin dbot` (or `DBOT_BIN`)."""
 
 from __future__ import annotations
 
-import os
 import pathlib
 import subprocess
 
@@ -14,18 +13,8 @@ import numpy as np
 import pytest
 
 import dbot
+from dbot_cli import dbot_cli
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-def dbot_cli() -> pathlib.Path:
-    if os.environ.get("DBOT_BIN"):
-        return pathlib.Path(os.environ["DBOT_BIN"])
-    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    exe = target / "debug" / "dbot"
-    # A missing binary is a failure, not a skip: the test would otherwise pass without running.
-    assert exe.exists(), f"{exe} is missing: build it with `cargo build -p dbot` (or set DBOT_BIN)"
-    return exe
 
 
 def test_python_opens_a_store_with_what_dbot_set_saved(tmp_path: pathlib.Path) -> None:

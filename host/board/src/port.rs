@@ -11,19 +11,29 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use planner::terrain::{Ground, TerrainError};
+
 use crate::link::{Board, LinkError, SerialTransport, Transport, TransportError};
 use crate::robot::{VirtualRobot, VirtualTransport};
 use crate::saved_settings::{self, SettingsError};
 
 /// A port named on the command line, in the setup file or in Python.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum PortSpec {
     /// A serial device or pseudo-terminal path.
     Serial(String),
     /// `virtual` (no image) or `virtual:PATH`.
     Virtual { image: Option<PathBuf> },
-    /// `physics` (scene `flat`) or `physics:SCENE`.
-    Physics { scene: String },
+    /// `physics` (scene `flat`) or `physics:SCENE` (any [`Ground`]).
+    Physics { scene: Ground },
+}
+
+/// A port name that names a physics scene that cannot be.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("port `{port}`: {source}")]
+pub struct PortSpecError {
+    pub port: String,
+    pub source: TerrainError,
 }
 
 /// Why a port could not be opened and connected.
@@ -34,27 +44,33 @@ pub enum OpenError {
     Link(#[from] LinkError),
     #[error(transparent)]
     Settings(#[from] SettingsError),
+    #[error(transparent)]
+    Spec(#[from] PortSpecError),
 }
 
 impl PortSpec {
-    pub fn parse(s: &str) -> Self {
+    /// Reads a port name; only a physics scene can be wrong (any other name is a device path).
+    pub fn parse(s: &str) -> Result<Self, PortSpecError> {
         if s == "physics" {
-            return Self::Physics {
-                scene: "flat".to_owned(),
-            };
+            return Ok(Self::Physics {
+                scene: Ground::Flat,
+            });
         }
         if let Some(scene) = s.strip_prefix("physics:") {
-            return Self::Physics {
-                scene: scene.to_owned(),
-            };
+            return Ground::parse(scene)
+                .map(|scene| Self::Physics { scene })
+                .map_err(|source| PortSpecError {
+                    port: s.to_owned(),
+                    source,
+                });
         }
-        match s.strip_prefix("virtual") {
+        Ok(match s.strip_prefix("virtual") {
             Some("") => Self::Virtual { image: None },
             Some(rest) if rest.starts_with(':') && rest.len() > 1 => Self::Virtual {
                 image: Some(PathBuf::from(&rest[1..])),
             },
             _ => Self::Serial(s.to_owned()),
-        }
+        })
     }
 
     /// The store of a `virtual:PATH` port (its flash image; the saved settings are beside it).
@@ -107,37 +123,42 @@ mod tests {
     #[test]
     fn names_parse() {
         assert_eq!(
-            PortSpec::parse("virtual"),
+            PortSpec::parse("virtual").unwrap(),
             PortSpec::Virtual { image: None }
         );
         assert_eq!(
-            PortSpec::parse("virtual:a/b.flash"),
+            PortSpec::parse("virtual:a/b.flash").unwrap(),
             PortSpec::Virtual {
                 image: Some("a/b.flash".into())
             }
         );
         assert_eq!(
-            PortSpec::parse("/dev/ttyACM0"),
+            PortSpec::parse("/dev/ttyACM0").unwrap(),
             PortSpec::Serial("/dev/ttyACM0".into())
         );
         assert_eq!(
-            PortSpec::parse("virtualx"),
+            PortSpec::parse("virtualx").unwrap(),
             PortSpec::Serial("virtualx".into())
         );
         assert_eq!(
             PortSpec::parse("physics:incline:10"),
-            PortSpec::Physics {
-                scene: "incline:10".into()
-            }
+            Ok(PortSpec::Physics {
+                scene: Ground::Incline { angle_deg: 10.0 }
+            })
         );
         assert_eq!(
             PortSpec::parse("physics"),
-            PortSpec::Physics {
-                scene: "flat".into()
-            }
+            Ok(PortSpec::Physics {
+                scene: Ground::Flat
+            })
+        );
+        let e = PortSpec::parse("physics:grass").unwrap_err().to_string();
+        assert!(
+            e.starts_with("port `physics:grass`: terrain `grass`: unknown terrain"),
+            "{e}"
         );
         assert_eq!(
-            PortSpec::parse("physicsx"),
+            PortSpec::parse("physicsx").unwrap(),
             PortSpec::Serial("physicsx".into())
         );
     }
@@ -146,7 +167,7 @@ mod tests {
     fn saved_settings_are_applied_at_every_opening_of_a_store() {
         let dir = tempfile::tempdir().unwrap();
         let store = dir.path().join("robot.flash");
-        let spec = PortSpec::parse(&format!("virtual:{}", store.display()));
+        let spec = PortSpec::parse(&format!("virtual:{}", store.display())).unwrap();
         let open = || {
             let t = open_virtual(spec.store()).unwrap();
             connect(t, &spec, crate::link::DEFAULT_REPLY_TIMEOUT).unwrap()
@@ -169,7 +190,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let store = dir.path().join("robot.flash");
         std::fs::write(saved_settings::settings_path(&store), "{ not json").unwrap();
-        let spec = PortSpec::parse(&format!("virtual:{}", store.display()));
+        let spec = PortSpec::parse(&format!("virtual:{}", store.display())).unwrap();
         let t = open_virtual(spec.store()).unwrap();
         let e = connect(t, &spec, crate::link::DEFAULT_REPLY_TIMEOUT)
             .unwrap_err()

@@ -84,3 +84,30 @@ fn a_stop_while_standing_has_nothing_to_stop() {
     assert_eq!(how, Stopped::NotWalking);
     assert_eq!(how.describe(), "the robot was not walking");
 }
+
+#[test]
+fn a_stop_on_a_board_in_a_fault_has_nothing_to_stop() {
+    // A servo that stops answering while walking faults the board (third miss); Ctrl-C after that
+    // asks a board in Fault to stop, which it refuses: that is nothing to stop, not an error that
+    // would end the command without its recording.
+    let gait = SyntheticGait::new(40, 0.6).build();
+    let mut b = walking(&gait, Duration::from_secs(2));
+    let id = GaitTable::parse(&gait).unwrap().joint(0).unwrap().servo_id;
+    b.transport()
+        .robot()
+        .with_chain(|c| {
+            c.set_faults(
+                id,
+                dynamixel::sim::Faults {
+                    no_reply: true,
+                    ..Default::default()
+                },
+            )
+        })
+        .unwrap();
+    b.wait(Duration::from_millis(200)).unwrap();
+    let st = b.status().unwrap();
+    assert_eq!(st.state, RunState::Fault, "{st:?}");
+    assert!(st.fault.is_some());
+    assert_eq!(stop_walk(&mut b).unwrap(), Stopped::NotWalking);
+}

@@ -10,18 +10,23 @@ use lab::plan_comparison::{inertial_share, r2_cell, summed_in};
 
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
-/// With two plan directories (written by `dbot plan`, with torques): per common DoF the R-squared
-/// of a linear regression of the angles and of the torques, plus ThC2+CTr summed where one
-/// organism elevates with both; writes compare.csv, compare_angles.png, compare_torques.png.
+/// With two plan directories (written by `dbot plan`, with torques) or trial folders (written by
+/// `dbot record`: the measured angles and the load torques, an ESTIMATE, averaged per slice over
+/// steps 1 to the last whole one), in any mix: per common DoF the R-squared of a linear regression
+/// of the angles and of the torques, plus ThC2+CTr summed where one organism elevates with both;
+/// writes compare.csv, compare_angles.png, compare_torques.png. A trial against its own plan says
+/// how well the robot followed it.
 /// With --swing S1,S2,..: plans --model at each swing duration and reports how the peak torque
 /// and its inertial part scale with the step period (quasi-static or inertial regime).
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot compare out/walk out/fly-ball                  # writes out/compare/compare.csv and plots
+  dbot compare out/walk 'trials/2026-12-02 09_30_00'   # a trial against the plan it walked
   dbot compare --swing 0.4,0.8,1.6 --out out/sweep    # the speed sweep of Drosophibot II
   dbot compare --strain \"trials/2026-12-02 14_08_00\" out/walk   # recorded strain vs the plan's")]
 pub struct Args {
-    /// Plan directories A and B (from `dbot plan` or `dbot demo`, with torques).
+    /// Plan directories or trial folders A and B (from `dbot plan` / `dbot demo`, with torques,
+    /// or `dbot record`).
     #[arg(num_args = 0..=2)]
     plans: Vec<PathBuf>,
     /// Swing durations for a speed sweep, s, comma separated.

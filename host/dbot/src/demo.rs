@@ -148,7 +148,7 @@ impl Args {
         match self.port.as_str() {
             "physics" | "physics:flat" => {
                 println!("[3/{total}] uploading to the physics robot (MuJoCo, flat ground)");
-                let body = PhysicsRobot::drosophibot("flat")?;
+                let body = PhysicsRobot::drosophibot(&planner::terrain::Ground::Flat)?;
                 self.walk_and_report(body.into_transport(), &ctx, "physics robot")
             }
             "virtual" => {

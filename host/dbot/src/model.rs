@@ -40,9 +40,10 @@ enum ModelCmd {
         #[arg(long)]
         mjcf: Option<PathBuf>,
         /// MJCF scene: flat, incline:DEG, ball[:R[:OFFSET]] (thorax held, ball spinning, as in the
-        /// fly rig) or ball-fixed[:R[:OFFSET]].
+        /// fly rig), ball-fixed[:R[:OFFSET]] or blocks[:SEED[:HEIGHT_M[:SIZE_M[:GAPS]]]] (seeded
+        /// random block heights, m; GAPS the fraction of cells left out).
         #[arg(long, default_value = "flat")]
-        scene: String,
+        scene: planner::terrain::Ground,
     },
     /// Print a summary: bodies, joints (limits in degrees), feet, total mass.
     Show {

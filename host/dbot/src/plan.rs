@@ -23,13 +23,16 @@ const TELL_ABOVE_SLICES: usize = 500;
 #[command(after_help = "Examples:
   dbot plan --out out/walk                                   # Drosophibot II, tripod, flat ground, table 1, swing 1.0 s
   dbot plan --model scale-drosophila --terrain ball --out out/fly-ball   # the fly on the ball
-  dbot plan --params lab-step.toml --no-dynamics --out out/quick")]
+  dbot plan --params lab-step.toml --no-dynamics --out out/quick
+  dbot plan --radius 0.5 --out out/curve-left                 # a left curve on 0.5 m, the stride kept
+  dbot plan --turn -20 --radius 0 --out out/spin-right        # on the spot, 20 deg right per step")]
 pub struct Args {
     #[command(flatten)]
     model: crate::args::setup::ModelArgs,
-    /// flat, ball[:RADIUS_M[:OFFSET_M]] (m) or incline:DEG (degrees). Default: table 1 (flat).
+    /// flat, ball[:RADIUS_M[:OFFSET_M]] (m) or incline:DEG (degrees); the physics robot's other
+    /// scenes (ball-fixed, blocks) are refused, saying so. Default: table 1 (flat).
     #[arg(long)]
-    terrain: Option<String>,
+    terrain: Option<planner::terrain::Ground>,
     /// tripod, tetrapod, wave or PHI_I:PHI_C (fractions of the cycle). Default: table 1 (tripod).
     #[arg(long)]
     gait: Option<String>,
@@ -47,6 +50,15 @@ pub struct Args {
     /// Walk backward (negates the body translation per step).
     #[arg(long)]
     backward: bool,
+    /// Turn: the thorax's yaw per step, deg, positive left, between -180 and 180 (exclusive).
+    /// Alone it keeps the stride (radius = stride / turn); with --radius it sets the stride.
+    #[arg(long, value_name = "DEG_PER_STEP", allow_negative_numbers = true)]
+    turn: Option<f64>,
+    /// Turn on a radius: the thorax path's radius, m, positive with the centre on the left,
+    /// between -100 and 100. Alone it keeps the stride and sets the turn (stride / radius); with
+    /// --turn the stride is radius x turn, and --radius 0 turns on the spot.
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    radius: Option<f64>,
     /// Stepping-parameter preset the file and flags below start from: servo-safe (default; table
     /// 1 at a 1.0 s swing, which the servos follow with at least 26 % speed headroom), table1
     /// (swing 0.5 s, the original solver's default: too fast for the front servos),
@@ -115,8 +127,20 @@ impl Args {
             p.body_height_m.front += o[2];
         }
         if self.backward {
+            if self.turn.is_some() && self.radius.is_some() {
+                bail!(
+                    "--backward with --turn and --radius: the stride is then radius x turn and \
+                     their signs give the direction (a right radius with a left turn walks backward)"
+                );
+            }
             p.translation_m = -p.translation_m.abs();
         }
+        planner::gait::Turn {
+            turn_deg: self.turn,
+            radius_m: self.radius,
+        }
+        .apply(&mut p)
+        .context("--turn/--radius")?;
         use board::rules::slots::{check_slices, table_joints};
         check_slices("slices", p.slices, table_joints(&model))?;
         if p.slices > TELL_ABOVE_SLICES {

@@ -12,7 +12,7 @@ use crate::args::board::BoardArgs;
 use crate::common::interrupt;
 use crate::common::playback::{announce, play_command, stop_walk, upload_table};
 use crate::common::session::Session;
-use crate::common::words::{WalkReport, state_name};
+use crate::common::words::{WalkReport, direction_name, state_name};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
 ///
@@ -175,6 +175,8 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
     };
     let mut started = false;
     let mut walked = 0;
+    // The gait playing (slot, direction): a change is a queued gait taking over (`--then`).
+    let mut playing: Option<(u8, protocol::Direction)> = None;
     // After Ctrl-C: what the stop found (walking: it finishes the step; ramping: it holds where
     // the ramp got to).
     let mut stopped: Option<board::record::Stopped> = None;
@@ -191,6 +193,19 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
         if let Some(p) = st.playback {
             bar.set_position(u64::from(p.step));
             walked = walked.max(p.step);
+            let now = (p.slot, p.direction);
+            if playing.is_some_and(|was| was != now) {
+                // Printed beside the bar (a hidden bar's println prints nothing).
+                bar.suspend(|| {
+                    println!(
+                        "step {}: slot {} {} follows without a stop",
+                        p.step,
+                        p.slot,
+                        direction_name(p.direction)
+                    )
+                });
+            }
+            playing = Some(now);
         }
         bar.set_message(state_name(st.state));
         match st.state {

@@ -125,7 +125,11 @@ impl Args {
         }
         if let Some(k) = k {
             board::rules::stiffness::set_stiffness(&mut s.board, self.joint, k)?;
-            did.push(format!("stiffness {k} N m/rad"));
+            did.push(if k == 0.0 {
+                "stiffness 0: torque bias off (the servos keep their P gain)".to_owned()
+            } else {
+                format!("stiffness {k} N m/rad")
+            });
         }
         if rate.is_some() || baud.is_some() {
             let cur = s.board.settings()?;

@@ -271,4 +271,7 @@ fn a_stiffness_the_p_gain_register_cannot_hold_is_refused_with_the_limit() {
     ok(on_robot(d, &["run", "--slot", "0", "--steps", "1"]));
     let out = ok(on_robot(d, &["set", "--stiffness", "235"]));
     assert!(out.contains("stiffness 235 N m/rad"), "{out}");
+    // 0 is the firmware's "bias off" (as docs/usage.md says), not a register value.
+    let out = ok(on_robot(d, &["set", "--stiffness", "0"]));
+    assert!(out.contains("torque bias off"), "{out}");
 }

@@ -216,12 +216,30 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
         }
         a
     };
-    // (started by another command first, the command, Ctrl-C once the robot is in this state).
-    // Without --steps the gait plays until stopped.
+    // (started by another command first, the command, the signal once the robot is in this
+    // state). Without --steps the gait plays until stopped. SIGTERM (a service manager, `kill`)
+    // must end a walk as cleanly as Ctrl-C's SIGINT.
     let cases = [
-        (None, strings(&["run", "--slot", "0"]), State::Walking),
-        (None, strings(&["run", "--slot", "0"]), State::Ramping),
-        (None, record(&rec, true), State::Walking),
+        (
+            None,
+            strings(&["run", "--slot", "0"]),
+            State::Walking,
+            Signal::SIGINT,
+        ),
+        (
+            None,
+            strings(&["run", "--slot", "0"]),
+            State::Ramping,
+            Signal::SIGINT,
+        ),
+        (
+            None,
+            strings(&["run", "--slot", "0"]),
+            State::Walking,
+            Signal::SIGTERM,
+        ),
+        (None, record(&rec, true), State::Walking, Signal::SIGINT),
+        (None, record(&rec, true), State::Walking, Signal::SIGTERM),
         // Recording a walk someone else started: Ctrl-C stops it all the same.
         (
             Some(strings(&[
@@ -229,10 +247,11 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
             ])),
             record(&rec2, false),
             State::Walking,
+            Signal::SIGINT,
         ),
     ];
-    for (first, cmd, when) in cases {
-        let what = format!("{cmd:?}, Ctrl-C while {when:?}");
+    for (first, cmd, when, signal) in cases {
+        let what = format!("{cmd:?}, {signal} while {when:?}");
         let robot = RobotServer::start(gait.clone());
         if let Some(first) = first {
             let d = run(dir.path(), &with_port(&first, &robot.pty_path));
@@ -247,7 +266,7 @@ fn ctrl_c_while_walking_on_a_board_leaves_it_standing_not_walking() {
                 std::fs::metadata(recording_csv(&trials)).is_ok_and(|m| m.len() > 1000)
             });
         }
-        r.signal(Signal::SIGINT);
+        r.signal(signal);
         let d = r.wait();
         fails_naming(&d, &what, &["interrupted", "Standing"]);
         // What dbot says it stopped: the walk at the end of its step, or (when the stop came
@@ -521,6 +540,8 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
         "plan/step.gif",
         "plan/feasibility.md",
         "plan/README.md",
+        "plan/strain.csv",
+        "plan/strain.png",
         "drosophibot2-tripod.dbgt",
         "record/forward/telemetry.csv",
         "record/forward/torque.png",

@@ -150,38 +150,21 @@ pub fn walk_all<S: DemoBody>(
         }
         progress.walking(i, count, steps, label);
         let dir = out.join("record").join(dir_name);
-        let wall = Instant::now();
-        board
-            .transport_mut()
-            .robot_mut()
-            .servos_mut()
-            .start_walk(POSE_EVERY_CYCLES);
-        let rec = record_walk(
-            &mut board,
-            direction,
-            steps,
-            &dir,
-            meta,
-            parsed.slice_count(),
-            || progress.stop_requested(),
-        )?
-        .ok_or_else(|| {
-            LabError::Interrupted(format!(
-                "interrupted while recording into {}: the outputs written so far are complete, the others are as before",
-                dir.display()
-            ))
-        })?;
-        let servos = board.transport_mut().robot_mut().servos_mut();
-        walks.push(Walk {
+        let how = WalkHow {
             label,
             direction,
             bias_on,
-            dir,
-            rec,
-            wall: wall.elapsed(),
-            figures: servos.walk_figures(),
-            log: servos.take_log(),
-        });
+            steps,
+            slices: parsed.slice_count(),
+        };
+        let walk = walk_and_record(&mut board, &how, &dir, meta, || progress.stop_requested())?
+            .ok_or_else(|| {
+                LabError::Interrupted(format!(
+                    "interrupted while recording into {}: the outputs written so far are complete, the others are as before",
+                    dir.display()
+                ))
+            })?;
+        walks.push(walk);
     }
     let robot = board.transport().robot();
     let planned_height_m = robot.servos().planned_height_m();
@@ -210,6 +193,59 @@ pub fn walk_all<S: DemoBody>(
         fits,
         walks,
     })
+}
+
+/// What one walk of [`walk_and_record`] plays.
+#[derive(Debug, Clone, Copy)]
+pub struct WalkHow {
+    pub label: &'static str,
+    pub direction: Direction,
+    /// Whether the firmware adds the torque bias (the caller set the stiffness to match).
+    pub bias_on: bool,
+    pub steps: u32,
+    /// Slices per step of the table played.
+    pub slices: usize,
+}
+
+/// Plays one walk on `board` from standing, logging the body (a pose every
+/// [`POSE_EVERY_CYCLES`] bus cycles), and records it into `dir` ([`record_walk`]): the walk with
+/// what it did to the body. `None` when `stop` ended it early: then the previous recording stays.
+pub fn walk_and_record<S: DemoBody>(
+    board: &mut Board<VirtualTransport<S>>,
+    how: &WalkHow,
+    dir: &Path,
+    joints: Vec<JointMeta>,
+    stop: impl Fn() -> bool,
+) -> Result<Option<Walk>> {
+    let wall = Instant::now();
+    board
+        .transport_mut()
+        .robot_mut()
+        .servos_mut()
+        .start_walk(POSE_EVERY_CYCLES);
+    let Some(rec) = record_walk(
+        board,
+        how.direction,
+        how.steps,
+        dir,
+        joints,
+        how.slices,
+        stop,
+    )?
+    else {
+        return Ok(None);
+    };
+    let servos = board.transport_mut().robot_mut().servos_mut();
+    Ok(Some(Walk {
+        label: how.label,
+        direction: how.direction,
+        bias_on: how.bias_on,
+        dir: dir.to_owned(),
+        rec,
+        wall: wall.elapsed(),
+        figures: servos.walk_figures(),
+        log: servos.take_log(),
+    }))
 }
 
 /// Plays `steps` steps in `direction` and records them into `dir` (telemetry.csv, torque.png,

@@ -99,6 +99,7 @@ from_library!(
     planner::model::spring::SpringError,
     nix::errno::Errno,
     planner::plan::PlanError,
+    planner::terrain::TerrainError,
     planner::dynamics::DynamicsError,
     planner::plan_dir::PlanDirError,
     planner::analysis::SweepError,

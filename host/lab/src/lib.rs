@@ -10,9 +10,12 @@
 //! - [`walk_files`]: a recorded walk, its animation and fit files.
 //! - [`demo`]: the walks of `dbot demo` on one robot; [`plan_walk`]: a walk of a plan directory
 //!   on a fresh physics robot and its figures (what Python calls).
+//! - [`walk_turn`]: a planned curve walked on the physics robot, its turn per step and radius
+//!   measured; [`walk_sequence`]: several gaits (straight, a curve, backward) as one run.
 //! - [`paper_robot`]: the paper's robot experiments (figures 5 to 7) on the physics robot.
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
-//! - [`plan_comparison`], [`overlay`]: two plans DoF by DoF, a speed sweep, their plots.
+//! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
+//!   speed sweep, their plots.
 //! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge.
 //! - [`validation`]: the run results of docs/validation.md.
 
@@ -24,11 +27,14 @@ pub mod paper_robot;
 pub mod plan_comparison;
 pub mod plan_walk;
 pub mod strain_compare;
+pub mod trial_traces;
 pub mod validation;
 pub mod walk;
 pub mod walk_bias;
 pub mod walk_body;
 pub mod walk_files;
 pub mod walk_fits;
+pub mod walk_sequence;
+pub mod walk_turn;
 
 pub use error::{Context, LabError, Result};

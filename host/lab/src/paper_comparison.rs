@@ -48,7 +48,7 @@ pub fn run_from(
     let m = spring.apply(&builtin(model)?, from)?;
     let mut p = StepParams::table1(model);
     p.swing_s = swing;
-    p.terrain = terrain.into();
+    p.terrain = planner::terrain::Ground::parse(terrain)?;
     p.slices = slices;
     let what = || format!("{model} on {terrain} ({spring:?}, equilibrium {from:?})");
     let plan = planner::plan::plan(&m, &p).with_context(|| format!("planning {}", what()))?;

@@ -1,4 +1,5 @@
-//! Comparing plans: per common DoF of two plan directories the R^2 of a linear regression of
+//! Comparing plans: per common DoF of two plan directories (or trial folders, measured angles and
+//! load torques averaged per slice: `trial_traces`) the R^2 of a linear regression of
 //! the angles and of the torques (`planner::analysis::compare`, tables S2 to S8 of the paper) with
 //! `compare.csv` and the overlay plots, and a speed sweep of one model over swing durations
 //! (`sweep.csv`). `dbot compare` prints what these return.
@@ -54,6 +55,15 @@ pub fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
         .collect())
 }
 
+/// The DoF traces of a plan directory or, when it holds trial.json, of a trial folder.
+pub fn traces_of(dir: &Path) -> Result<Vec<DofTrace>> {
+    if crate::trial_traces::is_trial(dir) {
+        crate::trial_traces::trial_traces(dir)
+    } else {
+        read_traces(dir)
+    }
+}
+
 /// An R^2 as written: three decimals, or `-` where there is none.
 pub fn r2_cell(v: Option<f64>) -> String {
     v.map_or("-".into(), |v| format!("{v:.3}"))
@@ -68,10 +78,10 @@ pub fn summed_in(r: &ComparisonRow) -> &'static str {
     }
 }
 
-/// Compares the plan directories `a` and `b` DoF by DoF; writes `compare.csv`,
+/// Compares `a` and `b` (plan directories or trial folders) DoF by DoF; writes `compare.csv`,
 /// `compare_angles.png` and `compare_torques.png` into `out` and returns the rows.
 pub fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<Vec<ComparisonRow>> {
-    let (ta, tb) = (read_traces(a)?, read_traces(b)?);
+    let (ta, tb) = (traces_of(a)?, traces_of(b)?);
     let rows = compare(&ta, &tb);
     if rows.is_empty() {
         bail!("{} and {} have no DoF in common", a.display(), b.display());

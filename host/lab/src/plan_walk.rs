@@ -5,7 +5,6 @@
 //! is deterministic).
 
 use std::path::Path;
-use std::time::Instant;
 
 use board::link::Board;
 use board::record::joints_of_table;
@@ -13,7 +12,7 @@ use physics::{Figures, PhysicsRobot};
 use planner::plan_dir;
 use protocol::Direction;
 
-use crate::demo::{DemoBody, POSE_EVERY_CYCLES, record_walk};
+use crate::demo::{WalkHow, walk_and_record};
 use crate::error::{Context, LabError, Result};
 use crate::walk_body::{Distance, LegTracking, distance, leg_tracking};
 use crate::walk_files::Walk;
@@ -37,7 +36,7 @@ pub struct PlanWalk {
 /// physics robot on `scene`, recording into `out` (telemetry.csv, torque.png, angles.png).
 pub fn walk_plan_dir(
     plan_dir: &Path,
-    scene: &str,
+    scene: &planner::terrain::Ground,
     steps: u32,
     direction: Direction,
     out: &Path,
@@ -56,44 +55,25 @@ pub fn walk_plan_dir(
     board.upload(0, &table, |_, _| {})?;
     let parsed = protocol::GaitTable::parse(&table)?;
     let joints = joints_of_table(&parsed, &names);
-    let wall = Instant::now();
-    board
-        .transport_mut()
-        .robot_mut()
-        .servos_mut()
-        .start_walk(POSE_EVERY_CYCLES);
-    let rec = record_walk(
-        &mut board,
+    let how = WalkHow {
+        label: match direction {
+            Direction::Forward => "forward",
+            Direction::Backward => "backward",
+        },
         direction,
+        bias_on: true,
         steps,
-        out,
-        joints,
-        parsed.slice_count(),
-        stop,
-    )?
-    .ok_or_else(|| {
+        slices: parsed.slice_count(),
+    };
+    let walk = walk_and_record(&mut board, &how, out, joints, stop)?.ok_or_else(|| {
         LabError::Interrupted(format!(
             "interrupted while recording into {}",
             out.display()
         ))
     })?;
-    let servos = board.transport_mut().robot_mut().servos_mut();
-    let label = match direction {
-        Direction::Forward => "forward",
-        Direction::Backward => "backward",
-    };
     let json = &written.json;
     Ok(PlanWalk {
-        walk: Walk {
-            label,
-            direction,
-            bias_on: true,
-            dir: out.to_owned(),
-            rec,
-            wall: wall.elapsed(),
-            figures: servos.walk_figures(),
-            log: servos.take_log(),
-        },
+        walk,
         names,
         steps,
         planned_per_step_m: json.thorax_velocity_m_s.x * json.period_s,

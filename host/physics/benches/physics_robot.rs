@@ -14,6 +14,7 @@
 //! time mostly measures other processes. Run: `cargo bench -p physics --bench physics_robot`
 //! (tuning: `DT=0.0005 NOSLIP=5 cargo bench -p physics --bench physics_robot`).
 
+use planner::terrain::Ground;
 use std::time::Duration;
 
 use board::link::Board;
@@ -97,7 +98,7 @@ impl Walk {
 
 fn main() {
     let walk = Walk::tripod();
-    let options = PhysicsRobot::options(&walk.model, "flat").unwrap();
+    let options = PhysicsRobot::options(&walk.model, &Ground::Flat).unwrap();
     if TUNING.iter().any(|v| std::env::var_os(v).is_some()) {
         tuning(&walk, options);
     } else {
@@ -113,7 +114,7 @@ fn speed(walk: &Walk, options: &MjcfOptions) {
     let mut sim_s = 0.0;
     // Interleaved, so a change in the machine's load hits both alike.
     for _ in 0..repeats {
-        let robot = PhysicsRobot::with_options(&walk.model, options, "flat").unwrap();
+        let robot = PhysicsRobot::with_options(&walk.model, options, &Ground::Flat).unwrap();
         let (b, cpu) = walk.run(robot, cycles);
         sim_s = b.transport().robot().now_us() as f64 * 1e-6;
         full.push(sim_s / cpu);
@@ -146,7 +147,7 @@ fn tuning(walk: &Walk, mut options: MjcfOptions) {
     if let Some(dt) = env("DT") {
         options.timestep_s = dt;
     }
-    let mut robot = PhysicsRobot::with_options(&walk.model, &options, "flat").unwrap();
+    let mut robot = PhysicsRobot::with_options(&walk.model, &options, &Ground::Flat).unwrap();
     {
         let o = robot.plant_mut().option_mut();
         if let Some(v) = env("ITER") {

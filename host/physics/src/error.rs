@@ -37,8 +37,6 @@ pub enum PhysicsError {
         /// The largest omega x timestep accepted (`MAX_OMEGA_DT` of the timestep rule).
         limit: f64,
     },
-    #[error(
-        "port `{spec}`: {problem} (expected physics, physics:flat, physics:incline:DEG, physics:ball or physics:ball-fixed)"
-    )]
+    #[error("port `{spec}`: {problem} (expected physics or physics:SCENE)")]
     Port { spec: String, problem: String },
 }

@@ -12,6 +12,7 @@ use dynamixel::control_table as ct;
 use dynamixel::sim::VirtualChain;
 use firmware::controller::{Config, Controller};
 use planner::model::{MjcfOptions, Model};
+use planner::terrain::Ground;
 
 use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
@@ -34,7 +35,7 @@ pub type PhysicsTransport = VirtualTransport<PhysicsRobot>;
 #[derive(Debug)]
 pub struct PhysicsRobot {
     plant: Plant,
-    scene: String,
+    scene: Ground,
     monitor: Monitor,
     /// The model's joint count (the length of a logged pose).
     model_joints: usize,
@@ -46,8 +47,8 @@ pub struct PhysicsRobot {
 }
 
 impl PhysicsRobot {
-    /// Drosophibot II (the built-in model) on `scene` (`flat`, `incline:DEG`, `ball`, `ball-fixed`).
-    pub fn drosophibot(scene: &str) -> Result<Self, PhysicsError> {
+    /// Drosophibot II (the built-in model) on `scene`.
+    pub fn drosophibot(scene: &Ground) -> Result<Self, PhysicsError> {
         let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
             model: "drosophibot2".into(),
             message: e.to_string(),
@@ -57,34 +58,34 @@ impl PhysicsRobot {
 
     /// `model` on `scene`, standing in the planner's resting posture, its servos switched off,
     /// stepped at [`TIMESTEP_S`].
-    pub fn new(model: &Model, scene: &str) -> Result<Self, PhysicsError> {
+    pub fn new(model: &Model, scene: &Ground) -> Result<Self, PhysicsError> {
         Self::with_options(model, &Self::options(model, scene)?, scene)
     }
 
     /// The MJCF options [`Self::new`] uses: the planner's stance on `scene`, at [`TIMESTEP_S`].
-    pub fn options(model: &Model, scene: &str) -> Result<MjcfOptions, PhysicsError> {
+    pub fn options(model: &Model, scene: &Ground) -> Result<MjcfOptions, PhysicsError> {
         let mut options =
             MjcfOptions::stance(model, scene).map_err(|source| PhysicsError::Scene {
                 model: model.name.clone(),
-                scene: scene.to_owned(),
+                scene: scene.to_string(),
                 source,
             })?;
         options.timestep_s = TIMESTEP_S;
         Ok(options)
     }
 
-    /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it in messages.
+    /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it.
     pub fn with_options(
         model: &Model,
         options: &MjcfOptions,
-        scene: &str,
+        scene: &Ground,
     ) -> Result<Self, PhysicsError> {
         let plant = Plant::new(model, options)?;
         let planned_height_m = plant.thorax_pose().0[2];
         let strain = StrainSampler::new(model, &plant)?;
         Ok(Self {
             plant,
-            scene: scene.to_owned(),
+            scene: *scene,
             monitor: Monitor::new(),
             model_joints: model.joints.len(),
             planned_height_m,
@@ -120,8 +121,8 @@ impl PhysicsRobot {
         VirtualTransport::named(self.into_board(), &name)
     }
 
-    /// The scene's name.
-    pub fn scene(&self) -> &str {
+    /// The ground it stands on.
+    pub fn scene(&self) -> &Ground {
         &self.scene
     }
 

@@ -12,6 +12,7 @@ use std::time::Duration;
 use board::link::{Board, DEFAULT_REPLY_TIMEOUT, SerialTransport, Transport, TransportError};
 use board::port::{self, PortSpec};
 use board::robot::VirtualTransport;
+use planner::terrain::Ground;
 
 use crate::body::Body;
 use crate::error::PhysicsError;
@@ -141,9 +142,8 @@ impl Transport for RobotLink {
     }
 }
 
-/// Opens the physics robot (Drosophibot II) on `scene`: `flat`, `incline:DEG`, `ball`,
-/// `ball-fixed`.
-pub fn open_physics(scene: &str) -> Result<PhysicsTransport, PhysicsError> {
+/// Opens the physics robot (Drosophibot II) on `scene`.
+pub fn open_physics(scene: &Ground) -> Result<PhysicsTransport, PhysicsError> {
     PhysicsRobot::drosophibot(scene)
         .map(PhysicsRobot::into_transport)
         .map_err(|e| match e {
@@ -163,7 +163,7 @@ pub fn open(port: &str) -> Result<Robot, OpenError> {
 /// Opens `port` and connects, waiting `reply_timeout` for each reply; a `virtual:PATH` robot gets
 /// the settings saved beside its store (`board::saved_settings`).
 pub fn open_within(port: &str, reply_timeout: Duration) -> Result<Robot, OpenError> {
-    let spec = PortSpec::parse(port);
+    let spec = PortSpec::parse(port).map_err(port::OpenError::from)?;
     let link = match &spec {
         PortSpec::Serial(path) => RobotLink::Serial(port::open_serial(path)?),
         PortSpec::Virtual { image } => {

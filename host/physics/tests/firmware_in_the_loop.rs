@@ -8,13 +8,14 @@ mod support;
 use board::record::{Recorder, Until, capture, joints_of_table};
 use physics::PhysicsRobot;
 use planner::model::builtin;
+use planner::terrain::Ground;
 use protocol::{Direction, GaitTable};
 
 #[test]
 fn the_firmware_walks_the_simulated_robot_as_planned_and_its_loads_follow_the_plan() {
     let model = builtin("drosophibot2").unwrap();
     let (plan, _, table) = support::tripod(&model);
-    let robot = PhysicsRobot::drosophibot("flat").unwrap();
+    let robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     let (start, _) = robot.plant().thorax_pose();
     let steps = 2;
     let mut b = support::walking(robot, &table, Direction::Forward, steps);

@@ -8,12 +8,13 @@
 use mujoco_rs::prelude::*;
 use physics::{PhysicsError, PhysicsRobot, Plant, TIMESTEP_S};
 use planner::model::{MjcfOptions, Model, builtin, to_mjcf};
+use planner::terrain::Ground;
 
 /// The fly's exported MJCF at `dt` held in its stance by its position actuators (ctrl = the
 /// keyframe's angles), gravity ramped in over 0.5 s, for 1 s: the thorax height (m) and the
 /// largest joint speed seen (rad/s), or `None` if the state stopped being finite.
 fn hold(model: &Model, dt: f64) -> Option<(f64, f64)> {
-    let mut options = MjcfOptions::stance(model, "flat").unwrap();
+    let mut options = MjcfOptions::stance(model, &Ground::Flat).unwrap();
     options.timestep_s = dt;
     let mj = MjModel::from_xml_string(&to_mjcf(model, &options)).unwrap();
     let mut d = MjData::new(Box::new(mj));
@@ -38,7 +39,7 @@ fn hold(model: &Model, dt: f64) -> Option<(f64, f64)> {
 #[test]
 fn the_fly_at_1_ms_is_refused_naming_the_stable_timestep_and_mujoco_agrees() {
     let fly = builtin("scale-drosophila").unwrap();
-    let err = PhysicsRobot::new(&fly, "flat").unwrap_err();
+    let err = PhysicsRobot::new(&fly, &Ground::Flat).unwrap_err();
     let text = err.to_string();
     let PhysicsError::Timestep {
         model,
@@ -60,7 +61,7 @@ fn the_fly_at_1_ms_is_refused_naming_the_stable_timestep_and_mujoco_agrees() {
     eprintln!("{text}");
 
     // MuJoCo alone: the stance held at 1 ms does not stay (the thorax starts 1.3 mm up).
-    let h0 = MjcfOptions::stance(&fly, "flat").unwrap();
+    let h0 = MjcfOptions::stance(&fly, &Ground::Flat).unwrap();
     let start = {
         let mj = MjModel::from_xml_string(&to_mjcf(&fly, &h0)).unwrap();
         let mut d = MjData::new(Box::new(mj));
@@ -82,7 +83,7 @@ fn the_fly_at_1_ms_is_refused_naming_the_stable_timestep_and_mujoco_agrees() {
     );
     // At that timestep the physics robot gets past the check (and stops at the servo map the fly
     // has none of).
-    let mut options = PhysicsRobot::options(&fly, "flat").unwrap();
+    let mut options = PhysicsRobot::options(&fly, &Ground::Flat).unwrap();
     options.timestep_s = stable_ms * 1e-3;
     assert!(matches!(
         Plant::new(&fly, &options),
@@ -95,8 +96,8 @@ fn drosophibot_at_1_ms_is_far_inside_the_stable_timestep() {
     // Its stiffest joint (kp 14.3 N m/rad on 3.6e-3 kg m^2, mostly the MX's geared rotor): 63
     // rad/s, 0.06 x 1 ms; a 5 ms timestep would already be refused.
     let model = builtin("drosophibot2").unwrap();
-    assert!(PhysicsRobot::new(&model, "flat").is_ok());
-    let mut options = PhysicsRobot::options(&model, "flat").unwrap();
+    assert!(PhysicsRobot::new(&model, &Ground::Flat).is_ok());
+    let mut options = PhysicsRobot::options(&model, &Ground::Flat).unwrap();
     options.timestep_s = 0.005;
     assert!(matches!(
         Plant::new(&model, &options),

@@ -9,7 +9,10 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use planner::model::{Actuation, MjcfOptions, Model, builtin, to_mjcf};
 
 fn load(model: &Model, scene: &str) -> MjModel {
-    let xml = to_mjcf(model, &MjcfOptions::stance(model, scene).unwrap());
+    let xml = to_mjcf(
+        model,
+        &MjcfOptions::stance(model, &planner::terrain::Ground::parse(scene).unwrap()).unwrap(),
+    );
     MjModel::from_xml_string(&xml).unwrap_or_else(|e| panic!("{} on {scene}: {e}", model.name))
 }
 

@@ -15,11 +15,12 @@ use dynamixel::control_table as ct;
 use firmware::controller::{Config, Controller};
 use physics::PhysicsRobot;
 use physics::servo::{RAD_PER_TICK, ticks_to_angle};
+use planner::terrain::Ground;
 use support::hand_k;
 
 #[test]
 fn halving_the_p_gain_register_doubles_a_joints_deflection_under_its_load() {
-    let mut robot = PhysicsRobot::drosophibot("flat").unwrap();
+    let mut robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     let mut chain = robot_chain(Config::default().baud);
     robot.power_on(&mut chain);
     let controller = Controller::new(VirtualFlash::new(FLASH_SECTORS), SLOTS, Config::default());

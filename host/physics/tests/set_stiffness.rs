@@ -10,6 +10,7 @@
 
 mod support;
 
+use planner::terrain::Ground;
 use std::time::Duration;
 
 use board::link::Board;
@@ -25,7 +26,7 @@ fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_def
     let model = builtin("drosophibot2").unwrap();
     let (_, _, table) = support::tripod(&model);
     let parsed = GaitTable::parse(&table).unwrap();
-    let robot = PhysicsRobot::drosophibot("flat").unwrap();
+    let robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     let joints = robot.plant().joints().to_vec();
     let mut b = Board::connect(robot.into_transport()).unwrap();
     b.upload(0, &table, |_, _| {}).unwrap();

@@ -16,6 +16,7 @@
 use physics::{PhysicsRobot, Plant};
 use planner::dynamics::{DynamicsOptions, SliceInput, solve_slice};
 use planner::model::builtin;
+use planner::terrain::Ground;
 
 struct Stance {
     plant: Plant,
@@ -31,7 +32,7 @@ fn stand(bias: f64, seconds: f64) -> Stance {
 
 fn stand_on(scene: &str, bias: f64, seconds: f64) -> Stance {
     let model = builtin("drosophibot2").unwrap();
-    let options = PhysicsRobot::options(&model, scene).unwrap();
+    let options = PhysicsRobot::options(&model, &Ground::parse(scene).unwrap()).unwrap();
     let q = options.stance_q.clone();
     let still = SliceInput::still(&model, q.clone());
     let planned = solve_slice(&model, &still, &DynamicsOptions::default(), 0)

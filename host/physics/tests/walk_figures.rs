@@ -5,6 +5,7 @@ mod support;
 
 use physics::PhysicsRobot;
 use planner::model::builtin;
+use planner::terrain::Ground;
 
 #[test]
 fn halving_the_timestep_changes_the_walk_figures_little() {
@@ -13,9 +14,9 @@ fn halving_the_timestep_changes_the_walk_figures_little() {
     let mut fig = Vec::new();
     // The physics robot's timestep (1 ms) and half of it.
     for dt in [physics::TIMESTEP_S, 0.5 * physics::TIMESTEP_S] {
-        let mut options = PhysicsRobot::options(&model, "flat").unwrap();
+        let mut options = PhysicsRobot::options(&model, &Ground::Flat).unwrap();
         options.timestep_s = dt;
-        let robot = PhysicsRobot::with_options(&model, &options, "flat").unwrap();
+        let robot = PhysicsRobot::with_options(&model, &options, &Ground::Flat).unwrap();
         fig.push(support::walk_figures(robot, &table, 2));
     }
     let (a, b) = (&fig[0], &fig[1]);
@@ -41,7 +42,7 @@ fn halving_the_timestep_changes_the_walk_figures_little() {
 fn servos_too_weak_for_the_gait_let_the_robot_sag_and_the_report_names_them() {
     let model = builtin("drosophibot2").unwrap();
     let (_, torques, table) = support::tripod(&model);
-    let mut robot = PhysicsRobot::drosophibot("flat").unwrap();
+    let mut robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     // The middle legs' CTr servos (MX-64, 6 N m) cut to half the planned peak torque.
     for i in 0..robot.plant().joints().len() {
         let j = robot.plant().joints()[i].clone();

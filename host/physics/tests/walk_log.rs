@@ -5,6 +5,7 @@
 
 mod support;
 
+use planner::terrain::Ground;
 use std::time::Duration;
 
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};
@@ -17,7 +18,7 @@ use protocol::Direction;
 fn logged_poses_rebuild_the_body_and_the_forces_carry_its_weight() {
     let model = builtin("drosophibot2").unwrap();
     let (plan, _, table) = support::tripod(&model);
-    let mut robot = PhysicsRobot::drosophibot("flat").unwrap();
+    let mut robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     robot.start_log(4);
     let mut b = support::walking(robot, &table, Direction::Forward, 1);
     b.wait(Duration::from_millis(3000)).unwrap();

@@ -1,7 +1,13 @@
-//! Terrains the planner walks on, in the thorax frame (REP-103), and the gravity vector each gives.
+//! Terrains the planner walks on, in the thorax frame (REP-103), and the gravity vector each gives;
+//! the ground a user names ([`Ground`], parsed only there) and uneven ground ([`Blocks`]).
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
+
+mod blocks;
+mod ground;
+pub use blocks::{Blocks, Cell, FIELD_X_M, FIELD_Y_M, GAP_DEPTH_M, splitmix64};
+pub use ground::{BallMount, GROUND_SYNTAX, Ground};
 
 /// Standard gravity, m/s^2.
 pub const G: f64 = 9.81;
@@ -20,70 +26,18 @@ pub enum Terrain {
     Incline { angle_rad: f64 },
 }
 
-/// A terrain description could not be understood.
+/// A terrain description could not be understood (`syntax`: the forms it may take), or the
+/// planner cannot plan for it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("terrain `{text}`: {problem} (expected flat, ball[:RADIUS_M[:OFFSET_M]] or incline:DEG)")]
+#[error("terrain `{text}`: {problem}{}", if *.syntax { format!(" (expected {GROUND_SYNTAX})") } else { String::new() })]
 pub struct TerrainError {
     pub text: String,
     pub problem: String,
+    /// Whether the text was not understood (the message then lists the forms).
+    pub syntax: bool,
 }
 
 impl Terrain {
-    /// Parses `flat`, `ball`, `ball:R`, `ball:R:OFFSET` (metres) or `incline:DEG`. A bare ball gets
-    /// `default_radius` and `default_offset`.
-    pub fn parse(
-        text: &str,
-        default_radius: f64,
-        default_offset: f64,
-    ) -> Result<Terrain, TerrainError> {
-        let err = |p: &str| TerrainError {
-            text: text.to_string(),
-            problem: p.to_string(),
-        };
-        let mut parts = text.split(':');
-        let num = |s: Option<&str>, what: &str| -> Result<Option<f64>, TerrainError> {
-            match s {
-                None => Ok(None),
-                Some(s) => s
-                    .trim()
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .map(Some)
-                    .ok_or_else(|| err(&format!("{what} `{s}` is not a number"))),
-            }
-        };
-        let t = match parts.next().unwrap_or("").trim() {
-            "flat" => Terrain::Flat,
-            "ball" => {
-                let r = num(parts.next(), "radius")?.unwrap_or(default_radius);
-                let off = num(parts.next(), "offset")?.unwrap_or(default_offset);
-                if r <= 0.0 {
-                    return Err(err("ball radius must be > 0"));
-                }
-                Terrain::Ball {
-                    radius_m: r,
-                    offset_m: off,
-                }
-            }
-            "incline" => {
-                let deg = num(parts.next(), "angle")?
-                    .ok_or_else(|| err("incline needs an angle in degrees"))?;
-                if deg.abs() >= 90.0 {
-                    return Err(err("incline angle must be within (-90, 90) degrees"));
-                }
-                Terrain::Incline {
-                    angle_rad: deg.to_radians(),
-                }
-            }
-            other => return Err(err(&format!("unknown terrain `{other}`"))),
-        };
-        if parts.next().is_some() {
-            return Err(err("too many `:` fields"));
-        }
-        Ok(t)
-    }
-
     /// Gravity in the thorax frame, m/s^2.
     pub fn gravity(&self) -> Vector3<f64> {
         match self {

@@ -10,7 +10,7 @@ use planner::model::builtin;
 fn incline(body_height: f64) -> Result<planner::dynamics::CycleSolution, DynamicsError> {
     let model = builtin("drosophibot2").unwrap();
     let mut p = StepParams::table1(&model.name);
-    p.terrain = "incline:15".into();
+    p.terrain = planner::terrain::Ground::parse("incline:15").unwrap();
     p.body_height_m = PerPair::all(body_height);
     let plan = planner::plan::plan(&model, &p).unwrap();
     let opts = DynamicsOptions {

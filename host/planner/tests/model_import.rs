@@ -1,5 +1,8 @@
 //! The AnimatLab importer against the built-in model files, the paper's table 2, and bad input.
 
+mod model_support;
+use model_support::ONE_LEG as GOOD;
+
 use planner::model::*;
 use std::path::PathBuf;
 
@@ -176,35 +179,6 @@ fn drosophibot2_segments_within_16_percent_of_table_2() {
     let coxa = segment_mm(&m, Leg::RF, ThC3, Some(CTr));
     assert!((coxa - 54.5).abs() / 54.5 < 0.16, "front coxa {coxa:.2} mm");
 }
-
-const GOOD: &str = r#"
-name = "two-link"
-[[body]]
-name = "thorax"
-mass_kg = 1.0
-com_m = [0.0, 0.0, 0.0]
-inertia_kg_m2 = [1e-3, 1e-3, 1e-3, 0.0, 0.0, 0.0]
-[[body]]
-name = "femur"
-mass_kg = 0.1
-com_m = [0.05, 0.0, 0.0]
-inertia_kg_m2 = [1e-5, 1e-4, 1e-4, 0.0, 0.0, 0.0]
-[[joint]]
-leg = "LF"
-kind = "CTr"
-parent = "thorax"
-child = "femur"
-origin_xyz_m = [0.1, 0.05, 0.0]
-origin_rpy_rad = [0.0, 0.0, 0.0]
-axis = [1.0, 0.0, 0.0]
-limits_rad = [-1.0, 1.0]
-actuation = "mx64"
-stiffness_nm_per_rad = 30.0
-[[foot]]
-leg = "LF"
-body = "femur"
-point_m = [0.0, 0.1, 0.0]
-"#;
 
 fn err(text: &str) -> String {
     from_toml_str(text, "bad.toml").unwrap_err().to_string()

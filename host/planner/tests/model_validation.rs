@@ -3,6 +3,9 @@
 //! no mass distribution has) and a leg without a foot are refused by the TOML loader and the
 //! AnimatLab importer alike, naming the place and the field.
 
+mod model_support;
+use model_support::ONE_LEG as GOOD;
+
 use planner::model::*;
 
 /// The stripped Drosobot II project of the fuzzing seeds (imports to the built-in model).
@@ -30,35 +33,6 @@ fn aproj_err(text: &str) -> String {
 fn toml_err(text: &str) -> String {
     from_toml_str(text, "bad.toml").unwrap_err().to_string()
 }
-
-const GOOD: &str = r#"
-name = "one-leg"
-[[body]]
-name = "thorax"
-mass_kg = 1.0
-com_m = [0.0, 0.0, 0.0]
-inertia_kg_m2 = [1e-3, 1e-3, 1e-3, 0.0, 0.0, 0.0]
-[[body]]
-name = "femur"
-mass_kg = 0.1
-com_m = [0.05, 0.0, 0.0]
-inertia_kg_m2 = [1e-5, 1e-4, 1e-4, 0.0, 0.0, 0.0]
-[[joint]]
-leg = "LF"
-kind = "CTr"
-parent = "thorax"
-child = "femur"
-origin_xyz_m = [0.1, 0.05, 0.0]
-origin_rpy_rad = [0.0, 0.0, 0.0]
-axis = [1.0, 0.0, 0.0]
-limits_rad = [-1.0, 1.0]
-actuation = "mx64"
-stiffness_nm_per_rad = 30.0
-[[foot]]
-leg = "LF"
-body = "femur"
-point_m = [0.0, 0.1, 0.0]
-"#;
 
 const FEMUR_INERTIA: &str = "inertia_kg_m2 = [1e-5, 1e-4, 1e-4, 0.0, 0.0, 0.0]";
 

@@ -10,7 +10,7 @@ use planner::terrain::Terrain;
 fn make(model: &str, terrain: &str) -> Plan {
     let m = builtin(model).unwrap();
     let mut p = StepParams::table1(model);
-    p.terrain = terrain.into();
+    p.terrain = planner::terrain::Ground::parse(terrain).unwrap();
     plan(&m, &p).unwrap_or_else(|e| panic!("{model} on {terrain}: {e}"))
 }
 
@@ -92,9 +92,12 @@ fn paths(
 ) {
     let m = builtin(model).unwrap();
     let mut p = StepParams::table1(model);
-    p.terrain = terrain.into();
+    p.terrain = planner::terrain::Ground::parse(terrain).unwrap();
     edit(&mut p);
-    let t = Terrain::parse(&p.terrain, p.ball_radius_m, p.ball_offset_m).unwrap();
+    let t = p
+        .terrain
+        .plan_terrain(p.ball_radius_m, p.ball_offset_m)
+        .unwrap();
     let post = planner::kinematics::resting_posture(&m, &t, &|l| p.foot_goal(l)).unwrap();
     let c = post.ball_centre;
     (p.clone(), footpaths(&p, &t, &post), c, t)
@@ -261,7 +264,13 @@ fn impossible_parameters_name_the_field() {
     assert!(err(&|p| p.duty = 0.0).contains("duty"));
     assert!(err(&|p| p.swing_s = -0.5).contains("swing_s"));
     assert!(err(&|p| p.slices = 2).contains("slices"));
-    assert!(err(&|p| p.terrain = "lava".into()).contains("lava"));
+    let lava = planner::gait::ParamsFile::from_toml("terrain = \"lava\"", "p.toml").unwrap_err();
+    assert!(
+        lava.to_string().contains("unknown terrain `lava`"),
+        "{lava}"
+    );
+    let blocks = err(&|p| p.terrain = planner::terrain::Ground::parse("blocks").unwrap());
+    assert!(blocks.contains("the planner plans for flat, incline and the held ball only"));
     // A 0.5 m stride is beyond the legs: the error names a leg and a slice.
     let e = err(&|p| p.translation_m = 0.5);
     assert!(

@@ -15,7 +15,7 @@ use planner::plan::feasibility::{Feasibility, Violation, check};
 fn feasibility(preset: &str, terrain: &str) -> Feasibility {
     let model = builtin("drosophibot2").unwrap();
     let mut p = StepParams::preset(preset, &model.name).unwrap();
-    p.terrain = terrain.into();
+    p.terrain = planner::terrain::Ground::parse(terrain).unwrap();
     let plan = planner::plan::plan(&model, &p).unwrap();
     let cycle = solve_cycle(
         &plan.model,

@@ -13,7 +13,7 @@ use planner::plan::feasibility::jumps;
 fn plan(model: &str, terrain: &str) -> planner::plan::Plan {
     let m = builtin(model).unwrap();
     let mut p = StepParams::table1(model);
-    p.terrain = terrain.into();
+    p.terrain = planner::terrain::Ground::parse(terrain).unwrap();
     planner::plan::plan(&m, &p).unwrap()
 }
 
@@ -110,7 +110,7 @@ fn the_default_walk_has_no_gaps() {
     let m = builtin("drosophibot2").unwrap();
     for terrain in ["flat", "ball"] {
         let mut p = StepParams::preset("servo-safe", "drosophibot2").unwrap();
-        p.terrain = terrain.into();
+        p.terrain = planner::terrain::Ground::parse(terrain).unwrap();
         let p = planner::plan::plan(&m, &p).unwrap();
         assert!(p.ik_gaps.is_empty(), "{terrain}: {:?}", p.ik_gaps);
         assert!(unexplained_steps(&p).is_empty());

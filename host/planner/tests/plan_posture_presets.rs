@@ -4,7 +4,6 @@
 
 use planner::gait::StepParams;
 use planner::model::{Leg, builtin};
-use planner::terrain::Terrain;
 
 /// (leg pair, ThC -> foot x, |y|, z), solver.md's table (z: foot z minus ThC z of that table).
 const ORIGINAL: [(&str, f64, f64, f64); 3] = [
@@ -25,7 +24,10 @@ fn pair(leg: Leg) -> &'static str {
 fn physical_robot_feet_land_where_the_original_put_them() {
     let model = builtin("drosophibot2").unwrap();
     let p = StepParams::preset("physical-robot", "drosophibot2").unwrap();
-    let terrain = Terrain::parse(&p.terrain, p.ball_radius_m, p.ball_offset_m).unwrap();
+    let terrain = p
+        .terrain
+        .plan_terrain(p.ball_radius_m, p.ball_offset_m)
+        .unwrap();
     let posture =
         planner::kinematics::resting_posture(&model, &terrain, &|leg| p.foot_goal(leg)).unwrap();
     for (leg, foot) in &posture.feet {

@@ -12,7 +12,8 @@ use planner::strain::predict;
 const G: f64 = 9.81;
 
 /// Thorax 2 kg (CoM at x = L1 + m1 L1 / 2M = 0.1075 m, over the foot with the legs), a yaw hip
-/// (z) and a pitch hip (y) at the origin, femur along +x (0.3 kg, L1 = 0.1 m, CoM at 0.05 m),
+/// (z) and a pitch hip (y) at the origin (the coxa between them 1e-12 kg: a body needs a mass, and
+/// this one moves every number below by less than 1e-11 of itself), femur along +x (0.3 kg, L1 = 0.1 m, CoM at 0.05 m),
 /// knee (y) at x = 0.1, tibia hanging down (0.2 kg, L2 = 0.15 m, CoM 0.075 m below the knee),
 /// foot at its end. Gauges on the femur's top face (+z) at half its length, a tube of 20 mm
 /// outer diameter and 2 mm wall, E = 2.4 GPa, nu = 0.39.
@@ -25,9 +26,9 @@ com_m = [0.1075, 0.0, 0.0]
 inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
 [[body]]
 name = "coxa"
-mass_kg = 0.0
+mass_kg = 1e-12
 com_m = [0.0, 0.0, 0.0]
-inertia_kg_m2 = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+inertia_kg_m2 = [1e-18, 1e-18, 1e-18, 0.0, 0.0, 0.0]
 [[body]]
 name = "femur"
 mass_kg = 0.3

@@ -258,3 +258,77 @@ fn stop_and_a_lost_host_drop_the_queue_and_end_the_step() {
     r.cycles_until(200, |r| r.c.state() == State::Standing);
     assert_eq!(r.c.playback().unwrap().0, 1);
 }
+
+#[test]
+fn a_lost_host_after_the_switch_stops_the_queued_gait_at_the_end_of_its_step() {
+    let mut r = Rig::with_config(Config {
+        host_timeout_cycles: 150,
+        ..Config::default()
+    });
+    r.cycle();
+    upload(&mut r.c, 1, &variant(&r.gait, "turn", 0.05, 0.0, tripod));
+    // One counted step, then the turn without end: once it plays, only the host keeps it going.
+    r.play(Some(1));
+    r.c.queue_gait(params(1, None)).unwrap();
+    while r.c.selected_slot() != Some(1) {
+        r.c.host_contact();
+        r.cycle();
+    }
+    assert_eq!(r.c.state(), State::Walking);
+    // 30 cycles into the turn's first step (slice 30, mid-swing of LM RF RH), the host falls silent.
+    for _ in 0..30 {
+        r.c.host_contact();
+        r.cycle();
+    }
+    assert_eq!(r.c.playback(), Some((1, 30)));
+    // The last contact came before the last cycle above, so that cycle was the first silent one;
+    // the 151st is over the limit of 150, 150 cycles on: slice 30 + 150 = 180, slice 80 of the
+    // turn's second step. It ends that step (20 more cycles) and stands, on the turn's slot.
+    let n = r.cycles_until(200, |r| r.c.state() == State::Stopping);
+    assert_eq!(n, 150);
+    assert_eq!(r.c.playback(), Some((2, 80)));
+    let n = r.cycles_until(100, |r| r.c.state() == State::Standing);
+    assert_eq!(n, 20);
+    assert_eq!(r.c.play_clock().unwrap().phase_us(), 0, "never mid-step");
+    assert_eq!(r.c.playback().unwrap().0, 3);
+    assert_eq!(r.c.selected_slot(), Some(1));
+    assert_eq!(r.c.counters().host_lost, 1);
+}
+
+#[test]
+fn a_gait_queued_during_the_ramp_takes_over_after_the_first_step() {
+    let mut r = Rig::new();
+    r.cycle();
+    upload(&mut r.c, 1, &variant(&r.gait, "turn", 0.05, 0.0, tripod));
+    r.play(None);
+    assert_eq!(r.c.state(), State::Ramping);
+    r.c.queue_gait(params(1, Some(1))).unwrap();
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    // The ramp ends on slice 0; a whole step of the first gait (100 cycles of 10 ms) plays before
+    // the queued one takes over at its boundary.
+    let n = r.cycles_until(200, |r| r.c.selected_slot() == Some(1));
+    assert_eq!(n, 100);
+    assert_eq!(r.c.state(), State::Walking);
+    assert_eq!(r.c.playback(), Some((1, 0)));
+}
+
+#[test]
+fn clearing_the_queue_mid_swing_keeps_the_gait_playing() {
+    let mut r = Rig::new();
+    r.cycle();
+    upload(&mut r.c, 1, &variant(&r.gait, "turn", 0.05, 0.0, tripod));
+    r.play(None);
+    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    for _ in 0..30 {
+        r.cycle();
+    }
+    r.c.queue_gait(params(1, None)).unwrap();
+    r.c.clear_queue().unwrap();
+    // Three boundaries later slot 0 still plays, never standing.
+    for _ in 0..300 {
+        r.cycle();
+        assert_eq!(r.c.state(), State::Walking);
+        assert_eq!(r.c.selected_slot(), Some(0));
+    }
+    assert_eq!(r.c.playback(), Some((3, 30)));
+}

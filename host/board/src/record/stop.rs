@@ -44,7 +44,9 @@ pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> Result<Stopped, LinkErro
         | Err(LinkError::Device {
             error: ProtocolError::WrongState { .. },
             ..
-        }) => {}
+        })
+        // The link's name for a refusal in state Fault (it looks the fault up).
+        | Err(LinkError::Faulted { .. }) => {}
         Err(e) => return Err(e),
     }
     let after = board.status()?.state;

@@ -115,15 +115,19 @@ mod tests {
         save(&path, &a).unwrap();
         let mut b = VirtualFlash::new(FLASH_SECTORS);
         b.write(0, &[9, 9, 9, 9]).unwrap();
-        // The scratch file cannot be written (a directory is in its place): the save fails,
-        // naming the image, and the image is still A, whole.
-        std::fs::create_dir(dir.path().join(".partial-robot.tmp")).unwrap();
+        // The scratch file is the OS's to name now (`board::files`), so it can no longer be the
+        // image. A save refused (the image made read-only: refused up front whoever runs it,
+        // root too) names the image, leaves it A, whole, and leaves no scratch file.
+        use std::os::unix::fs::PermissionsExt as _;
+        let perms = |mode| std::fs::Permissions::from_mode(mode);
+        std::fs::set_permissions(&path, perms(0o444)).unwrap();
         let e = save(&path, &b).unwrap_err();
         assert!(e.to_string().contains("robot.tmp"), "{e}");
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(bytes.len(), IMAGE_LEN);
         assert_eq!(&bytes[..5], &[1, 2, 3, 4, 0xFF]);
-        std::fs::remove_dir(dir.path().join(".partial-robot.tmp")).unwrap();
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        std::fs::set_permissions(&path, perms(0o644)).unwrap();
         save(&path, &b).unwrap();
         assert_eq!(&std::fs::read(&path).unwrap()[..4], &[9, 9, 9, 9]);
     }

@@ -145,10 +145,13 @@ pub fn play<T: Transport>(
 /// robot holds), else none (a board does not send its tables back).
 pub fn table_of_port(port: &str, slot: u8) -> Result<Option<Vec<u8>>, crate::robot::ImageError> {
     match crate::port::PortSpec::parse(port) {
-        crate::port::PortSpec::Virtual { image: Some(path) } => table_in_image(&path, slot),
-        crate::port::PortSpec::Virtual { image: None }
-        | crate::port::PortSpec::Serial(_)
-        | crate::port::PortSpec::Physics { .. } => Ok(None),
+        Ok(crate::port::PortSpec::Virtual { image: Some(path) }) => table_in_image(&path, slot),
+        Ok(
+            crate::port::PortSpec::Virtual { image: None }
+            | crate::port::PortSpec::Serial(_)
+            | crate::port::PortSpec::Physics { .. },
+        )
+        | Err(_) => Ok(None),
     }
 }
 

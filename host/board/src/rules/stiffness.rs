@@ -64,6 +64,11 @@ pub fn p_gain(servo: ServoModel, stiffness: f64) -> Result<u16, StiffnessError> 
 /// The board's units (mN m/rad) for `stiffness` (N m/rad) when every servo model a joint may carry
 /// holds it in its P gain register (the board does not say which servo drives which joint).
 pub fn units(stiffness: f64) -> Result<u32, StiffnessError> {
+    if stiffness == 0.0 {
+        // The firmware's "no torque bias" (firmware/src/bias.rs): nothing is divided by it, and
+        // the servos keep the P gain they have (the board writes no gain for a 0).
+        return Ok(0);
+    }
     let units = stiffness_units(stiffness)?;
     for servo in ServoModel::ALL {
         p_gain(servo, stiffness)?;

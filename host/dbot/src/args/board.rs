@@ -66,7 +66,7 @@ impl BoardArgs {
     pub fn connect(&self) -> anyhow::Result<Session> {
         let setup = self.setup()?;
         let port = self.port(&setup)?;
-        let spec = PortSpec::parse(&port);
+        let spec = PortSpec::parse(&port)?;
         // The fallback robot is dbot's own choice, not a path anyone typed: it is created freely.
         let chosen = self.port.is_some() || setup.port.is_some();
         if let PortSpec::Virtual { image: Some(path) } = &spec {

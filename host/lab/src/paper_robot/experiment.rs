@@ -11,6 +11,7 @@ use board::record::{Ended, joints_of_table, phase_stats};
 use physics::PhysicsRobot;
 use planner::gait::StepParams;
 use planner::model::Leg;
+use planner::terrain::Ground;
 use protocol::Direction;
 
 use crate::error::{Context, LabError, Result};
@@ -24,29 +25,28 @@ pub struct Experiment {
     /// Step period the gait is planned at, s.
     pub period_s: f64,
     pub direction: Direction,
-    /// Scene and planner terrain: `flat` or `incline:DEG`.
-    pub terrain: String,
+    /// Scene and planner terrain: flat or an incline.
+    pub terrain: Ground,
     /// Steps walked; the first is left out of the statistics (it starts from the ramp).
     pub steps: u32,
 }
 
 impl Experiment {
-    pub fn new(period_s: f64, direction: Direction, terrain: &str, steps: u32) -> Self {
+    pub fn new(period_s: f64, direction: Direction, terrain: Ground, steps: u32) -> Self {
         let dir = if direction == Direction::Forward {
             "forward"
         } else {
             "backward"
         };
-        let ground = if terrain == "flat" {
-            String::new()
-        } else {
-            format!("-{}", terrain.replace(':', ""))
+        let ground = match terrain {
+            Ground::Flat => String::new(),
+            other => format!("-{}", other.to_string().replace(':', "")),
         };
         Self {
             name: format!("{dir}{ground}-{period_s}s"),
             period_s,
             direction,
-            terrain: terrain.to_owned(),
+            terrain,
             steps,
         }
     }
@@ -71,10 +71,10 @@ pub struct PhaseRow {
 }
 
 /// The tripod at `period_s` (duty of table 1) on `terrain`.
-pub fn params(period_s: f64, terrain: &str) -> Result<StepParams> {
+pub fn params(period_s: f64, terrain: Ground) -> Result<StepParams> {
     let mut p = StepParams::preset("table1", "drosophibot2").context("table1 preset")?;
     p.swing_s = period_s * (1.0 - p.duty);
-    p.terrain = terrain.to_owned();
+    p.terrain = terrain;
     Ok(p)
 }
 
@@ -83,7 +83,7 @@ pub fn params(period_s: f64, terrain: &str) -> Result<StepParams> {
 /// [`LabError::Interrupted`].
 pub fn run(e: &Experiment, dir: Option<&Path>, stop: impl Fn() -> bool) -> Result<Vec<PhaseRow>> {
     let model = planner::model::builtin("drosophibot2")?;
-    let mut p = params(e.period_s, &e.terrain)?;
+    let mut p = params(e.period_s, e.terrain)?;
     // Backward is planned as its own gait (the planner walks backward at a negative translation)
     // and played forward, so its torques, bias and stance phases are the backward plan's, not the
     // forward plan's played in reverse.

@@ -13,6 +13,7 @@ pub mod metrics;
 use std::path::Path;
 
 use board::files::write_atomically;
+use planner::terrain::Ground;
 use protocol::Direction;
 
 use crate::bail;
@@ -33,15 +34,20 @@ pub fn experiments(quick: bool, periods: &[f64]) -> Vec<Experiment> {
         };
         return periods
             .iter()
-            .map(|&t| Experiment::new(t, Direction::Forward, "flat", 3))
+            .map(|&t| Experiment::new(t, Direction::Forward, Ground::Flat, 3))
             .collect();
     }
     let mut v: Vec<Experiment> = [1.0, 2.0, 4.0]
         .into_iter()
-        .map(|t| Experiment::new(t, Direction::Forward, "flat", 11))
+        .map(|t| Experiment::new(t, Direction::Forward, Ground::Flat, 11))
         .collect();
-    v.push(Experiment::new(2.0, Direction::Backward, "flat", 11));
-    v.push(Experiment::new(2.0, Direction::Forward, "incline:15", 6));
+    v.push(Experiment::new(2.0, Direction::Backward, Ground::Flat, 11));
+    v.push(Experiment::new(
+        2.0,
+        Direction::Forward,
+        Ground::Incline { angle_deg: 15.0 },
+        6,
+    ));
     v
 }
 

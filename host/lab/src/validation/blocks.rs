@@ -1,7 +1,7 @@
 //! The run results of docs/validation.md's generated blocks: the built-in models at table 1's
 //! parameters (weight, peak torques, plots), the servo feasibility and the choice of the default
 //! swing, the IK's continuity on the fly's ball walk, the 15 degree incline, the resting posture,
-//! the speed sweep and the paper's comparison.
+//! the speed sweep, the paper's comparison and curves walked on the physics robot.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -129,7 +129,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
         ("table1", "ball"),
     ] {
         let mut params = StepParams::preset(preset, &robot.name).context("preset")?;
-        params.terrain = terrain.into();
+        params.terrain = planner::terrain::Ground::parse(terrain)?;
         let p = planner::plan::plan(&robot, &params)?;
         let c = solve(&p)?;
         let t = planner::dynamics::output::torque_rows(&c);
@@ -183,9 +183,10 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
         let mut period = 0.0;
         let mut worst = 0.0f64;
         for terrain in ["flat", "ball"] {
+            let ground = planner::terrain::Ground::parse(terrain)?;
             let p = plan_of(&robot, &|p| {
                 p.swing_s = swing;
-                p.terrain = terrain.into();
+                p.terrain = ground;
             })?;
             period = p.period_s;
             let (share, fast) = fastest(&feasibility::check(&p.model, &p.q, None, p.dt));
@@ -207,7 +208,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     b.insert("swing-choice", s);
 
     // The IK's continuity on the fly's ball walk (its front CTr used to jump 0.47 rad).
-    let p = plan_of(&fly, &|p| p.terrain = "ball".into())?;
+    let p = plan_of(&fly, &|p| p.terrain = planner::terrain::Ground::BALL)?;
     let n = p.slices();
     // (step, joint, slice, allowance) of the largest step relative to its allowance.
     let mut worst = (0.0f64, 0usize, 0usize, f64::INFINITY);
@@ -241,7 +242,9 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     b.insert("ik-continuity", s);
 
     // The 15 degree incline with push-only feet.
-    let p = plan_of(&robot, &|p| p.terrain = "incline:15".into())?;
+    let p = plan_of(&robot, &|p| {
+        p.terrain = planner::terrain::Ground::Incline { angle_deg: 15.0 }
+    })?;
     let opts = DynamicsOptions {
         push_only: true,
         ..Default::default()
@@ -308,7 +311,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     // The physical-robot preset on both terrains: does it plan, and can the servos follow it?
     for terrain in ["flat", "ball"] {
         let mut params = physical.clone();
-        params.terrain = terrain.into();
+        params.terrain = planner::terrain::Ground::parse(terrain)?;
         let verdict = match planner::plan::plan(&robot, &params) {
             Err(e) => format!("does not plan: {e}"),
             Ok(p) => {
@@ -370,6 +373,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
 
     b.insert("sweep", sweep()?);
     b.insert("strain", super::strain::block()?);
+    b.insert("turning", super::turning::turning()?);
     b.insert("performance", super::timing::performance()?);
     Ok(Generated { blocks: b, plots })
 }

@@ -13,6 +13,7 @@ pub mod blocks;
 pub mod springs;
 pub mod strain;
 pub mod timing;
+pub mod turning;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -48,8 +48,8 @@ pub struct StepParams {
     pub gait: Gait,
     /// Time slices per step cycle.
     pub slices: usize,
-    /// `flat`, `ball[:R[:OFFSET]]` or `incline:DEG` (see [`crate::terrain::Terrain::parse`]).
-    pub terrain: String,
+    /// The ground, written as its text in files (see [`crate::terrain::Ground`]).
+    pub terrain: crate::terrain::Ground,
     /// Ball radius used for a bare `ball`, m.
     pub ball_radius_m: f64,
     /// Depth of the ball's centre below the centre of mass, for a bare `ball`, m.
@@ -95,7 +95,7 @@ impl StepParams {
                 body_height_m: PerPair::all(1.3e-3),
                 gait: Gait::TRIPOD,
                 slices: 100,
-                terrain: "flat".into(),
+                terrain: crate::terrain::Ground::Flat,
                 // Paper section 3.1: r = 3 mm, centre 3.7 mm below the CoM.
                 ball_radius_m: 3e-3,
                 ball_offset_m: 3.7e-3,
@@ -128,7 +128,7 @@ impl StepParams {
                 body_height_m: PerPair::all(0.175),
                 gait: Gait::TRIPOD,
                 slices: 100,
-                terrain: "flat".into(),
+                terrain: crate::terrain::Ground::Flat,
                 // Paper section 3.1: r = 0.637 m, centre 0.76 m below the CoM.
                 ball_radius_m: 0.637,
                 ball_offset_m: 0.76,
@@ -285,7 +285,7 @@ pub struct ParamsFile {
     pub body_height_m: Option<PerPair>,
     pub gait: Option<Gait>,
     pub slices: Option<usize>,
-    pub terrain: Option<String>,
+    pub terrain: Option<crate::terrain::Ground>,
     pub ball_radius_m: Option<f64>,
     pub ball_offset_m: Option<f64>,
     pub placement: Option<Placement>,

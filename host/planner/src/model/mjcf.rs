@@ -13,7 +13,7 @@ use std::fmt::Write;
 
 use super::{Actuation, ActuatorKind, Model};
 use crate::kinematics;
-use crate::terrain::Terrain;
+use crate::terrain::{BallMount, Blocks, Ground, Terrain};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
 /// Radius of the foot contact spheres, m.
@@ -36,6 +36,8 @@ pub enum Scene {
     BallFixed { radius_m: f64, centre: [f64; 3] },
     /// The fly rig: the thorax is held in place and the ball spins freely under the feet.
     BallHeld { radius_m: f64, centre: [f64; 3] },
+    /// Uneven ground: a field of blocks over a floor ([`write_blocks`]).
+    Blocks(Blocks),
 }
 
 impl Scene {
@@ -110,19 +112,25 @@ pub struct MjcfOptions {
 }
 
 impl MjcfOptions {
-    /// The planner's resting posture (table 1's body heights for the model) on a scene named
-    /// `flat`, `incline:DEG`, `ball[:R[:OFFSET]]` (the fly rig: thorax held, ball spinning) or
-    /// `ball-fixed[:R[:OFFSET]]` (a fixed ball, robot free on it), at the default timestep.
-    pub fn stance(model: &Model, scene: &str) -> Result<Self, crate::plan::PlanError> {
-        let (terrain_text, fixed) = match scene.strip_prefix("ball-fixed") {
-            Some(rest) => (format!("ball{rest}"), true),
-            None => (scene.to_owned(), false),
-        };
+    /// The planner's resting posture (table 1's body heights for the model) on `ground` (a
+    /// ball held is the fly rig: thorax held, ball spinning; a fixed ball has the robot free on
+    /// it; blocks stand in the flat posture), at the default timestep.
+    pub fn stance(model: &Model, ground: &Ground) -> Result<Self, crate::plan::PlanError> {
         let params = crate::gait::StepParams::table1(&model.name);
-        let terrain = Terrain::parse(&terrain_text, params.ball_radius_m, params.ball_offset_m)?;
+        let terrain = ground.stance_terrain(params.ball_radius_m, params.ball_offset_m);
         let posture = kinematics::resting_posture(model, &terrain, &|leg| params.foot_goal(leg))?;
+        let scene = match ground {
+            Ground::Blocks(b) => Scene::Blocks(*b),
+            Ground::Ball {
+                mount: BallMount::Fixed,
+                ..
+            } => Scene::from_terrain(&terrain, posture.ball_centre, false),
+            Ground::Flat | Ground::Incline { .. } | Ground::Ball { .. } => {
+                Scene::from_terrain(&terrain, posture.ball_centre, true)
+            }
+        };
         Ok(Self {
-            scene: Scene::from_terrain(&terrain, posture.ball_centre, !fixed),
+            scene,
             stance_q: posture.q,
             timestep_s: DEFAULT_TIMESTEP_S,
         })
@@ -176,14 +184,24 @@ pub fn to_mjcf(model: &Model, options: &MjcfOptions) -> String {
         r#"  <default><geom condim="3" friction="1.5 0.005 0.0001" solref="0.002 1" solimp="0.999 0.999 0.001 0.5 2"/></default>"#
     );
     s.push_str("  <worldbody>\n");
-    s.push_str(
-        r#"    <geom name="ground" type="plane" size="0 0 0.05" contype="2" conaffinity="1"/>"#,
+    let floor = match options.scene {
+        Scene::Blocks(b) => b.floor_m(),
+        Scene::Flat | Scene::Incline { .. } | Scene::BallFixed { .. } | Scene::BallHeld { .. } => {
+            0.0
+        }
+    };
+    let _ = writeln!(
+        s,
+        r#"    <geom name="ground" type="plane" size="0 0 0.05" pos="0 0 {floor:e}" contype="2" conaffinity="1"/>"#,
     );
-    s.push('\n');
     // Height of the thorax that puts the lowest foot tip on the ground.
     let lowest = poses.feet.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
     let (root, held) = match options.scene {
         Scene::Flat | Scene::Incline { .. } => (Vector3::new(0.0, 0.0, -lowest), false),
+        Scene::Blocks(b) => (
+            Vector3::new(0.0, 0.0, blocks_root_z(&b, &poses.feet)),
+            false,
+        ),
         Scene::BallFixed { radius_m, centre } | Scene::BallHeld { radius_m, centre } => {
             // The ball rests on the ground; the thorax sits where the stance puts it over it.
             let c = Vector3::from(centre);
@@ -204,6 +222,7 @@ pub fn to_mjcf(model: &Model, options: &MjcfOptions) -> String {
     s.push_str("    </body>\n");
     match options.scene {
         Scene::Flat | Scene::Incline { .. } => {}
+        Scene::Blocks(b) => write_blocks(&mut s, &b),
         Scene::BallFixed { radius_m, centre } => {
             let c = Vector3::from(centre) + root;
             let _ = writeln!(
@@ -228,6 +247,35 @@ pub fn to_mjcf(model: &Model, options: &MjcfOptions) -> String {
     write_keyframe(&mut s, model, options, &root, held);
     s.push_str("</mujoco>\n");
     s
+}
+
+/// Thorax height that puts the highest-standing foot of the stance (`feet`, thorax frame) on the
+/// block under it; the others hang until the body settles onto them.
+fn blocks_root_z(b: &Blocks, feet: &[nalgebra::Point3<f64>]) -> f64 {
+    feet.iter()
+        .map(|p| b.height_at(p.x, p.y) - p.z)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The blocks: one static box per cell from the floor to its top (none in a gap), named
+/// `block_I_J`, touching the feet as the ground does.
+fn write_blocks(s: &mut String, b: &Blocks) {
+    let (_, ny) = b.cells_xy();
+    let floor = b.floor_m();
+    for (k, c) in b.cells().iter().enumerate() {
+        let Some(top) = c.top_m else { continue };
+        let half = b.size_m / 2.0;
+        let hz = (top - floor) / 2.0;
+        let _ = writeln!(
+            s,
+            r#"    <geom name="block_{}_{}" type="box" size="{half:e} {half:e} {hz:e}" pos="{:e} {:e} {:e}" contype="2" conaffinity="1"/>"#,
+            k / ny,
+            k % ny,
+            c.centre_xy_m[0],
+            c.centre_xy_m[1],
+            floor + hz
+        );
+    }
 }
 
 /// Children of `body`, recursively, each with its inertial, its hinge and its foot sphere.

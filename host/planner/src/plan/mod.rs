@@ -96,7 +96,9 @@ pub fn footpaths(params: &StepParams, terrain: &Terrain, posture: &Posture) -> V
 /// Plans one step cycle.
 pub fn plan(model: &Model, params: &StepParams) -> Result<Plan, PlanError> {
     params.validate()?;
-    let terrain = Terrain::parse(&params.terrain, params.ball_radius_m, params.ball_offset_m)?;
+    let terrain = params
+        .terrain
+        .plan_terrain(params.ball_radius_m, params.ball_offset_m)?;
     let posture = resting_posture(model, &terrain, &|leg| params.foot_goal(leg))?;
     let paths = footpaths(params, &terrain, &posture);
     let n = params.slices;

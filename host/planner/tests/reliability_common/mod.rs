@@ -135,7 +135,7 @@ pub fn plan_params(data: &[u8]) -> bool {
     let mut params = StepParams::table1("drosophibot2");
     file.apply(&mut params);
     if let Some(t) = &file.terrain {
-        let _ = Terrain::parse(t, params.ball_radius_m, params.ball_offset_m);
+        let _ = t.plan_terrain(params.ball_radius_m, params.ball_offset_m);
     }
     if params.validate().is_err() {
         return false;

@@ -60,6 +60,8 @@ pub enum Ground {
     },
     /// A ball (drawn as its outline in every view).
     Ball { centre: Point3<f64>, radius: f64 },
+    /// Uneven ground, world frame (drawn by `blocks.rs`).
+    Blocks(planner::terrain::Blocks),
     /// Nothing drawn.
     Nothing,
 }
@@ -118,6 +120,7 @@ impl Bounds {
             }
             // The top of the ball only: a ball many times the robot would shrink it to a dot.
             Ground::Ball { centre, radius } => min.z = min.z.min(centre.z + radius),
+            Ground::Blocks(_) => min.z = min.z.min(0.0),
             Ground::Nothing => {}
         }
         let pad = (max - min).max() * 0.08 + 1e-6;
@@ -149,6 +152,7 @@ impl Bounds {
                     Some(Point3::new(c.x, c.y, z))
                 }
                 Ground::Ball { centre, radius } => Some(Point3::new(c.x, c.y, centre.z + radius)),
+                Ground::Blocks(b) => Some(Point3::new(c.x, c.y, b.height_at(c.x, c.y))),
                 Ground::Plane { .. } | Ground::Nothing => None,
             };
             for p in f.points().chain(under.as_ref()) {
@@ -285,7 +289,7 @@ fn plot_size<DB: DrawingBackend>(panel: &DrawingArea<DB, Shift>) -> DrawResult<(
     Ok(((xs.end - xs.start) as u32, (ys.end - ys.start) as u32))
 }
 
-type Chart<'a, DB> = ChartContext<
+pub(super) type Chart<'a, DB> = ChartContext<
     'a,
     DB,
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
@@ -348,6 +352,7 @@ fn draw_ground<DB: DrawingBackend>(
                 .map_err(|e| e.to_string())?;
         }
         (Ground::Plane { .. }, View::Top) | (Ground::Nothing, _) => {}
+        (Ground::Blocks(b), _) => super::blocks::draw_blocks(chart, view, b)?,
         (Ground::Ball { centre, radius }, _) => {
             let (ch, cv) = view.project(centre);
             let (x, y) = (chart.x_range(), chart.y_range());

@@ -59,6 +59,21 @@ pub fn animate_walk(
     path: &Path,
     delay_ms: u32,
 ) -> Result<WalkGif, FigureError> {
+    let ground = Ground::Plane {
+        point: Point3::origin(),
+        normal: Vector3::z(),
+    };
+    animate_walk_on(model, poses, path, delay_ms, &ground)
+}
+
+/// As [`animate_walk`], on `ground` (world frame: e.g. blocks).
+pub fn animate_walk_on(
+    model: &Model,
+    poses: &[WalkPose],
+    path: &Path,
+    delay_ms: u32,
+    ground: &Ground,
+) -> Result<WalkGif, FigureError> {
     let frames = poses
         .iter()
         .map(|p| {
@@ -69,11 +84,7 @@ pub fn animate_walk(
         })
         .collect::<Result<Vec<_>, FigureError>>()?;
     let centres: Vec<Point3<f64>> = poses.iter().map(|p| Point3::from(p.thorax.0)).collect();
-    let ground = Ground::Plane {
-        point: Point3::origin(),
-        normal: Vector3::z(),
-    };
-    let layouts = write_gif_following(path, &frames, &centres, &ground, delay_ms)?;
+    let layouts = write_gif_following(path, &frames, &centres, ground, delay_ms)?;
     Ok(WalkGif {
         figures: frames.into_iter().map(|f| f.figure).collect(),
         layouts,

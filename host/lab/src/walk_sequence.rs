@@ -1,0 +1,172 @@
+//! A walk of several gaits as one run on the physics robot: e.g. straight, a curve, backward and
+//! stop. Each distinct plan goes into its own slot, the first plays from standing and the others
+//! are queued (`Board::queue_gait`, switched by the board at a step boundary without standing
+//! still); the run's heading change, measured from the thorax, is set against the plans'.
+
+use std::time::Duration;
+
+use board::link::Board;
+use physics::{Figures, PhysicsRobot};
+use planner::gait::StepParams;
+use planner::model::Model;
+use protocol::{Direction, PlayCommand, QueueCommand, RunState, Steps};
+
+use crate::error::{Context, LabError, Result};
+use crate::walk_turn::{PlannedTurn, boundary_poses, heading_change, walk_table};
+
+/// One part of a run: a plan's gait played `steps` steps in `direction`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment {
+    pub params: StepParams,
+    pub direction: Direction,
+    pub steps: u32,
+}
+
+/// What one segment turned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentTurn {
+    /// The plan's heading change over the segment, rad (backward walking turns the other way).
+    pub planned_rad: f64,
+    /// The thorax's yaw change between the segment's first and last step boundary, rad.
+    pub measured_rad: f64,
+}
+
+/// A run of segments on the physics robot.
+#[derive(Debug, Clone)]
+pub struct SequenceWalk {
+    /// The plans' heading change over the run, rad.
+    pub planned_heading_rad: f64,
+    /// The thorax's yaw change from standing before the run to standing after it, rad.
+    pub measured_heading_rad: f64,
+    pub segments: Vec<SegmentTurn>,
+    /// The slots and directions the board played, in order, as its status showed them.
+    pub played: Vec<(u8, Direction)>,
+    /// Whether the board ramped (or stood) again between its first step and its last.
+    pub stood_between: bool,
+    /// Steps the board completed.
+    pub steps: u32,
+    /// What the run did to the body.
+    pub figures: Figures,
+}
+
+/// Walks `segments` (at most 1 + the board's queue of 4; one slot per distinct plan) as one run on
+/// a fresh physics robot on flat ground, polling the board's status every 100 ms.
+pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk> {
+    let Some((first, rest)) = segments.split_first() else {
+        crate::bail!("no segments: give at least one gait to walk");
+    };
+    if let Some(s) = segments.iter().find(|s| s.steps == 0) {
+        crate::bail!(
+            "a segment of 0 steps ({} deg per step): give each at least one step",
+            s.params.turn_per_step_rad().to_degrees()
+        );
+    }
+    let robot = PhysicsRobot::new(model, "flat")?;
+    let mut board = Board::connect(robot.into_transport())?;
+    // One slot per distinct plan, in order of first use.
+    let mut plans: Vec<(StepParams, PlannedTurn)> = Vec::new();
+    let mut slots = Vec::new();
+    for s in segments {
+        let slot = match plans.iter().position(|(p, _)| *p == s.params) {
+            Some(i) => i,
+            None => {
+                if plans.len() == protocol::MAX_SLOTS {
+                    crate::bail!("more than {} distinct plans", protocol::MAX_SLOTS);
+                }
+                let plan = planner::plan::plan(model, &s.params).with_context(|| {
+                    format!("planning segment {} of {}", slots.len() + 1, model.name)
+                })?;
+                let table = walk_table(&plan, &format!("seq{}", plans.len()))?;
+                board.upload(plans.len() as u8, &table, |_, _| {})?;
+                plans.push((s.params.clone(), PlannedTurn::of(&plan)));
+                plans.len() - 1
+            }
+        };
+        slots.push(slot as u8);
+    }
+    let servos = board.transport_mut().robot_mut().servos_mut();
+    servos.reset_figures();
+    servos.start_log(usize::MAX);
+    let period = |s: &Segment| s.params.period_s();
+    board.play(PlayCommand {
+        slot: slots[0],
+        direction: first.direction,
+        period_scale: protocol::units::PERIOD_SCALE_ONE,
+        steps: Steps::Count(first.steps),
+    })?;
+    for (i, s) in rest.iter().enumerate() {
+        board
+            .queue_gait(QueueCommand {
+                slot: slots[i + 1],
+                direction: s.direction,
+                period_scale: protocol::units::PERIOD_SCALE_ONE,
+                steps: Steps::Count(s.steps),
+            })
+            .with_context(|| format!("queueing segment {} after the one before", i + 2))?;
+    }
+    let walk_s: f64 = segments
+        .iter()
+        .map(|s| f64::from(s.steps) * period(s))
+        .sum();
+    let polls = ((2.0 * walk_s + 5.0) / 0.1).ceil() as u32;
+    let (mut played, mut walked, mut stood_between, mut done) = (Vec::new(), false, false, false);
+    for _ in 0..polls {
+        board.wait(Duration::from_millis(100))?;
+        let st = board.status()?;
+        if let Some(f) = st.fault {
+            return Err(LabError::invalid(format!("the robot faulted: {f}")));
+        }
+        if let Some(p) = st.playback {
+            walked = true;
+            if played.last() != Some(&(p.slot, p.direction)) {
+                played.push((p.slot, p.direction));
+            }
+        }
+        if walked && st.playback.is_none() && st.state == RunState::Standing {
+            done = true;
+            break;
+        }
+        // Between the first step and the last the board only walks (or stops at the end).
+        if walked && matches!(st.state, RunState::Ramping | RunState::Standing) {
+            stood_between = true;
+        }
+    }
+    if !done {
+        crate::bail!(
+            "the robot still walks {:.1} s after the run should have ended",
+            2.0 * walk_s + 5.0
+        );
+    }
+    let servos = board.transport_mut().robot_mut().servos_mut();
+    let figures = servos
+        .figures()
+        .cloned()
+        .context("the physics robot measured nothing")?;
+    let log = servos.take_log().context("the run's log is missing")?;
+    let total: u32 = segments.iter().map(|s| s.steps).sum();
+    let poses = boundary_poses(&log, 0, total)
+        .with_context(|| format!("the run's log lacks step boundaries 0 to {total}"))?;
+    let mut turns = Vec::new();
+    let mut at = 0usize;
+    for (s, &slot) in segments.iter().zip(&slots) {
+        let sign = match s.direction {
+            Direction::Forward => 1.0,
+            Direction::Backward => -1.0,
+        };
+        let end = at + s.steps as usize;
+        turns.push(SegmentTurn {
+            planned_rad: sign * plans[slot as usize].1.turn_per_step_rad * f64::from(s.steps),
+            measured_rad: poses[end][2] - poses[at][2],
+        });
+        at = end;
+    }
+    Ok(SequenceWalk {
+        planned_heading_rad: turns.iter().map(|t| t.planned_rad).sum(),
+        measured_heading_rad: heading_change(&log),
+        segments: turns,
+        played,
+        stood_between,
+        steps: total,
+        figures,
+    })
+}

@@ -1,0 +1,30 @@
+"""The `dbot` CLI binary for the tests that compare Python with what the CLI writes or refuses:
+`target/debug/dbot` (from `cargo build -p dbot`; scripts/test.sh builds it before pytest), or the
+path in `DBOT_BIN`. A missing binary fails the test rather than skipping it, so that a test cannot
+pass without running."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import subprocess
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def dbot_cli() -> pathlib.Path:
+    if os.environ.get("DBOT_BIN"):
+        return pathlib.Path(os.environ["DBOT_BIN"])
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    exe = target / "debug" / "dbot"
+    assert exe.exists(), f"{exe} is missing: build it with `cargo build -p dbot` (or set DBOT_BIN)"
+    return exe
+
+
+def run(*args: str, cwd: pathlib.Path) -> str:
+    """Runs `dbot ARGS` in `cwd`; it must succeed. Its standard output."""
+    out = subprocess.run(
+        [str(dbot_cli()), *args], cwd=cwd, capture_output=True, text=True, timeout=600
+    )
+    assert out.returncode == 0, out.stderr
+    return out.stdout
