@@ -61,7 +61,7 @@ pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk
             s.params.turn_per_step_rad().to_degrees()
         );
     }
-    let robot = PhysicsRobot::new(model, "flat")?;
+    let robot = PhysicsRobot::new(model, &planner::terrain::Ground::Flat)?;
     let mut board = Board::connect(robot.into_transport())?;
     // One slot per distinct plan, in order of first use.
     let mut plans: Vec<(StepParams, PlannedTurn)> = Vec::new();

@@ -172,7 +172,7 @@ pub fn walk_turn(model: &Model, params: &StepParams, steps: u32) -> Result<TurnW
     let plan = planner::plan::plan(model, params)
         .with_context(|| format!("planning a step of {}", model.name))?;
     let table = walk_table(&plan, "turn")?;
-    let robot = PhysicsRobot::new(model, "flat")?;
+    let robot = PhysicsRobot::new(model, &planner::terrain::Ground::Flat)?;
     let mut board = Board::connect(robot.into_transport())?;
     board.upload(0, &table, |_, _| {})?;
     let servos = board.transport_mut().robot_mut().servos_mut();

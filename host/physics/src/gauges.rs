@@ -233,7 +233,8 @@ mod tests {
     fn the_sampler_feeds_each_gauge_into_its_board_column_every_24_ms() {
         use board::strain::StrainSource;
         let model = planner::model::builtin("drosophibot2").unwrap();
-        let options = crate::PhysicsRobot::options(&model, "flat").unwrap();
+        let options =
+            crate::PhysicsRobot::options(&model, &planner::terrain::Ground::Flat).unwrap();
         let mut plant = Plant::new(&model, &options).unwrap();
         for i in 0..plant.joints().len() {
             let j = plant.joints()[i].clone();
@@ -278,7 +279,8 @@ mod tests {
     #[test]
     fn the_free_body_wrench_is_mujocos_interaction_wrench() {
         let model = planner::model::builtin("drosophibot2").unwrap();
-        let options = crate::PhysicsRobot::options(&model, "flat").unwrap();
+        let options =
+            crate::PhysicsRobot::options(&model, &planner::terrain::Ground::Flat).unwrap();
         let still = SliceInput::still(&model, options.stance_q.clone());
         let sol = solve_slice(&model, &still, &DynamicsOptions::default(), 0).unwrap();
         let mut plant = Plant::new(&model, &options).unwrap();

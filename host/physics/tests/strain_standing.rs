@@ -18,7 +18,7 @@ use planner::model::builtin;
 #[test]
 fn standing_with_the_bias_the_simulated_gauges_read_what_the_planner_predicts() {
     let model = builtin("drosophibot2").unwrap();
-    let options = PhysicsRobot::options(&model, "flat").unwrap();
+    let options = PhysicsRobot::options(&model, &planner::terrain::Ground::Flat).unwrap();
     let q = options.stance_q.clone();
     let still = SliceInput::still(&model, q.clone());
     let sol = solve_slice(&model, &still, &DynamicsOptions::default(), 0).unwrap();

@@ -31,7 +31,7 @@ pub struct StandingStrain {
 /// Stands Drosophibot II for 3 s with goals `q + bias tau / k` and compares its gauges.
 pub fn standing(bias: f64) -> Result<StandingStrain> {
     let model = builtin("drosophibot2")?;
-    let options = PhysicsRobot::options(&model, "flat")?;
+    let options = PhysicsRobot::options(&model, &planner::terrain::Ground::Flat)?;
     let q = options.stance_q.clone();
     let still = SliceInput::still(&model, q.clone());
     let sol = solve_slice(&model, &still, &DynamicsOptions::default(), 0)?;
