@@ -9,6 +9,7 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
 * :func:`compare` - two plan directories or trials DoF by DoF (R^2 of angles and torques), as
   ``dbot compare A B``.
+* :func:`compare_strain` - a trial's recorded strain against a plan's prediction, per gauge.
 * :func:`physics_walk` / :func:`walk_figures` - walk a plan directory's gait on a fresh physics
   robot and compute the figures ``dbot demo`` prints for a walk (the ``lab`` crate's functions).
 * :class:`Board` - a board, the RP2040 emulator's pseudo-terminal, the virtual robot
@@ -37,6 +38,7 @@ from ._native import (
     __version__,
     camera_half_extent,
     compare,
+    compare_strain,
     physics_walk,
     plan,
     read_plan_dir,
@@ -57,12 +59,13 @@ __all__ = [
     "PlanDir",
     "__version__",
     "camera_half_extent",
+    "compare",
+    "compare_strain",
     "physics_walk",
     "plan",
     "read_plan_dir",
     "read_trial",
     "render_pose",
-    "compare",
     "walk_figures",
     "write_walk_gif",
 ]

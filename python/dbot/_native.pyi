@@ -1,7 +1,7 @@
 """Type stubs of the native module ``dbot._native`` (PyO3). See the package docstring."""
 
 from os import PathLike
-from typing import Any, Literal, TypedDict
+from typing import Any, Literal, NotRequired, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -277,6 +277,17 @@ class Proprioception(Records):
     time_us: npt.NDArray[np.int64]
     setpoint_seq: npt.NDArray[np.int64]
     setpoint_age: npt.NDArray[np.int64]
+    strain_names: NotRequired[list[str]]
+    """Physics robot only: the simulated gauges (the strain board's names)."""
+    strain_microstrain: NotRequired[npt.NDArray[np.float64]]
+    """[record, gauge]: the latest simulated sample at or before each record (NaN: none)."""
+    strain_age_s: NotRequired[npt.NDArray[np.float64]]
+    """[record]: the record's time less that sample's (0 to 24 ms)."""
+
+class SimulatedStrain(TypedDict):
+    time_s: float
+    names: list[str]
+    microstrain: npt.NDArray[np.float64]
 
 class Settings(TypedDict):
     baud: int
@@ -330,6 +341,9 @@ class Board:
         """What the port is: a board or the emulator's pty, the virtual robot, the physics robot."""
     def body(self) -> Body:
         """The physics robot's body now; raises BoardError on any other kind of port."""
+    def strain(self) -> SimulatedStrain | None:
+        """The physics robot's simulated strain gauges, latest sample (every 24 ms of simulated
+        time); None before the first bus cycle; raises BoardError on any other kind of port."""
     @property
     def joint_names(self) -> list[str]:
         """The board's joints in joint-map order: the model joint each servo of the gait in use
@@ -405,7 +419,17 @@ class Board:
         bias's divisor, as ``dbot set --stiffness --joint``."""
     def wait(self, seconds: float) -> None:
         """Lets time pass on the board's clock, keeping telemetry and proprioception."""
-    def record(self, duration_s: float) -> Telemetry: ...
+    def record(
+        self,
+        duration_s: float,
+        strain: str | None = None,
+        strain_dir: str | PathLike[str] | None = None,
+    ) -> Telemetry:
+        """Telemetry for ``duration_s`` of board time. With ``strain`` (a strain board's port or
+        ``"virtual"``; the servo board's port is refused) the strain board is calibrated, then
+        recorded beside it into ``strain_dir`` as ``dbot record --strain`` does; the dict gains
+        ``strain_time_s`` (on ``time_s``'s clock), ``strain_counts`` ([sample, 36] raw counts),
+        ``strain_names`` and ``strain_error`` (why the strain stream stopped early, else None)."""
     def enter_streaming(self, timeout_cycles: int = 5, feedback_every: int = 1) -> None:
         """From standing only. No setpoint for ``timeout_cycles`` cycles: hold, then safe
         (state ``Fault``, fault kind ``SetpointTimeout``). Proprioception every
@@ -473,6 +497,18 @@ class WalkFigures(TypedDict):
     loads: dict[str, LoadFit]
     """Servo load (ESTIMATE from Present Load) against the planned torque, by joint name, over the
     whole steps after the first."""
+
+class GaugeFit(TypedDict):
+    gauge: str
+    samples: int
+    r2: float | None
+    """R^2 over the step phase of counts above baseline against predicted microstrain."""
+    gain: float | None
+    """Counts per predicted microstrain, fitted through the origin (a calibration)."""
+    rms_residual_counts: float | None
+
+def compare_strain(trial: str | PathLike[str], plan_dir: str | PathLike[str]) -> list[GaugeFit]:
+    """A trial's strain against ``plan_dir``'s prediction per gauge (``dbot compare --strain``)."""
 
 def walk_figures(walk: PhysicsWalk) -> WalkFigures:
     """The figures ``dbot demo`` prints for a walk, from what it recorded (SI units)."""

@@ -5,6 +5,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use ::board::link::Transport;
+use numpy::ToPyArray;
 use protocol::{Direction, PlayCommand, ServoSelect, Steps, StreamConfig};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -42,6 +43,31 @@ fn seconds(s: f64, what: &str) -> PyResult<Duration> {
 }
 
 impl Board {
+    /// Proprioception records as a dict; on the physics robot with the strain each record knew
+    /// (`records::proprioception_strain`).
+    fn proprioception<'py>(
+        &self,
+        py: Python<'py>,
+        recs: &[protocol::Proprioception],
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let d = records::proprioception_dict(py, recs, &self.naming())?;
+        let strain = self.with(py, |l| {
+            let t = l.transport();
+            Ok(t.physics().map(|p| {
+                let names = p.gauge_names();
+                let s: Vec<_> = recs
+                    .iter()
+                    .map(|r| t.strain_at(r.time_us as f64 * 1e-6))
+                    .collect();
+                (names, s)
+            }))
+        })?;
+        if let Some((names, s)) = strain {
+            records::proprioception_strain(py, &d, recs, &s, &names)?;
+        }
+        Ok(d)
+    }
+
     /// Runs `f` on the link.
     fn with<R>(
         &self,
@@ -421,16 +447,51 @@ impl Board {
 
     /// Reads playback telemetry for `duration_s` on the board's clock (plus what was already
     /// received): a dict of NumPy arrays, see `dbot.Telemetry`.
-    fn record<'py>(&self, py: Python<'py>, duration_s: f64) -> PyResult<Bound<'py, PyDict>> {
+    ///
+    /// With `strain` (a strain board's port, or `"virtual"`) the strain board is recorded beside
+    /// it into `strain_dir` as `dbot record --strain` does (`board::strain::StrainBeside`: it
+    /// calibrates first; the servo board's port is refused): the dict gains `strain_time_s` (on
+    /// the telemetry's `time_s` clock), `strain_counts` ([sample, 36] raw counts),
+    /// `strain_names` and `strain_error` (why the strain stream stopped early, else None; the
+    /// telemetry is whole either way).
+    #[pyo3(signature = (duration_s, strain = None, strain_dir = None))]
+    fn record<'py>(
+        &self,
+        py: Python<'py>,
+        duration_s: f64,
+        strain: Option<&str>,
+        strain_dir: Option<std::path::PathBuf>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let d = seconds(duration_s, "duration_s")?;
-        let recs = self.with(py, move |l| {
+        let mut beside = match (strain, &strain_dir) {
+            (None, _) => None,
+            (Some(p), None) => {
+                return Err(value_error(format!(
+                    "strain = {p:?}: give strain_dir, the folder for strain.csv"
+                )));
+            }
+            (Some(p), Some(dir)) => {
+                let servo = self.port.clone();
+                // Calibration takes seconds on the lab's board: other Python threads may run.
+                Some(
+                    py.detach(|| ::board::strain::StrainBeside::start(p, &servo, dir))
+                        .map_err(|e| value_error(format!("strain = {p:?}: {e}")))?,
+                )
+            }
+        };
+        let recs = self.with(py, |l| {
             let deadline = l.now() + d;
             let mut out = Vec::new();
             loop {
                 let now = l.now();
                 let left = deadline.saturating_sub(now);
                 match l.telemetry(left)? {
-                    Some(t) => out.push(t),
+                    Some(t) => {
+                        if let Some(b) = beside.as_mut() {
+                            b.note(t.time_us as f64 * 1e-6);
+                        }
+                        out.push(t);
+                    }
                     None => break,
                 }
                 if left.is_zero() {
@@ -439,7 +500,11 @@ impl Board {
             }
             Ok(out)
         })?;
-        records::telemetry_dict(py, &recs, &self.naming())
+        let dict = records::telemetry_dict(py, &recs, &self.naming())?;
+        if let (Some(b), Some(dir)) = (beside, strain_dir) {
+            records::strain_items(py, &dict, b.finish(), &dir)?;
+        }
+        Ok(dict)
     }
 
     /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new
@@ -497,14 +562,40 @@ impl Board {
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
         let d = seconds(timeout_s, "timeout_s")?;
         let rec = self.with(py, move |l| l.proprioception(d))?;
-        rec.map(|p| records::proprioception_dict(py, &[p], &self.naming()))
-            .transpose()
+        rec.map(|p| self.proprioception(py, &[p])).transpose()
     }
 
     /// Every proprioception record received so far, without waiting: a dict of arrays.
     fn drain_proprioception<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let recs = self.with(py, |l| l.drain_proprioception())?;
-        records::proprioception_dict(py, &recs, &self.naming())
+        self.proprioception(py, &recs)
+    }
+
+    /// The physics robot's simulated strain gauges, the latest sample (taken every 24 ms of
+    /// simulated time, as the strain board's lines come): `time_s`, `names` (the strain board's
+    /// gauge names, e.g. `LF_troch_axial`) and `microstrain` (per gauge). None before the first
+    /// bus cycle; BoardError on any other kind of port.
+    fn strain<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let physics = self.with(py, |l| Ok(l.transport().physics().is_some()))?;
+        if !physics {
+            return Err(board_error(format!(
+                "{}: no simulated strain gauges: they exist only on the physics robot (open \
+                 `physics` or `physics:SCENE`)",
+                self.port
+            )));
+        }
+        let s = self.with(py, |l| Ok(l.transport().strain()))?;
+        s.map(|s| {
+            let d = PyDict::new(py);
+            d.set_item("time_s", s.time_s)?;
+            d.set_item("names", s.names.clone())?;
+            d.set_item(
+                "microstrain",
+                numpy::ndarray::Array1::from(s.microstrain()).to_pyarray(py),
+            )?;
+            Ok(d)
+        })
+        .transpose()
     }
 
     fn __repr__(&self) -> String {

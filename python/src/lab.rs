@@ -1,6 +1,7 @@
 //! `dbot.physics_walk(...)` and `dbot.walk_figures(walk)`: a walk the user runs themselves (a plan
 //! directory's gait on a fresh physics robot, `lab::plan_walk`) and the figures `dbot demo`
-//! prints for it, computed by the same functions (`lab`), so the numbers are the demo's.
+//! prints for it, computed by the same functions (`lab`), so the numbers are the demo's; and
+//! `dbot.compare_strain(trial, plan_dir)`, a recording's strain against the plan's prediction.
 
 use std::path::PathBuf;
 
@@ -119,9 +120,37 @@ pub fn walk_figures<'py>(py: Python<'py>, walk: &PhysicsWalk) -> PyResult<Bound<
 }
 
 /// Adds the lab's classes and functions to the module.
+/// A trial's strain (recorded with `strain=` / `dbot record --strain`) against the prediction of
+/// the plan directory `plan_dir`, per gauge, as `dbot compare --strain` computes it
+/// (`lab::strain_compare`): a list of dicts with `gauge`, `samples`, `r2` (over the step phase)
+/// and `gain` (counts per predicted microstrain) and `rms_residual_counts` (None where there is
+/// no value). ValueError naming the file.
+#[pyfunction]
+pub fn compare_strain<'py>(
+    py: Python<'py>,
+    trial: PathBuf,
+    plan_dir: PathBuf,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let fits = py
+        .detach(|| lab::strain_compare::compare_trial(&trial, &plan_dir))
+        .map_err(|e| value_error(e.chain_text()))?;
+    fits.iter()
+        .map(|f| {
+            let d = PyDict::new(py);
+            d.set_item("gauge", &f.gauge)?;
+            d.set_item("samples", f.samples)?;
+            d.set_item("r2", f.r2)?;
+            d.set_item("gain", f.gain)?;
+            d.set_item("rms_residual_counts", f.rms_residual_counts)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PhysicsWalk>()?;
     m.add_function(wrap_pyfunction!(physics_walk, m)?)?;
     m.add_function(wrap_pyfunction!(walk_figures, m)?)?;
+    m.add_function(wrap_pyfunction!(compare_strain, m)?)?;
     Ok(())
 }

@@ -210,3 +210,56 @@ pub fn slot_dict<'py>(py: Python<'py>, s: &SlotInfo) -> PyResult<Bound<'py, PyDi
     d.set_item("message", loss_message(s))?;
     Ok(d)
 }
+
+/// Adds a strain recording's arrays to a telemetry dict (see `Board.record`).
+pub fn strain_items(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    end: ::board::strain::StrainEnd,
+    dir: &std::path::Path,
+) -> PyResult<()> {
+    let mut error = end.recording.err().map(|e| e.to_string());
+    if let Err(e) = &end.clock {
+        error.get_or_insert_with(|| e.to_string());
+    }
+    let csv = dir.join(::board::strain::recorder::STRAIN_CSV);
+    let a = ::board::strain::beside::read_aligned(&csv).map_err(crate::errors::value_error)?;
+    let t = Array1::from_iter(a.time_s.iter().map(|t| t.unwrap_or(f64::NAN)));
+    let n = a.counts.len();
+    let counts = Array2::from_shape_fn((n, ::board::strain::channels::CHANNELS), |(i, c)| {
+        a.counts[i][c]
+    });
+    d.set_item("strain_time_s", t.to_pyarray(py))?;
+    d.set_item("strain_counts", counts.to_pyarray(py))?;
+    d.set_item("strain_names", ::board::strain::channels::names())?;
+    d.set_item("strain_error", error)?;
+    Ok(())
+}
+
+/// On the physics robot, what each proprioception record knew of the strain gauges: the latest
+/// simulated sample at or before its time (`physics::RobotLink::strain_at`). Adds
+/// `strain_names`, `strain_microstrain` ([record, gauge]; NaN where no sample was that old) and
+/// `strain_age_s` ([record]: the record's time less the sample's).
+pub fn proprioception_strain(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    recs: &[Proprioception],
+    strain: &[Option<physics::SimulatedStrain>],
+    names: &[String],
+) -> PyResult<()> {
+    let n = names.len();
+    let m = Array2::from_shape_fn((recs.len(), n), |(i, g)| {
+        strain[i]
+            .as_ref()
+            .and_then(|s| s.readings.get(g))
+            .map_or(f64::NAN, |r| r.microstrain)
+    });
+    let age = Array1::from_iter(recs.iter().zip(strain).map(|(p, s)| {
+        s.as_ref()
+            .map_or(f64::NAN, |s| p.time_us as f64 * 1e-6 - s.time_s)
+    }));
+    d.set_item("strain_names", names.to_vec())?;
+    d.set_item("strain_microstrain", m.to_pyarray(py))?;
+    d.set_item("strain_age_s", age.to_pyarray(py))?;
+    Ok(())
+}

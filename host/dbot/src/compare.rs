@@ -22,7 +22,8 @@ use lab::plan_comparison::{inertial_share, r2_cell, summed_in};
 #[command(after_help = "Examples:
   dbot compare out/walk out/fly-ball                  # writes out/compare/compare.csv and plots
   dbot compare out/walk 'trials/2026-12-02 09_30_00'   # a trial against the plan it walked
-  dbot compare --swing 0.4,0.8,1.6 --out out/sweep    # the speed sweep of Drosophibot II")]
+  dbot compare --swing 0.4,0.8,1.6 --out out/sweep    # the speed sweep of Drosophibot II
+  dbot compare --strain \"trials/2026-12-02 14_08_00\" out/walk   # recorded strain vs the plan's")]
 pub struct Args {
     /// Plan directories or trial folders A and B (from `dbot plan` / `dbot demo`, with torques,
     /// or `dbot record`).
@@ -41,6 +42,11 @@ pub struct Args {
     /// springs, ball vs flat GRF) in one run: robot at a 4 s period, fly at table 1's 0.25 s.
     #[arg(long)]
     paper: bool,
+    /// A trial recorded with `dbot record --strain`: its strain against the prediction of the one
+    /// plan directory given, per gauge (R^2 over the step phase, a fitted gain in counts per
+    /// microstrain); writes strain_gains.csv to --out, a calibration a lab can keep.
+    #[arg(long, value_name = "TRIAL")]
+    strain: Option<PathBuf>,
     /// Time slices per step for --paper.
     #[arg(long, default_value_t = 100)]
     slices: usize,
@@ -61,6 +67,12 @@ impl Args {
                 self.out.display()
             );
             return Ok(());
+        }
+        if let Some(trial) = &self.strain {
+            let [plan] = self.plans.as_slice() else {
+                bail!("--strain TRIAL compares with one plan directory: give exactly one");
+            };
+            return compare_strain(trial, plan, &self.out);
         }
         let two_plans = self.plans.len() == 2 && self.swing.is_empty();
         let sweep_only = self.plans.is_empty() && !self.swing.is_empty();
@@ -98,6 +110,29 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
         "wrote compare.csv compare_angles.png compare_torques.png to {}",
         out.display()
     );
+    Ok(())
+}
+
+fn compare_strain(trial: &Path, plan: &Path, out: &Path) -> Result<()> {
+    let fits = lab::strain_compare::compare_trial(trial, plan)?;
+    println!("| gauge | samples | R^2 | counts per microstrain | RMS residual (counts) |");
+    println!("|---|---|---|---|---|");
+    let num = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.4}", v + 0.0));
+    for f in &fits {
+        println!(
+            "| {} | {} | {} | {} | {} |",
+            f.gauge,
+            f.samples,
+            r2_cell(f.r2),
+            num(f.gain),
+            num(f.rms_residual_counts)
+        );
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let path = out.join(lab::strain_compare::GAINS_CSV);
+    std::fs::write(&path, lab::strain_compare::gains_csv(&fits))
+        .with_context(|| format!("writing {}", path.display()))?;
+    println!("wrote {}", path.display());
     Ok(())
 }
 

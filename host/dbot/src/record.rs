@@ -8,6 +8,11 @@
 //! `... failed`; a recording without a single row is removed. No recording ever replaces another.
 //! Ctrl-C stops the walk (whoever started it: `board::record::stop_walk`, the one stop path),
 //! records until the robot stands, keeps the trial and exits non-zero.
+//!
+//! With `--strain PORT` the lab's strain board is recorded beside the servos
+//! (`board::strain::StrainBeside`): calibrated before the robot moves, its `strain.csv` put on
+//! the telemetry's time base at the end; a strain board that fails mid-recording costs only its
+//! own later rows, the servo recording goes on and the trial is kept.
 
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
@@ -18,6 +23,7 @@ use board::record::{
     CaptureError, Ended, JointMeta, Recorder, Until, capture_until_standing, capture_while,
     joint_names, joints_of_table, missing_cycles,
 };
+use board::strain::{StrainBeside, StrainEnd};
 use board::trial::{
     BoardSettings, FirmwareMeta, GaitMeta, Outcome, PlanMeta, Substrate, TELEMETRY_CSV,
     TrialFolder, TrialMeta,
@@ -39,7 +45,8 @@ use crate::common::playback;
 #[command(after_help = "Examples:
   dbot record --out trials --table walk.dbgt --play 1 --steps 10 --notes first-try
   dbot record --out trials --port physics --table walk.dbgt --play 0 --steps 2   # uploads, walks, records
-  dbot record --out trials --table walk.dbgt --seconds 20   # whatever the board is doing")]
+  dbot record --out trials --table walk.dbgt --seconds 20   # whatever the board is doing
+  dbot record --out trials --table walk.dbgt --play 1 --steps 10 --strain /dev/ttyACM1   # with strain")]
 pub struct Args {
     /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.
     #[arg(long)]
@@ -75,6 +82,11 @@ pub struct Args {
     /// With --play: step period, s (default: the planned one).
     #[arg(long, requires = "play")]
     pub period: Option<f64>,
+    /// Record the lab's strain board on this port beside the servos (a serial path, or `virtual`
+    /// for a board in this process: fed by the body's simulated gauges on `--port physics`, at
+    /// zero strain otherwise); it calibrates before the robot moves.
+    #[arg(long, value_name = "PORT")]
+    pub strain: Option<String>,
     /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
     /// silence limit allows at the bus's rate: 199 at 100 Hz).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
@@ -82,6 +94,16 @@ pub struct Args {
     #[command(flatten)]
     pub board: BoardArgs,
 }
+
+/// Everything before the first record: the session, the named joints, when to stop, the
+/// trial's metadata so far and the strain board when one records beside.
+type Started = (
+    crate::common::session::Session,
+    Vec<JointMeta>,
+    Until,
+    TrialMeta,
+    Option<StrainBeside>,
+);
 
 /// A step table given with `--table`: its bytes and where it came from.
 struct Table {
@@ -108,18 +130,24 @@ impl Args {
                 .with_context(|| format!("{} (--table) is not a step table", t.path.display()))?;
         }
         let plan = self.plan_meta()?;
+        // Refused before any port is opened; `StrainBeside::start` checks the connected port again.
+        if let (Some(strain), Some(servo)) = (&self.strain, &self.board.port) {
+            board::strain::port::check_not_servo_port(strain, servo)
+                .with_context(|| format!("--strain {strain}"))?;
+        }
         interrupt::catch()?;
         // Ctrl-C stops a walk (even one another command started) before a second one may exit.
         interrupt::hold();
         // A trial folder that exists or cannot be written fails here, before the robot moves.
         let folder = TrialFolder::begin(&self.out, self.trial.as_deref(), SystemTime::now())?;
         match self.start(table.as_ref(), plan, &folder) {
-            Ok((mut s, joints, until, meta)) => {
+            Ok((mut s, joints, until, meta, strain)) => {
                 let slices = table
                     .as_ref()
                     .and_then(|t| protocol::GaitTable::parse(&t.bytes).ok())
                     .map_or(0, |t| t.slice_count());
-                let summary = record_trial(&mut s.board, folder, joints, slices, until, meta)?;
+                let summary =
+                    record_trial(&mut s.board, folder, joints, slices, until, meta, strain)?;
                 println!("{summary}");
                 s.close()
             }
@@ -154,12 +182,7 @@ impl Args {
         table: Option<&Table>,
         plan: Option<PlanMeta>,
         folder: &TrialFolder,
-    ) -> anyhow::Result<(
-        crate::common::session::Session,
-        Vec<JointMeta>,
-        Until,
-        TrialMeta,
-    )> {
+    ) -> anyhow::Result<Started> {
         let mut s = self.board.connect()?;
         if s.is_virtual() && self.play.is_none() {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
@@ -170,6 +193,20 @@ impl Args {
             playback::upload_table(&mut s, slot, &t.path, &t.bytes)?;
         }
         let joints = named_joints(&mut s, table.map(|t| t.bytes.as_slice()), self.play)?;
+        // Calibrated, with its baseline sample in, before the robot moves.
+        let strain = match &self.strain {
+            Some(p) => {
+                println!("strain board on {p}: calibrating");
+                // `virtual` beside the physics robot reads the body's simulated gauges.
+                let feed = s.board.transport_mut().strain_feed(p);
+                let port = s.board.port().to_owned();
+                Some(
+                    StrainBeside::start_fed(p, &port, folder.work_dir(), feed)
+                        .with_context(|| format!("--strain {p}"))?,
+                )
+            }
+            None => None,
+        };
         let mut meta = TrialMeta {
             format_version: board::trial::TRIAL_FORMAT,
             folder: String::new(),
@@ -188,8 +225,7 @@ impl Args {
             period_scale: None,
             steps: None,
             substrate: Substrate::Unspecified,
-            // `record --strain` (the strain board) sets it once it exists.
-            strain: false,
+            strain: strain.is_some(),
             perturbation: None,
             notes: self.notes.clone(),
             joints: joints.iter().map(|j| j.name.clone()).collect(),
@@ -223,7 +259,7 @@ impl Args {
                 }),
             standing: self.play.is_some(),
         };
-        Ok((s, joints, until, meta))
+        Ok((s, joints, until, meta, strain))
     }
 }
 
@@ -279,6 +315,7 @@ fn record_trial<T: Transport>(
     slices: usize,
     until: Until,
     mut meta: TrialMeta,
+    mut strain: Option<StrainBeside>,
 ) -> anyhow::Result<String> {
     let dir = folder.work_dir().to_owned();
     let csv = dir.join(TELEMETRY_CSV);
@@ -288,6 +325,9 @@ fn record_trial<T: Transport>(
         ProgressStyle::with_template("recording {spinner} {msg}").expect("template is valid"),
     );
     let mut progress = |t: f64| {
+        if let Some(s) = strain.as_mut() {
+            s.note(t);
+        }
         if rec_tick(t) {
             bar.set_message(format!("{t:.1} s of board time"));
             bar.tick();
@@ -311,6 +351,7 @@ fn record_trial<T: Transport>(
         };
     }
     bar.finish_and_clear();
+    let strain = strain.map(StrainBeside::finish);
     if let Err(CaptureError::Write(e)) = &result {
         // A failed write may have left half a row: the folder is not a recording.
         folder.discard();
@@ -343,6 +384,10 @@ fn record_trial<T: Transport>(
         });
     }
     plots?;
+    let strain_line = match strain {
+        None => String::new(),
+        Some(end) => strain_summary(end, &path.to_string())?,
+    };
     if let Some(how) = stopped {
         let state = board.status().map_or_else(
             |e| format!("unknown ({e})"),
@@ -357,7 +402,7 @@ fn record_trial<T: Transport>(
         );
     }
     Ok(format!(
-        "recorded {} bus cycles ({:.2} s of board time) x {} joints: trial {path}; {}",
+        "recorded {} bus cycles ({:.2} s of board time) x {} joints: trial {path}; {}{strain_line}",
         rec.cycles(),
         rec.duration_s(),
         rec.joints().len(),
@@ -370,6 +415,33 @@ fn record_trial<T: Transport>(
             )
         }
     ))
+}
+
+/// The strain line of the summary, or the error of a strain stream that stopped early (the
+/// servo recording is whole in `trial` by then).
+fn strain_summary(end: StrainEnd, trial: &str) -> anyhow::Result<String> {
+    let clock = match end.clock {
+        Ok(Some(f)) => format!(
+            "; strain on the board's clock (host {:.6} s per board s, telemetry jitter {:.1} ms \
+             at the 95th percentile)",
+            f.rate,
+            f.jitter_p95_s * 1e3
+        ),
+        Ok(None) => "; strain not aligned: no telemetry arrived".to_owned(),
+        Err(e) => format!("; strain kept on host time: {e}"),
+    };
+    // The recorder wrote into the unpublished folder: name the file where it is now.
+    let csv = Path::new(trial).join(board::strain::recorder::STRAIN_CSV);
+    match end.recording {
+        Ok(mut r) => {
+            r.csv = csv;
+            Ok(format!("\n{r}{clock}"))
+        }
+        Err(mut e) => {
+            e.csv = csv;
+            bail!("the servo recording is complete in the trial {trial}, but {e}{clock}")
+        }
+    }
 }
 
 /// Whether to refresh the progress line (every tenth of a second of board time).

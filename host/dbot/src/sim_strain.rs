@@ -29,7 +29,8 @@ pub struct Args {
     #[arg(long)]
     link: PathBuf,
     /// A fault (repeatable): unplugged:GAUGE, no-calibrate:GAUGE, noise:COUNTS,
-    /// reset-at:SAMPLES, hangup-at:SAMPLES (the board goes away), no-done
+    /// reset-at:SAMPLES, hangup-at:SAMPLES (the board goes away), garbage-at:SAMPLES (that sample
+    /// garbled), no-done
     #[arg(long = "fault", value_parser = Fault::parse)]
     faults: Vec<Fault>,
     /// Replay a strain recording (strain.csv: a column of raw counts per gauge) instead of strain

@@ -16,6 +16,7 @@
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
 //! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
 //!   speed sweep, their plots.
+//! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge.
 //! - [`validation`]: the run results of docs/validation.md.
 
 pub mod demo;
@@ -25,6 +26,7 @@ pub mod paper_comparison;
 pub mod paper_robot;
 pub mod plan_comparison;
 pub mod plan_walk;
+pub mod strain_compare;
 pub mod trial_traces;
 pub mod validation;
 pub mod walk;

@@ -4,7 +4,8 @@
 //! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles: the board's
 //! virtual robot with a [`PhysicsRobot`] as its servo dynamics, behind the virtual robot's
 //! transport ([`PhysicsTransport`]). Its [`Body`] (thorax pose and velocity, foot contacts,
-//! simulated time) is a typed value. [`open`] opens a robot of any kind by port name, its kind
+//! simulated time) is a typed value, and its strain gauges are measured beside it
+//! ([`SimulatedGauges`]). [`open`] opens a robot of any kind by port name, its kind
 //! kept in the type ([`Robot`], [`RobotLink`]).
 //!
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
@@ -12,6 +13,7 @@
 mod body;
 mod error;
 mod figures;
+mod gauges;
 mod plant;
 mod robot;
 pub mod servo;
@@ -22,6 +24,7 @@ mod walk_log;
 pub use body::{Body, Foot, Thorax};
 pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
+pub use gauges::{STRAIN_SAMPLE_S, SimulatedGauges, SimulatedStrain};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
 pub use timestep::{Stiffest, stiffest_joint};

@@ -16,6 +16,7 @@ use planner::terrain::Ground;
 
 use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
+use crate::gauges::{SimulatedStrain, StrainSampler};
 use crate::plant::Plant;
 use crate::servo;
 use crate::walk_log::{WalkLog, WalkSample};
@@ -41,6 +42,8 @@ pub struct PhysicsRobot {
     /// The thorax height of the planner's stance (the keyframe), m.
     planned_height_m: f64,
     log: Option<WalkLog>,
+    /// The model's gauges, sampled as the strain board samples (`crate::gauges`).
+    strain: StrainSampler,
 }
 
 impl PhysicsRobot {
@@ -79,6 +82,7 @@ impl PhysicsRobot {
     ) -> Result<Self, PhysicsError> {
         let plant = Plant::new(model, options)?;
         let planned_height_m = plant.thorax_pose().0[2];
+        let strain = StrainSampler::new(model, &plant)?;
         Ok(Self {
             plant,
             scene: *scene,
@@ -86,6 +90,7 @@ impl PhysicsRobot {
             model_joints: model.joints.len(),
             planned_height_m,
             log: None,
+            strain,
         })
     }
 
@@ -144,6 +149,34 @@ impl PhysicsRobot {
     /// Starts the figures afresh (e.g. when a walk starts).
     pub fn reset_figures(&mut self) {
         self.monitor.reset();
+    }
+
+    /// The latest sample of the simulated gauges (every [`crate::STRAIN_SAMPLE_S`] of simulated time,
+    /// as the strain board's lines come; None before the first bus cycle).
+    pub fn latest_strain(&self) -> Option<&SimulatedStrain> {
+        self.strain.history.back()
+    }
+
+    /// The latest sample of the simulated gauges taken at or before `t_s` s of simulated time
+    /// (the board's clock: a proprioception record's `time_us` x 1e-6); the last 3 s are kept.
+    pub fn strain_at(&self, t_s: f64) -> Option<&SimulatedStrain> {
+        self.strain.at(t_s)
+    }
+
+    /// The simulated gauges read now.
+    pub fn strain_now(&self) -> SimulatedStrain {
+        self.strain.gauges.read(&self.plant)
+    }
+
+    /// The simulated gauges' names, model order (the strain board's for the built-in robot).
+    pub fn gauge_names(&self) -> Vec<String> {
+        self.strain.gauges.names()
+    }
+
+    /// From now on each sample of the simulated gauges is also set into `feed`, by the strain
+    /// board's channel names (a virtual strain board reads it: counts = baseline + gain x strain).
+    pub fn feed_strain(&mut self, feed: board::strain::source::Shared) {
+        self.strain.feed = Some(feed);
     }
 
     /// The thorax height of the planner's stance the body was set down in, m (the plan keeps it).
@@ -238,5 +271,6 @@ impl ServoDynamics for PhysicsRobot {
         self.push_state(chain);
         self.monitor.sample(&self.plant);
         self.log_sample(controller);
+        self.strain.sample(&self.plant);
     }
 }

@@ -81,6 +81,32 @@ impl RobotLink {
         self.physics().map(PhysicsRobot::body)
     }
 
+    /// The latest sample of the physics robot's simulated gauges (`None`: not the physics
+    /// robot, or no bus cycle yet).
+    pub fn strain(&self) -> Option<crate::SimulatedStrain> {
+        self.physics().and_then(|p| p.latest_strain().cloned())
+    }
+
+    /// The physics robot's latest gauge sample at or before board time `t_s`, s (see
+    /// `PhysicsRobot::strain_at`; `None`: not the physics robot, or no sample that old).
+    pub fn strain_at(&self, t_s: f64) -> Option<crate::SimulatedStrain> {
+        self.physics().and_then(|p| p.strain_at(t_s).cloned())
+    }
+
+    /// A feed of the physics robot's simulated gauges for a virtual strain board on
+    /// `strain_port` (`board::strain::StrainBeside::start_fed`): Some only when the strain port
+    /// is `virtual` and this is the physics robot, so `record --port physics --strain virtual`
+    /// records the body's own gauges.
+    pub fn strain_feed(&mut self, strain_port: &str) -> Option<board::strain::source::Shared> {
+        if strain_port != board::strain::port::VIRTUAL {
+            return None;
+        }
+        let robot = self.physics_mut()?;
+        let feed = board::strain::source::Shared::default();
+        robot.feed_strain(feed.clone());
+        Some(feed)
+    }
+
     fn inner(&mut self) -> &mut dyn Transport {
         match self {
             Self::Serial(t) => t,

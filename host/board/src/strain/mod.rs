@@ -4,9 +4,11 @@
 //! pseudo-terminal).
 
 pub mod baseline;
+pub mod beside;
 pub mod calibration;
 pub mod channels;
 pub mod check;
+pub mod clock;
 pub mod driver;
 pub mod error;
 pub mod line;
@@ -17,6 +19,7 @@ pub mod source;
 pub mod stats;
 pub mod virtual_board;
 
+pub use beside::{StrainBeside, StrainEnd};
 pub use calibration::{CalibrationReport, NotCalibrated};
 pub use channels::{Channel, GaugeKind};
 pub use driver::{Sample, StrainBoard, Timeouts};
@@ -27,3 +30,5 @@ pub use virtual_board::{Fault, VirtualStrainBoard};
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_beside;

@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use super::error::StrainError;
-use super::source::Constant;
+use super::source::{Constant, Shared};
 use super::virtual_board::VirtualStrainBoard;
 
 /// A byte stream to a strain board.
@@ -21,15 +21,21 @@ pub const VIRTUAL: &str = "virtual";
 
 /// Opens `name`: `virtual`, or a serial port's path.
 pub fn open(name: &str) -> Result<Box<dyn StrainIo>, StrainError> {
+    open_fed(name, None)
+}
+
+/// [`open`], the virtual board's gauges reading `feed` when given (else zero strain).
+pub fn open_fed(name: &str, feed: Option<Shared>) -> Result<Box<dyn StrainIo>, StrainError> {
     if name == VIRTUAL {
-        return open_virtual(VirtualStrainBoard::new(
-            Box::new(Constant(0.0)),
-            Vec::new(),
-            true,
-        ))
-        .map_err(|source| StrainError::Open {
-            port: name.to_owned(),
-            source,
+        let source: Box<dyn super::source::StrainSource> = match feed {
+            Some(f) => Box::new(f),
+            None => Box::new(Constant(0.0)),
+        };
+        return open_virtual(VirtualStrainBoard::new(source, Vec::new(), true)).map_err(|source| {
+            StrainError::Open {
+                port: name.to_owned(),
+                source,
+            }
         });
     }
     Ok(Box::new(super::driver::open_serial(name)?))

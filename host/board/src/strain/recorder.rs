@@ -88,11 +88,23 @@ impl StrainRecorder {
         dir: &Path,
         epoch: Instant,
     ) -> Result<Self, StrainError> {
+        Self::start_fed(port, servo_port, dir, epoch, None)
+    }
+
+    /// [`Self::start`], the `virtual` board's gauges reading `feed` (the physics robot's
+    /// simulated gauges) when given.
+    pub fn start_fed(
+        port: &str,
+        servo_port: &str,
+        dir: &Path,
+        epoch: Instant,
+        feed: Option<super::source::Shared>,
+    ) -> Result<Self, StrainError> {
         port::check_not_servo_port(port, servo_port)?;
         let name = port.to_owned();
         let dir = dir.to_path_buf();
         Ok(Self::spawn(move |stop, n| {
-            let io = port::open(&name).map_err(|source| StrainRecordError {
+            let io = port::open_fed(&name, feed).map_err(|source| StrainRecordError {
                 samples: 0,
                 csv: dir.join(STRAIN_CSV),
                 source,

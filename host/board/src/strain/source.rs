@@ -3,6 +3,7 @@
 //! (a recording replayed). The physics robot's simulated gauges can feed a board through it.
 
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 
 use super::channels::{self, CHANNELS};
 use super::line::Counts;
@@ -49,6 +50,31 @@ impl StrainSource for Synthetic {
                 * (std::f64::consts::TAU * self.hz * t_s + leg * std::f64::consts::PI).sin();
         }
         Reading::Microstrain(out)
+    }
+}
+
+/// Strain set from outside the board's thread (the physics robot's simulated gauges, sampled as
+/// it walks): every sample line reads the latest value set, microstrain, in column order.
+#[derive(Debug, Clone)]
+pub struct Shared(Arc<Mutex<[f64; CHANNELS]>>);
+
+impl Default for Shared {
+    /// Zero strain until set.
+    fn default() -> Self {
+        Self(Arc::new(Mutex::new([0.0; CHANNELS])))
+    }
+}
+
+impl Shared {
+    /// Sets the strain the next sample lines read.
+    pub fn set(&self, microstrain: [f64; CHANNELS]) {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner()) = microstrain;
+    }
+}
+
+impl StrainSource for Shared {
+    fn reading(&mut self, _k: u64, _t_s: f64) -> Reading {
+        Reading::Microstrain(*self.0.lock().unwrap_or_else(|e| e.into_inner()))
     }
 }
 

@@ -36,13 +36,16 @@ pub enum Fault {
     ResetAt(u64),
     /// After this many samples the board goes away (the session ends, as an unplugged cable).
     HangUpAt(u64),
+    /// Sample number this many is sent with a garbled value in column 8 (`3?0.00`, as a noisy
+    /// cable or a baud-rate slip prints), then streaming goes on.
+    GarbageAt(u64),
     /// Calibration never prints `Done.` (the board goes silent after the last leg).
     NeverDone,
 }
 
 impl Fault {
     /// `unplugged:GAUGE`, `no-calibrate:GAUGE`, `noise:COUNTS`, `reset-at:SAMPLES`,
-    /// `hangup-at:SAMPLES` or `no-done`; the error is a sentence.
+    /// `hangup-at:SAMPLES`, `garbage-at:SAMPLES` or `no-done`; the error is a sentence.
     pub fn parse(s: &str) -> Result<Fault, String> {
         let (kind, arg) = s.split_once(':').unwrap_or((s, ""));
         let gauge = || {
@@ -69,13 +72,29 @@ impl Fault {
                 .ok_or_else(|| format!("`{arg}` is not a number of counts (0 or more)")),
             "reset-at" => count().map(Fault::ResetAt),
             "hangup-at" => count().map(Fault::HangUpAt),
+            "garbage-at" => count().map(Fault::GarbageAt),
             "no-done" => Ok(Fault::NeverDone),
             _ => Err(format!(
                 "`{s}`: faults are unplugged:GAUGE, no-calibrate:GAUGE, noise:COUNTS, \
-                 reset-at:SAMPLES, hangup-at:SAMPLES, no-done"
+                 reset-at:SAMPLES, hangup-at:SAMPLES, garbage-at:SAMPLES, no-done"
             )),
         }
     }
+}
+
+/// `line` with its eighth value's second character replaced by `?`.
+fn garble(line: &str) -> String {
+    line.split(' ')
+        .enumerate()
+        .map(|(i, v)| {
+            if i == 7 && v.len() > 1 {
+                format!("{}?{}", &v[..1], &v[2..])
+            } else {
+                v.to_owned()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// How a session ended.
@@ -267,7 +286,10 @@ impl VirtualStrainBoard {
                 return Ok(Next::Go);
             }
             let counts = self.counts(*sent, t_s);
-            let text = line::format_sample(&counts);
+            let mut text = line::format_sample(&counts);
+            if self.faults.contains(&Fault::GarbageAt(*sent)) {
+                text = garble(&text);
+            }
             if let Next::End(e) = self.say(io, &text) {
                 return Ok(Next::End(e));
             }
@@ -296,6 +318,7 @@ impl VirtualStrainBoard {
             | Fault::NoCalibrate(_)
             | Fault::ResetAt(_)
             | Fault::HangUpAt(_)
+            | Fault::GarbageAt(_)
             | Fault::NeverDone => None,
         });
         for v in out.iter_mut() {

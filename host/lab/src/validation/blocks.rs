@@ -372,6 +372,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     }
 
     b.insert("sweep", sweep()?);
+    b.insert("strain", super::strain::block()?);
     b.insert("turning", super::turning::turning()?);
     b.insert("performance", super::timing::performance()?);
     Ok(Generated { blocks: b, plots })

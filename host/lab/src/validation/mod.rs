@@ -11,6 +11,7 @@
 
 pub mod blocks;
 pub mod springs;
+pub mod strain;
 pub mod timing;
 pub mod turning;
 

@@ -12,5 +12,5 @@ pub mod predict;
 pub mod section;
 
 pub use error::StrainError;
-pub use predict::{GaugeReading, StrainPrediction, predict, predict_plan};
+pub use predict::{GaugeReading, StrainPrediction, predict, predict_plan, sites, slice_readings};
 pub use section::{SectionProperties, SectionWrench, gauge_strain};

@@ -46,34 +46,44 @@ pub fn predict(
             solved: cycle.slices.len(),
         });
     }
-    let sites = model
-        .gauges
-        .iter()
-        .map(|g| Site::of(model, g))
-        .collect::<Result<Vec<_>, _>>()?;
+    let sites = sites(model)?;
     let readings = inputs
         .iter()
         .zip(&cycle.slices)
-        .map(|(input, sol)| {
-            let bodies = SliceBodies::of(model, input);
-            model
-                .gauges
-                .iter()
-                .zip(&sites)
-                .map(|(g, site)| {
-                    let frame = site.frame(g, &bodies.motions[site.segment]);
-                    let w = distal_wrench(model, site, &frame, &bodies, &sol.grf);
-                    let wrench = in_section_frame(&frame, &w);
-                    GaugeReading {
-                        microstrain: 1e6
-                            * gauge_strain(g.direction, &g.section, &g.material, &wrench),
-                        wrench,
-                    }
-                })
-                .collect()
-        })
+        .map(|(input, sol)| slice_readings(model, &sites, input, &sol.grf))
         .collect();
     Ok(StrainPrediction { readings })
+}
+
+/// The cut of every gauge of `model`, in `model.gauges` order.
+pub fn sites(model: &Model) -> Result<Vec<Site>, StrainError> {
+    model.gauges.iter().map(|g| Site::of(model, g)).collect()
+}
+
+/// The readings of every gauge (`sites` from [`sites`]) in one state `input` with the ground
+/// reaction forces `grf` (thorax frame, per foot): the planner's prediction with the solver's
+/// GRF, the physics robot's simulated gauges with MuJoCo's state and contact forces.
+pub fn slice_readings(
+    model: &Model,
+    sites: &[Site],
+    input: &SliceInput,
+    grf: &[nalgebra::Vector3<f64>],
+) -> Vec<GaugeReading> {
+    let bodies = SliceBodies::of(model, input);
+    model
+        .gauges
+        .iter()
+        .zip(sites)
+        .map(|(g, site)| {
+            let frame = site.frame(g, &bodies.motions[site.segment]);
+            let w = distal_wrench(model, site, &frame, &bodies, grf);
+            let wrench = in_section_frame(&frame, &w);
+            GaugeReading {
+                microstrain: 1e6 * gauge_strain(g.direction, &g.section, &g.material, &wrench),
+                wrench,
+            }
+        })
+        .collect()
 }
 
 /// [`predict`] for a plan and its solved cycle.
