@@ -205,7 +205,7 @@ impl ModelFile {
         let mut has_parent = vec![false; bodies.len()];
         has_parent[0] = true;
         for j in &self.joints {
-            let name = format!("{}_{:?}", j.leg.name(), j.kind);
+            let name = format!("{}_{}", j.leg.name(), j.kind.name());
             let place = format!("joint {name}");
             let lookup = |n: &str, what: &'static str| {
                 index.get(n).copied().ok_or_else(|| ModelError::Unknown {

@@ -60,6 +60,28 @@ pub enum JointKind {
     TiTar,
 }
 
+impl JointKind {
+    /// The paper's name, e.g. `"ThC1"` (the second half of a joint's full name).
+    pub fn name(self) -> &'static str {
+        match self {
+            JointKind::ThC1 => "ThC1",
+            JointKind::ThC2 => "ThC2",
+            JointKind::ThC3 => "ThC3",
+            JointKind::CTr => "CTr",
+            JointKind::TrF1 => "TrF1",
+            JointKind::TrF2 => "TrF2",
+            JointKind::FTi => "FTi",
+            JointKind::TiTar => "TiTar",
+        }
+    }
+}
+
+impl std::fmt::Display for JointKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// What drives a joint.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Actuation {
@@ -70,6 +92,19 @@ pub enum Actuation {
     },
     /// Locked at a fixed angle (rad); its moment about the axis is carried by the structure.
     Fixed { angle: f64 },
+}
+
+/// In words: `MX-28(2.0), stiffness 12.2 N m/rad` or `fixed at 10.0 deg`.
+impl std::fmt::Display for Actuation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Actuation::Actuated {
+                actuator,
+                stiffness,
+            } => write!(f, "{actuator}, stiffness {stiffness:.3e} N m/rad"),
+            Actuation::Fixed { angle } => write!(f, "fixed at {:.1} deg", angle.to_degrees()),
+        }
+    }
 }
 
 /// What drives an actuated joint: a Dynamixel servo (its model says which) or a generic
@@ -149,6 +184,18 @@ pub enum EquilibriumSource {
     /// its range over the step as [`EquilibriumSource::StepMidrange`]. See
     /// [`crate::model::spring::dead_fly_equilibrium`].
     DeadFly,
+}
+
+/// In words, as `--spring-equilibrium` and the usage guide name them.
+impl std::fmt::Display for EquilibriumSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            EquilibriumSource::Given => "given in the model",
+            EquilibriumSource::RestingPosture => "the resting posture",
+            EquilibriumSource::StepMidrange => "the middle of the step's range",
+            EquilibriumSource::DeadFly => "a dead fly's posture",
+        })
+    }
 }
 
 /// Where a joint's servo sits on the bus and how its ticks map to the joint angle:
