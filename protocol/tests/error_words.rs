@@ -15,3 +15,12 @@ fn a_refusal_names_the_state_and_the_setting_in_words() {
     };
     assert_eq!(e.to_string(), "cycle rate = 700 out of range");
 }
+
+#[test]
+fn a_bad_joint_record_names_its_field_in_words() {
+    let e = protocol::TableError::BadJoint {
+        joint: 3,
+        field: protocol::gait::JointField::Model,
+    };
+    assert_eq!(e.to_string(), "joint 3: invalid servo model");
+}
