@@ -51,6 +51,19 @@ impl ServoModel {
         Self::ALL.into_iter().find(|m| m.table_code() == code)
     }
 
+    /// The model's name in a model file's `actuation` field (`"mx28"`).
+    pub const fn key(self) -> &'static str {
+        match self {
+            Self::Mx28 => "mx28",
+            Self::Mx64 => "mx64",
+        }
+    }
+
+    /// The model of a model file's `actuation` name ([`ServoModel::key`]).
+    pub fn from_key(key: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.key() == key)
+    }
+
     /// The e-manual's name.
     pub const fn name(self) -> &'static str {
         match self {
@@ -103,6 +116,17 @@ impl ServoModel {
         }
     }
 
+    /// Reflected rotor inertia at the output shaft, kg m^2 (ESTIMATE: a coreless rotor of about
+    /// 0.9 g cm^2 (MX-28) or 2 g cm^2 (MX-64), times the gear ratio squared, 193 and 200): the
+    /// armature of the joint in the MuJoCo model.
+    pub fn armature_kg_m2(self) -> f64 {
+        let (rotor, gear) = match self {
+            Self::Mx28 => (0.9e-7, 193.0),
+            Self::Mx64 => (2.0e-7, 200.0),
+        };
+        rotor * gear * gear
+    }
+
     /// Position-loop stiffness in N m/rad per unit of Position P Gain (ESTIMATE).
     ///
     /// The e-manual gives Kp = P / 128 acting on the position error in ticks and producing PWM
@@ -131,6 +155,10 @@ mod tests {
         }
         assert_eq!(ServoModel::from_number(29), None);
         assert_eq!(ServoModel::from_table_code(2), None);
+        for m in ServoModel::ALL {
+            assert_eq!(ServoModel::from_key(m.key()), Some(m));
+        }
+        assert_eq!(ServoModel::from_key("mx106"), None);
     }
 
     #[test]

@@ -11,6 +11,19 @@ use std::time::Duration;
 /// Joints of Drosophibot II in servo-ID order 1..=22 (CTr joints on MX-64).
 pub const JOINTS: usize = 22;
 
+/// The robot's servos `(id, model)` as its model file (`drosophibot2.toml`) maps them: the chain
+/// the emulated board talks to and the models the test gaits name.
+pub fn robot_servos() -> Vec<(u8, ServoModel)> {
+    planner::model::builtin("drosophibot2")
+        .expect("the built-in model parses (tested in the planner)")
+        .servo_chain()
+}
+
+/// The model file's servo at `id`; an ID the robot lacks is none.
+pub fn servo_at(id: u8) -> Option<ServoModel> {
+    robot_servos().into_iter().find(|s| s.0 == id).map(|s| s.1)
+}
+
 /// Servo stiffness in the test gaits, N m/rad (the torque bias is torque / stiffness).
 pub const STIFFNESS_NM_PER_RAD: f64 = 10.0;
 
@@ -34,15 +47,16 @@ pub fn sine_gait_with_torque(
     amp_rad: f64,
     torque_nm: f64,
 ) -> Result<(GaitTableBuilder, Vec<u8>)> {
+    let servos = robot_servos();
     let joints: Vec<JointSpec> = (0..JOINTS)
         .map(|j| JointSpec {
             name: format!("joint{}", j + 1),
             servo_id: j as u8 + 1,
-            model: if [3, 6, 9, 14, 17, 20].contains(&(j + 1)) {
-                ServoModel::Mx64
-            } else {
-                ServoModel::Mx28
-            },
+            model: servos
+                .iter()
+                .find(|s| usize::from(s.0) == j + 1)
+                .map(|s| s.1)
+                .expect("the robot has servos 1..=22"),
             sign: Sign::Positive,
             zero_offset: 2048,
             min_rad: -1.5,

@@ -13,8 +13,6 @@ const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 const SLICES: usize = 40;
 const AMP_RAD: f64 = 0.2;
 const TORQUE_NM: f64 = 1.0;
-/// IDs of the gait's MX-64 servos (`hil_tests::gait`: the CTr joints).
-const MX64_IDS: [usize; 6] = [3, 6, 9, 14, 17, 20];
 /// Half a servo position tick in rad.
 const HALF_TICK: f64 = std::f64::consts::PI / 4096.0;
 
@@ -78,10 +76,15 @@ fn walks_10_steps_forward_and_10_backward_following_the_biased_targets() -> Resu
         // amplitude, RMS 0.2 (1 - ratio) / sqrt 2 = 0.0125 and 0.039 rad. Measured (this test's
         // output): 5 cycles, 0.0139 rad and 8 cycles, 0.0387 rad. Bounds 0.02 (as before the gains
         // were written) and 0.05 rad.
+        // The gait's servos are the model file's (`hil_tests::gait::robot_servos`).
+        let servos = hil_tests::gait::robot_servos();
+        let on_mx64: Vec<bool> = (1..=22u8)
+            .map(|id| servos.contains(&(id, dynamixel::ServoModel::Mx64)))
+            .collect();
         for (model, mx64, max_delay, max_rms) in
             [("MX-28", false, 5, 0.02), ("MX-64", true, 10, 0.05)]
         {
-            let is_model = |j: usize| MX64_IDS.contains(&(j + 1)) == mx64;
+            let is_model = |j: usize| on_mx64[j] == mx64;
             let rms_at = |d: usize| {
                 let (mut sq, mut n) = (0.0, 0usize);
                 for k in d..walking.len() {

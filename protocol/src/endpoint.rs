@@ -13,12 +13,13 @@
 //! exhaustive matches), and a call on the host.
 
 use crate::MAX_CHUNK_LEN;
-use crate::client::{IntoResponse, Reply};
 use crate::gait::GaitHeader;
 use crate::message::{
     DeviceInfo, JointIds, PlayCommand, ProtocolError, QueueCommand, Request, Response, ServoSelect,
     Settings, SlotInfo, Status, StreamConfig,
 };
+pub use crate::reply::{ChunkAccepted, Committed};
+use crate::reply::{IntoResponse, Reply};
 
 /// A request that names its reply.
 pub trait Endpoint: Into<Request> {
@@ -26,21 +27,6 @@ pub trait Endpoint: Into<Request> {
     type Reply: Reply + IntoResponse;
     /// The request's name, for error messages ("GetStatus").
     const NAME: &'static str;
-}
-
-/// Reply to [`UploadChunk`]: `received` bytes of the table have arrived in order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ChunkAccepted {
-    pub received: u32,
-}
-
-/// Reply to [`UploadCommit`]: the upload verified and `slot` now holds the table with `crc`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Committed {
-    pub slot: u8,
-    pub crc: u32,
 }
 
 /// Contents of every gait slot (reply to [`ListGaits`]).

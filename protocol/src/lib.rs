@@ -112,6 +112,7 @@ pub mod frame;
 pub mod gait;
 pub mod limits;
 pub mod message;
+mod reply;
 pub mod switch;
 pub mod units;
 pub mod upload;

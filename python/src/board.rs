@@ -604,15 +604,8 @@ impl Board {
 }
 
 /// The store's health (what the board found at start-up, less what uploads since cleared): `"ok"`,
-/// or `"damaged: "` and what each
-/// damaged slot lost (`"damaged: no readable record"` when no slot holds a readable gait).
+/// or the line `dbot gaits` prints (`board::slot_health::store_line`): `"store damaged: slot 0
+/// fell back"`, `"store damaged: no readable record in any slot"`.
 fn store_health(slots: &[protocol::SlotInfo]) -> String {
-    let damaged: Vec<String> = slots.iter().filter_map(records::loss_message).collect();
-    if damaged.is_empty() {
-        "ok".to_owned()
-    } else if slots.iter().all(|s| s.gait.is_none() && s.lost.is_some()) {
-        "damaged: no readable record".to_owned()
-    } else {
-        format!("damaged: {}", damaged.join("; "))
-    }
+    board::slot_health::store_line(slots).unwrap_or_else(|| "ok".to_owned())
 }

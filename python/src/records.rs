@@ -135,40 +135,10 @@ pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDi
     Ok(d)
 }
 
-/// What a slot lost, in one sentence (`None` for a healthy slot): the slot fell back to an older
-/// gait, or holds no readable one. The same facts `dbot gaits` prints.
+/// What slot `s` lost, in the words `dbot gaits` prints (`board::slot_health::loss`, the one
+/// place they are made), after the slot's number; None for a healthy slot.
 pub fn loss_message(s: &SlotInfo) -> Option<String> {
-    let l = s.lost.as_ref()?;
-    let name = match l.name_str() {
-        Some(n) => format!("'{n}'"),
-        None => "(name unreadable)".to_owned(),
-    };
-    let seq = l.seq.map_or(String::new(), |q| format!(" seq {q}"));
-    let crc = l.crc.map_or(String::new(), |c| format!(" CRC {c:#010x}"));
-    let copy = format!("{name}{seq}{crc}");
-    let current = s.gait.as_ref().map(|g| {
-        g.header
-            .name_str()
-            .unwrap_or("(name not printable text)")
-            .to_owned()
-    });
-    Some(match (l.reason, current) {
-        (LossReason::TableChecksum, Some(cur)) => format!(
-            "slot {} FELL BACK to '{cur}': the newer copy {copy} failed its CRC check and was lost",
-            s.slot
-        ),
-        (LossReason::TableChecksum, None) => format!(
-            "slot {} is damaged: its only copy {copy} failed its CRC check and was lost",
-            s.slot
-        ),
-        (LossReason::RecordDamaged, Some(cur)) => format!(
-            "slot {} plays '{cur}', but its other copy has a damaged commit record and may have been newer",
-            s.slot
-        ),
-        (LossReason::RecordDamaged, None) => {
-            format!("slot {} is damaged: no readable record", s.slot)
-        }
-    })
+    board::slot_health::loss(s).map(|l| format!("slot {}: {l}", s.slot))
 }
 
 /// One gait slot as a dict: `slot`, `gait` (None, or `name`, `crc`, `joints`, `slices`,

@@ -38,7 +38,14 @@ fn main() -> Result<()> {
             ),
         }
     }
-    let mut chain = VirtualChain::drosophibot(servos, baud)
+    // IDs 1..=n, each the servo the robot's model file puts there (MX-28(2.0) past its 22).
+    let list: Vec<(u8, dynamixel::ServoModel)> = (1..=servos)
+        .map(|id| {
+            let model = hil_tests::gait::servo_at(id).unwrap_or(dynamixel::ServoModel::Mx28);
+            (id, model)
+        })
+        .collect();
+    let mut chain = VirtualChain::new(&list, baud)
         .with_context(|| format!("{servos} servos at {baud} baud"))?;
     chain.set_return_delay_all(return_delay);
     let mut bus =

@@ -13,5 +13,6 @@ pub mod record;
 pub mod robot;
 pub mod rules;
 pub mod saved_settings;
+pub mod slot_health;
 pub mod strain;
 pub mod trial;

@@ -57,3 +57,30 @@ fn the_robots_own_table_walks_on_the_same_chain() {
     assert_eq!(b.status().unwrap().state, RunState::Walking);
     assert_eq!(chain_ids(&b), (1..=22).collect::<Vec<u8>>());
 }
+
+/// Which joint carries which servo comes from the model file: the virtual robot's chain holds, at
+/// each joint's ID, the servo model the file names for that joint. Independent truth: the paper
+/// (and the robot's build sheet) puts MX-64(2.0) on the six CTr joints, MX-28(2.0) on the other 16.
+#[test]
+fn the_chain_carries_the_servos_the_model_file_names() {
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let on_bus: Vec<(u8, dynamixel::ServoModel)> = b
+        .transport()
+        .robot()
+        .with_chain(|c| c.servos().iter().map(|s| (s.id(), s.model())).collect());
+    let mut mx64 = 0;
+    for j in &model.joints {
+        let Some(map) = j.servo else { continue };
+        let found = on_bus.iter().find(|(id, _)| *id == map.id);
+        assert_eq!(found.map(|f| f.1), Some(map.model), "{}", j.name);
+        let paper = if j.kind == planner::model::JointKind::CTr {
+            mx64 += 1;
+            dynamixel::ServoModel::Mx64
+        } else {
+            dynamixel::ServoModel::Mx28
+        };
+        assert_eq!(map.model, paper, "{}", j.name);
+    }
+    assert_eq!((on_bus.len(), mx64), (22, 6));
+}

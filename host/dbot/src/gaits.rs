@@ -1,7 +1,7 @@
 //! `dbot gaits`: what each gait slot of the board holds, and what a damaged slot lost.
 
 use crate::args::board::BoardArgs;
-use crate::common::slot_health;
+use board::slot_health;
 
 /// List the board's gait slots.
 #[derive(Debug, clap::Args)]

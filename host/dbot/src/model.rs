@@ -105,7 +105,7 @@ impl Args {
                 for j in &m.joints {
                     writeln!(
                         out,
-                        "  {:10} {:>8} -> {:16} limits [{:7.1}, {:7.1}] deg  {:?}",
+                        "  {:10} {:>8} -> {:16} limits [{:7.1}, {:7.1}] deg  {}",
                         j.name,
                         m.bodies[j.parent].name,
                         m.bodies[j.child].name,

@@ -5,7 +5,7 @@ use anyhow::Context as _;
 use board::bus::pty::{PtyServer, Served};
 use dynamixel::ServoModel;
 use dynamixel::instruction::Instruction;
-use dynamixel::sim::{DROSOPHIBOT_CTR_IDS, VirtualChain};
+use dynamixel::sim::VirtualChain;
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
 use std::io::Write as _;
 
@@ -52,7 +52,15 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
-        let mut chain = VirtualChain::drosophibot(self.servos, self.baud).with_context(|| {
+        // IDs 1..=n with the servo the robot's model file puts there (MX-28(2.0) past its 22).
+        let robot = board::robot::robot_servos();
+        let servos: Vec<(u8, ServoModel)> = (1..=self.servos)
+            .map(|id| {
+                let on_robot = robot.iter().find(|s| s.0 == id);
+                (id, on_robot.map_or(ServoModel::Mx28, |s| s.1))
+            })
+            .collect();
+        let mut chain = VirtualChain::new(&servos, self.baud).with_context(|| {
             format!(
                 "cannot build a chain of {} servos at {} bit/s",
                 self.servos, self.baud
@@ -73,10 +81,10 @@ impl Args {
             // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
             unsafe { sigaction(sig, &handler) }.context("cannot install the interrupt handler")?;
         }
-        let mx64: Vec<u8> = DROSOPHIBOT_CTR_IDS
+        let mx64: Vec<u8> = servos
             .iter()
-            .copied()
-            .filter(|&id| id <= self.servos)
+            .filter(|s| s.1 == ServoModel::Mx64)
+            .map(|s| s.0)
             .collect();
         println!(
             "serving {} virtual servos (IDs 1..={}, {} on {}, {} elsewhere) at {} bit/s, return delay {} us, on {} linked at {}; Ctrl-C stops",

@@ -2,8 +2,8 @@
 //! progress and counters.
 
 use crate::args::board::BoardArgs;
-use crate::common::slot_health;
 use crate::common::words::{direction_name, state_name};
+use board::slot_health;
 
 /// Show the board's state and counters.
 #[derive(Debug, clap::Args)]

@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use planner::plan_dir;
 
 use crate::args::board::BoardArgs;
-use crate::common::gait_summary::describe;
 use crate::common::interrupt;
+use board::slot_health::describe;
 
 /// Upload a step table into a gait slot of the board (verified after the upload).
 ///

@@ -201,3 +201,35 @@ fn every_command_has_help_with_an_example_or_defaults() {
     let t = text(&dbot(dir.path(), &["compare", "--help"]));
     assert!(t.contains("[default: out/compare]"), "{t}");
 }
+
+/// `dbot model show` says what drives each joint in words (issue 25 item 6), never the Rust
+/// value (`Actuated { actuator: Generic, stiffness: 3.8e-8 }`). Expected from the model files:
+/// LF_CTr of Drosophibot II is an MX-64(2.0) at 34.2857 N m/rad; the scale fly's joints are
+/// generic actuators of 3.8e-8 N m/rad (paper section 3.1.2).
+#[test]
+fn model_show_says_what_drives_a_joint_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let robot = text(&dbot(
+        dir.path(),
+        &["model", "show", "--model", "drosophibot2"],
+    ));
+    let ctr = robot.lines().find(|l| l.trim_start().starts_with("LF_CTr"));
+    assert!(
+        ctr.is_some_and(|l| l.ends_with("MX-64(2.0), stiffness 3.429e1 N m/rad")),
+        "{robot}"
+    );
+    let fly = text(&dbot(
+        dir.path(),
+        &["model", "show", "--model", "scale-drosophila"],
+    ));
+    assert!(
+        fly.contains("generic actuator, stiffness 3.800e-8 N m/rad"),
+        "{fly}"
+    );
+    for out in [&robot, &fly] {
+        assert!(
+            !out.contains("Actuated") && !out.contains('{') && !out.contains("Fixed {"),
+            "{out}"
+        );
+    }
+}

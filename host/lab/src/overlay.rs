@@ -51,10 +51,7 @@ pub fn overlay(
                 .enumerate()
             {
                 for (side, (t, p)) in [(ta, pa), (tb, pb)].into_iter().enumerate() {
-                    if let Some(d) = t
-                        .iter()
-                        .find(|d| d.leg == leg && format!("{:?}", d.kind) == r.dof)
-                    {
+                    if let Some(d) = t.iter().find(|d| d.leg == leg && d.kind.name() == r.dof) {
                         let v = if torque { &d.torque } else { &d.angle };
                         let v = planner::analysis::resample_periodic(v, n);
                         let values = v

@@ -50,7 +50,7 @@ pub fn run_from(
     p.swing_s = swing;
     p.terrain = planner::terrain::Ground::parse(terrain)?;
     p.slices = slices;
-    let what = || format!("{model} on {terrain} ({spring:?}, equilibrium {from:?})");
+    let what = || format!("{model} on {terrain} ({spring}, equilibrium at {from})");
     let plan = planner::plan::plan(&m, &p).with_context(|| format!("planning {}", what()))?;
     let cycle = solve_cycle(
         &plan.model,

@@ -108,7 +108,7 @@ impl PhysicsRobot {
     pub fn power_on(&self, chain: &mut VirtualChain) {
         for j in self.plant.joints() {
             let p = servo::p_gain_for_stiffness(j.map.model, j.kp);
-            if let (Some(p), Ok(s)) = (p, chain.servo_mut(j.map.id)) {
+            if let Ok(s) = chain.servo_mut(j.map.id) {
                 s.put(ct::POSITION_P_GAIN, u32::from(p));
             }
         }
@@ -257,7 +257,10 @@ impl ServoDynamics for PhysicsRobot {
                     servo::ticks_to_angle(&j.map, s.get(ct::GOAL_POSITION) as i32),
                     s.torque_enabled(),
                     // The P gain register is the actuator's stiffness (N m/rad).
-                    servo::stiffness_of_p_gain(j.map.model, s.get(ct::POSITION_P_GAIN) as u16),
+                    Some(servo::stiffness_of_p_gain(
+                        j.map.model,
+                        s.get(ct::POSITION_P_GAIN) as u16,
+                    )),
                 ),
                 // A servo the bus lacks holds nothing.
                 None => (j.goal, false, None),

@@ -10,48 +10,39 @@
 
 use dynamixel::ServoModel;
 use dynamixel::sim::physics::MotorState;
-use planner::model::{ActuatorKind, ServoMap};
+use planner::model::ServoMap;
 
 /// Radians per servo tick (4096 ticks a turn), f64.
 pub const RAD_PER_TICK: f64 = std::f64::consts::TAU / 4096.0;
 
-/// The Dynamixel model of an actuator family (the servo map of a generic actuator is read as an
-/// MX-28, the smaller servo).
-pub fn dxl_model(kind: ActuatorKind) -> ServoModel {
-    ServoModel::try_from(kind).unwrap_or(ServoModel::Mx28)
-}
-
 /// The actuator's stiffness, N m/rad, for a Position P Gain register value: the MX's conversion
 /// (`dynamixel::units::stiffness_nm_per_rad`, an ESTIMATE from the e-manual's P controller), the
-/// one the physics robot reads its servos' gains with. `None` for an actuator that is no
-/// Dynamixel servo (its stiffness stays the model's).
-pub fn stiffness_of_p_gain(kind: ActuatorKind, p_gain: u16) -> Option<f64> {
-    let model = ServoModel::try_from(kind).ok()?;
-    Some(f64::from(dynamixel::units::stiffness_nm_per_rad(
-        model, p_gain,
-    )))
+/// one the physics robot reads its servos' gains with.
+pub fn stiffness_of_p_gain(model: ServoModel, p_gain: u16) -> f64 {
+    f64::from(dynamixel::units::stiffness_nm_per_rad(model, p_gain))
 }
 
 /// The Position P Gain register value nearest to stiffness `kp` N m/rad: the firmware's own
 /// conversion ([`dynamixel::units::p_gain_for_stiffness`], the inverse of
 /// [`stiffness_of_p_gain`]; saturated to the register's range, at least 1 for a positive `kp`).
-/// `None` as there.
-pub fn p_gain_for_stiffness(kind: ActuatorKind, kp: f64) -> Option<u16> {
-    let model = ServoModel::try_from(kind).ok()?;
-    Some(dynamixel::units::p_gain_for_stiffness(model, kp as f32))
+pub fn p_gain_for_stiffness(model: ServoModel, kp: f64) -> u16 {
+    dynamixel::units::p_gain_for_stiffness(model, kp as f32)
 }
 
-/// Joint angle (rad) of a goal or present position in ticks, through the model's servo map.
+/// Joint angle (rad) of a goal or present position in ticks, through the model's servo map and
+/// the project's one converter ([`ServoMap::angle_of_ticks`], `protocol::Calibration`).
 pub fn ticks_to_angle(map: &ServoMap, ticks: i32) -> f64 {
-    f64::from(map.sign) * f64::from(ticks - 2048) * RAD_PER_TICK + map.zero_offset
+    map.angle_of_ticks(ticks)
 }
 
 /// The motor state a servo reports for its joint's angle, velocity and actuator torque: angle from
 /// tick 0 and velocity and torque toward increasing ticks, as the virtual servo keeps them.
 pub fn motor_state(map: &ServoMap, q: f64, qd: f64, torque: f64, duty: f64) -> MotorState {
     let sign = f64::from(map.sign);
+    let centre = f64::from(map.centre_calibration().zero_ticks);
+    let rad_per_tick = std::f64::consts::TAU / f64::from(map.model.ticks_per_rev());
     MotorState {
-        angle_rad: sign * (q - map.zero_offset) + 2048.0 * RAD_PER_TICK,
+        angle_rad: sign * (q - map.zero_offset) + centre * rad_per_tick,
         velocity_rad_s: sign * qd,
         torque_nm: sign * torque,
         duty: sign * duty,
@@ -84,7 +75,7 @@ mod tests {
     fn map(sign: i8, zero: f64) -> ServoMap {
         ServoMap {
             id: 1,
-            model: ActuatorKind::Mx28,
+            model: ServoModel::Mx28,
             zero_offset: zero,
             sign,
         }
@@ -94,9 +85,13 @@ mod tests {
     fn ticks_and_angles_follow_the_models_servo_map() {
         // 1024 ticks past the centre is a quarter turn; a reversed servo turns the other way.
         let m = map(1, 0.1);
-        assert!((ticks_to_angle(&m, 3072) - (std::f64::consts::FRAC_PI_2 + 0.1)).abs() < 1e-12);
+        // To the microradian: the one converter (protocol::Calibration) rounds there.
+        assert!((ticks_to_angle(&m, 3072) - (std::f64::consts::FRAC_PI_2 + 0.1)).abs() < 1e-6);
         let r = map(-1, 0.0);
-        assert!((ticks_to_angle(&r, 3072) + std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        assert!((ticks_to_angle(&r, 3072) + std::f64::consts::FRAC_PI_2).abs() < 1e-6);
+        // e-manual: one tick is 0.088 deg (360 / 4096 = 0.087 890 6 deg).
+        let one = ticks_to_angle(&map(1, 0.0), 2049);
+        assert!((one.to_degrees() - 0.087_890_6).abs() < 1e-4, "{one}");
         // The state the servo reports for that angle lies at 3072 ticks either way.
         let s = motor_state(&r, -std::f64::consts::FRAC_PI_2, 1.0, 0.5, 0.0);
         assert!((s.angle_rad / RAD_PER_TICK - 3072.0).abs() < 1e-9);
@@ -107,14 +102,14 @@ mod tests {
     fn p_gain_and_stiffness_convert_both_ways() {
         // e-manual: Kp = P/128 on the error in ticks, 885 = full PWM, torque = duty * stall:
         // MX-28 at P 850: 850/128/885 * 2.5 N m * 4096/(2 pi) rad^-1 = 12.23 N m/rad.
-        let k = stiffness_of_p_gain(ActuatorKind::Mx28, 850).unwrap();
+        let k = stiffness_of_p_gain(ServoModel::Mx28, 850);
         let hand = 850.0 / 128.0 / 885.0 * 2.5 * 4096.0 / std::f64::consts::TAU;
         assert!((k - hand).abs() < 1e-4 * hand, "{k} against {hand}");
-        assert_eq!(p_gain_for_stiffness(ActuatorKind::Mx28, hand), Some(850));
+        assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, hand), 850);
         // Half the gain, half the stiffness.
-        let half = stiffness_of_p_gain(ActuatorKind::Mx28, 425).unwrap();
+        let half = stiffness_of_p_gain(ServoModel::Mx28, 425);
         assert!((half - k / 2.0).abs() < 1e-9 * k);
-        assert_eq!(p_gain_for_stiffness(ActuatorKind::Mx28, 1e-9), Some(1));
+        assert_eq!(p_gain_for_stiffness(ServoModel::Mx28, 1e-9), 1);
     }
 
     #[test]

@@ -79,8 +79,9 @@ fn drosophibot_bodies_joints_and_actuators_as_mujoco_reads_them() {
             );
             // The MJCF's servo: stall torque from the e-manual, MX-28 2.5 N m, MX-64 6.0 N m.
             let stall = match j.servo.map(|s| s.model) {
-                Some(planner::model::ActuatorKind::Mx64) => 6.0,
-                _ => 2.5,
+                Some(dynamixel::ServoModel::Mx64) => 6.0,
+                Some(dynamixel::ServoModel::Mx28) => 2.5,
+                None => panic!("{}: every joint of Drosophibot II has a servo", j.name),
             };
             assert_eq!(mj.actuator_forcerange()[aid], [-stall, stall], "{}", j.name);
             let spring = j.spring.map_or(0.0, |s| s.stiffness);

@@ -29,7 +29,7 @@ fn joint(
         axis: Unit::new_normalize(axis),
         limits: (-3.0, 3.0),
         actuation: Actuation::Actuated {
-            actuator: ActuatorKind::Mx28,
+            actuator: ActuatorKind::Servo(dynamixel::ServoModel::Mx28),
             stiffness: 2.0,
         },
         spring: None,

@@ -6,7 +6,7 @@ mod dynamics_support;
 
 use dynamics_support::{standing_pose, toy_hexapod, trajectory};
 use planner::dynamics::{DynamicsOptions, SliceInput, solve_slice};
-use planner::model::{ActuatorKind, Leg, ServoMap};
+use planner::model::{Leg, ServoMap};
 use planner::plan::gait_table::{TableError, gait_table, stance_bits};
 use protocol::GaitTable;
 
@@ -16,7 +16,7 @@ fn with_servos(mut model: planner::model::Model) -> planner::model::Model {
         if matches!(j.actuation, planner::model::Actuation::Actuated { .. }) {
             j.servo = Some(ServoMap {
                 id,
-                model: ActuatorKind::Mx28,
+                model: dynamixel::ServoModel::Mx28,
                 zero_offset: 0.1 * f64::from(id % 5) - 0.2,
                 sign: if id % 2 == 0 { 1 } else { -1 },
             });

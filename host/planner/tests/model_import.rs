@@ -82,9 +82,9 @@ fn drosobot2_import_matches_builtin() {
     for j in &built.joints {
         if let Actuation::Actuated { actuator, .. } = j.actuation {
             let want = if j.kind == JointKind::CTr {
-                ActuatorKind::Mx64
+                ActuatorKind::Servo(dynamixel::ServoModel::Mx64)
             } else {
-                ActuatorKind::Mx28
+                ActuatorKind::Servo(dynamixel::ServoModel::Mx28)
             };
             assert_eq!(actuator, want, "{}", j.name);
         }

@@ -133,3 +133,34 @@ fn a_leg_with_joints_but_no_foot_is_said() {
     let e = aproj_err(&tipless);
     assert!(e.contains("leg LF") && e.contains("foot"), "{e}");
 }
+
+/// The servo models a model file may name are the dynamixel crate's (`ServoModel::key`); an
+/// unknown one (the MX-106 the robot does not carry) is refused naming the file and the accepted
+/// names, never read as a generic actuator; a servo map on a generic actuator is refused too.
+#[test]
+fn an_unknown_servo_model_or_a_servo_on_a_generic_actuator_is_refused() {
+    let e = toml_err(&GOOD.replace(r#"actuation = "mx64""#, r#"actuation = "mx106""#));
+    assert!(
+        e.contains("bad.toml") && e.contains(r#"unknown actuation "mx106""#),
+        "{e}"
+    );
+    assert!(e.contains(r#""mx28", "mx64""#), "{e}");
+    let with_servo = GOOD.replace(
+        "stiffness_nm_per_rad = 30.0",
+        "stiffness_nm_per_rad = 30.0\nservo = { id = 1, zero_offset_rad = 0.0, sign = 1 }",
+    );
+    let m = from_toml_str(&with_servo, "good.toml").unwrap();
+    assert_eq!(
+        m.joints[0].actuation,
+        Actuation::Actuated {
+            actuator: ActuatorKind::Servo(dynamixel::ServoModel::Mx64),
+            stiffness: 30.0
+        }
+    );
+    assert_eq!(m.servo_chain(), vec![(1, dynamixel::ServoModel::Mx64)]);
+    let e = toml_err(&with_servo.replace(r#"actuation = "mx64""#, r#"actuation = "generic""#));
+    assert!(
+        e.contains("LF_CTr") && e.contains("a generic actuator has no servo"),
+        "{e}"
+    );
+}

@@ -7,8 +7,8 @@ use std::f64::consts::TAU;
 
 #[test]
 fn datasheet_limits() {
-    let mx28 = servo_limits(ActuatorKind::Mx28).unwrap();
-    let mx64 = servo_limits(ActuatorKind::Mx64).unwrap();
+    let mx28 = servo_limits(ActuatorKind::Servo(dynamixel::ServoModel::Mx28)).unwrap();
+    let mx64 = servo_limits(ActuatorKind::Servo(dynamixel::ServoModel::Mx64)).unwrap();
     // 55 rev/min = 55 * 2 pi / 60 = 5.7596 rad/s; 63 rev/min = 6.5973 rad/s.
     assert!((mx28.no_load_speed - 5.759_586_5).abs() < 1e-5);
     assert!((mx64.no_load_speed - 6.597_344_6).abs() < 1e-5);
@@ -66,7 +66,11 @@ fn a_sinusoid_at_6_rad_s_is_too_fast_for_an_mx28_only() {
         .collect();
     assert!(!slow.is_empty());
     for name in slow {
-        assert_eq!(actuator(&m, name), ActuatorKind::Mx28, "{name}");
+        assert_eq!(
+            actuator(&m, name),
+            ActuatorKind::Servo(dynamixel::ServoModel::Mx28),
+            "{name}"
+        );
     }
     assert!(f.violations[0].to_string().contains("by 0.24 rad/s"));
 }

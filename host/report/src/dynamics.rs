@@ -40,7 +40,7 @@ pub fn plot_torques(plan: &Plan, cycle: &CycleSolution, path: &Path) -> Result<(
                 .filter(|&j| model.is_actuated(j))
                 .enumerate()
                 .map(|(k, j)| Trace {
-                    label: format!("{:?}", model.joints[j].kind),
+                    label: model.joints[j].kind.name().to_string(),
                     values: cycle.slices.iter().map(|s| s.torque[j] * scale).collect(),
                     dashed: false,
                     colour: k,

@@ -96,7 +96,7 @@ pub fn plot_joint_angles(plan: &Plan, path: &Path) -> Result<(), ReportError> {
             .enumerate()
             .map(|(k, &j)| {
                 Entry::new(
-                    format!("{:?}", plan.model.joints[j].kind),
+                    plan.model.joints[j].kind.name().to_string(),
                     Swatch::Line(colour(k)),
                 )
             })

@@ -16,6 +16,21 @@ pub enum JointField {
     Reserved,
 }
 
+impl JointField {
+    /// The field as the step-table format (docs) names it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            JointField::ServoId => "servo ID",
+            JointField::Model => "servo model",
+            JointField::Sign => "sign",
+            JointField::ZeroOffset => "zero offset",
+            JointField::Limits => "limits",
+            JointField::Stiffness => "stiffness",
+            JointField::Reserved => "reserved byte",
+        }
+    }
+}
+
 /// A table failed validation; every variant names where.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -81,7 +96,7 @@ impl fmt::Display for TableError {
                     "table CRC {stored:#010x} does not match contents ({computed:#010x})"
                 )
             }
-            Self::BadJoint { joint, field } => write!(f, "joint {joint}: invalid {field:?}"),
+            Self::BadJoint { joint, field } => write!(f, "joint {joint}: invalid {}", field.name()),
             Self::BadStance { slice, bits } => {
                 write!(f, "slice {slice}: invalid stance byte {bits:#04x}")
             }

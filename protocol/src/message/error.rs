@@ -23,6 +23,30 @@ pub enum Setting {
     SetpointJoints,
 }
 
+impl Setting {
+    /// The setting's name as `dbot set` and the usage guide spell it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Setting::Baud => "baud",
+            Setting::CycleRate => "cycle rate",
+            Setting::Stiffness => "stiffness",
+            Setting::Limits => "limits",
+            Setting::PeriodScale => "period scale",
+            Setting::StepCount => "step count",
+            Setting::Telemetry => "telemetry",
+            Setting::StreamTimeout => "stream timeout",
+            Setting::StreamFeedback => "stream feedback",
+            Setting::SetpointJoints => "setpoint joints",
+        }
+    }
+}
+
+impl fmt::Display for Setting {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Why a request failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -58,7 +82,7 @@ impl fmt::Display for ProtocolError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Unsupported => write!(f, "request not supported by this firmware"),
-            Self::WrongState { state } => write!(f, "not allowed in state {state:?}"),
+            Self::WrongState { state } => write!(f, "not allowed in state {state}"),
             Self::NoSuchSlot { slot, slots } => {
                 write!(f, "no gait slot {slot} (board has {slots})")
             }
@@ -68,7 +92,7 @@ impl fmt::Display for ProtocolError {
                 write!(f, "no joint {joint} (board has {joints})")
             }
             Self::InvalidSetting { setting, value } => {
-                write!(f, "{setting:?} = {value} out of range")
+                write!(f, "{setting} = {value} out of range")
             }
             Self::Upload(e) => write!(f, "upload: {e}"),
             Self::Table(e) => write!(f, "gait table: {e}"),

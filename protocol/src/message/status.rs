@@ -27,6 +27,29 @@ pub enum RunState {
     Boot,
 }
 
+impl RunState {
+    /// The state as a user reads it: the firmware's name, with what it means for the robot where
+    /// that is not obvious. Every door (CLI, Python, errors) prints this.
+    pub const fn name(self) -> &'static str {
+        match self {
+            RunState::Idle => "Idle (torque off)",
+            RunState::Standing => "Standing",
+            RunState::Ramping => "Ramping (to the first slice)",
+            RunState::Walking => "Walking",
+            RunState::Stopping => "Stopping (at the end of the step)",
+            RunState::Streaming => "Streaming",
+            RunState::Fault => "Fault (torque off)",
+            RunState::Boot => "Boot (finding the servos, reading the gait store)",
+        }
+    }
+}
+
+impl core::fmt::Display for RunState {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Where playback is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -42,11 +42,19 @@ impl Default for VirtualRobot {
     }
 }
 
-/// The robot's servo chain at `baud`, set up with Return Delay Time 0 as the firmware's reply
-/// slack assumes (at the factory 500 us per servo, a 22-servo cycle would not fit 100 Hz).
+/// The servos of Drosophibot II, `(id, model)`, as its model file (`drosophibot2.toml`) maps them.
+pub fn robot_servos() -> Vec<(u8, dynamixel::ServoModel)> {
+    planner::model::builtin("drosophibot2")
+        .expect("the built-in model parses (tested in the planner)")
+        .servo_chain()
+}
+
+/// The robot's servo chain at `baud` (which joint carries which servo read from the model file),
+/// set up with Return Delay Time 0 as the firmware's reply slack assumes (at the factory 500 us
+/// per servo, a 22-servo cycle would not fit 100 Hz).
 pub fn robot_chain(baud: u32) -> VirtualChain {
     let mut chain =
-        VirtualChain::drosophibot(ROBOT_SERVOS, baud).expect("the board's baud is a servo baud");
+        VirtualChain::new(&robot_servos(), baud).expect("the board's baud is a servo baud");
     chain.set_return_delay_all(0);
     chain
 }

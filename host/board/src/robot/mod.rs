@@ -9,7 +9,7 @@ pub(crate) mod image;
 mod servos;
 mod transport;
 
-pub use board::{ROBOT_SERVOS, VirtualBoard, VirtualRobot, robot_chain};
+pub use board::{ROBOT_SERVOS, VirtualBoard, VirtualRobot, robot_chain, robot_servos};
 pub use flash::{FLASH_SECTORS, SLOTS, VirtualFlash};
 pub use image::{IMAGE_LEN, ImageError};
 pub use servos::{PlannedLoads, ServoDynamics};

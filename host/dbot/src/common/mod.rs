@@ -6,7 +6,6 @@
 
 pub mod baud;
 pub mod error_chain;
-pub mod gait_summary;
 pub mod interrupt;
 pub mod model_spec;
 pub mod output;
@@ -15,6 +14,5 @@ pub mod plan_output;
 pub mod playback;
 pub mod serial_path;
 pub mod session;
-pub mod slot_health;
 pub mod walk_summary;
 pub mod words;

@@ -8,11 +8,11 @@ use board::link::{Board, LinkError, Transport};
 use board::record::Stopped;
 use protocol::{Direction, GaitSummary, PlayCommand, SlotInfo, Steps};
 
-use crate::common::gait_summary::describe;
 use crate::common::interrupt;
 use crate::common::session::Session;
-use crate::common::slot_health;
 use crate::common::words::direction_name;
+use board::slot_health;
+use board::slot_health::describe;
 
 /// A slot about to be played: the gait it holds and what it lost, if anything.
 #[derive(Debug, Clone, Copy)]

@@ -6,19 +6,7 @@ use protocol::{Direction, RunState};
 /// A run state as the user reads it: the firmware's state name, with what it means for the robot
 /// where that is not obvious.
 pub fn state_name(s: RunState) -> &'static str {
-    match s {
-        RunState::Idle => "Idle (torque off)",
-        RunState::Standing => "Standing",
-        RunState::Ramping => "Ramping (to the first slice)",
-        RunState::Walking => "Walking",
-        RunState::Stopping => "Stopping (at the end of the step)",
-        RunState::Streaming => "Streaming",
-        RunState::Fault => "Fault (torque off)",
-        RunState::Boot => "Boot (finding the servos, reading the gait store)",
-        // `RunState` is `#[non_exhaustive]`: a newer firmware may report a state this dbot
-        // does not know.
-        _ => "unknown (a state this dbot does not know: newer firmware?)",
-    }
+    s.name()
 }
 
 /// Forward or backward.

@@ -4,20 +4,20 @@
 #![allow(dead_code)]
 
 use board::link::Board;
+use dynamixel::ServoModel;
 use physics::{PhysicsRobot, PhysicsTransport};
 use planner::dynamics::{DynamicsOptions, solve_cycle};
 use planner::gait::StepParams;
-use planner::model::{ActuatorKind, Model};
+use planner::model::Model;
 use planner::plan::Plan;
 use protocol::{Direction, PlayCommand, Steps};
 
 /// The e-manual's stiffness for P gain `p`, N m/rad (MX-28 2.5 N m, MX-64 6.0 N m stall):
 /// k = P/128 / 885 x stall torque x 4096 / 2 pi, from the MX position P controller.
-pub fn hand_k(kind: ActuatorKind, p: u32) -> f64 {
+pub fn hand_k(kind: ServoModel, p: u32) -> f64 {
     let stall = match kind {
-        ActuatorKind::Mx28 => 2.5,
-        ActuatorKind::Mx64 => 6.0,
-        ActuatorKind::Generic => unreachable!("the robot's joints are servos"),
+        ServoModel::Mx28 => 2.5,
+        ServoModel::Mx64 => 6.0,
     };
     f64::from(p) / 128.0 / 885.0 * stall * 4096.0 / std::f64::consts::TAU
 }
@@ -26,7 +26,7 @@ pub fn hand_k(kind: ActuatorKind, p: u32) -> f64 {
 /// to 1 %, for a joint's (deflection rad, torque N m, P gain) before and after a gain change.
 pub fn assert_torque_is_k_times_deflection(
     name: &str,
-    kind: ActuatorKind,
+    kind: ServoModel,
     before: (f64, f64, u32),
     after: (f64, f64, u32),
 ) {

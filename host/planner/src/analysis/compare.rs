@@ -75,7 +75,7 @@ pub fn compare(a: &[DofTrace], b: &[DofTrace]) -> Vec<ComparisonRow> {
                 );
                 rows.push(ComparisonRow {
                     leg,
-                    dof: format!("{:?}", da.kind),
+                    dof: da.kind.name().to_string(),
                     summed_side: None,
                     r2_angle: regression_r2(&aa, &ab),
                     r2_torque: regression_r2(&ta, &tb),
@@ -98,7 +98,7 @@ pub fn compare(a: &[DofTrace], b: &[DofTrace]) -> Vec<ComparisonRow> {
                     );
                     let label = kinds
                         .iter()
-                        .map(|k| format!("{k:?}"))
+                        .map(|k| k.name().to_string())
                         .collect::<Vec<_>>()
                         .join("+");
                     let (r2_angle, r2_torque) =

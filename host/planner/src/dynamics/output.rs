@@ -77,7 +77,7 @@ pub fn write_joint_forces_csv<W: Write>(
                 s.to_string(),
                 plain(s as f64 * dt, SIGNIFICANT),
                 joint.leg.name().into(),
-                format!("{:?}", joint.kind),
+                joint.kind.name().to_string(),
             ];
             rec.extend(
                 [

@@ -290,7 +290,7 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
                 )
             })?;
         let child = bodies.len();
-        let name = format!("{}_{:?}", r.leg.name(), r.kind);
+        let name = format!("{}_{}", r.leg.name(), r.kind.name());
         if joints.iter().any(|j: &Joint| j.name == name) {
             return Err(field(
                 file,

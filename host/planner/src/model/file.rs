@@ -69,13 +69,48 @@ pub struct JointEntry {
     pub source: String,
 }
 
+/// A joint's `actuation` field: a servo model's name ([`protocol::ServoModel::key`], e.g.
+/// `"mx28"`), `"generic"` or `"fixed"`. The names of the servo models come from the dynamixel
+/// crate, so a new model needs no change here.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "String")]
 pub enum ActuationEntry {
-    Mx28,
-    Mx64,
+    Servo(protocol::ServoModel),
     Generic,
     Fixed,
+}
+
+impl TryFrom<String> for ActuationEntry {
+    type Error = String;
+
+    fn try_from(name: String) -> Result<Self, String> {
+        match name.as_str() {
+            "generic" => Ok(Self::Generic),
+            "fixed" => Ok(Self::Fixed),
+            other => protocol::ServoModel::from_key(other)
+                .map(Self::Servo)
+                .ok_or_else(|| {
+                    let servos: Vec<String> = protocol::ServoModel::ALL
+                        .iter()
+                        .map(|m| format!("\"{}\"", m.key()))
+                        .collect();
+                    format!(
+                        "unknown actuation \"{other}\": expected a servo model ({}), \"generic\" or \"fixed\"",
+                        servos.join(", ")
+                    )
+                }),
+        }
+    }
+}
+
+impl From<ActuationEntry> for String {
+    fn from(entry: ActuationEntry) -> String {
+        match entry {
+            ActuationEntry::Servo(m) => m.key().to_owned(),
+            ActuationEntry::Generic => "generic".to_owned(),
+            ActuationEntry::Fixed => "fixed".to_owned(),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -170,7 +205,7 @@ impl ModelFile {
         let mut has_parent = vec![false; bodies.len()];
         has_parent[0] = true;
         for j in &self.joints {
-            let name = format!("{}_{:?}", j.leg.name(), j.kind);
+            let name = format!("{}_{}", j.leg.name(), j.kind.name());
             let place = format!("joint {name}");
             let lookup = |n: &str, what: &'static str| {
                 index.get(n).copied().ok_or_else(|| ModelError::Unknown {
@@ -244,7 +279,7 @@ impl ModelFile {
                     }
                     Actuation::Fixed { angle }
                 }
-                a => {
+                ActuationEntry::Servo(_) | ActuationEntry::Generic => {
                     let stiffness = j.stiffness_nm_per_rad.ok_or_else(|| {
                         field(
                             file,
@@ -256,10 +291,9 @@ impl ModelFile {
                     if !(stiffness.is_finite() && stiffness > 0.0) {
                         return Err(field(file, &place, "stiffness_nm_per_rad", "must be > 0"));
                     }
-                    let actuator = match a {
-                        ActuationEntry::Mx28 => ActuatorKind::Mx28,
-                        ActuationEntry::Mx64 => ActuatorKind::Mx64,
-                        _ => ActuatorKind::Generic,
+                    let actuator = match j.actuation {
+                        ActuationEntry::Servo(m) => ActuatorKind::Servo(m),
+                        ActuationEntry::Generic | ActuationEntry::Fixed => ActuatorKind::Generic,
                     };
                     Actuation::Actuated {
                         actuator,
@@ -289,7 +323,27 @@ impl ModelFile {
                 (Some(_), Actuation::Fixed { .. }) => {
                     return Err(field(file, &place, "servo", "a fixed joint has no servo"));
                 }
-                (Some(s), Actuation::Actuated { actuator, .. }) => {
+                (
+                    Some(_),
+                    Actuation::Actuated {
+                        actuator: ActuatorKind::Generic,
+                        ..
+                    },
+                ) => {
+                    return Err(field(
+                        file,
+                        &place,
+                        "servo",
+                        "a generic actuator has no servo (name the servo model in actuation)",
+                    ));
+                }
+                (
+                    Some(s),
+                    Actuation::Actuated {
+                        actuator: ActuatorKind::Servo(servo_model),
+                        ..
+                    },
+                ) => {
                     if s.id > 252 {
                         return Err(field(file, &place, "servo.id", format!("{} > 252", s.id)));
                     }
@@ -309,7 +363,7 @@ impl ModelFile {
                     }
                     Some(ServoMap {
                         id: s.id,
-                        model: *actuator,
+                        model: *servo_model,
                         zero_offset: s.zero_offset_rad,
                         sign: s.sign,
                     })

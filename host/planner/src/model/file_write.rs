@@ -46,8 +46,7 @@ impl ModelFile {
                         stiffness,
                     } => (
                         match actuator {
-                            ActuatorKind::Mx28 => ActuationEntry::Mx28,
-                            ActuatorKind::Mx64 => ActuationEntry::Mx64,
+                            ActuatorKind::Servo(m) => ActuationEntry::Servo(*m),
                             ActuatorKind::Generic => ActuationEntry::Generic,
                         },
                         Some(*stiffness),

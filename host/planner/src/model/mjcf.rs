@@ -72,22 +72,19 @@ pub struct ServoActuator {
     pub armature: f64,
 }
 
-/// The servo model of an actuator family. Stall torque and no-load speed at 12 V from the
-/// dynamixel crate (e-manual); armature ESTIMATE: a coreless rotor of about 0.9 g cm^2 (MX-28) or
-/// 2 g cm^2 (MX-64) times the gear ratio squared (193 and 200). A generic actuator (a fly's
-/// muscles) gets no force limit and a light damping of 1 % of its stiffness per second.
+/// The servo model of an actuator family. Stall torque, no-load speed and armature (an ESTIMATE)
+/// from the dynamixel crate ([`dynamixel::ServoModel`]). A generic actuator (a fly's muscles)
+/// gets no force limit and a light damping of 1 % of its stiffness per second.
 pub fn servo_actuator(kind: ActuatorKind, stiffness: f64) -> ServoActuator {
-    let dxl = |m: dynamixel::ServoModel, rotor: f64, gear: f64| {
-        let stall = f64::from(m.stall_torque_nm());
-        ServoActuator {
-            stall_nm: stall,
-            damping: stall / f64::from(m.no_load_speed_rad_s()),
-            armature: rotor * gear * gear,
-        }
-    };
     match kind {
-        ActuatorKind::Mx28 => dxl(dynamixel::ServoModel::Mx28, 0.9e-7, 193.0),
-        ActuatorKind::Mx64 => dxl(dynamixel::ServoModel::Mx64, 2.0e-7, 200.0),
+        ActuatorKind::Servo(m) => {
+            let stall = f64::from(m.stall_torque_nm());
+            ServoActuator {
+                stall_nm: stall,
+                damping: stall / f64::from(m.no_load_speed_rad_s()),
+                armature: m.armature_kg_m2(),
+            }
+        }
         ActuatorKind::Generic => ServoActuator {
             stall_nm: f64::INFINITY,
             damping: 0.01 * stiffness,

@@ -4,6 +4,15 @@ use super::error::{ModelError, field};
 use super::*;
 
 impl Model {
+    /// The servos on the bus as the model file says: `(id, servo model)` of every joint with a
+    /// servo map, in joint order. The one list a virtual servo chain or a test rig is built from.
+    pub fn servo_chain(&self) -> Vec<(u8, protocol::ServoModel)> {
+        self.joints
+            .iter()
+            .filter_map(|j| j.servo.map(|s| (s.id, s.model)))
+            .collect()
+    }
+
     /// Index of the joint whose child is `body` (None for the thorax).
     pub fn parent_joint(&self, body: usize) -> Option<usize> {
         self.joints.iter().position(|j| j.child == body)

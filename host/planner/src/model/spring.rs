@@ -74,6 +74,23 @@ pub enum SpringSpec {
     Stiffness(f64),
 }
 
+/// In words, as `--spring` takes it: `no springs`, `the paper's springs`, `springs of 1 N m/rad`.
+impl std::fmt::Display for SpringSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SpringSpec::None => f.write_str("no parallel springs"),
+            SpringSpec::Paper => f.write_str("the paper's parallel springs"),
+            SpringSpec::Preset(p) => write!(
+                f,
+                "the {} parallel springs ({} N m/rad)",
+                p.name(),
+                p.stiffness()
+            ),
+            SpringSpec::Stiffness(k) => write!(f, "parallel springs of {k} N m/rad"),
+        }
+    }
+}
+
 /// A `--spring` value that is not understood, or has no value for the model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SpringError {

@@ -60,6 +60,28 @@ pub enum JointKind {
     TiTar,
 }
 
+impl JointKind {
+    /// The paper's name, e.g. `"ThC1"` (the second half of a joint's full name).
+    pub fn name(self) -> &'static str {
+        match self {
+            JointKind::ThC1 => "ThC1",
+            JointKind::ThC2 => "ThC2",
+            JointKind::ThC3 => "ThC3",
+            JointKind::CTr => "CTr",
+            JointKind::TrF1 => "TrF1",
+            JointKind::TrF2 => "TrF2",
+            JointKind::FTi => "FTi",
+            JointKind::TiTar => "TiTar",
+        }
+    }
+}
+
+impl std::fmt::Display for JointKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// What drives a joint.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Actuation {
@@ -72,23 +94,51 @@ pub enum Actuation {
     Fixed { angle: f64 },
 }
 
-/// Actuator family of a joint, for torque limits and the servo model.
+/// In words: `MX-28(2.0), stiffness 12.2 N m/rad` or `fixed at 10.0 deg`.
+impl std::fmt::Display for Actuation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Actuation::Actuated {
+                actuator,
+                stiffness,
+            } => write!(f, "{actuator}, stiffness {stiffness:.3e} N m/rad"),
+            Actuation::Fixed { angle } => write!(f, "fixed at {:.1} deg", angle.to_degrees()),
+        }
+    }
+}
+
+/// What drives an actuated joint: a Dynamixel servo (its model says which) or a generic
+/// actuator. Matched exhaustively; a new servo model is a new [`protocol::ServoModel`] variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ActuatorKind {
-    /// Dynamixel MX-28(2.0): stall torque 2.5 N m at 12 V.
-    Mx28,
-    /// Dynamixel MX-64(2.0): stall torque 6.0 N m at 12 V.
-    Mx64,
+    /// A Dynamixel servo of this model (stall torque, speed and tables from the dynamixel crate).
+    Servo(protocol::ServoModel),
     /// A generic actuator (e.g. the fly's muscles) with no servo behind it.
     Generic,
 }
 
+impl ActuatorKind {
+    /// The servo model behind the actuator; `None` for a generic actuator.
+    pub fn servo(self) -> Option<protocol::ServoModel> {
+        match self {
+            Self::Servo(m) => Some(m),
+            Self::Generic => None,
+        }
+    }
+}
+
+impl std::fmt::Display for ActuatorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Servo(m) => write!(f, "{m}"),
+            Self::Generic => f.write_str("generic actuator"),
+        }
+    }
+}
+
 impl From<protocol::ServoModel> for ActuatorKind {
     fn from(model: protocol::ServoModel) -> Self {
-        match model {
-            protocol::ServoModel::Mx28 => Self::Mx28,
-            protocol::ServoModel::Mx64 => Self::Mx64,
-        }
+        Self::Servo(model)
     }
 }
 
@@ -97,11 +147,7 @@ impl TryFrom<ActuatorKind> for protocol::ServoModel {
     type Error = ActuatorKind;
 
     fn try_from(kind: ActuatorKind) -> Result<Self, ActuatorKind> {
-        match kind {
-            ActuatorKind::Mx28 => Ok(Self::Mx28),
-            ActuatorKind::Mx64 => Ok(Self::Mx64),
-            ActuatorKind::Generic => Err(kind),
-        }
+        kind.servo().ok_or(kind)
     }
 }
 
@@ -140,18 +186,58 @@ pub enum EquilibriumSource {
     DeadFly,
 }
 
+/// In words, as `--spring-equilibrium` and the usage guide name them.
+impl std::fmt::Display for EquilibriumSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            EquilibriumSource::Given => "given in the model",
+            EquilibriumSource::RestingPosture => "the resting posture",
+            EquilibriumSource::StepMidrange => "the middle of the step's range",
+            EquilibriumSource::DeadFly => "a dead fly's posture",
+        })
+    }
+}
+
 /// Where a joint's servo sits on the bus and how its ticks map to the joint angle:
 /// `angle = sign * (ticks - 2048) * 2 pi / 4096 + zero_offset`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ServoMap {
     /// Dynamixel ID, 0..=252.
     pub id: u8,
-    /// Servo model.
-    pub model: ActuatorKind,
+    /// Servo model (the joint's actuator: the model file says it once, in `actuation`).
+    pub model: protocol::ServoModel,
     /// Joint angle (rad) at the servo's centre position (2048 ticks).
     pub zero_offset: f64,
     /// +1 or -1: whether increasing ticks increase the joint angle.
     pub sign: i8,
+}
+
+impl ServoMap {
+    /// The joint's angle <-> ticks converter, the project's one ([`protocol::Calibration`]):
+    /// zero at the servo's centre (half a turn), turning with the map's sign. The joint angle is
+    /// `zero_offset` plus the calibration's angle.
+    pub fn centre_calibration(&self) -> protocol::Calibration {
+        let sign = if self.sign < 0 {
+            protocol::Sign::Negative
+        } else {
+            protocol::Sign::Positive
+        };
+        protocol::Calibration::new(self.model, self.model.ticks_per_rev() / 2, sign)
+    }
+
+    /// Servo position (ticks) at joint angle 0, unclamped: `centre - sign zero_offset tpr / 2 pi`,
+    /// rounded half away from zero (to the microradian first, then to the tick).
+    pub fn zero_ticks(&self) -> i64 {
+        self.centre_calibration()
+            .goal_of_urad(-(self.zero_offset * 1e6).round() as i64)
+    }
+
+    /// Joint angle (rad) of a servo position in ticks (wrapped to +-half a turn around the
+    /// centre), to the microradian.
+    pub fn angle_of_ticks(&self, ticks: i32) -> f64 {
+        let c = self.centre_calibration();
+        self.zero_offset + c.ticks_to_urad(c.joint_ticks(ticks)) as f64 * 1e-6
+    }
 }
 
 /// A rigid body.

@@ -14,19 +14,20 @@ fn xyz_rpy(iso: &Isometry3<f64>) -> String {
     )
 }
 
-/// Effort limit (N m) written into the URDF: the actuator's stall torque at 12 V
-/// (MX-28: 2.5, MX-64: 6.0, per the Dynamixel e-manuals); 1 N m for a generic actuator.
+/// Effort limit (N m) written into the URDF: the servo's stall torque at 12 V
+/// ([`protocol::ServoModel::stall_torque_nm`], from the Dynamixel e-manuals); 1 N m for a generic
+/// actuator or a fixed joint.
 fn effort(a: &Actuation) -> f64 {
     match a {
         Actuation::Actuated {
-            actuator: ActuatorKind::Mx28,
+            actuator: ActuatorKind::Servo(m),
             ..
-        } => 2.5,
+        } => f64::from(m.stall_torque_nm()),
         Actuation::Actuated {
-            actuator: ActuatorKind::Mx64,
+            actuator: ActuatorKind::Generic,
             ..
-        } => 6.0,
-        _ => 1.0,
+        }
+        | Actuation::Fixed { .. } => 1.0,
     }
 }
 

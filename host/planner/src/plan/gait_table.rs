@@ -3,9 +3,9 @@
 //! firmware writes to the servos' P gain and uses for the torque bias (command = angle + torque /
 //! stiffness, paper section 2.5).
 
-use protocol::{BuildError, GaitTableBuilder, JointSpec, ServoModel, Sign};
+use protocol::{BuildError, GaitTableBuilder, JointSpec, Sign};
 
-use crate::model::{ActuatorKind, Leg, Model};
+use crate::model::{Leg, Model};
 
 /// Why a plan cannot become a step table.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -13,17 +13,15 @@ use crate::model::{ActuatorKind, Leg, Model};
 pub enum TableError {
     #[error("joint {joint}: actuated but the model gives it no servo (servo map missing)")]
     NoServo { joint: String },
-    #[error("joint {joint}: servo model {model:?} is not a Dynamixel MX-28 or MX-64")]
-    NotDynamixel { joint: String, model: ActuatorKind },
     #[error("joint {joint}: servo sign {sign} must be +1 or -1")]
     BadSign { joint: String, sign: i8 },
     #[error(
-        "joint {joint}: zero offset {zero_offset_rad} rad puts angle 0 at tick {ticks}, outside 0..=4095"
+        "joint {joint}: zero offset {zero_offset_rad} rad puts angle 0 at tick {ticks}, outside the servo's 0..=4095"
     )]
     ZeroOffset {
         joint: String,
         zero_offset_rad: f64,
-        ticks: f64,
+        ticks: i64,
     },
     #[error("joint {joint}: no servo stiffness (fixed joint with a servo map?)")]
     NoStiffness { joint: String },
@@ -50,31 +48,22 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
         let servo = joint.servo.ok_or_else(|| TableError::NoServo {
             joint: name.clone(),
         })?;
-        let model_code = match ServoModel::try_from(servo.model) {
-            Ok(m) => m,
-            Err(other) => {
-                return Err(TableError::NotDynamixel {
-                    joint: name,
-                    model: other,
-                });
-            }
+        let model_code = servo.model;
+        if servo.sign != 1 && servo.sign != -1 {
+            return Err(TableError::BadSign {
+                joint: name,
+                sign: servo.sign,
+            });
+        }
+        let sign = if servo.sign > 0 {
+            Sign::Positive
+        } else {
+            Sign::Negative
         };
-        let sign = match servo.sign {
-            1 => Sign::Positive,
-            -1 => Sign::Negative,
-            s => {
-                return Err(TableError::BadSign {
-                    joint: name,
-                    sign: s,
-                });
-            }
-        };
-        // Model: angle = sign (ticks - centre) 2 pi / tpr + zero_offset, so angle 0 sits at
-        // ticks = centre - sign zero_offset tpr / 2 pi (centre = half a turn, 2048 on an MX).
-        let tpr = f64::from(model_code.ticks_per_rev());
-        let ticks =
-            tpr / 2.0 - f64::from(servo.sign) * servo.zero_offset * tpr / std::f64::consts::TAU;
-        if !(0.0..=4095.0).contains(&ticks.round()) {
+        // Angle 0 sits at centre - sign zero_offset tpr / 2 pi: the one converter's answer
+        // (protocol::Calibration through the model's servo map), as the board will read it.
+        let ticks = servo.zero_ticks();
+        if !(0..=i64::from(model_code.ticks_per_rev()) - 1).contains(&ticks) {
             return Err(TableError::ZeroOffset {
                 joint: name,
                 zero_offset_rad: servo.zero_offset,
@@ -89,7 +78,7 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
             servo_id: servo.id,
             model: model_code,
             sign,
-            zero_offset: ticks.round() as u16,
+            zero_offset: ticks as u16,
             min_rad: joint.limits.0,
             max_rad: joint.limits.1,
             stiffness_nm_per_rad: stiffness,

@@ -84,7 +84,7 @@ pub fn write_joints_csv<W: Write>(
                 s.to_string(),
                 num(plan.time(s)),
                 joint.leg.name().to_string(),
-                format!("{:?}", joint.kind),
+                joint.kind.name().to_string(),
                 num(plan.q[s][j]),
                 num(plan.qd[s][j]),
                 num(plan.qdd[s][j]),

@@ -164,7 +164,7 @@ fn read_joints(path: &Path, model: &Model, slices: usize) -> Result<JointColumns
         let joint = model.joints.get(j).filter(|_| s < slices);
         let found: usize = number(path, line, SLICE, &rec[sc])?;
         let ok = joint.is_some_and(|jt| {
-            found == s && rec[lc] == *jt.leg.name() && rec[jc] == format!("{:?}", jt.kind)
+            found == s && rec[lc] == *jt.leg.name() && rec[jc] == *jt.kind.name()
         });
         if !ok {
             let expected = joint.map_or_else(

@@ -34,7 +34,7 @@ fn body(name: &str, mass: f64, com: Vector3<f64>, inertia: Matrix3<f64>) -> Body
 
 fn actuated(stiffness: f64) -> Actuation {
     Actuation::Actuated {
-        actuator: ActuatorKind::Mx28,
+        actuator: ActuatorKind::Servo(dynamixel::ServoModel::Mx28),
         stiffness,
     }
 }

@@ -1,10 +1,23 @@
-//! What a gait slot lost, in words: a slot that fell back to an older gait because the newer copy
-//! was damaged, a slot with only damaged data, a store with no readable record at all. `gaits`,
-//! `status`, `run` and `record --play` say it the same way.
+//! What a gait slot holds and lost, in words: a slot that fell back to an older gait because the
+//! newer copy was damaged, a slot with only damaged data, a store with no readable record at all.
+//! The one place these words are made: `dbot gaits`, `status`, `run`, `record --play`, `upload`
+//! and Python's `Board` (`info()["store"]`, a slot's `message`, the fallback warning) say it alike.
 
-use protocol::{LossReason, LostCopy, SlotInfo};
+use protocol::{GaitSummary, LossReason, LostCopy, SlotInfo};
 
-use crate::common::gait_summary::describe;
+/// One line about a stored gait: name, shape, timing, CRC.
+pub fn describe(g: &GaitSummary) -> String {
+    let h = &g.header;
+    format!(
+        "\"{}\" {} joints x {} slices, step {:.3} s, duty {:.2}, CRC {:#010x}",
+        h.name_str().unwrap_or("(name not printable text)"),
+        h.joint_count,
+        h.slice_count,
+        f64::from(h.step_period_us) * 1e-6,
+        f64::from(h.duty) * 1e-4,
+        g.crc
+    )
+}
 
 /// The lost copy named: `"tripod-fwd" (seq 7, CRC 0x1234abcd)`, each part only if known.
 fn lost_copy(l: &LostCopy) -> String {
@@ -96,7 +109,7 @@ pub fn store_line(slots: &[SlotInfo]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use protocol::{GaitHeader, GaitSummary};
+    use protocol::GaitHeader;
 
     fn name(s: &str) -> [u8; 16] {
         let mut n = [0u8; 16];
