@@ -17,7 +17,7 @@ use crate::client::{IntoResponse, Reply};
 use crate::gait::GaitHeader;
 use crate::message::{
     DeviceInfo, JointIds, PlayCommand, ProtocolError, QueueCommand, Request, Response, ServoSelect,
-    Settings, SlotInfo, Status, StreamConfig,
+    Settings, SlotInfo, Status, SteerCommand, SteerFamily, StreamConfig,
 };
 
 /// A request that names its reply.
@@ -211,4 +211,8 @@ endpoints! {
     QueueGait(QueueCommand) => (), queue_gait;
     /// Drops the queued gaits.
     ClearQueue => (), clear_queue;
+    /// Sets the gaits `Steer` blends.
+    SetSteerFamily(SteerFamily) => (), set_steer_family;
+    /// The descending command: heading and speed.
+    Steer(SteerCommand) => (), steer;
 }
