@@ -55,7 +55,10 @@ fn a_faster_play_is_refused_where_the_hand_computed_speed_passes_a_limit() {
     let text = e.to_string();
     let line = text
         .lines()
-        .find_map(|l| l.trim().strip_prefix("J0 at slice 0: |torque| 0.300 N m at "))
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix("J0 at slice 0: |torque| 0.300 N m at ")
+        })
         .unwrap_or_else(|| panic!("no line for J0 at slice 0: {text}"));
     let number = |s: &str| s.split(' ').next().unwrap().parse::<f64>().unwrap();
     let speed = number(line);
@@ -64,12 +67,19 @@ fn a_faster_play_is_refused_where_the_hand_computed_speed_passes_a_limit() {
     // The table keeps angles to 1e-4 rad: a central difference over 2 dt = 0.0098 s is off the
     // sine's by at most 2e-4 / 0.0098 = 0.02 rad/s; the available torque is the line's at the
     // speed measured (printed to 0.01 rad/s and 0.001 N m).
-    assert!((speed - peak(0.49)).abs() < 0.021, "{speed} vs {}", peak(0.49));
+    assert!(
+        (speed - peak(0.49)).abs() < 0.021,
+        "{speed} vs {}",
+        peak(0.49)
+    );
     assert!(
         (available - STALL * (1.0 - speed / W0)).abs() < 0.0035 && available < 0.3,
         "{text}"
     );
-    assert!(rest.contains(" N m the servo gives at that speed"), "{text}");
+    assert!(
+        rest.contains(" N m the servo gives at that speed"),
+        "{text}"
+    );
     // At 0.40 (6.279 rad/s) it is over the no-load speed itself.
     let e = check_scaled(&t, &names(), 1, 0.40, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::TooFast { .. }));

@@ -22,7 +22,14 @@ fn blended_feet_stay_within_a_millimetre_of_the_planned_foot_path() {
     assert!(gaps[1].max_mm < BOUND_MM, "{:?}", gaps[1]);
     // The straight and the turning gait's feet, for scale.
     let plan = |r: f64| {
-        planner::plan::plan(&model, &StepParams { rotation_rad: r, ..base.clone() }).unwrap()
+        planner::plan::plan(
+            &model,
+            &StepParams {
+                rotation_rad: r,
+                ..base.clone()
+            },
+        )
+        .unwrap()
     };
     let (s, t) = (plan(0.0), plan(RANGE_RAD));
     let mut apart = 0.0f64;
@@ -32,7 +39,11 @@ fn blended_feet_stay_within_a_millimetre_of_the_planned_foot_path() {
             apart = apart.max((x - y).norm() * 1000.0);
         }
     }
-    assert!(gaps[1].max_mm < apart / 10.0, "{:?} against {apart:.1} mm", gaps[1]);
+    assert!(
+        gaps[1].max_mm < apart / 10.0,
+        "{:?} against {apart:.1} mm",
+        gaps[1]
+    );
     // The family the board can blend: the same legs in stance in every slice.
     assert_eq!(s.stance, t.stance);
 }
