@@ -57,19 +57,25 @@ impl Args {
             self.heading, self.range, self.speed
         );
         let mut stopping = false;
+        // Steps completed as the board last reported while playing (standing, it reports none).
+        let mut walked = 0;
         loop {
             s.board.wait(Duration::from_millis(100))?;
             s.board.discard_telemetry();
             let st = s.board.status()?;
-            let step = st.playback.map_or(0, |p| p.step);
+            let step = st.playback.map_or(walked, |p| p.step);
+            walked = step;
             match st.state {
-                RunState::Ramping | RunState::Walking if !stopping && step >= self.steps => {
+                // Completed steps: stopping during the last one ends the walk with it.
+                RunState::Walking if !stopping && step + 1 >= self.steps => {
                     s.board.stop()?;
                     stopping = true;
                 }
                 RunState::Ramping | RunState::Walking | RunState::Stopping => {}
                 RunState::Standing | RunState::Idle => {
-                    println!("{step} step(s), the robot stands");
+                    // A stop ends the step it came in: that step completed too.
+                    let done = if stopping { step + 1 } else { step };
+                    println!("{done} step(s), the robot stands");
                     break;
                 }
                 RunState::Fault => bail!(
