@@ -38,6 +38,43 @@ pub const WEIGHT_ONE: i32 = 65_536;
 /// period scales `1e6 / speed` that `Play` accepts (100 ..= 10 000).
 pub const SPEED_PERMILLE: core::ops::RangeInclusive<u16> = 100..=10_000;
 
+/// The command for `heading_rad` (positive left) at `speed` (1 = as planned), in the message's
+/// units, refused outside the speed range (the heading's range is the family's, on the board).
+#[cfg(feature = "std")]
+pub fn command_of(heading_rad: f64, speed: f64) -> Result<crate::SteerCommand, SteerError> {
+    use crate::units::to_fixed;
+    let heading = to_fixed(heading_rad, 1000.0, i16::MIN.into(), i16::MAX.into())
+        .ok_or(SteerError::NotRepresentable)?;
+    let speed = to_fixed(speed, 1000.0, 0, u16::MAX.into()).ok_or(SteerError::NotRepresentable)?;
+    let speed_permille = speed as u16;
+    period_scale_of(speed_permille)?;
+    Ok(crate::SteerCommand {
+        heading_mrad: heading as i16,
+        speed_permille,
+    })
+}
+
+/// The family of slots `straight`, `left`, `right` whose side gaits stand for `range_rad`.
+#[cfg(feature = "std")]
+pub fn family_of(
+    straight: u8,
+    left: u8,
+    right: u8,
+    range_rad: f64,
+) -> Result<crate::SteerFamily, SteerError> {
+    let range = crate::units::to_fixed(range_rad, 1000.0, 0, i16::MAX.into())
+        .ok_or(SteerError::NotRepresentable)?;
+    if range == 0 {
+        return Err(SteerError::ZeroRange);
+    }
+    Ok(crate::SteerFamily {
+        straight,
+        left,
+        right,
+        range_mrad: range as u16,
+    })
+}
+
 /// Which side gait a signed blend uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -52,7 +89,11 @@ pub enum Side {
 #[non_exhaustive]
 pub enum SteerError {
     /// The gait in `slot` has `slices` slices, the straight gait `straight`.
-    Slices { slot: u8, slices: u16, straight: u16 },
+    Slices {
+        slot: u8,
+        slices: u16,
+        straight: u16,
+    },
     /// The gait in `slot` has a step period of `period_us`, the straight gait `straight_us`.
     Period {
         slot: u8,
@@ -82,6 +123,9 @@ pub enum SteerError {
     /// A steered walk is playing: stop it first (gaits cannot be queued or the family changed
     /// under it).
     Steering,
+    /// A heading or range in rad that is not a finite number within +-32.767 rad (mrad in
+    /// `i16`), or a speed that is not a finite number within 0 ..= 65.535.
+    NotRepresentable,
 }
 
 impl fmt::Display for SteerError {
@@ -105,7 +149,10 @@ impl fmt::Display for SteerError {
                  {straight_us} us"
             ),
             Self::Switch { slot, error } => {
-                write!(f, "gait slot {slot} cannot follow the straight gait: {error}")
+                write!(
+                    f,
+                    "gait slot {slot} cannot follow the straight gait: {error}"
+                )
             }
             Self::Phase {
                 slot,
@@ -137,6 +184,11 @@ impl fmt::Display for SteerError {
             ),
             Self::NoFamily => write!(f, "no steering family is set (SetSteerFamily)"),
             Self::Steering => write!(f, "a steered walk is playing: stop it first"),
+            Self::NotRepresentable => write!(
+                f,
+                "a heading or range must be a finite number of rad within +-32.767, a speed a \
+                 finite number within 0.1 ..= 10"
+            ),
         }
     }
 }
@@ -254,6 +306,25 @@ mod tests {
         assert_eq!(blend_step(65_536, -65_536), 0);
         assert_eq!(blend_step(0, -65_536), -65_536);
         assert_eq!(blend_step(1000, 30_000), 30_000);
+    }
+
+    #[test]
+    fn si_values_become_the_messages_units_or_a_refusal() {
+        assert_eq!(
+            command_of(-0.15, 0.5),
+            Ok(crate::SteerCommand {
+                heading_mrad: -150,
+                speed_permille: 500
+            })
+        );
+        assert_eq!(command_of(f64::NAN, 1.0), Err(SteerError::NotRepresentable));
+        assert_eq!(command_of(40.0, 1.0), Err(SteerError::NotRepresentable));
+        assert_eq!(
+            command_of(0.0, 0.05),
+            Err(SteerError::Speed { speed_permille: 50 })
+        );
+        assert_eq!(family_of(0, 1, 2, 0.0004), Err(SteerError::ZeroRange));
+        assert_eq!(family_of(0, 1, 2, 0.3).map(|f| f.range_mrad), Ok(300));
     }
 
     #[test]

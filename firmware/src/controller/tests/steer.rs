@@ -143,10 +143,10 @@ fn full_left_to_full_right_goes_through_straight_and_no_goal_jumps_beyond_the_sw
         if blends.last() != Some(&b) {
             blends.push(b);
         }
-        for j in 0..JOINTS {
+        for (j, (&now, &was)) in r.servos.pos.iter().zip(&before).take(JOINTS).enumerate() {
             // The goal's move beyond the straight gait's own motion over this cycle.
             let own = r.gait.goal(p1, j, STIFFNESS) - r.gait.goal(p0, j, STIFFNESS);
-            let extra = ((r.servos.pos[j] - before[j]) as f64 - own).abs();
+            let extra = ((now - was) as f64 - own).abs();
             worst = worst.max(extra);
         }
     }
