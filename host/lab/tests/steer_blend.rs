@@ -9,7 +9,7 @@ use planner::kinematics::forward;
 use planner::model::builtin;
 
 /// The bound docs/validation.md states for a blend's foot against the planned foot path, mm
-/// (measured: 0.1 mm at half the 0.06 rad family, 0.7 mm at half a 0.2 rad one).
+/// (measured: 0.06 mm at half the 0.06 rad family, 0.7 mm at half a 0.2 rad one).
 const BOUND_MM: f64 = 1.0;
 
 #[test]
