@@ -16,7 +16,7 @@ use crate::MAX_CHUNK_LEN;
 use crate::gait::GaitHeader;
 use crate::message::{
     DeviceInfo, JointIds, PlayCommand, ProtocolError, QueueCommand, Request, Response, ServoSelect,
-    Settings, SlotInfo, Status, StreamConfig,
+    Settings, SlotInfo, Status, SteerCommand, SteerFamily, StreamConfig,
 };
 pub use crate::reply::{ChunkAccepted, Committed};
 use crate::reply::{IntoResponse, Reply};
@@ -197,4 +197,8 @@ endpoints! {
     QueueGait(QueueCommand) => (), queue_gait;
     /// Drops the queued gaits.
     ClearQueue => (), clear_queue;
+    /// Sets the gaits `Steer` blends.
+    SetSteerFamily(SteerFamily) => (), set_steer_family;
+    /// The descending command: heading and speed.
+    Steer(SteerCommand) => (), steer;
 }

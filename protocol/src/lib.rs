@@ -113,6 +113,7 @@ pub mod gait;
 pub mod limits;
 pub mod message;
 mod reply;
+pub mod steer;
 pub mod switch;
 pub mod units;
 pub mod upload;
@@ -125,11 +126,12 @@ pub use frame::{FrameAccumulator, FrameError, decode_message, encode_frame};
 pub use gait::{BuildError, GaitTableBuilder, JointSpec};
 pub use gait::{GaitHeader, GaitTable, JointMap, ServoModel, Sign, TableError};
 pub use message::*;
+pub use steer::SteerError;
 pub use switch::{SwitchError, check_switch};
 pub use upload::{UploadError, UploadLimits, UploadTracker};
 
 /// Version of the wire protocol; bumped on every change of the encoded bytes.
-pub const PROTOCOL_VERSION: u16 = 5;
+pub const PROTOCOL_VERSION: u16 = 6;
 
 /// USB vendor ID of the board: pid.codes' open-source vendor ID.
 pub const USB_VID: u16 = 0x1209;

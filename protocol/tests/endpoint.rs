@@ -24,6 +24,12 @@ impl Handler for FakeBoard {
     fn clear_queue(&mut self, _: ep::ClearQueue) -> Result<(), ProtocolError> {
         unsupported()
     }
+    fn set_steer_family(&mut self, _: SteerFamily) -> Result<(), ProtocolError> {
+        unsupported()
+    }
+    fn steer(&mut self, _: SteerCommand) -> Result<(), ProtocolError> {
+        unsupported()
+    }
     fn get_device_info(&mut self, _: ep::GetDeviceInfo) -> Result<DeviceInfo, ProtocolError> {
         unsupported()
     }

@@ -46,7 +46,9 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 4: SlotInfo::lost (a damaged copy the slot fell back from), Request::GetJointMap and
     //    Response::JointMap appended.
     // 5: Request::QueueGait / ClearQueue and ProtocolError::Switch appended (gait switching).
-    assert_eq!(PROTOCOL_VERSION, 5);
+    // 6: Request::SetSteerFamily / Steer and ProtocolError::Steer appended (the descending
+    //    command).
+    assert_eq!(PROTOCOL_VERSION, 6);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 
@@ -69,6 +71,50 @@ fn get_status_with_seq_300() {
         },
         &[0x00, 0xAC, 0x02, 0x01],
         &[0x01, 0x08, 0xAC, 0x02, 0x01, 0x0C, 0x29, 0x17, 0xB4, 0x00],
+    );
+}
+
+#[test]
+fn steer_right_150_mrad_at_half_speed() {
+    // 00 (Request) 07 (seq 7) 1A (Steer = variant 26 of Request)
+    // heading -150: zigzag (-150 << 1) ^ (-150 >> 15) = -300 ^ -1 = 299 = 0x12B -> AB 02
+    // speed 500 = 0x1F4 -> F4 03
+    // CRC-32 of the 7 bytes (zlib.crc32) = 0xDA0E5F8C -> 8C 5F 0E DA
+    // COBS: the leading zero -> 01; then 11 non-zero bytes -> 0B ...
+    assert_golden(
+        HostMessage::Request {
+            seq: 7,
+            request: Request::Steer(SteerCommand {
+                heading_mrad: -150,
+                speed_permille: 500,
+            }),
+        },
+        &[0x00, 0x07, 0x1A, 0xAB, 0x02, 0xF4, 0x03],
+        &[
+            0x01, 0x0B, 0x07, 0x1A, 0xAB, 0x02, 0xF4, 0x03, 0x8C, 0x5F, 0x0E, 0xDA, 0x00,
+        ],
+    );
+}
+
+#[test]
+fn set_steer_family_0_1_2_over_300_mrad() {
+    // 00 (Request) 08 (seq 8) 19 (SetSteerFamily = variant 25) 00 01 02 (slots, raw u8)
+    // range 300 = 0x12C -> AC 02; CRC-32 = 0x2590E39F -> 9F E3 90 25
+    // COBS: 01 (leading zero) 03 08 19 (two bytes to the slot-0 zero) 09 01 02 AC 02 9F E3 90 25
+    assert_golden(
+        HostMessage::Request {
+            seq: 8,
+            request: Request::SetSteerFamily(SteerFamily {
+                straight: 0,
+                left: 1,
+                right: 2,
+                range_mrad: 300,
+            }),
+        },
+        &[0x00, 0x08, 0x19, 0x00, 0x01, 0x02, 0xAC, 0x02],
+        &[
+            0x01, 0x03, 0x08, 0x19, 0x09, 0x01, 0x02, 0xAC, 0x02, 0x9F, 0xE3, 0x90, 0x25, 0x00,
+        ],
     );
 }
 

@@ -405,6 +405,14 @@ class Board:
     ) -> None:
         """Plays ``slot`` after the gait playing, at a step boundary without standing still;
         raises if it cannot follow (the reason names the legs or the joint, jump and bound)."""
+    def set_steer_family(self, straight: int, left: int, right: int, range: float) -> None:
+        """The gaits ``steer`` blends: slots planned for headings 0, ``+range`` and ``-range``
+        rad with the same leg phases, slices and period; raises with the reason if the board
+        cannot blend them."""
+    def steer(self, heading: float, speed: float = 1.0) -> None:
+        """The descending command: walk at ``heading`` rad (positive left, within the family's
+        range) and ``speed`` (1 = as planned). From standing a steered walk starts (until
+        ``stop``); while walking, the new heading and speed take over at the next step boundary."""
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
     def set_torque(self, enable: bool, joint: int | None = None) -> None: ...

@@ -344,6 +344,31 @@ impl Board {
         self.with(py, move |l| l.queue_gait(command))
     }
 
+    /// Sets the gaits `steer` blends: slots `straight`, `left`, `right`, planned for headings 0,
+    /// `+range` and `-range` rad with the same leg phases, slices and period; the board refuses a
+    /// family it cannot blend, saying why.
+    #[pyo3(signature = (straight, left, right, range))]
+    fn set_steer_family(
+        &self,
+        py: Python<'_>,
+        straight: u8,
+        left: u8,
+        right: u8,
+        range: f64,
+    ) -> PyResult<()> {
+        self.with(py, move |l| {
+            l.set_steer_family(straight, left, right, range)
+        })
+    }
+
+    /// The descending command: walk at `heading` rad (positive left, within the family's range)
+    /// and `speed` (1 = as planned). From standing a steered walk starts (until `stop`); while it
+    /// walks, the new heading and speed take over at the next step boundary.
+    #[pyo3(signature = (heading, speed = 1.0))]
+    fn steer(&self, py: Python<'_>, heading: f64, speed: f64) -> PyResult<()> {
+        self.with(py, move |l| l.steer(heading, speed))
+    }
+
     /// Names the joints of records and setpoints after `model`'s joints (default: the built-in
     /// drosophibot2), by the servo IDs of the table this `Board` uploaded for the gait in use.
     fn set_model(&self, model: &Model) {

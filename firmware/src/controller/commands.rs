@@ -35,6 +35,8 @@ pub enum CommandError {
     Store(StoreError),
     /// A queued gait cannot follow the one before it (`protocol::switch`).
     Switch(protocol::SwitchError),
+    /// A steering family or command was refused (`protocol::steer`).
+    Steer(protocol::SteerError),
 }
 
 /// Which setting was out of range: the protocol's own names.
@@ -242,6 +244,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         if let Some(p) = self.play.as_mut() {
             p.set_scale(scale.into());
         }
+        self.steer_scale(scale);
         Ok(())
     }
 

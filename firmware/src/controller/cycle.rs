@@ -7,7 +7,7 @@ use dynamixel::units::p_gain_for_stiffness;
 use embedded_storage::nor_flash::NorFlash;
 
 use super::Controller;
-use crate::playback::{self, MAX_JOINTS, Ramp};
+use crate::playback::{MAX_JOINTS, Ramp};
 use crate::safety::{Event, SafeReason, State};
 use crate::store::FlashWindow;
 use crate::telemetry::SetpointStamp;
@@ -240,19 +240,12 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         let Some(sample) = self.play.as_ref().map(|p| p.sample(sel.layout.slices)) else {
             return;
         };
-        let Some(bytes) = self.store.table(sel.slot) else {
+        let mut cut = [false; MAX_JOINTS];
+        let Some(clamped) =
+            self.sample_goals(sample, &self.stiffness, &mut target[..n], &mut cut[..n])
+        else {
             return;
         };
-        let view = crate::gait_view::View::new(bytes, sel.layout);
-        let mut cut = [false; MAX_JOINTS];
-        let clamped = playback::goals(
-            &view,
-            sample,
-            &self.joints,
-            &self.stiffness,
-            &mut target[..n],
-            &mut cut[..n],
-        );
         self.count_clamped(clamped);
         let ramp = self.ramp.get_or_insert_with(|| {
             let mut from = [0i32; MAX_JOINTS];
@@ -286,6 +279,9 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         if adv.steps_ended > 0 && stopping && !adv.finished {
             play.rest_at_boundary();
         }
+        if adv.steps_ended > 0 {
+            self.steer_at_boundary();
+        }
         if boundary && self.switch_at_boundary() {
             // The queued gait took over at this boundary; its clock starts at its slice 0.
         } else if adv.finished {
@@ -299,29 +295,20 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             return;
         };
         let sample = play.sample(sel.layout.slices);
-        let Some(bytes) = self.store.table(sel.slot) else {
-            return;
-        };
-        let view = crate::gait_view::View::new(bytes, sel.layout);
         let n = self.joints.len();
         let mut goals = [0i32; MAX_JOINTS];
         let mut cut = [false; MAX_JOINTS];
-        let clamped = playback::goals(
-            &view,
-            sample,
-            &self.joints,
-            &self.stiffness,
-            &mut goals[..n],
-            &mut cut[..n],
-        );
+        let Some(clamped) =
+            self.sample_goals(sample, &self.stiffness, &mut goals[..n], &mut cut[..n])
+        else {
+            return;
+        };
         // The same sample without the torque bias (stiffness 0 switches it off): what a servo
         // carrying the planned load reaches. Its clamp count is the biased goal's business.
         let mut planned = [0i32; MAX_JOINTS];
         let mut planned_cut = [false; MAX_JOINTS];
-        playback::goals(
-            &view,
+        self.sample_goals(
             sample,
-            &self.joints,
             &[0; MAX_JOINTS][..n],
             &mut planned[..n],
             &mut planned_cut[..n],
@@ -384,6 +371,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         if !matches!(to, State::Ramping | State::Walking) {
             // Stopping, a fault, a lost host: nothing waits to walk on afterwards.
             self.queue.clear();
+        }
+        if !matches!(to, State::Ramping | State::Walking | State::Stopping) {
+            // The steered walk ends with its last step (Stopping still plays the blend).
+            self.steer = None;
         }
     }
 }

@@ -11,6 +11,7 @@ mod feedback;
 mod gain_wire_tests;
 #[cfg(test)]
 mod limits_tests;
+mod steer;
 mod switch;
 #[cfg(test)]
 mod tests;
@@ -158,6 +159,9 @@ pub struct Controller<F> {
     /// Steps the gaits before the one playing completed in this run (the step count of status and
     /// telemetry runs on across switches).
     steps_before: u32,
+    /// The gaits `Steer` blends (set by `set_steer_family`), and the steered walk playing.
+    steer_family: Option<protocol::SteerFamily>,
+    steer: Option<steer::Steering>,
     counters: Counters,
     telemetry: DropQueue<Record, TELEMETRY_QUEUE>,
     telemetry_countdown: u16,
@@ -198,6 +202,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             host_quiet: 0,
             queue: heapless::Deque::new(),
             steps_before: 0,
+            steer_family: None,
+            steer: None,
             counters: Counters::default(),
             telemetry: DropQueue::new(),
             telemetry_countdown: 0,

@@ -41,6 +41,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             }));
         }
         super::commands::check_play_params(&p)?;
+        if self.steer.is_some() {
+            // The boundary goal of a blend is not the straight gait's slice 0 the rule checks.
+            return Err(CommandError::Steer(protocol::SteerError::Steering));
+        }
         if self.queue.is_full() {
             return Err(CommandError::Switch(SwitchError::QueueFull {
                 capacity: QUEUE_LEN as u8,

@@ -131,6 +131,7 @@ pub fn command_error(e: CommandError) -> ProtocolError {
         },
         CommandError::Store(e) => store_error(e),
         CommandError::Switch(e) => ProtocolError::Switch(e),
+        CommandError::Steer(e) => ProtocolError::Steer(e),
         // CommandError is non_exhaustive for its users, not for this crate.
     }
 }

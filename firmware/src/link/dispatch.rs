@@ -255,6 +255,14 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
         self.c.clear_queue().map_err(command_error)
     }
 
+    fn set_steer_family(&mut self, f: protocol::SteerFamily) -> Result<(), ProtocolError> {
+        self.c.set_steer_family(f).map_err(command_error)
+    }
+
+    fn steer(&mut self, s: protocol::SteerCommand) -> Result<(), ProtocolError> {
+        self.c.steer(s).map_err(command_error)
+    }
+
     fn stop(&mut self, _: ep::Stop) -> Result<(), ProtocolError> {
         self.c.stop().map_err(command_error)
     }

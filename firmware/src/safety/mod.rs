@@ -13,6 +13,7 @@
 //!  Idle / Standing / Safe / EStop ─Reboot─> Boot
 //!  Ramping / Walking ─Queue─> itself        Walking ─Switch─> Walking (the queued gait, at a boundary)
 //!  Idle / Standing / Ramping / Walking / Stopping ─ClearQueue─> itself
+//!  Ramping / Walking ─Steer─> itself (a new heading for the next step boundary)
 //! ```
 //!
 //! Gait switching adds no state: a queued gait waits in the controller while the robot ramps or
@@ -110,6 +111,9 @@ pub enum Event {
     ClearQueue,
     /// Playback reached the step boundary at which a queued gait takes over.
     Switch,
+    /// Host: a new heading and speed for the steered walk, from its next step boundary (a steered
+    /// walk starts with `Start`).
+    Steer,
 }
 
 /// An event the current state does not accept; the state stays as it was.
@@ -152,6 +156,7 @@ impl State {
             (S::Ramping | S::Walking, E::Queue) => self,
             (S::Idle | S::Standing | S::Ramping | S::Walking | S::Stopping, E::ClearQueue) => self,
             (S::Walking, E::Switch) => S::Walking,
+            (S::Ramping | S::Walking, E::Steer) => self,
             (state, event) => return Err(Refused { state, event }),
         };
         Ok(next)

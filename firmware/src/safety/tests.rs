@@ -21,7 +21,7 @@ const STATES: [State; 9] = [
     State::EStop,
 ];
 
-const EVENTS: [Event; 17] = [
+const EVENTS: [Event; 18] = [
     Event::BootDone,
     Event::TorqueOn,
     Event::TorqueOff,
@@ -39,6 +39,7 @@ const EVENTS: [Event; 17] = [
     Event::Queue,
     Event::ClearQueue,
     Event::Switch,
+    Event::Steer,
 ];
 
 #[test]
@@ -50,17 +51,17 @@ fn every_transition_matches_the_design_table() {
     }
     // Rows: states in STATES order; columns: events in EVENTS order. `X` = refused.
     #[rustfmt::skip]
-    let table: [[Option<State>; 17]; 9] = [
-        //           BootDone  TorqOn       TorqOff  Start       RampDone    Stop           EndOfStep    StepsDone      EnterStr       LeaveStr       EStop     Fault(HW)       Clear    Reboot     Queue        ClearQueue     Switch
-        /*Boot*/    [s(Idle),  X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X, X,           X,             X],
-        /*Idle*/    [X,        s(Standing), s(Idle), s(Ramping), X,          s(Idle),       X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot), X,           s(Idle),       X],
-        /*Standing*/[X,        s(Standing), s(Idle), s(Ramping), X,          s(Standing),   X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot), X,           s(Standing),   X],
-        /*Ramping*/ [X,        X,           X,       X,          s(Walking), s(Standing),   X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X, s(Ramping), s(Ramping),    X],
-        /*Walking*/ [X,        X,           X,       X,          X,          s(Stopping),   s(Walking),  s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X, s(Walking), s(Walking),    s(Walking)],
-        /*Stopping*/[X,        X,           X,       X,          X,          s(Stopping),   s(Standing), s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X, X,           s(Stopping),   X],
-        /*Streamin*/[X,        X,           X,       X,          X,          s(Standing),   X,           X,             X,             s(Standing),   s(EStop), s(Safe(HW)),    X,       X, X,           X,             X],
-        /*Safe(WD)*/[X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(WD)),    s(Idle), s(Boot), X,           X,             X],
-        /*EStop*/   [X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(EStop),       s(Idle), s(Boot), X,           X,             X],
+    let table: [[Option<State>; 18]; 9] = [
+        //           BootDone  TorqOn       TorqOff  Start       RampDone    Stop           EndOfStep    StepsDone      EnterStr       LeaveStr       EStop     Fault(HW)       Clear    Reboot     Queue        ClearQueue     Switch       Steer
+        /*Boot*/    [s(Idle),  X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X, X,           X,             X, X],
+        /*Idle*/    [X,        s(Standing), s(Idle), s(Ramping), X,          s(Idle),       X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot), X,           s(Idle),       X, X],
+        /*Standing*/[X,        s(Standing), s(Idle), s(Ramping), X,          s(Standing),   X,           X,             s(Streaming),  X,             s(EStop), s(Safe(HW)),    X,       s(Boot), X,           s(Standing),   X, X],
+        /*Ramping*/ [X,        X,           X,       X,          s(Walking), s(Standing),   X,           X,             X,             X,             s(EStop), s(Safe(HW)),    X,       X, s(Ramping), s(Ramping),    X, s(Ramping)],
+        /*Walking*/ [X,        X,           X,       X,          X,          s(Stopping),   s(Walking),  s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X, s(Walking), s(Walking),    s(Walking), s(Walking)],
+        /*Stopping*/[X,        X,           X,       X,          X,          s(Stopping),   s(Standing), s(Standing),   X,             X,             s(EStop), s(Safe(HW)),    X,       X, X,           s(Stopping),   X, X],
+        /*Streamin*/[X,        X,           X,       X,          X,          s(Standing),   X,           X,             X,             s(Standing),   s(EStop), s(Safe(HW)),    X,       X, X,           X,             X, X],
+        /*Safe(WD)*/[X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(Safe(WD)),    s(Idle), s(Boot), X,           X,             X, X],
+        /*EStop*/   [X,        X,           X,       X,          X,          X,             X,           X,             X,             X,             s(EStop), s(EStop),       s(Idle), s(Boot), X,           X,             X, X],
     ];
     for (s, row) in STATES.iter().zip(table) {
         for (e, want) in EVENTS.iter().zip(row) {

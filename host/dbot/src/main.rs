@@ -24,6 +24,7 @@ mod sim_bus;
 mod sim_strain;
 mod spring_args;
 mod status;
+mod steer;
 mod stop;
 mod strain;
 mod table;
@@ -57,6 +58,7 @@ enum Cmd {
     Gaits(gaits::Args),
     Run(run::Args),
     Stop(stop::Args),
+    Steer(steer::Args),
     Estop(estop::Args),
     Status(status::Args),
     Servos(servos::Args),
@@ -87,6 +89,7 @@ fn main() -> std::process::ExitCode {
         Cmd::Gaits(a) => a.run(),
         Cmd::Run(a) => a.run(),
         Cmd::Stop(a) => a.run(),
+        Cmd::Steer(a) => a.run(),
         Cmd::Estop(a) => a.run(),
         Cmd::Status(a) => a.run(),
         Cmd::Servos(a) => a.run(),

@@ -27,6 +27,7 @@ pub mod paper_robot;
 pub mod plan_comparison;
 pub mod plan_walk;
 pub mod strain_compare;
+pub mod steer_blend;
 pub mod trial_traces;
 pub mod validation;
 pub mod walk;

@@ -3,6 +3,7 @@
 use core::fmt;
 
 use super::RunState;
+use crate::steer::SteerError;
 use crate::switch::SwitchError;
 use crate::{FrameError, TableError, UploadError};
 
@@ -76,6 +77,8 @@ pub enum ProtocolError {
     Frame(FrameError),
     /// A queued gait cannot follow the one before it (appended: protocol version 5).
     Switch(SwitchError),
+    /// A steering family or command was refused (appended: protocol version 6).
+    Steer(SteerError),
 }
 
 impl fmt::Display for ProtocolError {
@@ -99,6 +102,7 @@ impl fmt::Display for ProtocolError {
             Self::Flash { offset } => write!(f, "flash error at store offset {offset:#x}"),
             Self::Frame(e) => write!(f, "frame: {e}"),
             Self::Switch(e) => write!(f, "gait switch: {e}"),
+            Self::Steer(e) => write!(f, "steering: {e}"),
         }
     }
 }
@@ -114,6 +118,12 @@ impl From<UploadError> for ProtocolError {
 impl From<SwitchError> for ProtocolError {
     fn from(e: SwitchError) -> Self {
         Self::Switch(e)
+    }
+}
+
+impl From<SteerError> for ProtocolError {
+    fn from(e: SteerError) -> Self {
+        Self::Steer(e)
     }
 }
 

@@ -7,6 +7,7 @@ mod device;
 mod error;
 mod request;
 mod status;
+mod steer;
 mod stream;
 
 pub use device::{
@@ -20,6 +21,7 @@ pub use request::{
 pub use status::{
     Counters, JointSettings, PlaybackPosition, RunState, Settings, Status, UploadProgress,
 };
+pub use steer::{SteerCommand, SteerFamily};
 pub use stream::{
     BusStats, JointFeedback, JointSetpoint, Proprioception, Setpoint, Telemetry, feedback_flags,
 };

@@ -77,6 +77,14 @@ pub enum Request {
     QueueGait(QueueCommand),
     /// Drops every queued gait; the one playing plays on. Reply: `Ack`.
     ClearQueue,
+    /// Sets the gaits [`Request::Steer`] blends, checked with [`crate::steer::check_side`]
+    /// (refused with [`crate::ProtocolError::Steer`]); not while a steered walk plays.
+    /// Reply: `Ack`.
+    SetSteerFamily(crate::SteerFamily),
+    /// The descending command: from standing, walks the family blended for the heading until
+    /// `Stop`; while steering, the new heading and speed take over at the next step boundary (the
+    /// blend moving by at most one side gait per boundary). Reply: `Ack`.
+    Steer(crate::SteerCommand),
 }
 
 /// Which servos a command addresses.

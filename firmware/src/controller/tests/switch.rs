@@ -12,7 +12,7 @@ use super::*;
 /// The synthetic gait plus `extra(s)` rad on every angle and `extra(s) / 2` N m on every torque,
 /// `extra(s) = amp sin(2 pi s / slices) + offset`, with stance `stance(s)`: with `offset` 0 it
 /// has the synthetic gait's slice 0, so it may follow it.
-fn variant(
+pub(super) fn variant(
     g: &SyntheticGait,
     name: &str,
     amp: f64,
@@ -32,11 +32,11 @@ fn variant(
 }
 
 /// The synthetic gait's tripod (LF LH RM, then the others).
-fn tripod(s: usize) -> u8 {
+pub(super) fn tripod(s: usize) -> u8 {
     if s < 50 { 0b010_101 } else { 0b101_010 }
 }
 
-fn upload(c: &mut Controller<Flash>, slot: u8, table: &[u8]) {
+pub(super) fn upload(c: &mut Controller<Flash>, slot: u8, table: &[u8]) {
     c.upload_begin(slot, table.len() as u32).unwrap();
     c.upload_chunk(0, table).unwrap();
     c.upload_commit(CRC32.checksum(table)).unwrap();
@@ -72,7 +72,7 @@ fn turn_goal(g: &SyntheticGait, pos: f64, j: usize) -> f64 {
 
 /// One bus cycle at 100 Hz is 0.01 s: an MX-28 at no load (55 rev/min = 5.7596 rad/s) turns
 /// 0.057596 rad = 37.5 ticks in it; `protocol::switch::jump_bound` says 575e-4 rad.
-const BOUND_TICKS: f64 = 0.0575 * 4096.0 / (2.0 * PI);
+pub(super) const BOUND_TICKS: f64 = 0.0575 * 4096.0 / (2.0 * PI);
 
 #[test]
 fn a_gait_queued_mid_step_takes_over_at_the_boundary_with_continuous_goals() {

@@ -330,6 +330,30 @@ impl<T: Transport> Board<T> {
         self.call(ep::ClearQueue)
     }
 
+    /// Sets the gaits [`Board::steer`] blends: slots `straight`, `left` and `right` (the gaits
+    /// for headings 0, `+range_rad`, `-range_rad`), refused by the board with the reason if they
+    /// cannot be blended (`protocol::steer`: slices, period, leg phases, joints, the switch rule).
+    pub fn set_steer_family(
+        &mut self,
+        straight: u8,
+        left: u8,
+        right: u8,
+        range_rad: f64,
+    ) -> Result<(), LinkError> {
+        let family = protocol::steer::family_of(straight, left, right, range_rad)
+            .map_err(LinkError::Steer)?;
+        self.call(family)
+    }
+
+    /// The descending command: walk at `heading_rad` (positive left, within the family's range)
+    /// and `speed` (1 = as planned). From standing the steered walk starts and goes on until
+    /// [`Board::stop`]; while it walks, the new heading and speed take over at the next step
+    /// boundary.
+    pub fn steer(&mut self, heading_rad: f64, speed: f64) -> Result<(), LinkError> {
+        let command = protocol::steer::command_of(heading_rad, speed).map_err(LinkError::Steer)?;
+        self.call(command)
+    }
+
     pub fn emergency_stop(&mut self) -> Result<(), LinkError> {
         self.call(ep::EmergencyStop)
     }

@@ -46,6 +46,9 @@ pub enum LinkError {
         fault: Option<protocol::Fault>,
     },
     /// The board refused the request and said why.
+    /// A steering value that cannot be sent (`protocol::steer`), refused before sending.
+    #[error("steering: {0}")]
+    Steer(protocol::SteerError),
     #[error("{port}: {request} refused: {error}")]
     Device {
         port: String,

@@ -374,6 +374,7 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     b.insert("sweep", sweep()?);
     b.insert("strain", super::strain::block()?);
     b.insert("turning", super::turning::turning()?);
+    b.insert("steer-blend", crate::steer_blend::block()?);
     b.insert("performance", super::timing::performance()?);
     Ok(Generated { blocks: b, plots })
 }
