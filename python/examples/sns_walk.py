@@ -31,7 +31,7 @@ The same script runs on the physics robot and on a board (the RP2040 emulator's 
 board): the controller reads only the observation (present angles, load registers).
 
     .venv/bin/python python/examples/sns_walk.py --port physics --cycles 4 --out out/sns
-    .venv/bin/python python/examples/sns_walk.py --port physics:incline:10 --cycles 4 --out out/sns
+    .venv/bin/python python/examples/sns_walk.py --port physics:incline:6 --cycles 4 --out out/sns
 """
 
 from __future__ import annotations
