@@ -11,6 +11,12 @@ pub enum PhysicsError {
         #[source]
         source: planner::plan::PlanError,
     },
+    #[error("scene `{scene}`: {source}")]
+    Substrate {
+        scene: String,
+        #[source]
+        source: board::substrate::SubstrateError,
+    },
     #[error("MuJoCo refused the MJCF of model {model}: {message}")]
     Load { model: String, message: String },
     #[error("model {model}: MuJoCo's model has no {kind} named `{name}`")]
@@ -38,7 +44,7 @@ pub enum PhysicsError {
         limit: f64,
     },
     #[error(
-        "port `{spec}`: {problem} (expected physics, physics:flat, physics:incline:DEG, physics:ball or physics:ball-fixed)"
+        "port `{spec}`: {problem} (expected physics, physics:flat, physics:incline:DEG, physics:ball or physics:ball-fixed, each maybe +SUBSTRATE)"
     )]
     Port { spec: String, problem: String },
 }

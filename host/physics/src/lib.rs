@@ -4,7 +4,8 @@
 //! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles: the board's
 //! virtual robot with a [`PhysicsRobot`] as its servo dynamics, behind the virtual robot's
 //! transport ([`PhysicsTransport`]). Its [`Body`] (thorax pose and velocity, foot contacts,
-//! simulated time) is a typed value. [`open`] opens a robot of any kind by port name, its kind
+//! simulated time) is a typed value, and the ground under its feet a [`Substrate`] with its
+//! friction ESTIMATE. [`open`] opens a robot of any kind by port name, its kind
 //! kept in the type ([`Robot`], [`RobotLink`]).
 //!
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
@@ -15,6 +16,7 @@ mod figures;
 mod plant;
 mod robot;
 pub mod servo;
+pub mod substrate;
 mod timestep;
 mod transport;
 mod walk_log;
@@ -24,6 +26,7 @@ pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
+pub use substrate::Substrate;
 pub use timestep::{Stiffest, stiffest_joint};
 pub use transport::{OpenError, Robot, RobotLink, open, open_physics, open_within};
 pub use walk_log::{WalkLog, WalkSample};

@@ -173,6 +173,28 @@ impl Plant {
         unsafe { self.data.model_mut() }.actuator_forcerange_mut()[a] = [-stall, stall];
     }
 
+    /// Sets the sliding friction of every contact between a foot and the terrain to `mu` (a
+    /// [`crate::substrate`]'s): MuJoCo takes the larger of two geoms' coefficients, so the foot
+    /// spheres and every terrain geom (the ground, a ball) all get `mu`.
+    pub fn set_friction(&mut self, mu: f64) {
+        let feet: Vec<usize> = self.feet.iter().map(|&(_, g)| g).collect();
+        // SAFETY: only friction coefficients change; every size, index and address stays as it was.
+        let m = unsafe { self.data.model_mut() };
+        // The terrain is what the feet collide with (contype 2, see planner::model::to_mjcf).
+        let terrain: Vec<usize> = (0..m.geom_contype().len())
+            .filter(|&g| m.geom_contype()[g] & 2 != 0)
+            .collect();
+        for g in feet.into_iter().chain(terrain) {
+            m.geom_friction_mut()[g][0] = mu;
+        }
+    }
+
+    /// The sliding friction coefficient of foot `leg`'s sphere.
+    pub fn foot_friction(&self, leg: Leg) -> Option<f64> {
+        let (_, g) = self.feet.iter().find(|&&(l, _)| l == leg)?;
+        Some(self.data.model().geom_friction()[*g][0])
+    }
+
     /// MuJoCo's solver and integrator options (e.g. to compare solver settings in a bench); the
     /// timestep is best changed through the MJCF options, which also place the stance.
     pub fn option_mut(&mut self) -> &mut MjOption {

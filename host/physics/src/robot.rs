@@ -17,6 +17,7 @@ use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
 use crate::plant::Plant;
 use crate::servo;
+use crate::substrate::Substrate;
 use crate::walk_log::{WalkLog, WalkSample};
 
 /// The physics robot's MuJoCo timestep, s: 1 ms, twice the MJCF export's default, for speed (the
@@ -34,6 +35,7 @@ pub type PhysicsTransport = VirtualTransport<PhysicsRobot>;
 pub struct PhysicsRobot {
     plant: Plant,
     scene: String,
+    substrate: Substrate,
     monitor: Monitor,
     /// The model's joint count (the length of a logged pose).
     model_joints: usize,
@@ -43,7 +45,8 @@ pub struct PhysicsRobot {
 }
 
 impl PhysicsRobot {
-    /// Drosophibot II (the built-in model) on `scene` (`flat`, `incline:DEG`, `ball`, `ball-fixed`).
+    /// Drosophibot II (the built-in model) on `scene` (`flat`, `incline:DEG`, `ball`, `ball-fixed`,
+    /// each maybe followed by `+SUBSTRATE`, e.g. `flat+wire-mesh`; sand paper without).
     pub fn drosophibot(scene: &str) -> Result<Self, PhysicsError> {
         let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
             model: "drosophibot2".into(),
@@ -58,10 +61,12 @@ impl PhysicsRobot {
         Self::with_options(model, &Self::options(model, scene)?, scene)
     }
 
-    /// The MJCF options [`Self::new`] uses: the planner's stance on `scene`, at [`TIMESTEP_S`].
+    /// The MJCF options [`Self::new`] uses: the planner's stance on `scene`'s terrain, at
+    /// [`TIMESTEP_S`].
     pub fn options(model: &Model, scene: &str) -> Result<MjcfOptions, PhysicsError> {
+        let (terrain, _) = split_scene(scene)?;
         let mut options =
-            MjcfOptions::stance(model, scene).map_err(|source| PhysicsError::Scene {
+            MjcfOptions::stance(model, terrain).map_err(|source| PhysicsError::Scene {
                 model: model.name.clone(),
                 scene: scene.to_owned(),
                 source,
@@ -70,17 +75,21 @@ impl PhysicsRobot {
         Ok(options)
     }
 
-    /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it in messages.
+    /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it in messages
+    /// and its substrate sets the feet's friction.
     pub fn with_options(
         model: &Model,
         options: &MjcfOptions,
         scene: &str,
     ) -> Result<Self, PhysicsError> {
-        let plant = Plant::new(model, options)?;
+        let (_, substrate) = split_scene(scene)?;
+        let mut plant = Plant::new(model, options)?;
+        plant.set_friction(crate::substrate::friction(substrate));
         let planned_height_m = plant.thorax_pose().0[2];
         Ok(Self {
             plant,
             scene: scene.to_owned(),
+            substrate,
             monitor: Monitor::new(),
             model_joints: model.joints.len(),
             planned_height_m,
@@ -118,6 +127,11 @@ impl PhysicsRobot {
     /// The scene's name.
     pub fn scene(&self) -> &str {
         &self.scene
+    }
+
+    /// The ground under the feet (its friction: [`crate::substrate::friction`]).
+    pub fn substrate(&self) -> Substrate {
+        self.substrate
     }
 
     /// The MuJoCo side.
@@ -238,4 +252,12 @@ impl ServoDynamics for PhysicsRobot {
         self.monitor.sample(&self.plant);
         self.log_sample(controller);
     }
+}
+
+/// `scene`'s terrain and substrate ([`Substrate::split_scene`]).
+fn split_scene(scene: &str) -> Result<(&str, Substrate), PhysicsError> {
+    Substrate::split_scene(scene).map_err(|source| PhysicsError::Substrate {
+        scene: scene.to_owned(),
+        source,
+    })
 }

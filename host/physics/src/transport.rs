@@ -116,12 +116,12 @@ impl Transport for RobotLink {
 }
 
 /// Opens the physics robot (Drosophibot II) on `scene`: `flat`, `incline:DEG`, `ball`,
-/// `ball-fixed`.
+/// `ball-fixed`, each maybe followed by `+SUBSTRATE` (`flat+floor`).
 pub fn open_physics(scene: &str) -> Result<PhysicsTransport, PhysicsError> {
     PhysicsRobot::drosophibot(scene)
         .map(PhysicsRobot::into_transport)
         .map_err(|e| match e {
-            PhysicsError::Scene { .. } => PhysicsError::Port {
+            PhysicsError::Scene { .. } | PhysicsError::Substrate { .. } => PhysicsError::Port {
                 spec: format!("physics:{scene}"),
                 problem: e.to_string(),
             },
