@@ -14,6 +14,7 @@
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
 //! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
 //!   speed sweep, their plots.
+//! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
 //! - [`substrates`]: one gait walked on several substrates, slip per foot and travel per step.
 //! - [`validation`]: the run results of docs/validation.md.
 
@@ -22,6 +23,7 @@ pub mod error;
 pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;
+pub mod perturbation;
 pub mod plan_comparison;
 pub mod plan_walk;
 pub mod substrates;

@@ -61,8 +61,17 @@ impl Plant {
     /// Loads `model` as [`to_mjcf`] writes it with `options`, in the stance of the options' keyframe,
     /// servo goals at the stance and torque off.
     pub fn new(model: &Model, options: &MjcfOptions) -> Result<Self, PhysicsError> {
-        let xml = to_mjcf(model, options);
-        let mj = MjModel::from_xml_string(&xml).map_err(|e| PhysicsError::Load {
+        Self::from_mjcf(model, options, &to_mjcf(model, options))
+    }
+
+    /// Loads `xml`, the MJCF of `model` with `options` maybe with more bodies (the perturbation
+    /// platform, [`crate::platform::with_platform`]), as [`Self::new`] does.
+    pub fn from_mjcf(
+        model: &Model,
+        options: &MjcfOptions,
+        xml: &str,
+    ) -> Result<Self, PhysicsError> {
+        let mj = MjModel::from_xml_string(xml).map_err(|e| PhysicsError::Load {
             model: model.name.clone(),
             message: e.to_string(),
         })?;
@@ -187,6 +196,14 @@ impl Plant {
         for g in feet.into_iter().chain(terrain) {
             m.geom_friction_mut()[g][0] = mu;
         }
+    }
+
+    /// The perturbation platform's actuator and its slide's qpos address, if the plant has one.
+    pub(crate) fn platform_slide(&self) -> Option<(usize, usize)> {
+        let m = self.data.model();
+        let a = m.name_to_id(MjtObjBase::mjOBJ_ACTUATOR, "platform")?;
+        let j = m.name_to_id(MjtObjBase::mjOBJ_JOINT, "platform")?;
+        Some((a, m.jnt_qposadr()[j] as usize))
     }
 
     /// The sliding friction coefficient of foot `leg`'s sphere.

@@ -16,6 +16,7 @@ use planner::model::{MjcfOptions, Model};
 use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
 use crate::plant::Plant;
+use crate::platform::Platform;
 use crate::servo;
 use crate::substrate::Substrate;
 use crate::walk_log::{WalkLog, WalkSample};
@@ -42,6 +43,21 @@ pub struct PhysicsRobot {
     /// The thorax height of the planner's stance (the keyframe), m.
     planned_height_m: f64,
     log: Option<WalkLog>,
+    platform: Option<PlatformRig>,
+}
+
+/// The perturbation platform in the plant and where its schedule is.
+#[derive(Debug, Clone)]
+struct PlatformRig {
+    platform: Platform,
+    /// The slide's actuator (its control is the top's height, m) and its qpos address.
+    actuator: usize,
+    qpos: usize,
+    /// The height the servo's profile has reached, m.
+    command_m: f64,
+    /// The goal of this cycle, ticks, and the step and cycle in it the schedule is at.
+    goal: u16,
+    at: Option<(u32, u32)>,
 }
 
 impl PhysicsRobot {
@@ -94,7 +110,76 @@ impl PhysicsRobot {
             model_joints: model.joints.len(),
             planned_height_m,
             log: None,
+            platform: None,
         })
+    }
+
+    /// Drosophibot II on `scene` with the perturbation `platform` centred at `at_xy` (world, m:
+    /// where its leg's foot will stand at the perturbed step), which the body moves on the
+    /// platform's schedule from the firmware's playback (see [`crate::platform`]).
+    pub fn with_platform(
+        scene: &str,
+        platform: Platform,
+        at_xy: [f64; 2],
+    ) -> Result<Self, PhysicsError> {
+        let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
+            model: "drosophibot2".into(),
+            message: e.to_string(),
+        })?;
+        let options = Self::options(&model, scene)?;
+        let plain = Self::with_options(&model, &options, scene)?;
+        let xml = crate::platform::with_platform(&planner::model::to_mjcf(&model, &options), at_xy);
+        let mut plant = Plant::from_mjcf(&model, &options, &xml)?;
+        plant.set_friction(crate::substrate::friction(plain.substrate));
+        let (actuator, qpos) = plant
+            .platform_slide()
+            .ok_or_else(|| PhysicsError::Missing {
+                model: model.name.clone(),
+                kind: "slide",
+                name: "platform".into(),
+            })?;
+        Ok(Self {
+            plant,
+            platform: Some(PlatformRig {
+                platform,
+                actuator,
+                qpos,
+                command_m: 0.0,
+                goal: platform.rest,
+                at: None,
+            }),
+            ..plain
+        })
+    }
+
+    /// The platform's goal this cycle (ticks) and its top's height above the ground now, m.
+    pub fn platform_state(&self) -> Option<(u16, f64)> {
+        let r = self.platform.as_ref()?;
+        Some((r.goal, self.plant.data.qpos()[r.qpos]))
+    }
+
+    /// Applies the platform's schedule for the cycle starting now: the goal from the firmware's
+    /// playback (whole steps done, cycles into the step), the height ramped toward it at the
+    /// profile velocity over one bus cycle of `dt_s`.
+    fn drive_platform(&mut self, playback: Option<(u32, u16)>, walking: bool, dt_s: f64) {
+        let Some(r) = self.platform.as_mut() else {
+            return;
+        };
+        r.at = match (playback, r.at) {
+            (Some((done, _)), Some((d, c))) if walking && done == d => Some((d, c + 1)),
+            (Some((done, _)), _) if walking => Some((done, 0)),
+            _ => None,
+        };
+        r.goal = match r.at {
+            Some((done, c)) => r.platform.goal(done, c),
+            None => r.platform.rest,
+        };
+        let target = r.platform.height_m(r.goal);
+        r.command_m = match r.platform.speed_m_s() {
+            Some(v) => r.command_m + (target - r.command_m).clamp(-v * dt_s, v * dt_s),
+            None => target,
+        };
+        self.plant.data.ctrl_mut()[r.actuator] = r.command_m;
     }
 
     /// The board's virtual robot (22 servos, erased gait store) with this body, its servos showing
@@ -247,6 +332,9 @@ impl ServoDynamics for PhysicsRobot {
                 self.plant.set_kp(i, kp);
             }
         }
+        let dt_s = now_us as f64 * 1e-6 - self.plant.time();
+        let walking = controller.state() == firmware::safety::State::Walking;
+        self.drive_platform(controller.playback(), walking, dt_s);
         self.plant.advance_to(now_us as f64 * 1e-6);
         self.push_state(chain);
         self.monitor.sample(&self.plant);
