@@ -9,7 +9,7 @@
 //! friction 1.5 (planner::model::to_mjcf, ../shared/reference/host-crates.md), the value with which
 //! a standing robot's feet were measured not to creep, kept as the default scene's ground.
 
-pub use board::substrate::Substrate;
+pub use board::substrate::{KNOWN, Substrate};
 
 /// Sliding friction of a foot tip on sand paper: the MJCF's default contact friction. ESTIMATE:
 /// elastomer on an abrasive paper grips at 1 or more; 1.5 is the exported model's value.

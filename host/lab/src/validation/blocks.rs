@@ -370,6 +370,8 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
 
     b.insert("sweep", sweep()?);
     b.insert("performance", super::timing::performance()?);
+    b.insert("substrates", super::trials::substrates()?);
+    b.insert("perturbation", super::trials::perturbation()?);
     Ok(Generated { blocks: b, plots })
 }
 

@@ -12,6 +12,7 @@
 pub mod blocks;
 pub mod springs;
 pub mod timing;
+pub mod trials;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
