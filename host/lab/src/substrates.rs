@@ -1,8 +1,8 @@
 //! What a substrate changes: the same gait walked on fresh physics robots on two (or more)
 //! substrates, each walk's slip per foot (horizontal travel of a loaded foot, the physics robot's
 //! [`Figures`]) and thorax travel per step. A foot slides when its tangential force would exceed
-//! mu times its normal force, so a lower mu ([`physics::substrate::friction`], ESTIMATES) lets the
-//! feet slip more and the body travel less per step.
+//! mu times its normal force, so a lower mu ([`physics::substrate::friction`], ESTIMATES) caps
+//! the traction a foot gets; over a few steps slip is not monotonic in mu (docs/validation.md).
 
 use std::time::Duration;
 
