@@ -11,7 +11,8 @@ pub enum PhysicsError {
         #[source]
         source: planner::plan::PlanError,
     },
-    #[error("scene `{scene}`: {source}")]
+    /// The source names the scene already.
+    #[error("{source}")]
     Substrate {
         scene: String,
         #[source]
