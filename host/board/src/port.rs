@@ -1,6 +1,7 @@
 //! Ports by name: a serial device path, `virtual` (an in-process virtual robot with a fresh
 //! flash), `virtual:PATH` (one whose flash lives in the file PATH between commands) or
-//! `physics[:SCENE]` (the physics robot: the virtual robot driving a MuJoCo body).
+//! `physics[:SCENE[+SUBSTRATE]]` (the physics robot: the virtual robot driving a MuJoCo body, on
+//! a [`Ground`] and a [`Substrate`]).
 //!
 //! This crate parses every name ([`PortSpec`]) and opens the kinds it owns ([`open_serial`],
 //! [`open_virtual`]); the physics robot needs MuJoCo, which this library builds without, so the
@@ -16,6 +17,7 @@ use planner::terrain::{Ground, TerrainError};
 use crate::link::{Board, LinkError, SerialTransport, Transport, TransportError};
 use crate::robot::{VirtualRobot, VirtualTransport};
 use crate::saved_settings::{self, SettingsError};
+use crate::substrate::{Substrate, SubstrateError};
 
 /// A port named on the command line, in the setup file or in Python.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,8 +26,9 @@ pub enum PortSpec {
     Serial(String),
     /// `virtual` (no image) or `virtual:PATH`.
     Virtual { image: Option<PathBuf> },
-    /// `physics` (scene `flat`) or `physics:SCENE` (any [`Ground`]).
-    Physics { scene: Ground },
+    /// `physics` (scene `flat`) or `physics:SCENE[+SUBSTRATE]` (any [`Ground`]; sand paper, the
+    /// paper's substrate, unless `+floor`, `+wire-mesh` ... says otherwise).
+    Physics { scene: Ground, substrate: Substrate },
 }
 
 /// A port name that names a physics scene that cannot be.
@@ -33,7 +36,16 @@ pub enum PortSpec {
 #[error("port `{port}`: {source}")]
 pub struct PortSpecError {
     pub port: String,
-    pub source: TerrainError,
+    pub source: SceneError,
+}
+
+/// What is wrong with a physics scene: its terrain or its substrate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    #[error(transparent)]
+    Terrain(#[from] TerrainError),
+    #[error(transparent)]
+    Substrate(#[from] SubstrateError),
 }
 
 /// Why a port could not be opened and connected.
@@ -54,15 +66,17 @@ impl PortSpec {
         if s == "physics" {
             return Ok(Self::Physics {
                 scene: Ground::Flat,
+                substrate: Substrate::Sandpaper,
             });
         }
         if let Some(scene) = s.strip_prefix("physics:") {
-            return Ground::parse(scene)
-                .map(|scene| Self::Physics { scene })
-                .map_err(|source| PortSpecError {
-                    port: s.to_owned(),
-                    source,
-                });
+            let fail = |source: SceneError| PortSpecError {
+                port: s.to_owned(),
+                source,
+            };
+            let (terrain, substrate) = Substrate::split_scene(scene).map_err(|e| fail(e.into()))?;
+            let scene = Ground::parse(terrain).map_err(|e| fail(e.into()))?;
+            return Ok(Self::Physics { scene, substrate });
         }
         Ok(match s.strip_prefix("virtual") {
             Some("") => Self::Virtual { image: None },
@@ -143,13 +157,15 @@ mod tests {
         assert_eq!(
             PortSpec::parse("physics:incline:10"),
             Ok(PortSpec::Physics {
-                scene: Ground::Incline { angle_deg: 10.0 }
+                scene: Ground::Incline { angle_deg: 10.0 },
+                substrate: Substrate::Sandpaper,
             })
         );
         assert_eq!(
             PortSpec::parse("physics"),
             Ok(PortSpec::Physics {
-                scene: Ground::Flat
+                scene: Ground::Flat,
+                substrate: Substrate::Sandpaper,
             })
         );
         let e = PortSpec::parse("physics:grass").unwrap_err().to_string();

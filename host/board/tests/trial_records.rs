@@ -73,7 +73,7 @@ fn meta(joints: Vec<String>) -> TrialMeta {
         direction: Some(Direction::Backward),
         period_scale: Some(1.5),
         steps: Some(3),
-        substrate: Substrate::Unspecified,
+        substrate: Substrate::WireMesh,
         strain: true,
         perturbation: Some(Perturbation {
             leg: "RM".into(),
@@ -173,7 +173,7 @@ fn a_trial_is_read_back_with_every_field_and_every_row() {
     let readme = std::fs::read_to_string(path.join("README.md")).unwrap();
     for needle in [
         "direction: backward",
-        "substrate: unspecified",
+        "substrate: wire-mesh",
         "step period: 0.900 s",
         "strain recorded: yes",
         "perturbation: leg RM at step 2",

@@ -57,6 +57,11 @@ pub struct Args {
     /// Free-text notes, kept in the trial's README, trial.json and the index.
     #[arg(long, default_value = "")]
     pub notes: String,
+    /// The ground walked on: floor, sandpaper, wire-mesh or anti-slip-mat (kept in the trial).
+    /// A physics port's scene names its own (`--port physics:flat+floor`; sandpaper without);
+    /// this, if given, must agree with it.
+    #[arg(long)]
+    pub substrate: Option<String>,
     /// Seconds to record, board clock (default: until the gait started with --play ends, else 10).
     #[arg(long)]
     pub seconds: Option<f64>,
@@ -184,6 +189,7 @@ impl Args {
         folder: &TrialFolder,
     ) -> anyhow::Result<Started> {
         let mut s = self.board.connect()?;
+        let substrate = Substrate::for_trial(s.board.port(), self.substrate.as_deref())?;
         if s.is_virtual() && self.play.is_none() {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
         }
@@ -224,7 +230,7 @@ impl Args {
             direction: None,
             period_scale: None,
             steps: None,
-            substrate: Substrate::Unspecified,
+            substrate,
             strain: strain.is_some(),
             perturbation: None,
             notes: self.notes.clone(),

@@ -17,6 +17,8 @@
 //! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
 //!   speed sweep, their plots.
 //! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge.
+//! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
+//! - [`substrates`]: one gait walked on several substrates, slip per foot and travel per step.
 //! - [`validation`]: the run results of docs/validation.md.
 
 pub mod demo;
@@ -24,10 +26,12 @@ pub mod error;
 pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;
+pub mod perturbation;
 pub mod plan_comparison;
 pub mod plan_walk;
 pub mod steer_blend;
 pub mod strain_compare;
+pub mod substrates;
 pub mod trial_traces;
 pub mod validation;
 pub mod walk;

@@ -11,6 +11,13 @@ pub enum PhysicsError {
         #[source]
         source: planner::plan::PlanError,
     },
+    /// The source names the scene already.
+    #[error("{source}")]
+    Substrate {
+        scene: String,
+        #[source]
+        source: board::substrate::SubstrateError,
+    },
     #[error("MuJoCo refused the MJCF of model {model}: {message}")]
     Load { model: String, message: String },
     #[error("model {model}: MuJoCo's model has no {kind} named `{name}`")]

@@ -4,8 +4,9 @@
 //! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles: the board's
 //! virtual robot with a [`PhysicsRobot`] as its servo dynamics, behind the virtual robot's
 //! transport ([`PhysicsTransport`]). Its [`Body`] (thorax pose and velocity, foot contacts,
-//! simulated time) is a typed value, and its strain gauges are measured beside it
-//! ([`SimulatedGauges`]). [`open`] opens a robot of any kind by port name, its kind
+//! simulated time) is a typed value, its strain gauges are measured beside it
+//! ([`SimulatedGauges`]), and the ground under its feet is a [`Substrate`] with its friction
+//! ESTIMATE. [`open`] opens a robot of any kind by port name, its kind
 //! kept in the type ([`Robot`], [`RobotLink`]).
 //!
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
@@ -15,8 +16,10 @@ mod error;
 mod figures;
 mod gauges;
 mod plant;
+pub mod platform;
 mod robot;
 pub mod servo;
+pub mod substrate;
 mod timestep;
 mod transport;
 mod walk_log;
@@ -26,7 +29,9 @@ pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use gauges::{STRAIN_SAMPLE_S, SimulatedGauges, SimulatedStrain};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
+pub use platform::{Platform, PlatformMove};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
+pub use substrate::Substrate;
 pub use timestep::{Stiffest, stiffest_joint};
 pub use transport::{OpenError, Robot, RobotLink, open, open_physics, open_within};
 pub use walk_log::{WalkLog, WalkSample};

@@ -61,8 +61,17 @@ impl Plant {
     /// Loads `model` as [`to_mjcf`] writes it with `options`, in the stance of the options' keyframe,
     /// servo goals at the stance and torque off.
     pub fn new(model: &Model, options: &MjcfOptions) -> Result<Self, PhysicsError> {
-        let xml = to_mjcf(model, options);
-        let mj = MjModel::from_xml_string(&xml).map_err(|e| PhysicsError::Load {
+        Self::from_mjcf(model, options, &to_mjcf(model, options))
+    }
+
+    /// Loads `xml`, the MJCF of `model` with `options` maybe with more bodies (the perturbation
+    /// platform, [`crate::platform::with_platform`]), as [`Self::new`] does.
+    pub fn from_mjcf(
+        model: &Model,
+        options: &MjcfOptions,
+        xml: &str,
+    ) -> Result<Self, PhysicsError> {
+        let mj = MjModel::from_xml_string(xml).map_err(|e| PhysicsError::Load {
             model: model.name.clone(),
             message: e.to_string(),
         })?;
@@ -171,6 +180,36 @@ impl Plant {
         let a = self.joints[i].actuator;
         // SAFETY: only a force limit changes; every size, index and address stays as it was.
         unsafe { self.data.model_mut() }.actuator_forcerange_mut()[a] = [-stall, stall];
+    }
+
+    /// Sets the sliding friction of every contact between a foot and the terrain to `mu` (a
+    /// [`crate::substrate`]'s): MuJoCo takes the larger of two geoms' coefficients, so the foot
+    /// spheres and every terrain geom (the ground, a ball) all get `mu`.
+    pub fn set_friction(&mut self, mu: f64) {
+        let feet: Vec<usize> = self.feet.iter().map(|&(_, g)| g).collect();
+        // SAFETY: only friction coefficients change; every size, index and address stays as it was.
+        let m = unsafe { self.data.model_mut() };
+        // The terrain is what the feet collide with (contype 2, see planner::model::to_mjcf).
+        let terrain: Vec<usize> = (0..m.geom_contype().len())
+            .filter(|&g| m.geom_contype()[g] & 2 != 0)
+            .collect();
+        for g in feet.into_iter().chain(terrain) {
+            m.geom_friction_mut()[g][0] = mu;
+        }
+    }
+
+    /// The perturbation platform's actuator and its slide's qpos address, if the plant has one.
+    pub(crate) fn platform_slide(&self) -> Option<(usize, usize)> {
+        let m = self.data.model();
+        let a = m.name_to_id(MjtObjBase::mjOBJ_ACTUATOR, "platform")?;
+        let j = m.name_to_id(MjtObjBase::mjOBJ_JOINT, "platform")?;
+        Some((a, m.jnt_qposadr()[j] as usize))
+    }
+
+    /// The sliding friction coefficient of foot `leg`'s sphere.
+    pub fn foot_friction(&self, leg: Leg) -> Option<f64> {
+        let (_, g) = self.feet.iter().find(|&&(l, _)| l == leg)?;
+        Some(self.data.model().geom_friction()[*g][0])
     }
 
     /// MuJoCo's solver and integrator options (e.g. to compare solver settings in a bench); the

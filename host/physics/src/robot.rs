@@ -18,7 +18,9 @@ use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
 use crate::gauges::{SimulatedStrain, StrainSampler};
 use crate::plant::Plant;
+use crate::platform::Platform;
 use crate::servo;
+use crate::substrate::Substrate;
 use crate::walk_log::{WalkLog, WalkSample};
 
 /// The physics robot's MuJoCo timestep, s: 1 ms, twice the MJCF export's default, for speed (the
@@ -36,6 +38,7 @@ pub type PhysicsTransport = VirtualTransport<PhysicsRobot>;
 pub struct PhysicsRobot {
     plant: Plant,
     scene: Ground,
+    substrate: Substrate,
     monitor: Monitor,
     /// The model's joint count (the length of a logged pose).
     model_joints: usize,
@@ -44,16 +47,45 @@ pub struct PhysicsRobot {
     log: Option<WalkLog>,
     /// The model's gauges, sampled as the strain board samples (`crate::gauges`).
     strain: StrainSampler,
+    platform: Option<PlatformRig>,
+}
+
+/// The perturbation platform in the plant and where its schedule is.
+#[derive(Debug, Clone)]
+struct PlatformRig {
+    platform: Platform,
+    /// The slide's actuator (its control is the top's height, m) and its qpos address.
+    actuator: usize,
+    qpos: usize,
+    /// The height the servo's profile has reached, m.
+    command_m: f64,
+    /// The goal of this cycle, ticks, and the step and cycle in it the schedule is at.
+    goal: u16,
+    at: Option<(u32, u32)>,
 }
 
 impl PhysicsRobot {
-    /// Drosophibot II (the built-in model) on `scene`.
+    /// Drosophibot II (the built-in model) on `scene`, on sand paper (the paper's substrate).
     pub fn drosophibot(scene: &Ground) -> Result<Self, PhysicsError> {
+        Self::drosophibot_on(scene, Substrate::Sandpaper)
+    }
+
+    /// Drosophibot II on `scene` and `substrate` (its friction: [`crate::substrate::friction`]).
+    pub fn drosophibot_on(scene: &Ground, substrate: Substrate) -> Result<Self, PhysicsError> {
         let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
             model: "drosophibot2".into(),
             message: e.to_string(),
         })?;
-        Self::new(&model, scene)
+        Ok(Self::new(&model, scene)?.on_substrate(substrate))
+    }
+
+    /// The same body on `substrate`: the feet's and the ground's friction become its
+    /// ([`crate::substrate::friction`], an ESTIMATE).
+    pub fn on_substrate(mut self, substrate: Substrate) -> Self {
+        self.plant
+            .set_friction(crate::substrate::friction(substrate));
+        self.substrate = substrate;
+        self
     }
 
     /// `model` on `scene`, standing in the planner's resting posture, its servos switched off,
@@ -74,24 +106,97 @@ impl PhysicsRobot {
         Ok(options)
     }
 
-    /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it.
+    /// `model` with explicit MJCF options (e.g. another timestep); `scene` names it, on sand
+    /// paper ([`Self::on_substrate`] changes it).
     pub fn with_options(
         model: &Model,
         options: &MjcfOptions,
         scene: &Ground,
     ) -> Result<Self, PhysicsError> {
-        let plant = Plant::new(model, options)?;
+        let mut plant = Plant::new(model, options)?;
+        plant.set_friction(crate::substrate::friction(Substrate::Sandpaper));
         let planned_height_m = plant.thorax_pose().0[2];
         let strain = StrainSampler::new(model, &plant)?;
         Ok(Self {
             plant,
             scene: *scene,
+            substrate: Substrate::Sandpaper,
             monitor: Monitor::new(),
             model_joints: model.joints.len(),
             planned_height_m,
             log: None,
             strain,
+            platform: None,
         })
+    }
+
+    /// Drosophibot II on `scene` and `substrate` with the perturbation `platform` centred at
+    /// `at_xy` (world, m: where its leg's foot will stand at the perturbed step), which the body
+    /// moves on the platform's schedule from the firmware's playback (see [`crate::platform`]).
+    pub fn with_platform(
+        scene: &Ground,
+        substrate: Substrate,
+        platform: Platform,
+        at_xy: [f64; 2],
+    ) -> Result<Self, PhysicsError> {
+        let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
+            model: "drosophibot2".into(),
+            message: e.to_string(),
+        })?;
+        let options = Self::options(&model, scene)?;
+        let plain = Self::with_options(&model, &options, scene)?.on_substrate(substrate);
+        let xml = crate::platform::with_platform(&planner::model::to_mjcf(&model, &options), at_xy);
+        let mut plant = Plant::from_mjcf(&model, &options, &xml)?;
+        plant.set_friction(crate::substrate::friction(plain.substrate));
+        let (actuator, qpos) = plant
+            .platform_slide()
+            .ok_or_else(|| PhysicsError::Missing {
+                model: model.name.clone(),
+                kind: "slide",
+                name: "platform".into(),
+            })?;
+        Ok(Self {
+            plant,
+            platform: Some(PlatformRig {
+                platform,
+                actuator,
+                qpos,
+                command_m: 0.0,
+                goal: platform.rest,
+                at: None,
+            }),
+            ..plain
+        })
+    }
+
+    /// The platform's goal this cycle (ticks) and its top's height above the ground now, m.
+    pub fn platform_state(&self) -> Option<(u16, f64)> {
+        let r = self.platform.as_ref()?;
+        Some((r.goal, self.plant.data.qpos()[r.qpos]))
+    }
+
+    /// Applies the platform's schedule for the cycle starting now: the goal from the firmware's
+    /// playback (whole steps done, cycles into the step), the height ramped toward it at the
+    /// profile velocity over one bus cycle of `dt_s`.
+    fn drive_platform(&mut self, playback: Option<(u32, u16)>, walking: bool, dt_s: f64) {
+        let Some(r) = self.platform.as_mut() else {
+            return;
+        };
+        r.at = match (playback, r.at) {
+            (Some((done, _)), Some((d, c))) if walking && done == d => Some((d, c + 1)),
+            (Some((done, _)), _) if walking => Some((done, 0)),
+            _ => None,
+        };
+        r.goal = match r.at {
+            Some((done, c)) => r.platform.goal(done, c),
+            None => r.platform.rest,
+        };
+        let target = r.platform.height_m(r.goal);
+        r.command_m = match r.platform.speed_m_s() {
+            Some(v) => r.command_m + (target - r.command_m).clamp(-v * dt_s, v * dt_s),
+            None => target,
+        };
+        self.plant.data.ctrl_mut()[r.actuator] = r.command_m;
     }
 
     /// The board's virtual robot (22 servos, erased gait store) with this body, its servos showing
@@ -117,13 +222,21 @@ impl PhysicsRobot {
 
     /// A link to [`Self::into_board`], named `physics:SCENE`.
     pub fn into_transport(self) -> PhysicsTransport {
-        let name = format!("physics:{}", self.scene);
+        let name = match self.substrate {
+            Substrate::Sandpaper => format!("physics:{}", self.scene),
+            s => format!("physics:{}+{}", self.scene, s.name()),
+        };
         VirtualTransport::named(self.into_board(), &name)
     }
 
     /// The ground it stands on.
     pub fn scene(&self) -> &Ground {
         &self.scene
+    }
+
+    /// The ground under the feet (its friction: [`crate::substrate::friction`]).
+    pub fn substrate(&self) -> Substrate {
+        self.substrate
     }
 
     /// The MuJoCo side.
@@ -270,6 +383,9 @@ impl ServoDynamics for PhysicsRobot {
                 self.plant.set_kp(i, kp);
             }
         }
+        let dt_s = now_us as f64 * 1e-6 - self.plant.time();
+        let walking = controller.state() == firmware::safety::State::Walking;
+        self.drive_platform(controller.playback(), walking, dt_s);
         self.plant.advance_to(now_us as f64 * 1e-6);
         self.push_state(chain);
         self.monitor.sample(&self.plant);

@@ -17,6 +17,7 @@ use planner::terrain::Ground;
 use crate::body::Body;
 use crate::error::PhysicsError;
 use crate::robot::{PhysicsRobot, PhysicsTransport};
+use crate::substrate::Substrate;
 
 /// The link under a robot opened by name. (The in-process robots are boxed: each holds a whole
 /// board, flash included, beside a serial port's few bytes.)
@@ -142,12 +143,15 @@ impl Transport for RobotLink {
     }
 }
 
-/// Opens the physics robot (Drosophibot II) on `scene`.
-pub fn open_physics(scene: &Ground) -> Result<PhysicsTransport, PhysicsError> {
-    PhysicsRobot::drosophibot(scene)
+/// Opens the physics robot (Drosophibot II) on `scene` and `substrate`.
+pub fn open_physics(
+    scene: &Ground,
+    substrate: Substrate,
+) -> Result<PhysicsTransport, PhysicsError> {
+    PhysicsRobot::drosophibot_on(scene, substrate)
         .map(PhysicsRobot::into_transport)
         .map_err(|e| match e {
-            PhysicsError::Scene { .. } => PhysicsError::Port {
+            PhysicsError::Scene { .. } | PhysicsError::Substrate { .. } => PhysicsError::Port {
                 spec: format!("physics:{scene}"),
                 problem: e.to_string(),
             },
@@ -169,7 +173,9 @@ pub fn open_within(port: &str, reply_timeout: Duration) -> Result<Robot, OpenErr
         PortSpec::Virtual { image } => {
             RobotLink::Virtual(Box::new(port::open_virtual(image.as_deref())?))
         }
-        PortSpec::Physics { scene } => RobotLink::Physics(Box::new(open_physics(scene)?)),
+        PortSpec::Physics { scene, substrate } => {
+            RobotLink::Physics(Box::new(open_physics(scene, *substrate)?))
+        }
     };
     Ok(port::connect(link, &spec, reply_timeout)?)
 }

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::substrate::Substrate;
+
 /// The trial format this build writes and reads. Raise it when a field or a file changes
 /// meaning; [`super::read_trial`] refuses any other version, naming the file.
 pub const TRIAL_FORMAT: u32 = 1;
@@ -87,24 +89,6 @@ impl Outcome {
             Outcome::Complete => "complete",
             Outcome::Interrupted => "interrupted",
             Outcome::Failed => "failed",
-        }
-    }
-}
-
-/// The ground the robot walked on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum Substrate {
-    /// Not said.
-    #[default]
-    Unspecified,
-}
-
-impl Substrate {
-    pub fn name(self) -> &'static str {
-        match self {
-            Substrate::Unspecified => "unspecified",
         }
     }
 }

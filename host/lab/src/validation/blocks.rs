@@ -376,6 +376,8 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     b.insert("turning", super::turning::turning()?);
     b.insert("steer-blend", crate::steer_blend::block()?);
     b.insert("performance", super::timing::performance()?);
+    b.insert("substrates", super::trials::substrates()?);
+    b.insert("perturbation", super::trials::perturbation()?);
     Ok(Generated { blocks: b, plots })
 }
 

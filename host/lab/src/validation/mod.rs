@@ -13,6 +13,7 @@ pub mod blocks;
 pub mod springs;
 pub mod strain;
 pub mod timing;
+pub mod trials;
 pub mod turning;
 
 use std::collections::BTreeMap;
