@@ -12,9 +12,8 @@ use nalgebra::Point3;
 use plotters::prelude::*;
 
 use super::figure::{FigureError, StickFigure};
-use super::views::{
-    Bounds, FOOT, GROUND, Ground, JOINT, THORAX, ViewLayout, draw_legend, draw_views,
-};
+use super::view::{FOOT, GROUND, JOINT, THORAX};
+use super::views::{Bounds, Ground, ViewLayout, draw_legend, draw_views};
 use crate::style::colour;
 
 /// One frame: the robot and the line shown above it (e.g. "phase 0.25, t = 0.350 s").

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use planner::terrain::Blocks;
 
-use super::views::{Chart, GROUND, View};
+use super::view::{Chart, GROUND, View};
 
 /// Shade of a top at `h` over the field's range: the ground colour, lighter for low blocks.
 fn shade(b: &Blocks, h: f64) -> RGBColor {

@@ -8,6 +8,7 @@ mod blocks;
 mod figure;
 mod plan_views;
 mod rgb;
+mod view;
 mod views;
 mod walk;
 
@@ -15,5 +16,6 @@ pub use animation::{FRAME_SIZE, Frame, write_gif, write_gif_following};
 pub use figure::{Bone, FigureError, FootMark, Part, StickFigure};
 pub use plan_views::{MAX_FRAMES, PHASES, animate_step, plan_ground, plot_robot};
 pub use rgb::{camera_half_extent, pose_rgb, scene_ground};
-pub use views::{Bounds, Ground, View, ViewLayout, draw_legend, draw_views};
+pub use view::View;
+pub use views::{Bounds, Ground, ViewLayout, draw_legend, draw_views};
 pub use walk::{WalkGif, WalkPose, animate_walk, animate_walk_on, walk_figure};

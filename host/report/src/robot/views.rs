@@ -8,47 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::figure::{Part, StickFigure};
+use super::view::{Chart, FOOT, GROUND, JOINT, THORAX, View};
 use crate::style::{colour, register_font};
-
-/// A direction to look at the robot from (REP-103 frame: x forward, y left, z up).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum View {
-    /// From above: x to the right, y (left) up the page.
-    Top,
-    /// From the robot's right: x to the right, z up.
-    Side,
-    /// From the front: y (the robot's left) to the right, z up.
-    Front,
-}
-
-impl View {
-    pub const ALL: [View; 3] = [View::Top, View::Side, View::Front];
-
-    /// Horizontal and vertical coordinate of `p` in this view, m.
-    pub fn project(self, p: &Point3<f64>) -> (f64, f64) {
-        match self {
-            View::Top => (p.x, p.y),
-            View::Side => (p.x, p.z),
-            View::Front => (p.y, p.z),
-        }
-    }
-
-    fn title(self) -> &'static str {
-        match self {
-            View::Top => "top (from above)",
-            View::Side => "side (from the right)",
-            View::Front => "front",
-        }
-    }
-
-    fn axes(self) -> (&'static str, &'static str) {
-        match self {
-            View::Top => ("x forward (mm)", "y left (mm)"),
-            View::Side => ("x forward (mm)", "z up (mm)"),
-            View::Front => ("y left (mm)", "z up (mm)"),
-        }
-    }
-}
 
 /// The ground under the robot, in the figure's frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,11 +132,6 @@ impl Bounds {
     }
 }
 
-pub(super) const THORAX: RGBColor = RGBColor(0, 0, 0);
-pub(super) const GROUND: RGBColor = RGBColor(140, 110, 70);
-/// Stance feet are filled with this; swing feet are white rings of it.
-pub(super) const FOOT: RGBColor = RGBColor(214, 39, 40);
-pub(super) const JOINT: RGBColor = RGBColor(90, 90, 90);
 const FOOT_R: i32 = 5;
 
 fn part_colour(p: Part) -> RGBColor {
@@ -288,12 +244,6 @@ fn plot_size<DB: DrawingBackend>(panel: &DrawingArea<DB, Shift>) -> DrawResult<(
     let (xs, ys) = probe.plotting_area().get_pixel_range();
     Ok(((xs.end - xs.start) as u32, (ys.end - ys.start) as u32))
 }
-
-pub(super) type Chart<'a, DB> = ChartContext<
-    'a,
-    DB,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
 
 fn chart<'a, DB: DrawingBackend>(
     panel: &'a DrawingArea<DB, Shift>,
