@@ -53,6 +53,27 @@ impl Instruction {
             _ => return None,
         })
     }
+
+    /// The instruction's name as the e-manual writes it ("Sync Write").
+    pub const fn name(self) -> &'static str {
+        match self {
+            Instruction::Ping => "Ping",
+            Instruction::Read => "Read",
+            Instruction::Write => "Write",
+            Instruction::RegWrite => "Reg Write",
+            Instruction::Action => "Action",
+            Instruction::FactoryReset => "Factory Reset",
+            Instruction::Reboot => "Reboot",
+            Instruction::Clear => "Clear",
+            Instruction::Backup => "Control Table Backup",
+            Instruction::SyncRead => "Sync Read",
+            Instruction::SyncWrite => "Sync Write",
+            Instruction::FastSyncRead => "Fast Sync Read",
+            Instruction::BulkRead => "Bulk Read",
+            Instruction::BulkWrite => "Bulk Write",
+            Instruction::FastBulkRead => "Fast Bulk Read",
+        }
+    }
 }
 
 /// The error byte of a status packet: bit 7 is Alert (read Hardware Error Status), bits 0..6 an
@@ -75,6 +96,22 @@ pub enum ErrorNumber {
     Access,
     /// A number the e-manual does not define.
     Other(u8),
+}
+
+impl ErrorNumber {
+    /// The error's name as the e-manual's status-packet table writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ErrorNumber::ResultFail => "Result Fail",
+            ErrorNumber::Instruction => "Instruction Error",
+            ErrorNumber::Crc => "CRC Error",
+            ErrorNumber::DataRange => "Data Range Error",
+            ErrorNumber::DataLength => "Data Length Error",
+            ErrorNumber::DataLimit => "Data Limit Error",
+            ErrorNumber::Access => "Access Error",
+            ErrorNumber::Other(_) => "an error number the e-manual does not define",
+        }
+    }
 }
 
 impl StatusError {

@@ -105,6 +105,16 @@ class Plan:
         a stiffness the servo's P gain cannot hold, or an angle outside a joint's limits raise
         ValueError with ``dbot``'s words (naming joint, slice and margin). ``allow_infeasible``
         builds an infeasible plan anyway and says what it let through as a UserWarning."""
+    def write(
+        self, dir: str | PathLike[str], *, name: str | None = None, dynamics: bool = True
+    ) -> list[str]:
+        """Writes the plan directory ``dbot plan`` writes, by the same library call: plan.json,
+        model.toml, model.urdf, joints.csv, feet.csv, the plots, feasibility.md, README.md, and with
+        ``dynamics`` (``dbot plan``'s default options) the torque and GRF columns,
+        joint_forces.csv, torques.png, grf.png and for a model with gauges strain.csv and
+        strain.png. ``dir`` is created if missing; each file is replaced whole. ``name`` is the
+        gait name its step table gets (at most 16 bytes; default: the directory's name). Returns
+        the names of the files written; ``read_plan_dir(dir)`` reads it back."""
 
 def plan(
     model: Model,
@@ -221,12 +231,17 @@ def compare(
     compare.csv and the overlay plots into ``out``. A trial's traces are its measured angles and
     estimated torques averaged per slice over steps 1 to the last whole one."""
 
+FaultKey = Literal[
+    "EmergencyStop", "ServoError", "ServoMissing", "SetpointTimeout", "Watchdog", "ServoStuck"
+]
+
 class Fault(TypedDict):
-    kind: str
-    """The fault with its numbers, e.g. ``ServoStuck { goal_range: 312, present_range: 0 }``."""
-    name: Literal[
-        "EmergencyStop", "ServoError", "ServoMissing", "SetpointTimeout", "Watchdog", "ServoStuck"
-    ]
+    kind: FaultKey
+    """The fault's key, e.g. ``ServoStuck`` (the same as ``name``)."""
+    name: FaultKey
+    detail: str
+    """What the fault is, in words with its numbers, e.g. ``servo stuck: its goal moved over 312
+    ticks, its position over 0``."""
     joint: int | None
     message: str
 
@@ -247,7 +262,7 @@ class Counters(TypedDict):
     """Telemetry / proprioception records dropped because the host did not read them in time."""
 
 class Status(TypedDict):
-    state: Literal["Idle", "Standing", "Ramping", "Walking", "Stopping", "Streaming", "Fault"]
+    state: Literal["Idle", "Standing", "Ramping", "Walking", "Stopping", "Streaming", "Fault", "Boot"]
     fault: Fault | None
     torque_enabled: int
     counters: Counters

@@ -112,16 +112,18 @@ fn counters_dict<'py>(py: Python<'py>, c: &Counters) -> PyResult<Bound<'py, PyDi
     Ok(d)
 }
 
-/// The board's status as a dict (`state`, `fault`, `torque_enabled`, `counters`); `fault` holds
-/// `kind` (with its numbers, e.g. `ServoStuck { goal_range: 312, present_range: 0 }`), `name`
-/// (`ServoStuck`), `joint` and `message` (a sentence).
+/// The board's status as a dict (`state`, `fault`, `torque_enabled`, `counters`): `state` is the
+/// state's key (`Streaming`); `fault` holds `kind` and `name` (both the fault's key,
+/// `ServoStuck`), `detail` (what it is in words, with its numbers: `servo stuck: its goal moved
+/// over 312 ticks, its position over 0`), `joint` and `message` (the whole sentence).
 pub fn status_dict<'py>(py: Python<'py>, s: &Status) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("state", format!("{:?}", s.state))?;
+    d.set_item("state", s.state.key())?;
     match &s.fault {
         Some(f) => {
             let fd = PyDict::new(py);
-            fd.set_item("kind", format!("{:?}", f.kind))?;
+            fd.set_item("kind", f.kind.name())?;
+            fd.set_item("detail", f.kind.to_string())?;
             fd.set_item("name", f.kind.name())?;
             fd.set_item("message", f.to_string())?;
             fd.set_item("joint", f.joint)?;

@@ -156,7 +156,7 @@ impl core::fmt::Display for ReplyFault {
             ReplyFault::Crc => f.write_str("reply failed the CRC check"),
             ReplyFault::Malformed => f.write_str("reply has a wrong length"),
             ReplyFault::Status(e) => match e.number() {
-                Some(n) => write!(f, "servo reports {n:?} error (status byte 0x{:02X})", e.0),
+                Some(n) => write!(f, "servo reports {} (status byte 0x{:02X})", n.name(), e.0),
                 None => write!(f, "servo status 0x{:02X}", e.0),
             },
         }
@@ -166,7 +166,7 @@ impl core::fmt::Display for ReplyFault {
 impl core::fmt::Display for BusError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            BusError::Io(kind) => write!(f, "UART error: {kind:?}"),
+            BusError::Io(kind) => write!(f, "UART error: {}", io_words(*kind)),
             BusError::Encode(e) => write!(f, "cannot encode the request: {e}"),
             BusError::ResultsTooShort { servos, results } => {
                 write!(
@@ -189,3 +189,28 @@ impl core::fmt::Display for BusError {
 }
 
 impl core::error::Error for BusError {}
+
+/// An I/O error kind in words.
+fn io_words(kind: embedded_io_async::ErrorKind) -> &'static str {
+    use embedded_io_async::ErrorKind as K;
+    match kind {
+        K::NotFound => "not found",
+        K::PermissionDenied => "permission denied",
+        K::ConnectionRefused => "connection refused",
+        K::ConnectionReset => "connection reset",
+        K::ConnectionAborted => "connection aborted",
+        K::NotConnected => "not connected",
+        K::AddrInUse => "address in use",
+        K::AddrNotAvailable => "address not available",
+        K::BrokenPipe => "broken pipe",
+        K::AlreadyExists => "already exists",
+        K::InvalidInput => "invalid input",
+        K::InvalidData => "invalid data (framing or parity)",
+        K::TimedOut => "timed out",
+        K::Interrupted => "interrupted",
+        K::Unsupported => "unsupported",
+        K::OutOfMemory => "out of memory",
+        K::WriteZero => "wrote nothing",
+        _ => "other error",
+    }
+}

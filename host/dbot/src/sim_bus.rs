@@ -126,8 +126,10 @@ fn parse_return_delay_us(s: &str) -> Result<u16, String> {
 }
 
 fn describe(s: &Served) -> String {
-    let name = Instruction::from_code(s.instruction)
-        .map_or_else(|| format!("0x{:02X}", s.instruction), |i| format!("{i:?}"));
+    let name = Instruction::from_code(s.instruction).map_or_else(
+        || format!("0x{:02X}", s.instruction),
+        |i| i.name().to_string(),
+    );
     let target = if s.id == dynamixel::instruction::BROADCAST_ID {
         "broadcast".to_string()
     } else {

@@ -88,3 +88,25 @@ pub enum Response {
     /// Servo IDs of a table's joints; `None` when the slot is empty or no gait is selected.
     JointMap(Option<JointIds>),
 }
+
+impl Response {
+    /// The reply's kind in words ("a status", "an error: ..."), for an error that got one it did not
+    /// expect.
+    pub fn describe(&self) -> String {
+        match self {
+            Response::Ack => "an acknowledgement".into(),
+            Response::DeviceInfo(_) => "the device information".into(),
+            Response::Status(s) => format!("a status (state {})", s.state),
+            Response::Settings(_) => "the settings".into(),
+            Response::Slots(s) => format!("the list of {} gait slots", s.len()),
+            Response::ChunkAccepted { received } => {
+                format!("an accepted upload chunk ({received} bytes so far)")
+            }
+            Response::Committed { slot, crc } => {
+                format!("a committed upload (slot {slot}, CRC {crc:#010x})")
+            }
+            Response::Error(e) => format!("an error: {e}"),
+            Response::JointMap(_) => "a joint map".into(),
+        }
+    }
+}

@@ -28,6 +28,21 @@ pub enum RunState {
 }
 
 impl RunState {
+    /// The state's one-word key, as Python's `status()["state"]` and the environment's `info`
+    /// hold it ("Idle", "Streaming", ...): stable, for programs to compare against.
+    pub const fn key(self) -> &'static str {
+        match self {
+            RunState::Idle => "Idle",
+            RunState::Standing => "Standing",
+            RunState::Ramping => "Ramping",
+            RunState::Walking => "Walking",
+            RunState::Stopping => "Stopping",
+            RunState::Streaming => "Streaming",
+            RunState::Fault => "Fault",
+            RunState::Boot => "Boot",
+        }
+    }
+
     /// The state as a user reads it: the firmware's name, with what it means for the robot where
     /// that is not obvious. Every door (CLI, Python, errors) prints this.
     pub const fn name(self) -> &'static str {

@@ -189,7 +189,7 @@ impl<T: Transport> Board<T> {
                 r => break r?,
             }
         };
-        let got = format!("{response:?}");
+        let got = response.describe();
         R::from_response(response).ok_or_else(|| LinkError::Unexpected {
             port: self.port().to_owned(),
             request: name,

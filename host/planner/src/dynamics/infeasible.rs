@@ -1,6 +1,6 @@
 //! An infeasible constrained cycle, said in terms of the plan: which slices, which feet would have
 //! to pull or need more friction, which joints would exceed their limit, and what would make it
-//! feasible. The solver's status word (PrimalInfeasible, AlmostSolved) says none of that.
+//! feasible. The solver's status ("infeasible", "almost solved") says none of that.
 
 use super::report::{ConstraintReport, check_slice};
 use super::{DynamicsError, DynamicsOptions, SliceInput};

@@ -66,7 +66,7 @@ pub fn solve(
     let sol = &solver.solution;
     if sol.status != SolverStatus::Solved {
         return Err(QpError::Status {
-            status: format!("{:?}", sol.status),
+            status: status_words(sol.status),
             iterations: sol.iterations,
         });
     }
@@ -107,7 +107,7 @@ fn determined(
         };
         if !inside {
             return Err(QpError::Status {
-                status: "PrimalInfeasible".into(),
+                status: status_words(SolverStatus::PrimalInfeasible),
                 iterations: 0,
             });
         }
@@ -141,4 +141,24 @@ fn csc(m: &DMatrix<f64>) -> CscMatrix<f64> {
         colptr.push(rowval.len());
     }
     CscMatrix::new(rows, cols, colptr, rowval, nzval)
+}
+
+/// Clarabel's status in words.
+fn status_words(status: SolverStatus) -> String {
+    match status {
+        SolverStatus::Unsolved => "not solved".into(),
+        SolverStatus::Solved => "solved".into(),
+        SolverStatus::PrimalInfeasible => {
+            "infeasible (no load sharing meets the constraints)".into()
+        }
+        SolverStatus::DualInfeasible => "unbounded (dual infeasible)".into(),
+        SolverStatus::AlmostSolved => "almost solved (inaccurate)".into(),
+        SolverStatus::AlmostPrimalInfeasible => "almost infeasible".into(),
+        SolverStatus::AlmostDualInfeasible => "almost unbounded".into(),
+        SolverStatus::MaxIterations => "stopped at the iteration limit".into(),
+        SolverStatus::MaxTime => "stopped at the time limit".into(),
+        SolverStatus::NumericalError => "numerical error".into(),
+        SolverStatus::InsufficientProgress => "insufficient progress".into(),
+        SolverStatus::CallbackTerminated => "stopped by a callback".into(),
+    }
 }

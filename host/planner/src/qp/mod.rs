@@ -85,7 +85,7 @@ pub enum QpError {
          (reduced Hessian condition {condition:.3e})"
     )]
     NotUnique { condition: f64 },
-    #[error("Clarabel finished with status {status} after {iterations} iterations")]
+    #[error("Clarabel finished {status} after {iterations} iterations")]
     Status { status: String, iterations: u32 },
     #[error("Clarabel rejected the problem: {reason}")]
     Setup { reason: String },
