@@ -10,14 +10,16 @@ use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
 use crate::arrays::rows;
 use crate::errors::{rule_error, value_error, warn_overridden};
 use crate::model::Model;
+use lab::plan_dir_write::{PlanDynamics, PlanSource, write_plan_dir};
 
 /// A planned step cycle of a model.
 #[pyclass(frozen, module = "dbot._native")]
 #[derive(Debug)]
 pub struct Plan {
     inner: planner::plan::Plan,
-    /// Inverse dynamics, solved on first use (`torques`, `step_table`).
-    torques: OnceLock<Vec<Vec<f64>>>,
+    /// Inverse dynamics with `dbot plan`'s default options, solved on first use (`torques`,
+    /// `step_table(torques=True)`, `strain`, `write`).
+    dynamics: OnceLock<PlanDynamics>,
 }
 
 /// Plans one step cycle of `model`. `preset` names the stepping parameters to start from, as
@@ -57,7 +59,7 @@ pub fn plan(
     let inner = planner::plan::plan(&model.inner, &base).map_err(value_error)?;
     Ok(Plan {
         inner,
-        torques: OnceLock::new(),
+        dynamics: OnceLock::new(),
     })
 }
 
@@ -104,7 +106,7 @@ impl Plan {
         allow_infeasible: bool,
     ) -> PyResult<::board::rules::build::CheckedTable> {
         let tau = if torques {
-            Some(py.detach(|| self.solved_torques().cloned())?)
+            Some(py.detach(|| self.solved().map(|d| d.torque.clone()))?)
         } else {
             None
         };
@@ -113,19 +115,15 @@ impl Plan {
             .map_err(rule_error)
     }
 
-    fn solved_torques(&self) -> PyResult<&Vec<Vec<f64>>> {
-        if let Some(t) = self.torques.get() {
-            return Ok(t);
+    /// The plan's inverse dynamics (`dbot plan`'s default options), solved once.
+    fn solved(&self) -> PyResult<&PlanDynamics> {
+        if let Some(d) = self.dynamics.get() {
+            return Ok(d);
         }
-        let inputs = planner::dynamics::plan_inputs(&self.inner);
-        let solution = planner::dynamics::solve_cycle(
-            &self.inner.model,
-            &inputs,
-            &planner::dynamics::DynamicsOptions::default(),
-        )
-        .map_err(value_error)?;
-        let t = solution.slices.into_iter().map(|s| s.torque).collect();
-        Ok(self.torques.get_or_init(|| t))
+        let options = planner::dynamics::DynamicsOptions::default();
+        let d =
+            PlanDynamics::solve(&self.inner, options).map_err(|e| value_error(e.chain_text()))?;
+        Ok(self.dynamics.get_or_init(|| d))
     }
 }
 
@@ -167,7 +165,7 @@ impl Plan {
     /// array [slice, joint]. Solved on first access.
     #[getter]
     fn torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let t = py.detach(|| self.solved_torques().cloned())?;
+        let t = py.detach(|| self.solved().map(|d| d.torque.clone()))?;
         Ok(rows(py, &t))
     }
 
@@ -211,10 +209,10 @@ impl Plan {
 
     /// Predicted strain of every gauge of the model (docs/strain.md), microstrain: array
     /// [slice, gauge] in `gauge_names` order, from the inverse dynamics (floating base, the
-    /// paper's problem), solved on each access. Width 0 for a model without gauges.
+    /// paper's problem), solved once. Width 0 for a model without gauges.
     #[getter]
     fn strain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let s = py.detach(|| predicted_strain(&self.inner))?;
+        let s = py.detach(|| self.solved().and_then(|d| predicted_strain(&self.inner, d)))?;
         Ok(rows(py, &s))
     }
 
@@ -253,6 +251,37 @@ impl Plan {
         Ok(PyBytes::new(py, table.bytes()))
     }
 
+    /// Writes the plan directory `dbot plan` writes (plan.json, model.toml, model.urdf,
+    /// joints.csv, feet.csv, the plots, feasibility.md, README.md and with `dynamics` the torque
+    /// columns, joint_forces.csv, torques.png, grf.png and the predicted strain) into `dir`,
+    /// created if missing; every file replaced whole. `name` is the gait name its step table gets
+    /// (at most 16 bytes; default: the directory's name). Returns the file names.
+    #[pyo3(signature = (dir, *, name = None, dynamics = true))]
+    fn write(
+        &self,
+        py: Python<'_>,
+        dir: std::path::PathBuf,
+        name: Option<&str>,
+        dynamics: bool,
+    ) -> PyResult<Vec<&'static str>> {
+        if let Some(n) = name.filter(|n| n.len() > protocol::gait::NAME_LEN) {
+            return Err(value_error(format!(
+                "write(): name `{n}`: a gait name has at most {} bytes",
+                protocol::gait::NAME_LEN
+            )));
+        }
+        let d = if dynamics { Some(self.solved()?) } else { None };
+        let source = PlanSource {
+            model_source: &self.inner.model.name,
+            table_name: name,
+            spring: None,
+        };
+        let written = py
+            .detach(|| write_plan_dir(&dir, &self.inner, &source, d))
+            .map_err(|e| value_error(e.chain_text()))?;
+        Ok(written.files)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Plan(model={:?}, slices={}, period_s={:.4}, duty={})",
@@ -264,12 +293,8 @@ impl Plan {
     }
 }
 
-/// `microstrain[slice][gauge]` of a plan, its dynamics solved with the default options.
-fn predicted_strain(plan: &planner::plan::Plan) -> PyResult<Vec<Vec<f64>>> {
-    let inputs = planner::dynamics::plan_inputs(plan);
-    let options = planner::dynamics::DynamicsOptions::default();
-    let cycle =
-        planner::dynamics::solve_cycle(&plan.model, &inputs, &options).map_err(value_error)?;
-    let strain = planner::strain::predict(&plan.model, &inputs, &cycle).map_err(value_error)?;
+/// `microstrain[slice][gauge]` of a plan from its solved cycle.
+fn predicted_strain(plan: &planner::plan::Plan, d: &PlanDynamics) -> PyResult<Vec<Vec<f64>>> {
+    let strain = planner::strain::predict_plan(plan, &d.cycle).map_err(value_error)?;
     Ok(strain.microstrain())
 }

@@ -30,8 +30,8 @@ use planner::plan_dir;
 use crate::args::dynamics::DynamicsArgs;
 use crate::common::interrupt;
 use crate::common::output::replace;
-use crate::common::plan_output::write_plan_dir;
 use crate::common::walk_summary::{print_bias, print_body, print_fits, print_tracking};
+use lab::plan_dir_write::{PlanSource, write_plan_dir};
 
 /// The demo's gait name in its plan directory and step table.
 const GAIT_NAME: &str = "dbII tripod";
@@ -111,15 +111,16 @@ impl Args {
         // Until here a Ctrl-C simply ends the process: nothing has been written yet.
         interrupt::catch()?;
         let plan_dir = out.join("plan");
-        let (_, feasible) = write_plan_dir(
-            &plan_dir,
-            &plan,
-            "drosophibot2",
-            Some(GAIT_NAME),
-            Some(&dynamics),
-            serde_json::Value::Null,
-        )?;
-        println!("  {}", crate::feasibility_args::summary(&feasible));
+        let source = PlanSource {
+            model_source: "drosophibot2",
+            table_name: Some(GAIT_NAME),
+            spring: None,
+        };
+        let written = write_plan_dir(&plan_dir, &plan, &source, Some(&dynamics))?;
+        println!(
+            "  {}",
+            crate::feasibility_args::summary(&written.feasibility)
+        );
         check_interrupt("after writing the plan")?;
 
         println!("[2/{total}] building the step table");

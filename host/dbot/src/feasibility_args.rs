@@ -1,5 +1,5 @@
-//! Whether the servos can follow a plan: reported by `dbot plan` (feasibility.csv, plan.json,
-//! terminal); the override flag of the rule that `dbot table`, `dbot upload --plan` and `dbot run
+//! Whether the servos can follow a plan: reported by `dbot plan` (feasibility.md, plan.json,
+//! terminal; its plan.json object is `planner::plan::feasibility_summary`); the override flag of the rule that `dbot table`, `dbot upload --plan` and `dbot run
 //! --period` enforce through the library (`board::rules`), and the printing of its warning.
 
 use board::rules::{Overridden, Overrides};
@@ -29,38 +29,6 @@ pub fn warn(warning: Option<&Overridden>) {
     if let Some(w) = warning {
         eprintln!("warning: {w}");
     }
-}
-
-/// The `feasibility` object of plan.json.
-pub fn json(f: &Feasibility) -> serde_json::Value {
-    let joints: serde_json::Map<String, serde_json::Value> = f
-        .joints
-        .iter()
-        .map(|j| {
-            (
-                j.joint.clone(),
-                serde_json::json!({
-                    "servo": j.limits.map(|l| l.name),
-                    "no_load_speed_rad_s": j.limits.map(|l| l.no_load_speed),
-                    "stall_torque_nm": j.limits.map(|l| l.stall_torque),
-                    "peak_speed_rad_s": j.speed.value,
-                    "peak_speed_slice": j.speed.slice,
-                    "peak_acceleration_rad_s2": j.acceleration.value,
-                    "peak_acceleration_slice": j.acceleration.slice,
-                    "peak_torque_nm": j.torque.map(|p| p.value),
-                    "peak_torque_slice": j.torque.map(|p| p.slice),
-                    "torque_speed_margin_nm": j.torque_speed_margin.map(|p| p.value),
-                    "torque_speed_margin_slice": j.torque_speed_margin.map(|p| p.slice),
-                }),
-            )
-        })
-        .collect();
-    serde_json::json!({
-        "limits_note": "servo limits are Dynamixel e-manual datasheet values at 12 V (no-load speed, stall torque); the torque-speed line T_stall (1 - |w|/w0) is an estimate; no acceleration limit is checked",
-        "feasible": f.is_feasible(),
-        "violations": f.violations.iter().map(|v| v.to_string()).collect::<Vec<_>>(),
-        "joints": joints,
-    })
 }
 
 /// The lines `dbot plan` prints: a count, and the first few violations.

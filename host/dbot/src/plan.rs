@@ -8,7 +8,7 @@ use indicatif::ProgressBar;
 use planner::gait::{Gait, ParamsFile, StepParams};
 use std::path::PathBuf;
 
-use crate::common::plan_output::write_plan_dir;
+use lab::plan_dir_write::{PlanSource, write_plan_dir};
 
 /// Above this many slices a plan says what it is doing (the inverse dynamics solves one QP per
 /// slice: tens of seconds for a few thousand in a debug build).
@@ -169,27 +169,25 @@ impl Args {
                 protocol::gait::NAME_LEN
             );
         }
-        let (files, feasible) = write_plan_dir(
-            out,
-            &plan,
-            &spec,
-            self.name.as_deref(),
-            dynamics.as_ref(),
-            self.springs.json(),
-        )?;
+        let source = PlanSource {
+            model_source: &spec,
+            table_name: self.name.as_deref(),
+            spring: self.springs.options(),
+        };
+        let written = write_plan_dir(out, &plan, &source, dynamics.as_ref())?;
         bar.finish_and_clear();
         println!(
             "{}: {} slices, period {:.3} s, wrote {} to {}",
             model.name,
             plan.slices(),
             plan.period_s,
-            files.join(" "),
+            written.files.join(" "),
             out.display()
         );
         if let Some(d) = &dynamics {
             println!("{}", d.summary());
         }
-        println!("{}", crate::feasibility_args::summary(&feasible));
+        println!("{}", crate::feasibility_args::summary(&written.feasibility));
         if !plan.ik_gaps.is_empty() {
             println!(
                 "inverse kinematics: {} run(s) of steps over a joint's speed allowance:",

@@ -62,14 +62,13 @@ impl SpringArgs {
         }
     }
 
-    /// The `spring_args` object of plan.json (null without --spring).
-    pub fn json(&self) -> serde_json::Value {
-        match &self.spring {
-            None => serde_json::Value::Null,
-            Some(spec) => serde_json::json!({
-                "spring": spec,
-                "spring_equilibrium": self.spring_equilibrium.name(),
-            }),
-        }
+    /// The `spring_args` of plan.json (none without --spring).
+    pub fn options(&self) -> Option<planner::plan_dir::SpringOptions> {
+        self.spring
+            .as_ref()
+            .map(|spec| planner::plan_dir::SpringOptions {
+                spring: spec.clone(),
+                spring_equilibrium: self.spring_equilibrium.name().to_string(),
+            })
     }
 }

@@ -101,6 +101,7 @@ from_library!(
     planner::plan::PlanError,
     planner::terrain::TerrainError,
     planner::dynamics::DynamicsError,
+    planner::strain::StrainError,
     planner::plan_dir::PlanDirError,
     planner::analysis::SweepError,
     board::link::LinkError,

@@ -19,6 +19,7 @@
 //! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge.
 //! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
 //! - [`substrates`]: one gait walked on several substrates, slip per foot and travel per step.
+//! - [`plan_dir_write`]: the one writer of a plan directory (files, plots, the dynamics, strain).
 //! - [`validation`]: the run results of docs/validation.md.
 
 pub mod demo;
@@ -28,6 +29,7 @@ pub mod paper_comparison;
 pub mod paper_robot;
 pub mod perturbation;
 pub mod plan_comparison;
+pub mod plan_dir_write;
 pub mod plan_walk;
 pub mod steer_blend;
 pub mod strain_compare;

@@ -1,11 +1,11 @@
 //! The inverse-dynamics flags of `dbot plan` (and the demo's fixed choice of them); what the
-//! solved dynamics adds to the outputs is `common::plan_dynamics`.
+//! solved dynamics adds to the outputs is `lab::plan_dir_write`.
 
-use anyhow::{Context, Result};
-use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
+use anyhow::Result;
+use planner::dynamics::DynamicsOptions;
 use planner::plan::Plan;
 
-use crate::common::plan_dynamics::PlanDynamics;
+use lab::plan_dir_write::PlanDynamics;
 
 /// Inverse dynamics options (section 2.2.2 of the paper, solved as a QP per slice).
 #[derive(Debug, Clone, clap::Args)]
@@ -65,23 +65,6 @@ impl DynamicsArgs {
                 self.mu
             );
         }
-        planner::plan::finite::check_plan(plan)
-            .with_context(|| format!("planning a step of {}", plan.model.name))?;
-        let options = self.options();
-        let cycle = solve_cycle(&plan.model, &plan_inputs(plan), &options)
-            .with_context(|| format!("inverse dynamics of {}", plan.model.name))?;
-        let d = PlanDynamics::new(plan, options, cycle);
-        let joints: Vec<String> = plan.model.joints.iter().map(|j| j.name.clone()).collect();
-        let check = |what, rows: &[Vec<f64>]| {
-            planner::plan::finite::check_rows(what, rows, &joints)
-                .with_context(|| format!("inverse dynamics of {}", plan.model.name))
-        };
-        check("joint torque", &d.torque)?;
-        check("servo command", &d.command)?;
-        for (axis, rows) in ["x", "y", "z"].iter().zip(&d.grf) {
-            planner::plan::finite::check_rows("ground reaction force", rows, &[])
-                .with_context(|| format!("inverse dynamics of {} (GRF {axis})", plan.model.name))?;
-        }
-        Ok(Some(d))
+        Ok(Some(PlanDynamics::solve(plan, self.options())?))
     }
 }

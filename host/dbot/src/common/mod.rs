@@ -1,7 +1,7 @@
 //! Helpers that several subcommands use (Ctrl-C handling, whole-file outputs, `--model` specs, the
 //! gait summary line, the Dynamixel default baud, serial-port path checks, the
 //! words for board states and for an error's chain of causes, starting and stopping playback,
-//! writing a plan directory, what a gait slot lost, the words of the demo's walk figures).
+//! what a gait slot lost, the words of the demo's walk figures).
 //! Subcommands share these instead of importing each other; nothing here imports a subcommand.
 
 pub mod baud;
@@ -9,8 +9,6 @@ pub mod error_chain;
 pub mod interrupt;
 pub mod model_spec;
 pub mod output;
-pub mod plan_dynamics;
-pub mod plan_output;
 pub mod playback;
 pub mod serial_path;
 pub mod session;

@@ -29,6 +29,7 @@ pub mod output;
 pub mod problem;
 mod report;
 mod solve;
+pub mod summary;
 pub mod wrench;
 
 pub use error::DynamicsError;
@@ -38,3 +39,4 @@ pub use report::{ConstraintReport, Saturation, Slip};
 pub use solve::{
     CycleSolution, SliceSolution, slice_problem, solve_cycle, solve_problem, solve_slice,
 };
+pub use summary::DynamicsSummary;

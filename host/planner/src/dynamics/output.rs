@@ -1,9 +1,10 @@
 //! Outputs of a solved cycle for the plan reports: per-slice columns for joints.csv and feet.csv,
-//! the joint_forces.csv table, the plan.json summary, and servo commands with the torque bias.
+//! the joint_forces.csv table and servo commands with the torque bias (the plan.json summary is
+//! [`super::summary`]).
 
 use std::io::Write;
 
-use super::{CycleSolution, DynamicsOptions};
+use super::CycleSolution;
 use crate::model::{Actuation, Leg, Model};
 use crate::number::{SIGNIFICANT, plain};
 
@@ -98,74 +99,4 @@ pub fn write_joint_forces_csv<W: Write>(
     }
     out.flush()?;
     Ok(())
-}
-
-/// The dynamics part of plan.json: stiffness per joint, V* per slice, options, slips and saturations.
-pub fn json_summary(
-    model: &Model,
-    options: &DynamicsOptions,
-    cycle: &CycleSolution,
-) -> serde_json::Value {
-    let stiffness: serde_json::Map<String, serde_json::Value> = model
-        .joints
-        .iter()
-        .zip(&cycle.stiffness)
-        .filter_map(|(j, k)| k.map(|k| (j.name.clone(), serde_json::json!(k))))
-        .collect();
-    let peak = |f: &dyn Fn(usize) -> f64| {
-        cycle
-            .slices
-            .iter()
-            .enumerate()
-            .map(|(s, _)| f(s))
-            .fold(0.0, f64::max)
-    };
-    let (actuator, spring) = stiffness_parts(model);
-    serde_json::json!({
-        "joint_stiffness_nm_per_rad": stiffness,
-        "actuator_stiffness_nm_per_rad": actuator,
-        "parallel_spring": spring,
-        "stiffness_note": "joint stiffness k = actuator stiffness + parallel spring stiffness, used in V* = 1/2 sum T_act^2 / k; the servo-command bias and the step table use the actuator stiffness alone",
-        "v_star_j": cycle.slices.iter().map(|s| s.v_star).collect::<Vec<_>>(),
-        "peak_abs_torque_nm": peak(&|s| cycle.slices[s].torque.iter().fold(0.0, |m: f64, t| m.max(t.abs()))),
-        "friction_cone": options.friction_cone,
-        "push_only": options.push_only,
-        "mu": options.mu,
-        "torque_limits_enforced": options.enforce_torque_limits,
-        "slips": cycle.report.slips.iter().map(|s| serde_json::json!({
-            "slice": s.slice, "leg": s.leg, "normal_n": s.normal, "tangential_n": s.tangential })).collect::<Vec<_>>(),
-        "saturations": cycle.report.saturations.iter().map(|s| serde_json::json!({
-            "slice": s.slice, "joint": s.joint, "torque_nm": s.torque, "limit_nm": s.limit })).collect::<Vec<_>>(),
-    })
-}
-
-/// Per actuated joint: the actuator stiffness (N m/rad), and per joint with a parallel spring its
-/// stiffness, equilibrium and where the equilibrium came from.
-fn stiffness_parts(
-    model: &Model,
-) -> (
-    serde_json::Map<String, serde_json::Value>,
-    serde_json::Map<String, serde_json::Value>,
-) {
-    let mut actuator = serde_json::Map::new();
-    let mut spring = serde_json::Map::new();
-    for j in &model.joints {
-        match &j.actuation {
-            Actuation::Actuated { stiffness, .. } => {
-                actuator.insert(j.name.clone(), serde_json::json!(stiffness));
-            }
-            Actuation::Fixed { .. } => {}
-        }
-        if let Some(s) = &j.spring {
-            spring.insert(
-                j.name.clone(),
-                serde_json::json!({
-                    "stiffness_nm_per_rad": s.stiffness,
-                    "equilibrium_rad": s.equilibrium,
-                    "equilibrium_from": s.equilibrium_from,
-                }),
-            );
-        }
-    }
-    (actuator, spring)
 }

@@ -5,6 +5,7 @@
 pub mod continuity;
 mod derivatives;
 pub mod feasibility;
+pub mod feasibility_summary;
 pub mod finite;
 pub mod gait_table;
 pub mod table;

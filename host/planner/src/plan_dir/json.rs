@@ -6,9 +6,11 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::dynamics::DynamicsSummary;
 use crate::gait::StepParams;
 use crate::model::Leg;
 use crate::plan::Plan;
+use crate::plan::feasibility_summary::FeasibilitySummary;
 use crate::terrain::Terrain;
 
 /// The plan directory format this build writes and reads. Raise it when a file or a column changes
@@ -52,14 +54,24 @@ pub struct PlanJson {
     /// The inverse dynamics' options and summary (peaks, slips, saturations); absent when the plan
     /// was made without dynamics (joints.csv then has no torque column).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dynamics: Option<serde_json::Value>,
+    pub dynamics: Option<DynamicsSummary>,
     /// The planned joints against the servos' limits (peak speed, acceleration, torque; the
-    /// violations), written by `dbot plan` (feasibility.md has the same as a table).
+    /// violations), written with the plan (feasibility.md has the same as a table).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub feasibility: Option<serde_json::Value>,
+    pub feasibility: Option<FeasibilitySummary>,
     /// The `--spring` options the model was planned with (model.toml holds the springs themselves).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub spring_args: Option<serde_json::Value>,
+    pub spring_args: Option<SpringOptions>,
+}
+
+/// The parallel-spring options a model was planned with, as `dbot plan --spring SPEC
+/// --spring-equilibrium FROM` gives them.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SpringOptions {
+    /// `none`, `paper`, a preset name or a stiffness in N m/rad.
+    pub spring: String,
+    /// `rest`, `step-midrange` or `dead-fly`.
+    pub spring_equilibrium: String,
 }
 
 impl PlanJson {
@@ -69,7 +81,7 @@ impl PlanJson {
         plan: &Plan,
         model_source: &str,
         table_name: Option<&str>,
-        dynamics: Option<serde_json::Value>,
+        dynamics: Option<DynamicsSummary>,
     ) -> Self {
         PlanJson {
             format_version: FORMAT_VERSION,

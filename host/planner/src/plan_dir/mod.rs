@@ -1,5 +1,6 @@
-//! The plan directory: one typed, versioned format that `dbot plan` and `dbot demo` write and
-//! `dbot table`, `dbot compare`, `dbot upload --plan` and Python read.
+//! The plan directory: one typed, versioned format that `lab::plan_dir_write` writes (for
+//! `dbot plan`, `dbot demo` and Python's `Plan.write`) and `dbot table`, `dbot compare`,
+//! `dbot upload --plan` and Python read.
 //!
 //! Files: plan.json ([`PlanJson`], with [`FORMAT_VERSION`]), model.toml (the planned model, so
 //! the directory is read without the model's source), model.urdf, joints.csv and feet.csv (columns
@@ -15,10 +16,8 @@ mod error;
 mod json;
 mod read;
 mod table;
-mod write;
 
 pub use csv_out::{ExtraColumn, ReportError, write_feet_csv, write_joints_csv};
 pub use error::PlanDirError;
-pub use json::{FORMAT_VERSION, FRAMES, PlanJson, table_name_of};
+pub use json::{FORMAT_VERSION, FRAMES, PlanJson, SpringOptions, table_name_of};
 pub use read::{PlanDir, read, read_json};
-pub use write::{replace, write};

@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use lab::plan_dir_write::{PlanSource, write_plan_dir};
 use planner::gait::StepParams;
 use planner::model::builtin;
 use planner::plan::plan;
@@ -16,9 +17,13 @@ fn write_plan(dir: &Path) -> PlanJson {
     let mut p = StepParams::table1("drosophibot2");
     p.slices = 40;
     let pl = plan(&m, &p).unwrap();
-    let json = PlanJson::new(&pl, "drosophibot2", Some("tripod"), None);
-    plan_dir::write(dir, &pl, &json, &[], &[]).unwrap();
-    json
+    let source = PlanSource {
+        model_source: "drosophibot2",
+        table_name: Some("tripod"),
+        spring: None,
+    };
+    write_plan_dir(dir, &pl, &source, None).unwrap();
+    plan_dir::read_json(&dir.join("plan.json")).unwrap()
 }
 
 fn edit_json(dir: &Path, edit: impl FnOnce(&mut serde_json::Value)) {
