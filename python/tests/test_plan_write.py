@@ -51,7 +51,7 @@ def test_plan_json_is_the_clis_but_for_the_model_source(both) -> None:
     # Typed, not free-form: the sections a reader relies on are there with their units.
     assert b["dynamics"]["mu"] == 0.5
     assert b["feasibility"]["feasible"] is True
-    assert set(b["feasibility"]["joints"]) == set(dbot.Model.builtin("drosophibot2").joint_names)
+    assert set(b["feasibility"]["joints"]) == set(dbot.Model.builtin("drosophibot2").servo_joint_names)
 
 
 def test_the_written_directory_reads_back_with_the_plans_numbers(both) -> None:
