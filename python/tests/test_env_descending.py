@@ -8,8 +8,9 @@
   ends, a negative one right of it;
 * deterministic: the same seed and actions give bit-identical observations;
 * the same class runs on the emulated board (the release firmware image in the RP2040 emulator,
-  conftest.py's `emulator_port`) with the same spaces: the board walks the steered gait, its
-  `info` holds only what a board knows.
+  conftest.py's `emulator_port`) with the same spaces: each step is its bus cycles, the board
+  ramps then walks, and its goals are the blend the heading asks for (the straight and the left
+  gait's angles halfway, independent of the firmware's code), its `info` only what a board knows.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import math
 import numpy as np
 from gymnasium.utils.env_checker import check_env
 
+from dbot import plan
 from dbot.env import DbotEnv
 from dbot.env_descending import RANGE_RAD, DescendingEnv
 
@@ -95,17 +97,42 @@ def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
     assert set(info) == {"time_s", "state", "step", "slice"} and info["state"] == "Standing"
     cycles = [int(env.last_record["cycle"][0])]
     states = []
+    walking = []
     for _ in range(30):
         obs, reward, terminated, truncated, info = env.step(np.array([RANGE_RAD / 2, 1.0]))
         assert env.observation_space.contains(obs)
         assert "body" not in info and reward == 0.0 and not terminated, info
         cycles.append(int(env.last_record["cycle"][0]))
         states.append(info["state"])
+        if info["state"] == "Walking":
+            walking.append(env.last_record)
     # Each step is 10 of the board's own bus cycles (one telemetry record each).
     assert set(np.diff(cycles)) == {10}, cycles
     # The board ramped to the blend's first slice, then walked it: 300 cycles of a 250-cycle
     # step after the ramp (about a second) reach the slices of step 0.
     assert states[0] == "Ramping" and states[-1] == "Walking", states
     assert info["slice"] > 0 or info["step"] > 0, info
+    # The heading reached the board: half of RANGE_RAD is the blend halfway between the straight
+    # and the left gait (protocol::steer), so every walking goal lies between the blended angles
+    # of its slice and its neighbours (linear interpolation, no torque bias in these tables), to
+    # half a servo tick plus the 1e-4 rad telemetry unit; the straight gait's alone do not hold
+    # them all (the check tells the two apart).
+    model = env.model
+    straight, left = (
+        plan(model, slices=20, rotation_rad=r).angles[:, model.servo_joints] for r in (0, RANGE_RAD)
+    )
+    blend = straight + 0.5 * (left - straight)
+    slack = np.pi / 4096 + 1e-4
+
+    def miss(q: np.ndarray, rec: dict) -> float:
+        s, n = int(rec["slice"][0]), q.shape[0]
+        around = q[[(s - 1) % n, s, (s + 1) % n]]
+        goal = np.asarray(rec["commanded_rad"][0])
+        return float(np.max(np.maximum(around.min(0) - slack - goal, goal - around.max(0) - slack)))
+
+    assert len(walking) >= 5, states
+    assert max(miss(blend, r) for r in walking) <= 0.0, [miss(blend, r) for r in walking]
+    # Measured: the straight gait misses by up to 0.024 rad, the blend by none.
+    assert max(miss(straight, r) for r in walking) > 5e-3, [miss(straight, r) for r in walking]
     env.close()
     phys.close()
