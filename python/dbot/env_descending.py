@@ -54,8 +54,9 @@ RANGE_RAD = 0.06
 SPEED_MIN, SPEED_MAX = 0.1, 1.0
 #: Slots of the family: straight, left, right.
 FAMILY_SLOTS = (0, 1, 2)
-#: Bus cycles a stop may take, per second of a step at the slowest speed (at 100 Hz: a whole step
-#: of 2.5 s at speed 0.1 is 2500 cycles) plus the ramp: the bound of waiting for standing.
+#: Bus cycles a stop may take, the bound of waiting for standing: the rest of a whole step at the
+#: slowest speed (2.5 s / 0.1 = 2500 cycles at 100 Hz), with room for a ramp (measured on the
+#: physics robot: 2150 cycles from a stop at speed 0.1 to standing).
 STOP_CYCLES = 4000
 
 
