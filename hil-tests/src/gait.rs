@@ -96,6 +96,19 @@ pub fn upload_partial(
     timeout: Duration,
 ) -> Result<()> {
     let header = builder.header().context("gait header")?;
+    send_chunks(link, slot, header, table, chunk, stop_after, timeout)
+}
+
+/// Sends `UploadBegin` with `header` and the chunks of `table` up to `stop_after` bytes.
+fn send_chunks(
+    link: &mut Link,
+    slot: u8,
+    header: protocol::GaitHeader,
+    table: &[u8],
+    chunk: usize,
+    stop_after: usize,
+    timeout: Duration,
+) -> Result<()> {
     let begin = Request::UploadBegin {
         slot,
         header,
@@ -134,5 +147,21 @@ pub fn upload(
     timeout: Duration,
 ) -> Result<Response> {
     upload_partial(link, slot, builder, table, chunk, usize::MAX, timeout)?;
+    link.request(&Request::UploadCommit { crc: crc32(table) }, timeout)
+}
+
+/// Uploads a table built elsewhere (e.g. `planner::plan::table::step_table`), its header read from
+/// its own bytes, and commits it; returns the commit's response.
+pub fn upload_table(
+    link: &mut Link,
+    slot: u8,
+    table: &[u8],
+    chunk: usize,
+    timeout: Duration,
+) -> Result<Response> {
+    let header = protocol::GaitTable::parse(table)
+        .map_err(|e| anyhow::anyhow!("the table for slot {slot} does not parse: {e}"))?
+        .header();
+    send_chunks(link, slot, header, table, chunk, usize::MAX, timeout)?;
     link.request(&Request::UploadCommit { crc: crc32(table) }, timeout)
 }

@@ -22,6 +22,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   pixels or a GIF (the environment's ``rgb_array``).
 * :mod:`dbot.env` - ``DbotEnv``, a Gymnasium environment over the physics robot or a board port
   with the firmware in the loop (needs the ``gymnasium`` package; imported on its own).
+* :class:`DescendingEnv` (:mod:`dbot.env_descending`) - the environment's descending action mode:
+  (heading, speed) in, the board blending its stored steering family; ``dbot.DescendingEnv``
+  imports gymnasium on first use only.
 
 Units are SI (m, rad, s, N m); arrays are indexed ``[slice, joint]`` / ``[record, joint]``.
 """
@@ -53,6 +56,7 @@ __all__ = [
     "Board",
     "BoardError",
     "DbotError",
+    "DescendingEnv",
     "Model",
     "Plan",
     "PhysicsWalk",
@@ -69,3 +73,12 @@ __all__ = [
     "walk_figures",
     "write_walk_gif",
 ]
+
+
+def __getattr__(name: str) -> object:
+    # The environment imports gymnasium: only when it is asked for, so `import dbot` stays light.
+    if name == "DescendingEnv":
+        from .env_descending import DescendingEnv
+
+        return DescendingEnv
+    raise AttributeError(f"module 'dbot' has no attribute {name!r}")

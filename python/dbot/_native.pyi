@@ -453,6 +453,10 @@ class Board:
         recorded beside it into ``strain_dir`` as ``dbot record --strain`` does; the dict gains
         ``strain_time_s`` (on ``time_s``'s clock), ``strain_counts`` ([sample, 36] raw counts),
         ``strain_names`` and ``strain_error`` (why the strain stream stopped early, else None)."""
+    def next_telemetry(self, timeout_s: float = 0.1) -> Telemetry | None:
+        """The next playback telemetry record (one row, the keys of ``record``), waiting up to
+        ``timeout_s`` of board time; None if none came. Records come every
+        ``set_telemetry(every)`` bus cycles outside streaming."""
     def enter_streaming(self, timeout_cycles: int = 5, feedback_every: int = 1) -> None:
         """From standing only. No setpoint for ``timeout_cycles`` cycles: hold, then safe
         (state ``Fault``, fault kind ``SetpointTimeout``). Proprioception every

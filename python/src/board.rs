@@ -532,6 +532,22 @@ impl Board {
         Ok(dict)
     }
 
+    /// The next playback telemetry record (a dict of arrays with one row, the keys of `record`),
+    /// waiting up to `timeout_s` on the board's clock; None if none came. Records come every
+    /// `set_telemetry(every)` bus cycles outside streaming, so a host can follow a walk cycle by
+    /// cycle (the descending environment, `dbot.env_descending`).
+    #[pyo3(signature = (timeout_s = 0.1))]
+    fn next_telemetry<'py>(
+        &self,
+        py: Python<'py>,
+        timeout_s: f64,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let d = seconds(timeout_s, "timeout_s")?;
+        let rec = self.with(py, move |l| l.telemetry(d))?;
+        rec.map(|t| records::telemetry_dict(py, &[t], &self.naming()))
+            .transpose()
+    }
+
     /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new
     /// setpoint the board holds the last one, then goes safe with fault `SetpointTimeout`.
     /// Proprioception comes every `feedback_every` cycles (1: every cycle), whatever
