@@ -136,6 +136,25 @@ def plan(
     ``radius_m`` alone sets the turn from the stride, both set the stride (``radius_m=0``: on the
     spot); out-of-range values raise ``ValueError`` naming the parameter."""
 
+class Standing(TypedDict):
+    """The robot standing still on flat ground in the physics robot's resting posture, solved as a
+    plan's slice is (:func:`plan_standing`)."""
+
+    angles_rad: npt.NDArray[np.float64]
+    """Servo joints (``Model.servo_joint_names`` order), rad: the resting posture."""
+    torques_nm: npt.NDArray[np.float64]
+    """Servo joints, N m: the actuator torques that hold it (the torque bias's feed-forward)."""
+    foot_force_n: npt.NDArray[np.float64]
+    """[foot, xyz], N: the solver's ground reaction forces (model foot order)."""
+    gauge_names: list[str]
+    strain_microstrain: npt.NDArray[np.float64]
+    """Predicted reading of each gauge, microstrain (``gauge_names`` order)."""
+
+def plan_standing(model: Model) -> Standing:
+    """The planner's solution of ``model`` standing still on flat ground in the posture the
+    physics robot starts in: the prediction docs/validation.md's ``strain`` block compares the
+    simulated gauges with. ValueError naming the model if it cannot stand or its gauges are bad."""
+
 class PlanDir:
     """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /
     [slice, leg]."""
