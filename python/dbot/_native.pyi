@@ -39,6 +39,12 @@ class Model:
     @property
     def servo_stall_torques_nm(self) -> list[float]:
         """Stall torque of each servo joint's actuator, N m (``servo_joint_names`` order)."""
+    def load_torques_nm(self, load_raw: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Servo torques from register 126 values (``load_raw``, any shape, last axis the servo
+        joints), N m, an ESTIMATE as ``dbot record``'s ``torque_estimate_nm``: MX-28 Present Load
+        (0.1 % of maximum) x stall torque; MX-64 Present Current (3.36 mA/unit) x stall torque /
+        stall current. The register's sign (servo direction); NaN without a servo. ValueError
+        naming the joint of a value that is not a register value, or a wrong last axis."""
     @property
     def legs(self) -> list[str]: ...
     @property
