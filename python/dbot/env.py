@@ -37,10 +37,12 @@ env.observation_space.spaces``) and falls back on ``load_raw``.
 ``info`` on the physics robot: ``body`` (``Board.body()``: thorax pose and velocity, foot forces,
 contact and slip, simulated time), ``time_s``, ``state``; on a board only what a board knows:
 ``time_s`` (its proprioception's clock) and ``state``. With a plan known (``gait=`` given) and
-gauges in its model, also ``plan_phase`` (fraction of the period: the time since reset over the
-plan's period, modulo 1, i.e. where the plan played open loop from its slice 0 at reset is now)
-and ``predicted_strain_microstrain`` (the plan's predicted strain, ``Plan.strain``, at that phase,
-linear between slices; ``strain_names`` order); without a plan, neither. For the standing robot
+gauges in its model, on any port (the host computes it from the plan, not from the body), also
+``plan_phase`` (fraction of the period: the time since reset over the plan's period, modulo 1,
+i.e. where the plan played open loop from its slice 0 at reset is now) and
+``predicted_strain_microstrain`` (the plan's predicted strain, ``Plan.strain``, at that phase,
+linear between slices; ``gait.gauge_names`` order, which is ``strain_names`` on the physics
+robot); without a plan, neither. For the standing robot
 the prediction is ``dbot.plan_standing(model)["strain_microstrain"]``.
 
 Rendering: ``render_mode="rgb_array"`` gives the demo's walk drawing of the present pose (top,
