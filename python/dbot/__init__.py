@@ -4,6 +4,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 
 * :class:`Model` - an organism model (``Model.builtin("drosophibot2")``, ``Model.load(path)``).
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
+* :func:`plan_standing` - the robot standing still in its resting posture, solved: the angles,
+  the torques of the bias, the foot forces and the gauges' predicted strain.
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
@@ -44,6 +46,7 @@ from ._native import (
     compare_strain,
     physics_walk,
     plan,
+    plan_standing,
     read_plan_dir,
     read_trial,
     render_pose,
@@ -67,6 +70,7 @@ __all__ = [
     "compare_strain",
     "physics_walk",
     "plan",
+    "plan_standing",
     "read_plan_dir",
     "read_trial",
     "render_pose",

@@ -39,6 +39,12 @@ class Model:
     @property
     def servo_stall_torques_nm(self) -> list[float]:
         """Stall torque of each servo joint's actuator, N m (``servo_joint_names`` order)."""
+    def load_torques_nm(self, load_raw: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Servo torques from register 126 values (``load_raw``, any shape, last axis the servo
+        joints), N m, an ESTIMATE as ``dbot record``'s ``torque_estimate_nm``: MX-28 Present Load
+        (0.1 % of maximum) x stall torque; MX-64 Present Current (3.36 mA/unit) x stall torque /
+        stall current. The register's sign (servo direction); NaN without a servo. ValueError
+        naming the joint of a value that is not a register value, or a wrong last axis."""
     @property
     def legs(self) -> list[str]: ...
     @property
@@ -145,6 +151,25 @@ def plan(
     plan a curve as ``dbot plan --turn --radius`` does: ``turn_deg`` alone keeps the stride,
     ``radius_m`` alone sets the turn from the stride, both set the stride (``radius_m=0``: on the
     spot); out-of-range values raise ``ValueError`` naming the parameter."""
+
+class Standing(TypedDict):
+    """The robot standing still on flat ground in the physics robot's resting posture, solved as a
+    plan's slice is (:func:`plan_standing`)."""
+
+    angles_rad: npt.NDArray[np.float64]
+    """Servo joints (``Model.servo_joint_names`` order), rad: the resting posture."""
+    torques_nm: npt.NDArray[np.float64]
+    """Servo joints, N m: the actuator torques that hold it (the torque bias's feed-forward)."""
+    foot_force_n: npt.NDArray[np.float64]
+    """[foot, xyz], N: the solver's ground reaction forces (model foot order)."""
+    gauge_names: list[str]
+    strain_microstrain: npt.NDArray[np.float64]
+    """Predicted reading of each gauge, microstrain (``gauge_names`` order)."""
+
+def plan_standing(model: Model) -> Standing:
+    """The planner's solution of ``model`` standing still on flat ground in the posture the
+    physics robot starts in: the prediction docs/validation.md's ``strain`` block compares the
+    simulated gauges with. ValueError naming the model if it cannot stand or its gauges are bad."""
 
 class PlanDir:
     """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /

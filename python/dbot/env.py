@@ -24,11 +24,26 @@ setpoint (``JointSetpoint::torque``, mN m on the wire): the firmware adds ``torq
 the angle, the same torque bias it applies to a played gait. Observation (a ``Dict``; what the board streams, so a controller tuned here runs on
 a board): ``present_rad`` (22, rad), ``velocity_rad_s`` (22, rad/s), ``load_raw`` (22, register 126
 as read: MX-28 load in 0.1 % of its maximum, MX-64 current in about 3.36 mA), ``setpoint_age`` (1,
-bus cycles since the setpoint in use arrived).
+bus cycles since the setpoint in use arrived). Where the port streams strain (the physics robot
+with a model that has gauges, Drosophibot II's 36), also ``strain_microstrain`` (one per gauge,
+``strain_names`` order: the strain board's channel order, ``LH_troch_axial`` first; the latest
+sample, microstrain, tension positive; bounded by +-1e6, a strain of 1, which no intact segment
+reaches: the bound only says the reading is finite and signed) and ``strain_age_s`` (1, s since
+that sample was taken: the gauges are sampled every 24 ms, the strain board's line period, so 0
+to 0.024; bounded by 1 s). A board port keeps the space without them (this class has no strain
+board beside a board yet): a controller knows by ``env.has_strain`` (or ``"strain_microstrain" in
+env.observation_space.spaces``) and falls back on ``load_raw``.
 
 ``info`` on the physics robot: ``body`` (``Board.body()``: thorax pose and velocity, foot forces,
 contact and slip, simulated time), ``time_s``, ``state``; on a board only what a board knows:
-``time_s`` (its proprioception's clock) and ``state``.
+``time_s`` (its proprioception's clock) and ``state``. With a plan known (``gait=`` given) and
+gauges in its model, on any port (the host computes it from the plan, not from the body), also
+``plan_phase`` (fraction of the period: the time since reset over the plan's period, modulo 1,
+i.e. where the plan played open loop from its slice 0 at reset is now) and
+``predicted_strain_microstrain`` (the plan's predicted strain, ``Plan.strain``, at that phase,
+linear between slices; ``gait.gauge_names`` order, which is ``strain_names`` on the physics
+robot); without a plan, neither. For the standing robot
+the prediction is ``dbot.plan_standing(model)["strain_microstrain"]``.
 
 Rendering: ``render_mode="rgb_array"`` gives the demo's walk drawing of the present pose (top,
 side and front views on the scene's ground, blocks included; a ball is not drawn), 1200 x 420
@@ -66,6 +81,11 @@ Reward = Callable[[dict[str, Any], dict[str, Any], dict[str, np.ndarray], np.nda
 VELOCITY_BOUND = 50.0
 #: Bound of the load register (a signed 16-bit register).
 LOAD_BOUND = 32768.0
+#: Bound of a strain reading, microstrain: a strain of 1 (a segment stretched to twice its
+#: length), far beyond any intact segment (Drosophibot II standing: about 470 at the most).
+STRAIN_BOUND = 1e6
+#: Bound of the strain sample's age, s: samples come every 24 ms; a second leaves room.
+STRAIN_AGE_BOUND_S = 1.0
 
 
 def forward_progress(before: dict[str, Any], after: dict[str, Any], *_: object) -> float:
@@ -112,8 +132,20 @@ class DbotEnv(gym.Env):
             raise ValueError(f"cycles_per_step = {cycles_per_step}: give 1 or more")
         self.port = port
         self.model = model if model is not None else Model.builtin("drosophibot2")
+        self.scene = self._scene_of(port)
         # The table only tells the board its joint map, calibration, limits and stiffness.
-        self._table = (gait if gait is not None else plan(self.model, slices=20)).step_table()
+        base = gait if gait is not None else plan(self.model, slices=20)
+        self._table = base.step_table()
+        #: The gauges the observation carries (``strain_microstrain``'s order); empty on a board.
+        self.strain_names: list[str] = list(base.gauge_names) if self.physics else []
+        self.gait = gait
+        # The plan's prediction [slice, gauge], solved once (``Plan.strain`` solves on access).
+        self._predicted = (
+            np.asarray(gait.strain, dtype=np.float64)
+            if gait is not None and len(gait.gauge_names) > 0
+            else None
+        )
+        self._t0 = 0.0
         self.cycles_per_step = cycles_per_step
         self.max_episode_steps = max_episode_steps
         self.stiffness_nm_rad = stiffness_nm_rad
@@ -141,18 +173,24 @@ class DbotEnv(gym.Env):
         )
         self._angles_space = angles
         angle = spaces.Box(-2 * np.pi, 2 * np.pi, shape=(n,), dtype=np.float64)
-        self.observation_space = spaces.Dict(
-            {
-                "present_rad": angle,
-                "velocity_rad_s": spaces.Box(
-                    -VELOCITY_BOUND, VELOCITY_BOUND, shape=(n,), dtype=np.float64
-                ),
-                "load_raw": spaces.Box(-LOAD_BOUND, LOAD_BOUND, shape=(n,), dtype=np.float64),
-                "setpoint_age": spaces.Box(0.0, 65535.0, shape=(1,), dtype=np.float64),
-            }
-        )
+        observed: dict[str, spaces.Space] = {
+            "present_rad": angle,
+            "velocity_rad_s": spaces.Box(
+                -VELOCITY_BOUND, VELOCITY_BOUND, shape=(n,), dtype=np.float64
+            ),
+            "load_raw": spaces.Box(-LOAD_BOUND, LOAD_BOUND, shape=(n,), dtype=np.float64),
+            "setpoint_age": spaces.Box(0.0, 65535.0, shape=(1,), dtype=np.float64),
+        }
+        if self.strain_names:
+            g = len(self.strain_names)
+            observed["strain_microstrain"] = spaces.Box(
+                -STRAIN_BOUND, STRAIN_BOUND, shape=(g,), dtype=np.float64
+            )
+            observed["strain_age_s"] = spaces.Box(
+                0.0, STRAIN_AGE_BOUND_S, shape=(1,), dtype=np.float64
+            )
+        self.observation_space = spaces.Dict(observed)
         self.board: Board | None = None
-        self.scene = self._scene_of(port)
         self._steps = 0
         self._info: dict[str, Any] = {}
         self._start_height = 0.0
@@ -171,6 +209,12 @@ class DbotEnv(gym.Env):
     def physics(self) -> bool:
         """Whether the environment runs on the physics robot."""
         return self.scene is not None
+
+    @property
+    def has_strain(self) -> bool:
+        """Whether the observation carries the strain gauges (``strain_microstrain``,
+        ``strain_age_s``): on the physics robot with a model that has gauges; not on a board."""
+        return bool(self.strain_names)
 
     # -- reset -------------------------------------------------------------------------------
 
@@ -212,6 +256,7 @@ class DbotEnv(gym.Env):
         if got is None:
             raise RuntimeError(f"{self.port}: streaming stopped at once: {board.status()}")
         obs, rec = got
+        self._t0 = float(rec["time_s"][0])
         self._info = self._make_info(rec)
         if self.physics:
             self._start_height = float(self._info["body"]["thorax_position_m"][2])
@@ -334,6 +379,9 @@ class DbotEnv(gym.Env):
             "load_raw": np.asarray(rec["load_raw"][0], dtype=np.float64),
             "setpoint_age": np.asarray(rec["setpoint_age"][:1], dtype=np.float64),
         }
+        if self.strain_names:
+            obs["strain_microstrain"] = np.asarray(rec["strain_microstrain"][0], dtype=np.float64)
+            obs["strain_age_s"] = np.asarray(rec["strain_age_s"][:1], dtype=np.float64)
         self._last_obs = obs
         return obs, rec
 
@@ -342,7 +390,29 @@ class DbotEnv(gym.Env):
         info: dict[str, Any] = {"time_s": float(rec["time_s"][0]), "state": "Streaming"}
         if self.physics:
             info["body"] = self.board.body()
+        if self._predicted is not None:
+            phase = self.plan_phase(info["time_s"])
+            info["plan_phase"] = phase
+            info["predicted_strain_microstrain"] = self.predicted_strain(phase)
         return info
+
+    def plan_phase(self, time_s: float) -> float:
+        """The plan's phase at ``time_s`` (the proprioception clock): the time since reset over
+        the plan's period, modulo 1. Needs ``gait=``."""
+        if self.gait is None:
+            raise RuntimeError("plan_phase needs the plan: give DbotEnv(gait=...)")
+        return float(((time_s - self._t0) / self.gait.period_s) % 1.0)
+
+    def predicted_strain(self, phase: float) -> np.ndarray:
+        """The plan's predicted strain at ``phase`` (fraction of the period), microstrain per
+        gauge: linear between the slices (slice ``s`` at phase ``s / slices``)."""
+        if self._predicted is None:
+            raise RuntimeError("predicted_strain needs a plan with gauges: give DbotEnv(gait=...)")
+        n = self._predicted.shape[0]
+        s = (phase % 1.0) * n
+        s0 = int(math.floor(s)) % n
+        w = s - math.floor(s)
+        return (1.0 - w) * self._predicted[s0] + w * self._predicted[(s0 + 1) % n]
 
     def _fell(self, info: dict[str, Any]) -> bool:
         if "body" not in info:

@@ -11,7 +11,16 @@ feed-forward) and measures:
 
 * ``distance_m``: the thorax's advance along world x;
 * ``slip_m``: the distance the loaded feet slid (foot slip speed x dt, summed over feet);
-* ``tracking_rad``: RMS of present - commanded angle over every servo and bus cycle;
+* ``energy_j``: the mechanical work of the servos, sum over servos and bus cycles of
+  |torque x angular velocity| x dt (:func:`mechanical_energy_j`), from the observation alone (so
+  the same figure on a board): the angular velocity is the servos' Present Velocity
+  (``velocity_rad_s``), the torque an ESTIMATE from their load registers (``load_raw`` through
+  ``Model.load_torques_nm``: MX-28 load x stall torque, MX-64 current x stall torque / stall
+  current), not the simulation's actuator torque. Absolute values: braking work counts too (a
+  servo spends energy holding back as well as pushing);
+* ``tracking_rad``: RMS of target - present angle over every servo and bus cycle, the target
+  being the plan's angle sent (the action's ``angles_rad``; the firmware adds the torque bias
+  on top, which is meant to bring the present angle onto it);
 * ``fell``: whether the episode ended in a fall or a firmware fault (``DbotEnv``'s rule);
 * ``sim_s``: simulated time.
 
@@ -20,7 +29,7 @@ Rollouts are deterministic (fixed seed, simulated time), so every backend gives 
     rows = sweep(gait_rollout, grid(translation_m=[0.04, 0.085], swing_s=[0.8, 1.0]))
     rows = sweep(gait_rollout, points, backend="ray")                      # local cluster
     rows = sweep(gait_rollout, points, backend="ray", address="ray://head:10001")
-    print(table(rows)); plot_pareto(rows, "distance_m", "slip_m", "pareto.png")
+    print(table(rows)); plot_pareto(rows, "distance_m", "energy_j", "pareto.png")
 """
 
 from __future__ import annotations
@@ -41,6 +50,17 @@ def grid(**axes: Sequence[Any]) -> list[dict[str, Any]]:
     """Every combination of the axes' values, e.g. ``grid(a=[1, 2], b=[3])``."""
     keys = list(axes)
     return [dict(zip(keys, values, strict=True)) for values in itertools.product(*axes.values())]
+
+
+def mechanical_energy_j(torque_nm: np.ndarray, velocity_rad_s: np.ndarray, dt_s: float) -> float:
+    """Mechanical work, J: sum over samples and joints of |torque x angular velocity| x ``dt_s``
+    (``torque_nm`` and ``velocity_rad_s`` [sample, joint], N m and rad/s, one sample per
+    ``dt_s``)."""
+    tau = np.asarray(torque_nm, dtype=np.float64)
+    omega = np.asarray(velocity_rad_s, dtype=np.float64)
+    if tau.shape != omega.shape:
+        raise ValueError(f"torque_nm has shape {tau.shape}, velocity_rad_s {omega.shape}: give the same")
+    return float(np.sum(np.abs(tau * omega)) * dt_s)
 
 
 def gait_rollout(params: dict[str, Any]) -> Row:
@@ -65,6 +85,7 @@ def gait_rollout(params: dict[str, Any]) -> Row:
     rest = env.rest_rad
     x0 = info["body"]["thorax_position_m"][0]
     slip, err2, n_err, fell = 0.0, 0.0, 0, False
+    torque, velocity = [], []
     blend_s = 0.5
     for k in range(steps):
         t = k * dt
@@ -80,6 +101,8 @@ def gait_rollout(params: dict[str, Any]) -> Row:
         slip += float(np.sum(np.asarray(body["foot_slip_m_s"]) * np.asarray(body["foot_contact"]))) * dt
         err2 += float(np.sum((obs["present_rad"] - target) ** 2))
         n_err += target.size
+        torque.append(model.load_torques_nm(obs["load_raw"]))
+        velocity.append(obs["velocity_rad_s"])
         if terminated:
             fell = True
             break
@@ -88,6 +111,7 @@ def gait_rollout(params: dict[str, Any]) -> Row:
     row.update(
         distance_m=float(info["body"]["thorax_position_m"][0] - x0),
         slip_m=slip,
+        energy_j=mechanical_energy_j(np.array(torque), np.array(velocity), dt) if torque else 0.0,
         tracking_rad=math.sqrt(err2 / max(n_err, 1)),
         fell=fell,
         sim_s=float(info["time_s"]),

@@ -11,11 +11,20 @@ U the membrane voltage above rest (mV), C in nF, conductances in uS, currents in
 * a rhythm generator: a swing (SW) and a stance (ST) neuron inhibiting each other (a half-centre,
   winner-take-all), both with the same tonic drive;
 * three sensory neurons: AEP (the leg has reached the end of its swing), PEP (the end of its
-  stance) and LOAD (the leg's servos carry more load than their running mean: campaniform
-  sensilla). AEP excites ST and inhibits SW; PEP excites SW and inhibits ST; LOAD excites ST (a
-  loaded leg does not lift; on an incline the hind legs push longer);
+  stance) and LOAD (the leg is loaded more than its running mean). AEP excites ST and inhibits
+  SW; PEP excites SW and inhibits ST; LOAD excites ST (a loaded leg does not lift; on an incline
+  the hind legs push longer);
 * between legs, each SW inhibits the SW of its neighbours (ipsilateral and contralateral), so
   neighbours do not swing together (Cruse's first coordination rule); a tripod emerges.
+
+What LOAD senses: where the observation carries the strain gauges (the physics robot:
+``DbotEnv.has_strain``), the leg's six gauges at the insect's trochanteral and femoral
+campaniform-sensilla fields (trochanter axial, transverse, 45 deg; femur +45, -45 deg, axial),
+as the insect's CS signal load: the RMS of their readings (microstrain), over its running mean.
+The cuticle strains while the leg carries the body and hardly in swing, so this is the CS's
+load signal. Without strain (a board with no strain board beside it) LOAD falls back on the
+leg's servo load registers (mean |load_raw|), over their running mean. ``run`` says which it
+used (``feedback``: ``strain`` or ``load``).
 
 The motor layer moves each leg along its planned footpath (`dbot.plan`'s joint angles over one
 step cycle, with the plan's joint torques as the torque feed-forward of the setpoint): its
@@ -28,7 +37,8 @@ Linux torch wheels pull the CUDA runtime (gigabytes) - too heavy for this projec
 network here is small (30 neurons) and written out in full.
 
 The same script runs on the physics robot and on a board (the RP2040 emulator's pty, a real
-board): the controller reads only the observation (present angles, load registers).
+board): the controller reads only the observation (strain where there is strain, else the load
+registers).
 
     .venv/bin/python python/examples/sns_walk.py --port physics --cycles 4 --out out/sns
     .venv/bin/python python/examples/sns_walk.py --port physics:incline:6 --cycles 4 --out out/sns
@@ -131,7 +141,10 @@ class SNSController:
     """The network, its sensors and the motor layer for one plan; `act(obs, dt)` -> action."""
 
     def __init__(self, model: dbot.Model, plan: dbot.Plan, gains: dict[str, float] | None = None,
-                 load_tau_s: float = 2.0, end_window: float = 0.04) -> None:
+                 load_tau_s: float = 2.0, end_window: float = 0.04,
+                 strain_names: list[str] | None = None) -> None:
+        """``strain_names``: the observation's gauges (``DbotEnv.strain_names``); given and not
+        empty, LOAD senses strain, else the servo load registers."""
         self.plan = plan
         self.legs = list(plan.legs)
         self.duty = plan.duty
@@ -158,14 +171,35 @@ class SNSController:
         for i in range(len(self.legs)):
             u[self._neuron(i, "SW" if self.swinging[i] else "ST")] = R_MV
         self.load_mean: np.ndarray | None = None
+        names = list(strain_names or [])
+        #: Each leg's gauges (columns of ``strain_microstrain``), or None: the load fallback.
+        self.leg_gauges = (
+            [np.array([k for k, g in enumerate(names) if g.startswith(leg + "_")]) for leg in self.legs]
+            if names
+            else None
+        )
+        if self.leg_gauges is not None:
+            missing = [leg for leg, g in zip(self.legs, self.leg_gauges, strict=True) if g.size == 0]
+            if missing:
+                raise ValueError(f"strain_names has no gauge of leg {', '.join(missing)}")
+        self.feedback = "strain" if self.leg_gauges is not None else "load"
 
     def _neuron(self, leg: int, name: str) -> int:
         return leg * self.k + LEG_NEURONS.index(name)
 
-    def _sensors(self, load_raw: np.ndarray, dt: float) -> np.ndarray:
+    def leg_load(self, obs: dict[str, np.ndarray]) -> np.ndarray:
+        """What LOAD senses per leg: the RMS of the leg's gauges (microstrain) with strain, else
+        the mean |load_raw| of its servos."""
+        if self.leg_gauges is not None:
+            s = obs["strain_microstrain"]
+            return np.array([np.sqrt(np.mean(s[g] ** 2)) for g in self.leg_gauges])
+        return np.array([np.abs(obs["load_raw"][c]).mean() for c in self.leg_servos])
+
+    def _sensors(self, obs: dict[str, np.ndarray], dt: float) -> np.ndarray:
         """Sensor currents (nA): AEP and PEP ramp to R x G_m over the last `end_window` of swing
-        and stance; LOAD is the leg's excess load over its running mean, in R per 100 %."""
-        load = np.array([np.abs(load_raw[c]).mean() for c in self.leg_servos])
+        and stance; LOAD is the leg's excess load (strain or servo load, `leg_load`) over its
+        running mean, in R per 100 %."""
+        load = self.leg_load(obs)
         if self.load_mean is None:
             self.load_mean = np.maximum(load, 1.0)
         self.load_mean += dt / self.load_tau_s * (load - self.load_mean)
@@ -182,7 +216,7 @@ class SNSController:
 
     def step(self, obs: dict[str, np.ndarray], dt: float) -> None:
         """Senses `obs`, advances the network and the legs' positions by `dt` seconds."""
-        self.net.step(dt, self._sensors(obs["load_raw"], dt))
+        self.net.step(dt, self._sensors(obs, dt))
         a = self.net.activity()
         for leg in range(len(self.legs)):
             sw, st = a[self._neuron(leg, "SW")], a[self._neuron(leg, "ST")]
@@ -213,10 +247,14 @@ class SNSController:
 
 
 def run(port: str, cycles: float, gains: dict[str, float] | None = None, max_steps: int | None = None,
-        blend_s: float = 0.5, seed: int = 0) -> dict[str, np.ndarray]:
+        blend_s: float = 0.5, seed: int = 0, feedback: str = "auto") -> dict[str, np.ndarray]:
     """Walks `cycles` planned step periods on `port`; returns the run's record: time, neuron
     activity [step, neuron], controller stance [step, leg], measured foot contact (physics only),
-    thorax x (physics only), and whether it fell or the firmware faulted."""
+    thorax x (physics only), what LOAD sensed (`feedback`: `strain` where the observation has
+    it, else `load`) and whether it fell or the firmware faulted. `feedback="load"` senses the
+    servo load even where there is strain (for comparison)."""
+    if feedback not in ("auto", "load"):
+        raise ValueError(f"feedback = {feedback!r}: give 'auto' (strain where there is strain) or 'load'")
     model = dbot.Model.builtin("drosophibot2")
     # The footpaths are planned for the scene where the planner can (flat, an incline: there
     # its torques carry the tilted weight); for other ground (blocks) the flat plan.
@@ -228,7 +266,8 @@ def run(port: str, cycles: float, gains: dict[str, float] | None = None, max_ste
     if max_steps is not None:
         steps = min(steps, max_steps)
     env = DbotEnv(port, model=model, gait=plan, torques=True, max_episode_steps=steps + 1)
-    ctl = SNSController(model, plan, gains)
+    strain = env.strain_names if feedback == "auto" else None
+    ctl = SNSController(model, plan, gains, strain_names=strain)
     obs, info = env.reset(seed=seed)
     rest = env.rest_rad
     rec: dict[str, list] = {"time_s": [], "activity": [], "stance": [], "contact": [], "x_m": []}
@@ -251,6 +290,7 @@ def run(port: str, cycles: float, gains: dict[str, float] | None = None, max_ste
     env.close()
     out = {k: np.asarray(v) for k, v in rec.items()}
     out["ended"] = np.asarray(ended)
+    out["feedback"] = np.asarray(ctl.feedback)
     out["legs"] = np.asarray(ctl.legs)
     out["neurons"] = np.asarray([f"{leg}_{n}" for leg in ctl.legs for n in LEG_NEURONS])
     return out
@@ -276,7 +316,8 @@ def plot(rec: dict[str, np.ndarray], path: pathlib.Path) -> None:
                            linewidth=0, label="foot contact (measured)")
         for name, style in (("SW", "C0-"), ("ST", "C1-"), ("LOAD", "C2:")):
             j = list(rec["neurons"]).index(f"{leg}_{name}")
-            a.plot(t, rec["activity"][:, j], style, linewidth=1, label=name)
+            label = f"LOAD ({rec['feedback']})" if name == "LOAD" else name
+            a.plot(t, rec["activity"][:, j], style, linewidth=1, label=label)
         a.set_ylabel(f"{leg}\nU / R")
         a.set_ylim(0, 1.3)
     ax[0].legend(fontsize=7, ncol=5, loc="upper right")
@@ -293,12 +334,14 @@ def main() -> None:
     ap.add_argument("--port", default="physics", help="`physics[:SCENE]`, a pty path or a board")
     ap.add_argument("--cycles", type=float, default=4.0, help="planned step periods to walk")
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/sns"))
+    ap.add_argument("--feedback", default="auto", choices=["auto", "load"],
+                    help="what LOAD senses: strain where the port streams it (auto), or servo load")
     args = ap.parse_args()
-    rec = run(args.port, args.cycles)
+    rec = run(args.port, args.cycles, feedback=args.feedback)
     args.out.mkdir(parents=True, exist_ok=True)
     plot(rec, args.out / "sns_walk.png")
     if rec["x_m"].size:
-        print(f"walked {rec['x_m'][-1] - rec['x_m'][0]:.3f} m in {rec['time_s'][-1] - rec['time_s'][0]:.1f} s; fell or faulted: {rec['ended']}")
+        print(f"walked {rec['x_m'][-1] - rec['x_m'][0]:.3f} m in {rec['time_s'][-1] - rec['time_s'][0]:.1f} s; fell or faulted: {rec['ended']}; LOAD sensed {rec['feedback']}")
     print(f"wrote {args.out / 'sns_walk.png'}")
 
 

@@ -1,7 +1,8 @@
-"""A gait study over many rollouts: stride and swing time -> distance, slip, tracking error and
-falls of the physics robot with the firmware in the loop, run on Ray (a local cluster, or any
-cluster by `--address`), written as a tidy table (CSV and Markdown) and a Pareto plot of distance
-against slip.
+"""A gait study over many rollouts: stride and swing time -> distance, slip, energy, tracking
+error and falls of the physics robot with the firmware in the loop, run on Ray (a local cluster,
+or any cluster by `--address`), written as a tidy table (CSV and Markdown) and a Pareto plot of
+distance against energy (the servos' mechanical work, from an ESTIMATE of their torque from the
+load registers: `dbot.sweep.mechanical_energy_j`).
 
     .venv/bin/python python/examples/sweep_gaits.py --out out/sweep                     # local Ray
     .venv/bin/python python/examples/sweep_gaits.py --address HEAD:6379 --out out/sweep # a cluster
@@ -38,7 +39,7 @@ def main() -> None:
         w.writeheader()
         w.writerows(rows)
     (args.out / "sweep.md").write_text(table(rows) + "\n")
-    front = plot_pareto(rows, "distance_m", "slip_m", str(args.out / "pareto.png"))
+    front = plot_pareto(rows, "distance_m", "energy_j", str(args.out / "pareto.png"))
     print(table([rows[i] for i in front]))
     print(f"{len(rows)} rollouts, {sum(r['fell'] for r in rows)} fell; the Pareto front above; "
           f"wrote {args.out}/sweep.csv, sweep.md, pareto.png")

@@ -15,6 +15,7 @@ mod plan;
 mod plan_dir;
 mod records;
 mod render;
+mod standing;
 mod stream;
 mod trial;
 
@@ -37,5 +38,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     lab::register(m)?;
     render::register(m)?;
+    standing::register(m)?;
     Ok(())
 }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use numpy::ndarray::Array2;
-use numpy::{PyArray2, ToPyArray};
+use numpy::{PyArray2, PyArrayDyn, PyReadonlyArrayDyn, ToPyArray};
 use pyo3::prelude::*;
 
 use crate::errors::value_error;
@@ -13,6 +13,25 @@ use crate::errors::value_error;
 #[derive(Debug, Clone)]
 pub struct Model {
     pub(crate) inner: planner::model::Model,
+}
+
+/// Register values as floats: a float or integer array (or sequence) of any shape.
+fn registers(v: &Bound<'_, PyAny>) -> PyResult<numpy::ndarray::ArrayD<f64>> {
+    if let Ok(a) = v.extract::<PyReadonlyArrayDyn<'_, f64>>() {
+        return Ok(a.as_array().to_owned());
+    }
+    if let Ok(a) = v.extract::<PyReadonlyArrayDyn<'_, i32>>() {
+        return Ok(a.as_array().mapv(f64::from));
+    }
+    if let Ok(a) = v.extract::<PyReadonlyArrayDyn<'_, i64>>() {
+        return Ok(a.as_array().mapv(|x| x as f64));
+    }
+    if let Ok(a) = v.extract::<Vec<f64>>() {
+        return Ok(numpy::ndarray::Array1::from(a).into_dyn());
+    }
+    Err(value_error(
+        "load_torques_nm: load_raw: give an array of register values (float or integer)",
+    ))
 }
 
 /// Every joint's name in model order (`Model`, `Plan` and `PlanDir.joint_names`).
@@ -83,6 +102,62 @@ impl Model {
                 planner::model::Actuation::Fixed { .. } => 0.0,
             })
             .collect()
+    }
+
+    /// Servo torques estimated from register 126 values (`load_raw` of proprioception or of the
+    /// environment's observation), N m: an array of `load_raw`'s shape, its last axis the servo
+    /// joints (`servo_joint_names` order). An ESTIMATE (`dynamixel::units::load_to_torque_nm`, as
+    /// `dbot record`'s `torque_estimate_nm`): MX-28 Present Load (0.1 % of maximum, itself
+    /// estimated by the servo) times its stall torque; MX-64 Present Current (3.36 mA/unit) times
+    /// stall torque / stall current. Sign: the register's (the servo's direction). NaN for a
+    /// joint driven by a generic actuator (no servo). ValueError if the last axis is not the
+    /// servo count or a value is not a register value (an integer in -32768..32767).
+    fn load_torques_nm<'py>(
+        &self,
+        py: Python<'py>,
+        load_raw: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let a = registers(load_raw)?;
+        let joints = planner::plan::table::servo_joints(&self.inner);
+        let shape = a
+            .shape()
+            .iter()
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        if a.ndim() == 0 || a.shape()[a.ndim() - 1] != joints.len() {
+            return Err(value_error(format!(
+                "load_torques_nm: load_raw has shape ({shape}); its last axis must be the {} servo \
+                 joints of {}",
+                joints.len(),
+                self.inner.name
+            )));
+        }
+        let servos: Vec<Option<protocol::ServoModel>> = joints
+            .iter()
+            .map(|&j| match self.inner.joints[j].actuation {
+                planner::model::Actuation::Actuated { actuator, .. } => actuator.servo(),
+                planner::model::Actuation::Fixed { .. } => None,
+            })
+            .collect();
+        let mut out = a;
+        let last = numpy::ndarray::Axis(out.ndim() - 1);
+        for mut lane in out.lanes_mut(last) {
+            for (k, v) in lane.iter_mut().enumerate() {
+                let raw = *v;
+                if raw.fract() != 0.0 || !(-32768.0..=32767.0).contains(&raw) {
+                    return Err(value_error(format!(
+                        "load_torques_nm: load_raw {raw} of {} is not a register value (an \
+                         integer in -32768..32767)",
+                        self.inner.joints[joints[k]].name
+                    )));
+                }
+                *v = servos[k].map_or(f64::NAN, |m| {
+                    f64::from(dynamixel::units::load_to_torque_nm(m, raw as i16))
+                });
+            }
+        }
+        Ok(out.to_pyarray(py))
     }
 
     /// Legs of the model (`LF`, ...), in foot order.

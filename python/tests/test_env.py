@@ -6,9 +6,15 @@
   each its own physics robot);
 * reset leaves the robot standing in its resting posture, streaming, no step played, and a
   standing robot is not a fall; holding the rest posture, the thorax stays at its height;
+* the strain in the observation is the body's: standing with the torque bias, the 36 gauges read
+  what the planner predicts for the standing robot (`dbot.plan_standing`, the prediction of the
+  `strain` block of docs/validation.md, where the simulated gauges are 2.46 % RMS off it), and
+  each reading is at most 24 ms old (the sampling period);
+* with a plan given, `info` holds the plan's predicted strain at the step phase (time since reset
+  over the period), linear between slices: checked against `Plan.strain` by hand;
 * the same class opens on the emulated board's pty (the release firmware image in the RP2040
-  emulator, conftest.py's `emulator_port`) with the same spaces, and its `info` holds only what a
-  board knows (no `body`).
+  emulator, conftest.py's `emulator_port`) with the same action space and the observation space
+  without strain (a board streams none), and its `info` holds only what a board knows (no `body`).
 """
 
 from __future__ import annotations
@@ -17,7 +23,10 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
+import dbot
 from dbot.env import DbotEnv
+
+STRAIN_KEYS = {"strain_microstrain", "strain_age_s"}
 
 
 def test_check_env_passes_on_the_physics_robot() -> None:
@@ -124,11 +133,77 @@ def test_a_fall_terminates() -> None:
     env.close()
 
 
+def test_standing_with_the_bias_the_observed_strain_is_what_the_planner_predicts() -> None:
+    # The setpoint of dbot.plan_standing (its angles, its torques as the bias) on the physics
+    # robot, as the `strain` block of docs/validation.md stands it (there 2.46 % RMS off the
+    # prediction, worst gauge 15 microstrain of 470): here the bias comes on after reset's settle
+    # rather than as gravity ramps in, so the feet took their load unbiased first; measured
+    # 1.36 % RMS, worst gauge 8.4 microstrain of 470.6 (-s prints it). Bound: 5 % RMS and 30
+    # microstrain, host/physics/tests/strain_standing.rs's bounds.
+    model = dbot.Model.builtin("drosophibot2")
+    standing = dbot.plan_standing(model)
+    env = DbotEnv("physics", model=model, max_episode_steps=300, torques=True)
+    assert env.has_strain and env.strain_names == standing["gauge_names"]
+    assert len(env.strain_names) == 36 and env.strain_names[0] == "LH_troch_axial"
+    assert STRAIN_KEYS <= set(env.observation_space.spaces)
+    obs, _ = env.reset(seed=0)
+    # The resting posture the environment holds is the planner's standing one (to the wire's
+    # resolution and the few mrad the joints settle by when torque comes on).
+    assert np.max(np.abs(env.rest_rad - standing["angles_rad"])) < 0.01
+    action = {"angles_rad": standing["angles_rad"], "torques_nm": standing["torques_nm"]}
+    ages = []
+    for _ in range(200):
+        obs, _, terminated, _, _ = env.step(action)
+        assert not terminated
+        ages.append(obs["strain_age_s"][0])
+    assert env.observation_space.contains(obs)
+    assert 0.0 <= min(ages) and max(ages) <= 0.024 + 1e-9, (min(ages), max(ages))
+    sim, pred = obs["strain_microstrain"], standing["strain_microstrain"]
+    rel = np.sqrt(np.mean((sim - pred) ** 2) / np.mean(pred**2))
+    worst = np.max(np.abs(sim - pred))
+    print(f"standing, bias on: {100 * rel:.2f} % RMS, worst {worst:.1f} microstrain of {np.max(np.abs(pred)):.1f}")
+    assert rel < 0.05, rel
+    assert worst < 30.0, worst
+    assert np.max(np.abs(pred)) > 100.0  # not a trivial agreement
+    env.close()
+
+
+def test_info_holds_the_plans_predicted_strain_at_the_step_phase() -> None:
+    model = dbot.Model.builtin("drosophibot2")
+    plan = dbot.plan(model, slices=50)
+    # servo-safe: a 2.5 s period in 50 slices, a slice every 50 ms = 5 bus cycles of 10 ms.
+    assert plan.period_s == pytest.approx(2.5) and plan.slices == 50
+    predicted = plan.strain
+    env = DbotEnv("physics", model=model, gait=plan, max_episode_steps=20)
+    _, info = env.reset(seed=0)
+    assert info["plan_phase"] == 0.0
+    np.testing.assert_allclose(info["predicted_strain_microstrain"], predicted[0], rtol=1e-12)
+    for _ in range(7):
+        _, _, _, _, info = env.step(env.rest_rad)
+    # 7 cycles = 70 ms = 1.4 slices: 0.6 of slice 1 and 0.4 of slice 2.
+    assert info["plan_phase"] == pytest.approx(0.07 / 2.5, abs=1e-9)
+    np.testing.assert_allclose(
+        info["predicted_strain_microstrain"], 0.6 * predicted[1] + 0.4 * predicted[2], rtol=1e-6, atol=1e-6
+    )
+    # Past the period's end it wraps: phase 0.99 lies between the last slice and slice 0.
+    np.testing.assert_allclose(env.predicted_strain(0.99), 0.5 * predicted[49] + 0.5 * predicted[0], atol=1e-9)
+    env.close()
+    # Without a plan, no prediction.
+    env = DbotEnv("physics", max_episode_steps=5)
+    _, info = env.reset(seed=0)
+    assert "predicted_strain_microstrain" not in info and "plan_phase" not in info
+    env.close()
+
+
 def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
     phys = DbotEnv("physics", max_episode_steps=5)
     board_env = DbotEnv(emulator_port, max_episode_steps=5)
     assert board_env.action_space == phys.action_space
-    assert board_env.observation_space == phys.observation_space
+    # A board streams no strain: the physics robot's space without the gauges.
+    assert phys.has_strain and not board_env.has_strain
+    assert set(phys.observation_space.spaces) - set(board_env.observation_space.spaces) == STRAIN_KEYS
+    for key, space in board_env.observation_space.spaces.items():
+        assert space == phys.observation_space[key], key
     obs, info = board_env.reset(seed=0)
     assert board_env.observation_space.contains(obs)
     assert set(info) == {"time_s", "state"}

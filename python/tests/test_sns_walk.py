@@ -2,10 +2,14 @@
 
 * its neurons are leaky integrators with graded synapses: steady states checked against the hand
   solution of C dU/dt = -G_m U + g (E - U) + I (U = (I + g E) / (G_m + g));
-* on the physics robot it walks the planned tripod's distance (to 60 %) on flat ground and up a
-  6 degree incline without a fall or a fault (uphill it is marginal: see the parameters below), and the feet touch the ground when its network
-  says stance (measured contact against the controller's stance);
-* the same script runs on the emulated board (the release firmware in the RP2040 emulator).
+* on the physics robot, its LOAD neurons fed by the legs' strain gauges (the trochanteral and
+  femoral CS fields), it walks the planned tripod's distance (to 60 %) on flat ground and up a
+  6 degree incline without a fall or a fault (uphill it is marginal: see the parameters below),
+  and the feet touch the ground when its network says stance (measured contact against the
+  controller's stance); the strain it senses is a load signal: its LOAD neurons fire in the
+  measured stance, not in swing;
+* the same script runs on the emulated board (the release firmware in the RP2040 emulator), where
+  there is no strain, on the servo load (the fallback).
 """
 
 from __future__ import annotations
@@ -56,14 +60,17 @@ def test_neurons_settle_where_the_membrane_equation_says(sns) -> None:
     # The plan moves the thorax 0.085 m per tripod stance, two per cycle (dbot.plan's default,
     # servo-safe: 2.5 s cycles): 3 cycles are 0.51 m, 4 are 0.68 m. ESTIMATE of what is fair:
     # 60 % flat; up the incline (gravity pulls back) a third of that. Uphill the controller is
-    # marginal: after the servo-model and calibration refactor (conversions now to the
-    # microradian) it falls within 4 cycles at 5, 8, 10 and 12 degrees and walks at 3 and 6
-    # (0.43 m at 6): its outcome is not monotonic in the slope, so 6 degrees tests that it can
-    # climb, not how steep it can climb. It walked 10 degrees before that refactor.
+    # marginal. With strain feedback (measured, 4 cycles): it walks at 3, 4, 5 and 6 degrees
+    # (0.53 m at 6) and falls at 7, 8, 10 and 12; flat, 0.38 m in 3 cycles. With the servo load
+    # instead (`feedback="load"`): it walks at 3, 4 and 6 degrees (0.43 m at 6) and falls at 5,
+    # 7, 8, 10 and 12, its outcome not monotonic in the slope (since the servo-model and
+    # calibration refactor; it walked 10 degrees before). So 6 degrees tests that it can climb,
+    # not how steep it can climb.
     [("flat", 3, 0.6 * 0.51), ("incline:6", 4, 0.2 * 0.68)],
 )
 def test_it_walks_a_set_distance_without_a_fall(sns, scene, cycles, at_least_m) -> None:
     rec = sns.run(f"physics:{scene}", cycles)
+    assert str(rec["feedback"]) == "strain"
     assert str(rec["ended"]) == "no"
     assert len(rec["time_s"]) == round(cycles * 2.5 / 0.01)
     walked = rec["x_m"][-1] - rec["x_m"][0]
@@ -74,10 +81,18 @@ def test_it_walks_a_set_distance_without_a_fall(sns, scene, cycles, at_least_m) 
     settled = slice(250, None)
     agree = np.mean(rec["contact"][settled] == rec["stance"][settled])
     assert agree > 0.75, agree
+    # The gauges signal load: each leg's LOAD neuron is more active while its foot is measured
+    # on the ground than while it is in the air (the cuticle strains under the body's weight).
+    names = list(rec["neurons"])
+    for i, leg in enumerate(rec["legs"]):
+        load = rec["activity"][settled, names.index(f"{leg}_LOAD")]
+        down = rec["contact"][settled][:, i]
+        assert load[down].mean() > load[~down].mean(), leg
 
 
 def test_the_same_script_runs_on_the_emulated_board(sns, emulator_port) -> None:
     rec = sns.run(emulator_port, cycles=1.0, max_steps=25)
+    assert str(rec["feedback"]) == "load"  # no strain on a board: the servo load
     assert str(rec["ended"]) == "no"
     assert rec["activity"].shape == (25, 30)
     assert rec["x_m"].size == 0 and rec["contact"].size == 0

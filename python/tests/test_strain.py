@@ -138,3 +138,22 @@ def test_compare_strain_names_a_folder_that_is_not_a_trial(tmp_path) -> None:
         assert str(tmp_path / "nothing") in str(e)
     else:
         raise AssertionError("a missing trial was accepted")
+
+
+def test_the_standing_prediction_carries_the_weight() -> None:
+    # dbot.plan_standing solves the resting posture as a slice: its foot forces hold the body
+    # (Newton: vertical sum = m g, horizontal sum = 0), its gauges obey Poisson at each site,
+    # and the servo columns are the model's.
+    model = dbot.Model.builtin("drosophibot2")
+    st = dbot.plan_standing(model)
+    f = st["foot_force_n"]
+    assert f.shape == (6, 3)
+    np.testing.assert_allclose(f.sum(axis=0), [0.0, 0.0, model.mass_kg * 9.81], atol=1e-6 * model.mass_kg * 9.81)
+    assert st["angles_rad"].shape == st["torques_nm"].shape == (len(model.servo_joint_names),)
+    assert st["gauge_names"] == [f"{leg}_{g}" for leg in BOARD_LEGS for g in PER_LEG]
+    s = st["strain_microstrain"]
+    names = st["gauge_names"]
+    for leg in BOARD_LEGS:
+        axial = s[names.index(f"{leg}_troch_axial")]
+        np.testing.assert_allclose(s[names.index(f"{leg}_troch_transverse")], -0.39 * axial, rtol=1e-12, atol=1e-9)
+    assert np.max(np.abs(s)) > 100.0

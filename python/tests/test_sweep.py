@@ -2,7 +2,10 @@
 process pool, on a local Ray cluster and against that cluster by its address (a separate
 driver process, as a machine elsewhere would join), with the same rows from every backend (the
 rollouts are deterministic); the figures respond to the parameters as physics says (twice the
-stride, about twice the distance); the Pareto front of hand-made rows is the hand-found one; and
+stride, about twice the distance, and more work); the energy is the sum of |torque x velocity| x dt
+computed by hand on a synthetic rollout, its torque the load registers' ESTIMATE of the e-manual's
+units (MX-28: 0.1 % of the stall torque; MX-64: 3.36 mA per unit times stall torque over stall
+current); the Pareto front of hand-made rows is the hand-found one; and
 `gymnasium.vector.AsyncVectorEnv` runs `DbotEnv` in worker processes with the same observations
 as one environment.
 """
@@ -18,7 +21,8 @@ import numpy as np
 import pytest
 
 from dbot.env import DbotEnv
-from dbot.sweep import gait_rollout, grid, pareto, sweep, table
+import dbot
+from dbot.sweep import gait_rollout, grid, mechanical_energy_j, pareto, sweep, table
 
 POINTS = grid(translation_m=[0.04, 0.085], cycles=[1.5])
 
@@ -42,7 +46,43 @@ def test_the_figures_follow_the_stride(serial_rows) -> None:
     for r in serial_rows:
         assert 0.0 <= r["slip_m"] < r["distance_m"]
         assert 0.0 < r["tracking_rad"] < 0.1
+        assert r["energy_j"] > 0.0
+    # The longer stride moves the joints further in the same time against the same weight.
+    assert long["energy_j"] > short["energy_j"], (short["energy_j"], long["energy_j"])
     assert "| translation_m | cycles | distance_m |" in table(serial_rows)
+
+
+def test_energy_of_a_synthetic_rollout_is_the_hand_sum() -> None:
+    # Two samples of two joints, 10 ms apart: |1 x 3| + |-2 x 1| + |0.5 x -4| + |0 x 7| = 7 W s
+    # per second of samples, times 0.01 s = 0.07 J.
+    tau = np.array([[1.0, -2.0], [0.5, 0.0]])
+    omega = np.array([[3.0, 1.0], [-4.0, 7.0]])
+    assert mechanical_energy_j(tau, omega, 0.01) == pytest.approx(0.07, abs=1e-15)
+    with pytest.raises(ValueError, match=r"torque_nm has shape \(2, 2\), velocity_rad_s \(2,\)"):
+        mechanical_energy_j(tau, omega[0], 0.01)
+
+
+def test_the_torque_estimate_from_the_load_registers_is_the_e_manuals() -> None:
+    model = dbot.Model.builtin("drosophibot2")
+    stall = np.asarray(model.servo_stall_torques_nm)
+    mx28, mx64 = int(np.argmax(stall == 2.5)), int(np.argmax(stall == 6.0))
+    load = np.zeros((2, stall.size))
+    load[0, mx28], load[1, mx28] = 400, -1000  # 40 % and -100 % of the MX-28's 2.5 N m
+    load[0, mx64] = 100  # 100 x 3.36 mA = 0.336 A, x 6.0 N m / 4.1 A
+    tau = model.load_torques_nm(load)
+    assert tau.shape == load.shape
+    assert tau[0, mx28] == pytest.approx(1.0, rel=1e-6)
+    assert tau[1, mx28] == pytest.approx(-2.5, rel=1e-6)
+    assert tau[0, mx64] == pytest.approx(0.336 * 6.0 / 4.1, rel=1e-6)
+    # Integer registers as proprioception gives them, the same.
+    np.testing.assert_array_equal(model.load_torques_nm(load.astype(np.int32)), tau)
+    name = model.servo_joint_names[3]
+    with pytest.raises(ValueError, match=f"load_raw 0.5 of {name} is not a register value"):
+        bad = np.zeros(stall.size)
+        bad[3] = 0.5
+        model.load_torques_nm(bad)
+    with pytest.raises(ValueError, match="its last axis must be the 22 servo joints"):
+        model.load_torques_nm(np.zeros(21))
 
 
 def test_pareto_front_of_hand_made_rows() -> None:
