@@ -44,7 +44,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ._native import Board, Model, camera_half_extent, plan
-from .env import DbotEnv, Reward, forward_progress
+from .env import STRAIN_AGE_BOUND_S, DbotEnv, Reward, forward_progress
 
 #: The family's default turn, rad of yaw per stance: about the largest whose first slice the
 #: board's switch rule admits beside the straight gait's at 20 slices (python/tests/test_steer.py:
@@ -267,8 +267,23 @@ class DescendingEnv(DbotEnv):
             "load_raw": np.asarray(rec["load_raw"][0], dtype=np.float64),
             "setpoint_age": np.zeros(1, dtype=np.float64),
         }
+        if self.strain_names:
+            obs.update(self._strain_now(float(rec["time_s"][0])))
         self._last_obs = obs
         return obs, rec
+
+    def _strain_now(self, time_s: float) -> dict[str, np.ndarray]:
+        """The physics robot's latest gauge sample and its age at the record's time `time_s`
+        (telemetry carries no strain, so it is read from the body, as streaming does)."""
+        assert self.board is not None
+        got = self.board.strain()
+        if got is None:
+            raise RuntimeError(f"{self.port}: no strain sample after bus cycle {self._cycle}")
+        age = min(max(time_s - float(got["time_s"]), 0.0), STRAIN_AGE_BOUND_S)
+        return {
+            "strain_microstrain": np.asarray(got["microstrain"], dtype=np.float64),
+            "strain_age_s": np.array([age], dtype=np.float64),
+        }
 
     def _info_of(self, rec: dict) -> dict[str, Any]:
         assert self.board is not None
@@ -280,6 +295,11 @@ class DescendingEnv(DbotEnv):
         }
         if self.physics:
             info["body"] = self.board.body()
+        if self._predicted is not None:
+            # The straight gait's prediction at the slice the board plays (a blend's own strain
+            # is not planned).
+            row = self._predicted[info["slice"] % len(self._predicted)]
+            info["predicted_strain_microstrain"] = row.copy()
         return info
 
     def close(self) -> None:

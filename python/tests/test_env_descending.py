@@ -91,10 +91,17 @@ def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
     phys = DescendingEnv("physics", max_episode_steps=5)
     env = DescendingEnv(emulator_port, max_episode_steps=40, cycles_per_step=10)
     assert env.action_space == phys.action_space
-    assert env.observation_space == phys.observation_space == DbotEnv("physics").observation_space
+    assert phys.observation_space == DbotEnv("physics").observation_space
+    # The board's space is the physics robot's without the gauges (no strain board beside it).
+    assert phys.has_strain and not env.has_strain
+    strain_keys = {"strain_microstrain", "strain_age_s"}
+    assert set(env.observation_space.spaces) == set(phys.observation_space.spaces) - strain_keys
+    for key, space in env.observation_space.spaces.items():
+        assert space == phys.observation_space[key], key
     obs, info = env.reset(seed=0)
     assert env.observation_space.contains(obs)
-    assert set(info) == {"time_s", "state", "step", "slice"} and info["state"] == "Standing"
+    assert set(info) == {"time_s", "state", "step", "slice", "predicted_strain_microstrain"}
+    assert info["state"] == "Standing"
     cycles = [int(env.last_record["cycle"][0])]
     states = []
     walking = []
