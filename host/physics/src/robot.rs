@@ -330,6 +330,7 @@ impl PhysicsRobot {
             foot_forces: self.plant.foot_forces(),
             foot_spheres: self.plant.foot_positions(),
             pose,
+            strain: None,
         });
     }
 
@@ -390,6 +391,10 @@ impl ServoDynamics for PhysicsRobot {
         self.push_state(chain);
         self.monitor.sample(&self.plant);
         self.log_sample(controller);
-        self.strain.sample(&self.plant);
+        if self.strain.sample(&self.plant)
+            && let Some(last) = self.log.as_mut().and_then(|l| l.samples.last_mut())
+        {
+            last.strain = self.strain.history.back().map(|s| s.microstrain());
+        }
     }
 }
