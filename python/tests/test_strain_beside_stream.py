@@ -22,8 +22,9 @@ import subprocess
 import time
 
 import numpy as np
+import pytest
 
-from conftest import record_timeout, servo_rest, standing_board
+from conftest import open_board, record_timeout, servo_rest, standing_board
 from dbot_cli import dbot_cli
 
 GAIN = 0.5  # counts per microstrain, `dbot sim-strain`'s default
@@ -115,3 +116,17 @@ def test_a_strain_board_hanging_up_costs_the_servo_stream_nothing(
     ages = [float(r["strain_age_s"][0]) for r in after]
     assert ages[-1] > ages[0] and np.all(np.isfinite([r["strain_microstrain"] for r in after]))
     assert error is not None and str(tmp_path / "strain") in error, error
+
+
+def test_attach_strain_refuses_by_name(emulator_port, tmp_path) -> None:
+    board = open_board(emulator_port)
+    # The servo board's own port is not a strain board's.
+    with pytest.raises(ValueError, match="servo board's port"):
+        board.attach_strain(emulator_port, tmp_path / "s", GAIN)
+    with pytest.raises(ValueError, match="counts_per_microstrain = 0"):
+        board.attach_strain("virtual", tmp_path / "s", 0.0)
+    with pytest.raises(ValueError, match="no strain board is attached"):
+        board.detach_strain()
+    physics = open_board("physics")
+    with pytest.raises(ValueError, match="physics robot, whose proprioception already carries"):
+        physics.attach_strain("virtual", tmp_path / "p", GAIN)
