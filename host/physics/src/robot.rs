@@ -5,7 +5,8 @@
 //! firmware's cycle then reads them and writes new goals. Within a cycle's few milliseconds of
 //! bus traffic the servos report the state at its start (a real servo samples continuously: up
 //! to one cycle of extra latency here). On request it logs every cycle ([`WalkLog`]: gait slice,
-//! thorax pose, foot forces, joint angles every N cycles) for the demo's comparisons and animation.
+//! thorax pose, foot forces, joint angles every N cycles, the gauge samples taken in it) for the
+//! demo's comparisons and animation.
 
 use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport, robot_chain};
 use dynamixel::control_table as ct;
