@@ -318,11 +318,17 @@ class Proprioception(Records):
     setpoint_seq: npt.NDArray[np.int64]
     setpoint_age: npt.NDArray[np.int64]
     strain_names: NotRequired[list[str]]
-    """Physics robot only: the simulated gauges (the strain board's names)."""
+    """Physics robot, or a strain board attached (``Board.attach_strain``): the gauges (the
+    strain board's names)."""
     strain_microstrain: NotRequired[npt.NDArray[np.float64]]
-    """[record, gauge]: the latest simulated sample at or before each record (NaN: none)."""
+    """[record, gauge]: physics: the latest simulated sample at or before each record; attached
+    board: (counts - baseline) / gain of the latest sample when the host read the record (NaN:
+    none)."""
     strain_age_s: NotRequired[npt.NDArray[np.float64]]
-    """[record]: the record's time less that sample's (0 to 24 ms)."""
+    """[record]: physics: the record's time less that sample's (0 to 24 ms); attached board: the
+    host's read less the instant the sample's line ended (host clock)."""
+    strain_stopped: NotRequired[bool]
+    """Attached strain board only: it failed or went away (the servo stream goes on)."""
 
 class SimulatedStrain(TypedDict):
     time_s: float
@@ -497,6 +503,17 @@ class Board:
         """Targets for the next bus cycle (rad, joint-map order); returns the sequence number."""
     def next_proprioception(self, timeout_s: float = 0.1) -> Proprioception | None: ...
     def drain_proprioception(self) -> Proprioception: ...
+    def attach_strain(
+        self, port: str, strain_dir: str | PathLike[str], counts_per_microstrain: float
+    ) -> None:
+        """Starts the strain board on ``port`` beside this board (calibrated first, its first
+        sample the baseline; recorded into ``strain_dir``): every proprioception record then
+        carries ``strain_names``, ``strain_microstrain``, ``strain_age_s`` and
+        ``strain_stopped``. ValueError for the servo board's own port, a gain that is not
+        positive, the physics robot, or a board that will not calibrate."""
+    def detach_strain(self) -> str | None:
+        """Stops the attached strain board, aligns its strain.csv with this board's clock;
+        None, or why the strain stream stopped early."""
 
 class PhysicsWalk:
     """A recorded walk of a plan directory's gait on the physics robot (:func:`physics_walk`)."""

@@ -35,6 +35,8 @@ pub struct Board {
     next_seq: Mutex<u32>,
     /// Names of the joints in records (the tables this `Board` uploaded, the model).
     naming: Mutex<JointNaming>,
+    /// A strain board beside this board (`attach_strain`) and its counts per microstrain.
+    strain: Mutex<Option<(::board::strain::StrainBeside, f64)>>,
 }
 
 fn seconds(s: f64, what: &str) -> PyResult<Duration> {
@@ -64,6 +66,15 @@ impl Board {
         })?;
         if let Some((names, s)) = strain {
             records::proprioception_strain(py, &d, recs, &s, &names)?;
+        }
+        let mut beside = self.strain.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((b, gain)) = beside.as_mut() {
+            let now = std::time::Instant::now();
+            for r in recs {
+                b.note(r.time_us as f64 * 1e-6);
+            }
+            records::proprioception_strain_board(py, &d, recs.len(), b.latest(), now, *gain)?;
+            d.set_item("strain_stopped", b.failed())?;
         }
         Ok(d)
     }
@@ -110,6 +121,7 @@ impl Board {
             port: port.to_owned(),
             next_seq: Mutex::new(1),
             naming: Mutex::new(naming),
+            strain: Mutex::new(None),
         })
     }
 
@@ -610,6 +622,72 @@ impl Board {
     fn drain_proprioception<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let recs = self.with(py, |l| l.drain_proprioception())?;
         self.proprioception(py, &recs)
+    }
+
+    /// Starts the strain board on `port` (a serial path or pseudo-terminal; the servo board's own
+    /// port is refused) beside this board for streaming, recording it into `strain_dir` as
+    /// `record(..., strain=)` does (`board::strain::StrainBeside`: calibrated first, its first
+    /// sample the zero-strain baseline). From then on every proprioception record carries, as on
+    /// the physics robot, `strain_names`, `strain_microstrain` ((counts - baseline) /
+    /// `counts_per_microstrain`, the latest sample when the host read the record) and
+    /// `strain_age_s` (how long before that the sample's line ended, host clock), and
+    /// `strain_stopped` (the strain board failed or went away: the servo stream goes on, the
+    /// ages grow). Not on the physics robot (its records carry its simulated gauges).
+    #[pyo3(signature = (port, strain_dir, counts_per_microstrain))]
+    fn attach_strain(
+        &self,
+        py: Python<'_>,
+        port: &str,
+        strain_dir: std::path::PathBuf,
+        counts_per_microstrain: f64,
+    ) -> PyResult<()> {
+        if !(counts_per_microstrain.is_finite() && counts_per_microstrain > 0.0) {
+            return Err(value_error(format!(
+                "counts_per_microstrain = {counts_per_microstrain}: give the strain board's gain, a positive number of counts per microstrain"
+            )));
+        }
+        let kind = self.with(py, |l| Ok(l.transport().kind()))?;
+        if kind == "physics" {
+            return Err(value_error(format!(
+                "strain port {port:?}: {} is the physics robot, whose proprioception already carries its simulated gauges",
+                self.port
+            )));
+        }
+        if self
+            .strain
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .is_some()
+        {
+            return Err(value_error(format!(
+                "strain port {port:?}: a strain board is attached already (detach_strain first)"
+            )));
+        }
+        std::fs::create_dir_all(&strain_dir)
+            .map_err(|e| value_error(format!("strain_dir {}: {e}", strain_dir.display())))?;
+        let servo = self.port.clone();
+        let b = py
+            .detach(|| ::board::strain::StrainBeside::start(port, &servo, &strain_dir))
+            .map_err(|e| value_error(format!("strain port {port:?}: {e}")))?;
+        *self.strain.lock().unwrap_or_else(|e| e.into_inner()) = Some((b, counts_per_microstrain));
+        Ok(())
+    }
+
+    /// Stops the strain board `attach_strain` started and aligns its `strain.csv` with this
+    /// board's clock; returns None, or why the strain stream stopped early (its rows are kept).
+    fn detach_strain(&self, py: Python<'_>) -> PyResult<Option<String>> {
+        let b = self.strain.lock().unwrap_or_else(|e| e.into_inner()).take();
+        let Some((b, _)) = b else {
+            return Err(value_error(
+                "no strain board is attached (attach_strain first)",
+            ));
+        };
+        let end = py.detach(|| b.finish());
+        let mut error = end.recording.err().map(|e| e.to_string());
+        if let Err(e) = &end.clock {
+            error.get_or_insert_with(|| e.to_string());
+        }
+        Ok(error)
     }
 
     /// The physics robot's simulated strain gauges, the latest sample (taken every 24 ms of

@@ -235,3 +235,34 @@ pub fn proprioception_strain(
     d.set_item("strain_age_s", age.to_pyarray(py))?;
     Ok(())
 }
+
+/// With a strain board beside a board (`Board.attach_strain`), what each proprioception record
+/// knew of the gauges when the host read it: the same `strain_names`, `strain_microstrain`
+/// ([record, gauge]: (counts - baseline) / `gain`; NaN before the first sample) and
+/// `strain_age_s` ([record]: `now` less the instant the sample's line ended) as on the physics
+/// robot, gauges in the strain board's order.
+pub fn proprioception_strain_board(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    records: usize,
+    latest: Option<::board::strain::recorder::LatestSample>,
+    now: std::time::Instant,
+    gain: f64,
+) -> PyResult<()> {
+    let names = ::board::strain::channels::names();
+    let m = Array2::from_shape_fn((records, names.len()), |(_, g)| {
+        latest
+            .as_ref()
+            .map_or(f64::NAN, |l| (l.counts[g] - l.baseline[g]) / gain)
+    });
+    let age = latest.as_ref().map_or(f64::NAN, |l| {
+        now.saturating_duration_since(l.host).as_secs_f64()
+    });
+    d.set_item("strain_names", names)?;
+    d.set_item("strain_microstrain", m.to_pyarray(py))?;
+    d.set_item(
+        "strain_age_s",
+        Array1::from_elem(records, age).to_pyarray(py),
+    )?;
+    Ok(())
+}

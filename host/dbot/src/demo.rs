@@ -30,7 +30,9 @@ use planner::plan_dir;
 use crate::args::dynamics::DynamicsArgs;
 use crate::common::interrupt;
 use crate::common::output::replace;
-use crate::common::walk_summary::{print_bias, print_body, print_fits, print_tracking};
+use crate::common::walk_summary::{
+    print_bias, print_body, print_fits, print_strain, print_tracking,
+};
 use lab::plan_dir_write::{PlanSource, write_plan_dir};
 
 /// The demo's gait name in its plan directory and step table.
@@ -145,6 +147,7 @@ impl Args {
             t_dyn,
             dynamics_summary: dynamics.summary(),
             grf_z: &dynamics.grf[2],
+            cycle: &dynamics.cycle,
         };
         match self.port.as_str() {
             "physics" | "physics:flat" => {
@@ -189,6 +192,7 @@ impl Args {
             table,
             names,
             grf_z: ctx.grf_z,
+            cycle: Some(ctx.cycle),
         };
         let done = walk_all(transport, &input, self.steps, out, &mut stages)?;
         let (up, walks, timing) = (&done.upload, &done.walks, &done.timing);
@@ -216,6 +220,14 @@ impl Args {
                     ""
                 }
             )?;
+            if done.strain.iter().any(|(l, _)| *l == w.label) {
+                writeln!(
+                    s,
+                    "  {:<28} {}/strain_vs_plan.png, strain_vs_plan.csv",
+                    "",
+                    w.dir.display()
+                )?;
+            }
         }
         if let Some((path, frames)) = &done.gif {
             writeln!(
@@ -269,6 +281,9 @@ impl Args {
         for (label, loads, grf) in &done.fits {
             print_fits(&mut s, label, loads, grf, self.steps)?;
         }
+        for (label, fits) in &done.strain {
+            print_strain(&mut s, label, fits, self.steps)?;
+        }
         if let Some(h) = done.planned_height_m {
             print_bias(&mut s, walks, h, self.steps)?;
         }
@@ -299,4 +314,6 @@ struct Walked<'a> {
     dynamics_summary: String,
     /// The plan's vertical GRF, `[slice][leg]` in `plan.legs` order, N.
     grf_z: &'a [Vec<f64>],
+    /// The plan's solved cycle (the strain prediction the walks' gauges are compared with).
+    cycle: &'a planner::dynamics::CycleSolution,
 }

@@ -81,7 +81,7 @@ impl Args {
     fn simulate(&self, out: &Path) -> Result<Vec<PhaseRow>> {
         crate::common::interrupt::catch()?;
         let runs = experiments(self.quick, &self.periods);
-        let rows = run_all(
+        let done = run_all(
             out,
             &runs,
             self.telemetry,
@@ -98,9 +98,17 @@ impl Args {
             },
             crate::common::interrupt::requested,
         )?;
+        let rows = done.rows;
         println!("wrote {} and plots in {}", csv_io::FILE, out.display());
         for line in summary(&rows) {
             println!("  {line}");
+        }
+        println!(
+            "simulated gauges vs predicted strain (by the slice the firmware played; {}/strain/RUN/strain_vs_plan.png, .csv):",
+            out.display()
+        );
+        for (name, fits) in &done.strain {
+            println!("  {}", lab::strain_walk::summary_line(name, fits));
         }
         Ok(rows)
     }

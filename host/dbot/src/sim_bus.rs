@@ -1,5 +1,7 @@
 //! `dbot sim-bus`: serves a virtual chain of Dynamixel servos on a pseudo-terminal until
-//! interrupted, printing every request it answers.
+//! interrupted, printing every request it answers; with `--physics`, the physics robot's board
+//! instead (`board::robot::pty`), and with `--strain-link` its body's gauges on a virtual strain
+//! board beside it.
 
 use anyhow::Context as _;
 use board::bus::pty::{PtyServer, Served};
@@ -23,12 +25,31 @@ extern "C" fn on_signal(_: nix::libc::c_int) {
 ///
 /// Servos have IDs 1..=N; IDs 3, 6, 9, 14, 17, 20 (the CTr joints of the default layout) are
 /// MX-64(2.0), the others MX-28(2.0). Replies are paced at wall-clock wire time.
+///
+/// With --physics the pseudo-terminal is instead the physics robot's board (the board's link, as
+/// on its USB port, simulated time paced to the wall clock), and --strain-link serves the same
+/// body's simulated gauges on a virtual strain board (counts = 300 + gain x microstrain, rounded,
+/// saturating at 0 and 1023; each line reads the latest sample, taken every 24 ms of simulated
+/// time).
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot sim-bus --link /tmp/dxl                       # 22 servos at 57600 bit/s, as from the factory
   dbot dxl scan -p /tmp/dxl --max-id 30              # (in another shell) finds them
-  dbot sim-bus --link /tmp/dxl --baud 1000000 --return-delay-us 0 --quiet   # as on the robot's bus")]
+  dbot sim-bus --link /tmp/dxl --baud 1000000 --return-delay-us 0 --quiet   # as on the robot's bus
+  dbot sim-bus --physics physics --link /tmp/board --strain-link /tmp/strain
+  dbot record --out trials --port /tmp/board --table walk.dbgt --play 0 --steps 3 --strain /tmp/strain")]
 pub struct Args {
+    /// Serve the physics robot's board on --link instead of a servo chain: `physics` (flat) or
+    /// `physics:SCENE[+SUBSTRATE]`, as --port takes them
+    #[arg(long, value_name = "PORT")]
+    physics: Option<String>,
+    /// With --physics: serve the body's simulated gauges on a virtual strain board linked here
+    #[arg(long, requires = "physics", value_name = "PATH")]
+    strain_link: Option<PathBuf>,
+    /// With --strain-link: counts per microstrain (an invented default: the lab's gain is not
+    /// published)
+    #[arg(long, requires = "strain_link", default_value_t = board::strain::virtual_board::DEFAULT_GAIN)]
+    strain_gain: f64,
     /// Number of servos (IDs 1..=N)
     #[arg(long, default_value_t = 22, value_parser = clap::value_parser!(u8).range(1..=252))]
     servos: u8,
@@ -52,6 +73,9 @@ pub struct Args {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
+        if let Some(spec) = &self.physics {
+            return self.run_physics(spec);
+        }
         // IDs 1..=n with the servo the robot's model file puts there (MX-28(2.0) past its 22).
         let robot = board::robot::robot_servos();
         let servos: Vec<(u8, ServoModel)> = (1..=self.servos)
@@ -72,15 +96,7 @@ impl Args {
         chain.set_return_delay_all(rdt);
         let mut server = PtyServer::open(chain, self.baud, &self.link)
             .with_context(|| format!("cannot serve the virtual bus at {}", self.link.display()))?;
-        let handler = SigAction::new(
-            SigHandler::Handler(on_signal),
-            SaFlags::empty(),
-            SigSet::empty(),
-        );
-        for sig in [Signal::SIGINT, Signal::SIGTERM] {
-            // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
-            unsafe { sigaction(sig, &handler) }.context("cannot install the interrupt handler")?;
-        }
+        install_stop_handler()?;
         let mx64: Vec<u8> = servos
             .iter()
             .filter(|s| s.1 == ServoModel::Mx64)
@@ -110,6 +126,87 @@ impl Args {
         println!("stopped");
         Ok(())
     }
+}
+
+impl Args {
+    /// `--physics`: the physics robot's board on `--link`, its gauges on `--strain-link`.
+    fn run_physics(&self, spec: &str) -> anyhow::Result<()> {
+        let (scene, substrate) = match board::port::PortSpec::parse(spec)? {
+            board::port::PortSpec::Physics { scene, substrate } => (scene, substrate),
+            _ => anyhow::bail!(
+                "--physics {spec}: not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE]`"
+            ),
+        };
+        let mut robot = physics::PhysicsRobot::drosophibot_on(&scene, substrate)
+            .with_context(|| format!("--physics {spec}"))?;
+        install_stop_handler()?;
+        let strain = match &self.strain_link {
+            Some(link) => {
+                let feed = board::strain::source::Shared::default();
+                robot.feed_strain(feed.clone());
+                let board = board::strain::virtual_board::VirtualStrainBoard::new(
+                    Box::new(feed),
+                    Vec::new(),
+                    true,
+                )
+                .with_gain(self.strain_gain);
+                let mut server = board::strain::pty::StrainPtyServer::open(board, link)
+                    .with_context(|| {
+                        format!(
+                            "cannot serve the virtual strain board at {}",
+                            link.display()
+                        )
+                    })?;
+                let line = format!(
+                    "; its gauges on a virtual strain board on {} linked at {} ({} counts per microstrain)",
+                    server.slave_path(),
+                    link.display(),
+                    self.strain_gain
+                );
+                let thread = std::thread::spawn(move || server.serve(&STOP, |_| {}));
+                Some((line, thread))
+            }
+            None => None,
+        };
+        let mut server =
+            board::robot::pty::RobotPtyServer::open(robot.into_transport(), &self.link)
+                .with_context(|| {
+                    format!("cannot serve the physics robot at {}", self.link.display())
+                })?;
+        println!(
+            "serving the physics robot ({spec}) on {} linked at {}{}; Ctrl-C stops",
+            server.slave_path(),
+            self.link.display(),
+            strain.as_ref().map_or("", |s| s.0.as_str())
+        );
+        std::io::stdout().flush().ok();
+        let served = server.serve(&STOP);
+        STOP.store(true, Ordering::Relaxed);
+        if let Some((_, thread)) = strain {
+            match thread.join() {
+                Ok(Ok(_)) => {}
+                Ok(Err(e)) => eprintln!("the virtual strain board stopped: {e}"),
+                Err(_) => eprintln!("the virtual strain board's thread panicked"),
+            }
+        }
+        served.context("serving the physics robot failed")?;
+        println!("stopped");
+        Ok(())
+    }
+}
+
+/// Ctrl-C and SIGTERM set [`STOP`].
+fn install_stop_handler() -> anyhow::Result<()> {
+    let handler = SigAction::new(
+        SigHandler::Handler(on_signal),
+        SaFlags::empty(),
+        SigSet::empty(),
+    );
+    for sig in [Signal::SIGINT, Signal::SIGTERM] {
+        // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
+        unsafe { sigaction(sig, &handler) }.context("cannot install the interrupt handler")?;
+    }
+    Ok(())
 }
 
 /// `--return-delay-us`: even and at most 508 µs (the register holds units of 2 µs, up to 254).

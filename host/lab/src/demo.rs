@@ -1,7 +1,8 @@
 //! The walks of `dbot demo` on one in-process robot (the physics robot, or the virtual robot
 //! without a body): upload the step table, walk forward and backward while recording, and with a
 //! body a third walk forward with the torque bias off; then the animation and the fits beside
-//! each recording. What this returns is everything the demo's summary prints; the printing, the
+//! each recording (loads, contact forces, and the simulated gauges of the forward walks against
+//! the predicted strain). What this returns is everything the demo's summary prints; the printing, the
 //! stage lines and Ctrl-C belong to the caller ([`DemoProgress`]).
 
 use std::path::{Path, PathBuf};
@@ -82,6 +83,9 @@ pub struct DemoInput<'a> {
     pub names: &'a [String],
     /// The plan's vertical GRF, `[slice][leg]` in `plan.legs` order, N.
     pub grf_z: &'a [Vec<f64>],
+    /// The plan's solved inverse dynamics (the table's torques): with a body and gauges, the
+    /// forward walks' simulated gauges are compared with the strain it predicts.
+    pub cycle: Option<&'a planner::dynamics::CycleSolution>,
 }
 
 /// Everything the walks found.
@@ -100,6 +104,9 @@ pub struct DemoWalks {
     pub gif: Option<(PathBuf, usize)>,
     /// Per walk with the bias on and a body: its label, load fits and GRF fits.
     pub fits: Vec<(&'static str, Vec<Fit>, Vec<Fit>)>,
+    /// Per forward walk with a body and gauges (bias on and off): its label and the simulated
+    /// gauges against the prediction ([`crate::strain_walk`]), written beside its recording.
+    pub strain: Vec<(&'static str, Vec<Fit>)>,
 }
 
 /// Whether the robot has a body: then the demo walks three times and draws the walk.
@@ -183,8 +190,29 @@ pub fn walk_all<S: DemoBody>(
             fits.push((w.label, loads, grf));
         }
     }
+    let mut strain = Vec::new();
+    if let Some(cycle) = input.cycle {
+        let predicted = crate::strain_walk::predicted(input.plan, cycle)?;
+        let names: Vec<String> = input
+            .plan
+            .model
+            .gauges
+            .iter()
+            .map(|g| g.name.clone())
+            .collect();
+        for w in walks.iter().filter(|w| w.direction == Direction::Forward) {
+            let Some(log) = &w.log else { continue };
+            if predicted.is_empty() {
+                continue;
+            }
+            let fits = crate::strain_walk::strain_fits(log, &names, &predicted, steps);
+            crate::strain_walk::write_strain_files(&w.dir, input.plan, &fits)?;
+            strain.push((w.label, fits));
+        }
+    }
     Ok(DemoWalks {
         upload,
+        strain,
         timing: robot.timing(),
         bus_bytes: robot.bus_bytes(),
         simulated_s: robot.now_us() as f64 * 1e-6,

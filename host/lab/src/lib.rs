@@ -16,7 +16,8 @@
 //! - [`paper_comparison`]: the paper's robot-versus-fly comparison (tables S2 to S8).
 //! - [`plan_comparison`], [`overlay`]: two plans (or trials, [`trial_traces`]) DoF by DoF, a
 //!   speed sweep, their plots.
-//! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge.
+//! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge;
+//!   [`strain_walk`]: the physics robot's simulated gauges walking, against the prediction.
 //! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
 //! - [`substrates`]: one gait walked on several substrates, slip per foot and travel per step.
 //! - [`plan_dir_write`]: the one writer of a plan directory (files, plots, the dynamics, strain).
@@ -33,6 +34,7 @@ pub mod plan_dir_write;
 pub mod plan_walk;
 pub mod steer_blend;
 pub mod strain_compare;
+pub mod strain_walk;
 pub mod substrates;
 pub mod trial_traces;
 pub mod validation;

@@ -26,12 +26,12 @@ pub struct Fit {
 
 /// The R^2 of the model predicting the measurements `pairs` (measured, model), and the RMS
 /// difference (0 without samples).
-fn fit_figures(pairs: &[(f64, f64)]) -> (Option<f64>, f64) {
+pub(crate) fn fit_figures(pairs: &[(f64, f64)]) -> (Option<f64>, f64) {
     (prediction_r2(pairs), rms_difference(pairs).unwrap_or(0.0))
 }
 
 /// Mean and SD per slice of `(slice, value)` samples over a table of `slices` slices.
-fn per_slice(samples: &[(usize, f64)], slices: usize) -> Vec<PhaseStats> {
+pub(crate) fn per_slice(samples: &[(usize, f64)], slices: usize) -> Vec<PhaseStats> {
     let mut acc = vec![MeanSdSums::default(); slices];
     for &(s, x) in samples {
         if let Some(a) = acc.get_mut(s) {

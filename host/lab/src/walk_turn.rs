@@ -245,6 +245,7 @@ mod tests {
                     foot_forces: vec![],
                     foot_spheres: vec![],
                     pose: None,
+                    strain: None,
                 }
             })
             .collect();

@@ -73,14 +73,14 @@ impl StrainSampler {
         })
     }
 
-    /// Samples the gauges when a sample period has passed since the last one.
-    pub(crate) fn sample(&mut self, plant: &Plant) {
+    /// Samples the gauges when a sample period has passed since the last one; whether it did.
+    pub(crate) fn sample(&mut self, plant: &Plant) -> bool {
         let due = self
             .history
             .back()
             .is_none_or(|l| plant.time() - l.time_s >= STRAIN_SAMPLE_S - 1e-9);
         if !due || self.gauges.model.gauges.is_empty() {
-            return;
+            return false;
         }
         let s = self.gauges.read(plant);
         if let Some(feed) = &self.feed {
@@ -96,6 +96,7 @@ impl StrainSampler {
             self.history.pop_front();
         }
         self.history.push_back(s);
+        true
     }
 
     /// The latest sample taken at or before `t_s` (None: none kept that old, or none yet).

@@ -5,7 +5,8 @@
 //! firmware's cycle then reads them and writes new goals. Within a cycle's few milliseconds of
 //! bus traffic the servos report the state at its start (a real servo samples continuously: up
 //! to one cycle of extra latency here). On request it logs every cycle ([`WalkLog`]: gait slice,
-//! thorax pose, foot forces, joint angles every N cycles) for the demo's comparisons and animation.
+//! thorax pose, foot forces, joint angles every N cycles, the gauge samples taken in it) for the
+//! demo's comparisons and animation.
 
 use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport, robot_chain};
 use dynamixel::control_table as ct;
@@ -330,6 +331,7 @@ impl PhysicsRobot {
             foot_forces: self.plant.foot_forces(),
             foot_spheres: self.plant.foot_positions(),
             pose,
+            strain: None,
         });
     }
 
@@ -390,6 +392,10 @@ impl ServoDynamics for PhysicsRobot {
         self.push_state(chain);
         self.monitor.sample(&self.plant);
         self.log_sample(controller);
-        self.strain.sample(&self.plant);
+        if self.strain.sample(&self.plant)
+            && let Some(last) = self.log.as_mut().and_then(|l| l.samples.last_mut())
+        {
+            last.strain = self.strain.history.back().map(|s| s.microstrain());
+        }
     }
 }

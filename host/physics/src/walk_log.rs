@@ -1,7 +1,9 @@
 //! What the physics robot records while it walks, one [`WalkSample`] per bus cycle: where the
 //! gait was (step, slice, whether it was walking), the thorax pose, the contact force on each foot
 //! and, every `pose_every` cycles, every actuated joint's angle (enough to draw the whole body:
-//! the thorax pose and the joint angles give every body through forward kinematics).
+//! the thorax pose and the joint angles give every body through forward kinematics), and on the
+//! cycles where the simulated gauges were sampled (every `STRAIN_SAMPLE_S`) their readings, so a
+//! reading carries the step and slice the firmware played when it was taken.
 
 use planner::model::Leg;
 
@@ -25,6 +27,10 @@ pub struct WalkSample {
     /// Every model joint's angle (rad; fixed joints 0, forward kinematics ignores them), on
     /// every `pose_every`-th sample.
     pub pose: Option<Vec<f64>>,
+    /// Every gauge's simulated reading, microstrain (the model's gauge order), on the cycles
+    /// whose start the gauges were sampled at (`crate::STRAIN_SAMPLE_S` apart; None on the
+    /// others and for a model without gauges).
+    pub strain: Option<Vec<f64>>,
 }
 
 /// A walk's samples.

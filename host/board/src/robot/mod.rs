@@ -1,11 +1,13 @@
 //! The in-process virtual robot: the firmware library's `Board` (the same controller, bus loop and
 //! link dispatcher the RP2040 runs) on a NOR flash double, the robot's fixed servo chain carrying
 //! the planned torques as their loads, and a simulated clock. `--port virtual` talks to it through [`VirtualTransport`];
-//! `--port virtual:PATH` keeps its flash in a file between commands.
+//! `--port virtual:PATH` keeps its flash in a file between commands; [`pty::RobotPtyServer`] serves one
+//! on a pseudo-terminal.
 
 mod board;
 mod flash;
 pub(crate) mod image;
+pub mod pty;
 mod servos;
 mod transport;
 

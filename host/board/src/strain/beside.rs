@@ -114,6 +114,11 @@ impl StrainBeside {
         self.recorder.samples()
     }
 
+    /// The latest strain sample and the baseline ([`super::recorder::StrainRecorder::latest`]).
+    pub fn latest(&self) -> Option<super::recorder::LatestSample> {
+        self.recorder.latest()
+    }
+
     /// Whether the strain stream has stopped by itself (the board failed or went away).
     pub fn failed(&self) -> bool {
         self.recorder.ended()

@@ -10,12 +10,15 @@
 //!
 //! Failure of the strain board never reaches the caller's recording: the thread ends, the file
 //! keeps every row it had, and [`StrainRecorder::finish`] returns the error naming the port.
+//!
+//! While it runs, [`StrainRecorder::latest`] gives the latest sample with its host instant and
+//! the baseline (a closed loop reads it: strain beside each proprioception record).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
@@ -70,11 +73,25 @@ pub struct StrainRecordError {
     pub source: StrainError,
 }
 
+/// The latest sample of a running strain recording.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LatestSample {
+    /// The host instant its line ended (the readings lie 0 to about 24 ms before it, ESTIMATE).
+    pub host: Instant,
+    pub counts: super::line::Counts,
+    /// The recording's zero-strain baseline (its first sample, as the lab takes it).
+    pub baseline: super::line::Counts,
+}
+
+/// Where the recorder's thread leaves its latest sample.
+type Latest = Arc<Mutex<Option<LatestSample>>>;
+
 /// A strain board recorded on its own thread.
 #[derive(Debug)]
 pub struct StrainRecorder {
     stop: Arc<AtomicBool>,
     samples: Arc<AtomicU64>,
+    latest: Latest,
     thread: Option<JoinHandle<Result<StrainRecording, StrainRecordError>>>,
 }
 
@@ -103,13 +120,22 @@ impl StrainRecorder {
         port::check_not_servo_port(port, servo_port)?;
         let name = port.to_owned();
         let dir = dir.to_path_buf();
-        Ok(Self::spawn(move |stop, n| {
+        Ok(Self::spawn(move |stop, n, latest| {
             let io = port::open_fed(&name, feed).map_err(|source| StrainRecordError {
                 samples: 0,
                 csv: dir.join(STRAIN_CSV),
                 source,
             })?;
-            record(io, &name, &dir, epoch, Timeouts::default(), &stop, &n)
+            record(
+                io,
+                &name,
+                &dir,
+                epoch,
+                Timeouts::default(),
+                &stop,
+                &n,
+                &latest,
+            )
         }))
     }
 
@@ -123,22 +149,39 @@ impl StrainRecorder {
     ) -> Self {
         let name = port.to_owned();
         let dir = dir.to_path_buf();
-        Self::spawn(move |stop, n| record(io, &name, &dir, epoch, timeouts, &stop, &n))
+        Self::spawn(move |stop, n, latest| {
+            record(io, &name, &dir, epoch, timeouts, &stop, &n, &latest)
+        })
     }
 
     fn spawn(
-        body: impl FnOnce(Arc<AtomicBool>, Arc<AtomicU64>) -> Result<StrainRecording, StrainRecordError>
+        body: impl FnOnce(
+            Arc<AtomicBool>,
+            Arc<AtomicU64>,
+            Latest,
+        ) -> Result<StrainRecording, StrainRecordError>
         + Send
         + 'static,
     ) -> Self {
         let stop = Arc::new(AtomicBool::new(false));
         let samples = Arc::new(AtomicU64::new(0));
-        let (s, n) = (stop.clone(), samples.clone());
+        let latest = Latest::default();
+        let (s, n, l) = (stop.clone(), samples.clone(), latest.clone());
         Self {
             stop,
             samples,
-            thread: Some(std::thread::spawn(move || body(s, n))),
+            latest,
+            thread: Some(std::thread::spawn(move || body(s, n, l))),
         }
+    }
+
+    /// The latest sample and the baseline (None before the first sample). After the board
+    /// failed it stays the last one read.
+    pub fn latest(&self) -> Option<LatestSample> {
+        self.latest
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
     }
 
     /// Samples written so far.
@@ -171,6 +214,7 @@ impl Drop for StrainRecorder {
 }
 
 /// The recorder's thread: calibrate, then a row per sample until `stop`.
+#[allow(clippy::too_many_arguments)]
 fn record(
     io: Box<dyn StrainIo>,
     port: &str,
@@ -179,6 +223,7 @@ fn record(
     timeouts: Timeouts,
     stop: &AtomicBool,
     written: &AtomicU64,
+    latest: &Latest,
 ) -> Result<StrainRecording, StrainRecordError> {
     let csv = dir.join(STRAIN_CSV);
     let fail = |samples, source| StrainRecordError {
@@ -199,8 +244,15 @@ fn record(
     let mut board = StrainBoard::new(io, port, timeouts);
     let calibration = board.calibrate().map_err(|e| fail(0, e))?;
     let mut stats = GaugeStats::default();
+    let mut baseline = None;
     while !stop.load(Ordering::Relaxed) {
         let sample = board.next_sample().map_err(|e| fail(stats.samples(), e))?;
+        let base = *baseline.get_or_insert(sample.counts);
+        *latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(LatestSample {
+            host: sample.host,
+            counts: sample.counts,
+            baseline: base,
+        });
         if stats.samples() == 0 {
             let b = dir.join(BASELINE_CSV);
             write_baseline(&b, &Baseline::first_sample(&sample.counts))

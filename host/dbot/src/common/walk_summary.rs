@@ -164,3 +164,23 @@ pub fn print_bias(
         (p_off.sag_mean_m - p_on.sag_mean_m) * 1e3
     )
 }
+
+/// The summary lines of one forward walk's simulated gauges against the predicted strain
+/// (`lab::strain_walk`): the load-bearing gauges' median and lowest R^2, then each gauge's R^2
+/// (RMS difference, microstrain), a leg a line.
+pub fn print_strain(s: &mut String, label: &str, fits: &[Fit], steps: u32) -> std::fmt::Result {
+    writeln!(
+        s,
+        "simulated gauges vs predicted strain (by the slice the firmware played, steps 2 to {steps}; strain_vs_plan.png)"
+    )?;
+    writeln!(s, "  {}", lab::strain_walk::summary_line(label, fits))?;
+    for chunk in fits.chunks(6) {
+        let line = chunk
+            .iter()
+            .map(|f| format!("{} {} ({:.1})", f.name, r2_text(f.r2), f.rms))
+            .collect::<Vec<_>>()
+            .join(", ");
+        writeln!(s, "    {line}")?;
+    }
+    Ok(())
+}

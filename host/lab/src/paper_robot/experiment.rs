@@ -2,7 +2,8 @@
 //! step period (table 1 with the swing time set so that period = swing / (1 - duty)), solve its
 //! inverse dynamics, upload the step table, walk it on a scene while recording, and reduce the
 //! recording to per-slice statistics of the torque estimated from each servo's load register
-//! beside the planner's torque (the paper's figures 5 to 7 plot the same).
+//! beside the planner's torque (the paper's figures 5 to 7 plot the same); and the body's
+//! simulated gauges against the plan's predicted strain ([`crate::strain_walk`]).
 
 use std::path::Path;
 
@@ -16,6 +17,7 @@ use protocol::Direction;
 
 use crate::error::{Context, LabError, Result};
 use crate::walk::{play_and_record, solve_walk_dynamics};
+use crate::walk_fits::Fit;
 
 /// One walk to simulate.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,18 +80,28 @@ pub fn params(period_s: f64, terrain: Ground) -> Result<StepParams> {
     Ok(p)
 }
 
-/// Plans, walks and reduces `e`; the recording goes to `dir/telemetry.csv`, or to a scratch file
-/// removed afterwards without `dir`. `stop` returning true ends the walk early, with
-/// [`LabError::Interrupted`].
-pub fn run(e: &Experiment, dir: Option<&Path>, stop: impl Fn() -> bool) -> Result<Vec<PhaseRow>> {
-    let model = planner::model::builtin("drosophibot2")?;
+/// The step parameters `e` is planned with. Backward is planned as its own gait (the planner
+/// walks backward at a negative translation) and played forward, so its torques, bias and stance
+/// phases are the backward plan's, not the forward plan's played in reverse.
+pub fn plan_params(e: &Experiment) -> Result<StepParams> {
     let mut p = params(e.period_s, e.terrain)?;
-    // Backward is planned as its own gait (the planner walks backward at a negative translation)
-    // and played forward, so its torques, bias and stance phases are the backward plan's, not the
-    // forward plan's played in reverse.
     if e.direction == Direction::Backward {
         p.translation_m = -p.translation_m.abs();
     }
+    Ok(p)
+}
+
+/// Plans, walks and reduces `e`; the recording goes to `dir/telemetry.csv`, or to a scratch file
+/// removed afterwards without `dir`. Returns the load rows and, per gauge, the simulated gauges
+/// against the predicted strain over the same steps. `stop` returning true ends the walk early,
+/// with [`LabError::Interrupted`].
+pub fn run(
+    e: &Experiment,
+    dir: Option<&Path>,
+    stop: impl Fn() -> bool,
+) -> Result<(Vec<PhaseRow>, Vec<Fit>)> {
+    let model = planner::model::builtin("drosophibot2")?;
+    let p = plan_params(e)?;
     let plan = planner::plan::plan(&model, &p)
         .with_context(|| format!("{}: planning the step", e.name))?;
     let cycle =
@@ -104,8 +116,10 @@ pub fn run(e: &Experiment, dir: Option<&Path>, stop: impl Fn() -> bool) -> Resul
         .collect();
     let legs: Vec<Leg> = servo_joints.iter().map(|&j| model.joints[j].leg).collect();
 
-    let body = PhysicsRobot::drosophibot(&e.terrain)
+    let mut body = PhysicsRobot::drosophibot(&e.terrain)
         .with_context(|| format!("{}: the physics robot", e.name))?;
+    let gauges = body.gauge_names();
+    body.start_log(usize::MAX);
     let mut board = Board::connect(body.into_transport())?;
     board.upload(0, &table, |_, _| {})?;
     let parsed = protocol::GaitTable::parse(&table)?;
@@ -133,6 +147,14 @@ pub fn run(e: &Experiment, dir: Option<&Path>, stop: impl Fn() -> bool) -> Resul
             e.name
         )));
     }
+    let log = board
+        .transport_mut()
+        .robot_mut()
+        .servos_mut()
+        .take_log()
+        .unwrap_or_default();
+    let predicted = crate::strain_walk::predicted(&plan, &cycle)?;
+    let strain = crate::strain_walk::strain_fits(&log, &gauges, &predicted, e.steps);
     let first = u32::from(e.steps >= 2);
     let walking: Vec<_> = rec
         .rows()
@@ -168,5 +190,5 @@ pub fn run(e: &Experiment, dir: Option<&Path>, stop: impl Fn() -> bool) -> Resul
             });
         }
     }
-    Ok(out)
+    Ok((out, strain))
 }

@@ -51,17 +51,26 @@ pub fn experiments(quick: bool, periods: &[f64]) -> Vec<Experiment> {
     v
 }
 
+/// What [`run_all`] found: the load rows as read back from `phase_torques.csv` (everything
+/// downstream uses the file's numbers, see [`csv_io`]) and per run its simulated gauges against
+/// the predicted strain (written as `out/strain/NAME/strain_vs_plan.{csv,png}`).
+#[derive(Debug, Clone)]
+pub struct Runs {
+    pub rows: Vec<PhaseRow>,
+    pub strain: Vec<(String, Vec<crate::walk_fits::Fit>)>,
+}
+
 /// Runs `runs` one after the other (announcing each through `on_run(index, run)`), keeping each
-/// recording as `out/runs/NAME/telemetry.csv` with `telemetry`; writes `phase_torques.csv` and
-/// the plots into `out` and returns the rows as read back from the file (everything downstream
-/// uses the file's numbers, see [`csv_io`]). `stop` ends the current walk early.
+/// recording as `out/runs/NAME/telemetry.csv` with `telemetry`; writes `phase_torques.csv`, the
+/// plots and per run `strain/NAME/strain_vs_plan.{csv,png}` into `out`. `stop` ends the current
+/// walk early.
 pub fn run_all(
     out: &Path,
     runs: &[Experiment],
     telemetry: bool,
     mut on_run: impl FnMut(usize, &Experiment),
     stop: impl Fn() -> bool,
-) -> Result<Vec<PhaseRow>> {
+) -> Result<Runs> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     if let Some(e) = runs
         .iter()
@@ -73,19 +82,29 @@ pub fn run_all(
         );
     }
     let mut rows = Vec::new();
+    let mut strain = Vec::new();
     for (i, e) in runs.iter().enumerate() {
         on_run(i, e);
         let dir = out.join("runs").join(&e.name);
-        rows.extend(experiment::run(
-            e,
-            telemetry.then_some(dir.as_path()),
-            &stop,
-        )?);
+        let (r, fits) = experiment::run(e, telemetry.then_some(dir.as_path()), &stop)?;
+        rows.extend(r);
+        if fits.iter().any(|f| f.samples > 0) {
+            let sdir = out.join("strain").join(&e.name);
+            std::fs::create_dir_all(&sdir)
+                .with_context(|| format!("creating {}", sdir.display()))?;
+            let plan = planner::plan::plan(
+                &planner::model::builtin("drosophibot2")?,
+                &experiment::plan_params(e)?,
+            )
+            .with_context(|| format!("{}: planning the step", e.name))?;
+            crate::strain_walk::write_strain_files(&sdir, &plan, &fits)?;
+        }
+        strain.push((e.name.clone(), fits));
     }
     write_atomically(&out.join(csv_io::FILE), |p| Ok(csv_io::write(p, &rows)?))?;
     let rows = csv_io::read(&out.join(csv_io::FILE))?;
     plots(out, &rows)?;
-    Ok(rows)
+    Ok(Runs { rows, strain })
 }
 
 /// `text` with its physics section replaced by `section` (markers included).

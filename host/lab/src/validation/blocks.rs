@@ -373,6 +373,9 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
 
     b.insert("sweep", sweep()?);
     b.insert("strain", super::strain::block()?);
+    let (walks, png) = super::strain_walking::walks(plots_dir)?;
+    b.insert("strain_walking", super::strain_walking::block(&walks)?);
+    plots.push(("strain_walking.png", png));
     b.insert("turning", super::turning::turning()?);
     b.insert("steer-blend", crate::steer_blend::block()?);
     b.insert("performance", super::timing::performance()?);

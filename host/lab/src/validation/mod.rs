@@ -12,6 +12,7 @@
 pub mod blocks;
 pub mod springs;
 pub mod strain;
+pub mod strain_walking;
 pub mod timing;
 pub mod trials;
 pub mod turning;
