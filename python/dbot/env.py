@@ -257,15 +257,22 @@ class DbotEnv(gym.Env):
             raise RuntimeError(f"{self.port}: streaming stopped at once: {board.status()}")
         obs, rec = got
         self._t0 = float(rec["time_s"][0])
-        self._info = self._make_info(rec)
+        return self._begin_episode(obs, self._make_info(rec))
+
+    def _begin_episode(
+        self, obs: dict[str, np.ndarray], info: dict[str, Any]
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """The episode's first observation and info: the start height (the fall rule's), the
+        camera and the first rendered pose are taken from them."""
+        self._info = info
         if self.physics:
-            self._start_height = float(self._info["body"]["thorax_position_m"][2])
+            self._start_height = float(info["body"]["thorax_position_m"][2])
         self._poses = []
         self._camera = None
         if self.render_mode is not None:
             self._poses.append(self._pose(obs))
             self._camera = list(camera_half_extent(self.model, self._poses[0], self._scene_text()))
-        return obs, dict(self._info)
+        return obs, dict(info)
 
     def _fresh_board(self) -> Board:
         if self.physics:

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-from ._native import Board, Model, camera_half_extent, plan
+from ._native import Board, Model, plan
 from .env import STRAIN_AGE_BOUND_S, DbotEnv, Reward, forward_progress
 
 #: The family's default turn, rad of yaw per stance: about the largest whose first slice the
@@ -147,15 +147,7 @@ class DescendingEnv(DbotEnv):
         self._cycle = board.status()["counters"]["cycles"]
         obs, rec = self._advance(1)
         self.rest_rad = np.asarray(rec["commanded_rad"][0], dtype=np.float64)
-        self._info = self._info_of(rec)
-        if self.physics:
-            self._start_height = float(self._info["body"]["thorax_position_m"][2])
-        self._poses = []
-        self._camera = None
-        if self.render_mode is not None:
-            self._poses.append(self._pose(obs))
-            self._camera = list(camera_half_extent(self.model, self._poses[0], self._scene_text()))
-        return obs, dict(self._info)
+        return self._begin_episode(obs, self._info_of(rec))
 
     def _fresh_board(self) -> Board:
         if self.physics:
