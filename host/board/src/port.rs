@@ -130,9 +130,56 @@ pub fn connect<T: Transport>(
     Ok(board)
 }
 
+/// The substrate of a trial on `port` with `--substrate` `flag`: a physics port's scene says
+/// it (the flag, if given, must agree); another port's is the flag's, or unspecified.
+pub fn trial_substrate(port: &str, flag: Option<&str>) -> Result<Substrate, SubstrateError> {
+    let flag = flag
+        .map(|name| Substrate::parse(name, "--substrate"))
+        .transpose()?;
+    // A port whose scene cannot be parsed is refused when it is opened, naming it.
+    let scene = match PortSpec::parse(port) {
+        Ok(PortSpec::Physics { substrate, .. }) => Some(substrate),
+        Ok(PortSpec::Serial(_) | PortSpec::Virtual { .. }) | Err(_) => None,
+    };
+    match (scene, flag) {
+        (Some(s), Some(f)) if s != f => Err(SubstrateError::Disagrees {
+            flag: f.name(),
+            port: port.to_owned(),
+            scene: s.name(),
+        }),
+        (Some(s), _) => Ok(s),
+        (None, f) => Ok(f.unwrap_or_default()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_trial_takes_its_substrate_from_the_physics_scene_or_the_flag() {
+        assert_eq!(
+            trial_substrate("physics:flat+floor", None),
+            Ok(Substrate::Floor)
+        );
+        assert_eq!(
+            trial_substrate("physics", Some("sandpaper")),
+            Ok(Substrate::Sandpaper)
+        );
+        assert_eq!(
+            trial_substrate("/dev/ttyACM0", Some("anti-slip-mat")),
+            Ok(Substrate::AntiSlipMat)
+        );
+        assert_eq!(
+            trial_substrate("/dev/ttyACM0", None),
+            Ok(Substrate::Unspecified)
+        );
+        let e = trial_substrate("physics:flat+floor", Some("wire-mesh")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--substrate wire-mesh disagrees with port `physics:flat+floor`, whose scene walks on floor: give one of them"
+        );
+    }
 
     #[test]
     fn names_parse() {

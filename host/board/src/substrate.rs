@@ -6,8 +6,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::port::PortSpec;
-
 /// The ground the robot walked on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -81,28 +79,6 @@ impl Substrate {
             Some((terrain, name)) => Ok((terrain, Self::parse(name, &format!("scene `{scene}`"))?)),
         }
     }
-
-    /// The substrate of a trial on `port` with `--substrate` `flag`: a physics port's scene says
-    /// it (the flag, if given, must agree); another port's is the flag's, or unspecified.
-    pub fn for_trial(port: &str, flag: Option<&str>) -> Result<Self, SubstrateError> {
-        let flag = flag
-            .map(|name| Self::parse(name, "--substrate"))
-            .transpose()?;
-        // A port whose scene cannot be parsed is refused when it is opened, naming it.
-        let scene = match PortSpec::parse(port) {
-            Ok(PortSpec::Physics { substrate, .. }) => Some(substrate),
-            Ok(PortSpec::Serial(_) | PortSpec::Virtual { .. }) | Err(_) => None,
-        };
-        match (scene, flag) {
-            (Some(s), Some(f)) if s != f => Err(SubstrateError::Disagrees {
-                flag: f.name(),
-                port: port.to_owned(),
-                scene: s.name(),
-            }),
-            (Some(s), _) => Ok(s),
-            (None, f) => Ok(f.unwrap_or_default()),
-        }
-    }
 }
 
 #[cfg(test)]
@@ -126,31 +102,6 @@ mod tests {
         );
         // `unspecified` is what a record says, not a ground to walk on.
         assert!(Substrate::parse("unspecified", "--substrate").is_err());
-    }
-
-    #[test]
-    fn a_trial_takes_its_substrate_from_the_physics_scene_or_the_flag() {
-        assert_eq!(
-            Substrate::for_trial("physics:flat+floor", None),
-            Ok(Substrate::Floor)
-        );
-        assert_eq!(
-            Substrate::for_trial("physics", Some("sandpaper")),
-            Ok(Substrate::Sandpaper)
-        );
-        assert_eq!(
-            Substrate::for_trial("/dev/ttyACM0", Some("anti-slip-mat")),
-            Ok(Substrate::AntiSlipMat)
-        );
-        assert_eq!(
-            Substrate::for_trial("/dev/ttyACM0", None),
-            Ok(Substrate::Unspecified)
-        );
-        let e = Substrate::for_trial("physics:flat+floor", Some("wire-mesh")).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "--substrate wire-mesh disagrees with port `physics:flat+floor`, whose scene walks on floor: give one of them"
-        );
     }
 
     #[test]

@@ -25,8 +25,7 @@ use board::record::{
 };
 use board::strain::{StrainBeside, StrainEnd};
 use board::trial::{
-    BoardSettings, FirmwareMeta, GaitMeta, Outcome, PlanMeta, Substrate, TELEMETRY_CSV,
-    TrialFolder, TrialMeta,
+    BoardSettings, FirmwareMeta, GaitMeta, Outcome, PlanMeta, TELEMETRY_CSV, TrialFolder, TrialMeta,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use report::recording::{plot_angles, plot_torques};
@@ -189,7 +188,7 @@ impl Args {
         folder: &TrialFolder,
     ) -> anyhow::Result<Started> {
         let mut s = self.board.connect()?;
-        let substrate = Substrate::for_trial(s.board.port(), self.substrate.as_deref())?;
+        let substrate = board::port::trial_substrate(s.board.port(), self.substrate.as_deref())?;
         if s.is_virtual() && self.play.is_none() {
             bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
         }
