@@ -89,6 +89,7 @@ pub enum Response {
     JointMap(Option<JointIds>),
 }
 
+#[cfg(feature = "std")]
 impl Response {
     /// The reply's kind in words ("a status", "an error: ..."), for an error that got one it did not
     /// expect.
