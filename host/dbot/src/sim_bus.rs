@@ -21,8 +21,9 @@ extern "C" fn on_signal(_: nix::libc::c_int) {
 
 /// Serve virtual Dynamixel servos on a pseudo-terminal, so that any Protocol 2.0 client can talk to them.
 ///
-/// Servos have IDs 1..=N; IDs 3, 6, 9, 14, 17, 20 (the CTr joints of the default layout) are
-/// MX-64(2.0), the others MX-28(2.0). Replies are paced at wall-clock wire time.
+/// Servos have IDs 1..=N, each the model the robot's model file (drosophibot2.toml) puts at that
+/// ID (MX-64(2.0) on the CTr joints), MX-28(2.0) past its 22. Replies are paced at wall-clock
+/// wire time.
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot sim-bus --link /tmp/dxl                       # 22 servos at 57600 bit/s, as from the factory
