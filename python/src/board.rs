@@ -388,16 +388,9 @@ impl Board {
             (tables, naming.uploaded_table(0).1.clone())
         };
         let port = self.port.clone();
-        let held = move |slot: u8| {
-            tables
-                .get(usize::from(slot))
-                .cloned()
-                .flatten()
-                .or_else(|| {
-                    ::board::rules::period::table_of_port(&port, slot)
-                        .ok()
-                        .flatten()
-                })
+        let held = move |slot: u8| match tables.get(usize::from(slot)).cloned().flatten() {
+            Some(t) => Ok(Some(t)),
+            None => ::board::rules::period::table_of_port(&port, slot),
         };
         let overrides = ::board::rules::Overrides { allow_infeasible };
         let warning = {

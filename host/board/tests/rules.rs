@@ -187,11 +187,11 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
         b.upload(slot, t, |_, _| {}).unwrap();
     }
     let held = |slot: u8| {
-        [&straight, &left, &right]
+        Ok([&straight, &left, &right]
             .get(usize::from(slot))
-            .map(|t| t.to_vec())
+            .map(|t| t.to_vec()))
     };
-    let none = |_: u8| None;
+    let none = |_: u8| Ok(None);
     // No family set from here: faster than planned cannot be checked.
     let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::UnknownFamily { .. }), "{e}");

@@ -59,11 +59,7 @@ impl Args {
             s.setup.model.as_deref().unwrap_or("drosophibot2"),
         )?;
         let port = s.board.port().to_owned();
-        let held = |slot| {
-            board::rules::period::table_of_port(&port, slot)
-                .ok()
-                .flatten()
-        };
+        let held = |slot| board::rules::period::table_of_port(&port, slot);
         let warning = board::rules::steer::steer(
             &mut s.board,
             self.heading,

@@ -95,6 +95,9 @@ pub enum RuleError {
         what: String,
         source: protocol::gait::TableError,
     },
+    /// The host's copy of a table (a `virtual:PATH` robot's image) could not be read.
+    #[error(transparent)]
+    Image(#[from] crate::robot::ImageError),
     #[error(transparent)]
     Link(#[from] crate::link::LinkError),
 }

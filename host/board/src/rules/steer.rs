@@ -19,14 +19,14 @@ use crate::link::{Board, LinkError, Transport};
 /// Checks steering at `speed` (1 = as planned) before it is commanded: faster than planned, every
 /// table of the family this host set ([`Board::steer_family`]) must be held by the host
 /// (`held(slot)`: the bytes it uploaded there, or a `virtual:PATH` robot's image, see
-/// [`super::period::table_of_port`]) and be followed by the servos at that speed. The first of
+/// [`super::period::table_of_port`]; an image that cannot be read is refused with its error) and be followed by the servos at that speed. The first of
 /// straight, left and right that is not is refused (or, overridden, is the warning). A speed
 /// outside the board's range is refused with the protocol's words; a family this host did not
 /// set cannot be checked: refused unless overridden.
 pub fn check_steer<T: Transport>(
     board: &mut Board<T>,
     speed: f64,
-    held: &dyn Fn(u8) -> Option<Vec<u8>>,
+    held: &dyn Fn(u8) -> Result<Option<Vec<u8>>, crate::robot::ImageError>,
     model: &Model,
     overrides: Overrides,
 ) -> Result<Option<Overridden>, RuleError> {
@@ -51,7 +51,7 @@ pub fn check_steer<T: Transport>(
             continue;
         }
         seen.push(slot);
-        let known = held(slot);
+        let known = held(slot)?;
         let checked = check_slot(&stored, slot, known.as_deref(), model, scale, overrides);
         match checked {
             Ok(None) => {}
@@ -67,7 +67,7 @@ pub fn steer<T: Transport>(
     board: &mut Board<T>,
     heading_rad: f64,
     speed: f64,
-    held: &dyn Fn(u8) -> Option<Vec<u8>>,
+    held: &dyn Fn(u8) -> Result<Option<Vec<u8>>, crate::robot::ImageError>,
     model: &Model,
     overrides: Overrides,
 ) -> Result<Option<Overridden>, RuleError> {
