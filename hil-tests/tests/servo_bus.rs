@@ -9,8 +9,13 @@ use serde_json::Value;
 
 const PING_1: [u8; 10] = [0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x03, 0x00, 0x01, 0x19, 0x4E];
 
+/// The robot's 22 servos as its model file maps them.
+fn robot_chain() -> VirtualChain {
+    VirtualChain::new(&hil_tests::gait::robot_servos(), 1_000_000).unwrap()
+}
+
 fn bus(return_delay: u8) -> ServoBus {
-    let mut chain = VirtualChain::drosophibot(22, 1_000_000).unwrap();
+    let mut chain = robot_chain();
     chain.set_return_delay_all(return_delay);
     ServoBus::new(chain)
 }
@@ -37,7 +42,7 @@ fn ping_is_answered_with_the_model_number_after_the_return_delay() {
 
 #[test]
 fn turnaround_adds_to_the_return_delay() {
-    let chain = VirtualChain::drosophibot(22, 1_000_000).unwrap();
+    let chain = robot_chain();
     let mut b = ServoBus::new(chain).with_turnaround(std::time::Duration::from_micros(20));
     let replies = b.burst(&PING_1, 100_000, 1_000_000);
     // Factory Return Delay Time 250 x 2 us = 500 us, plus 20 us.

@@ -455,10 +455,15 @@ class Board:
         """The gaits ``steer`` blends: slots planned for headings 0, ``+range`` and ``-range``
         rad with the same leg phases, slices and period; raises with the reason if the board
         cannot blend them."""
-    def steer(self, heading: float, speed: float = 1.0) -> None:
+    def steer(self, heading: float, speed: float = 1.0, allow_infeasible: bool = False) -> None:
         """The descending command: walk at ``heading`` rad (positive left, within the family's
         range) and ``speed`` (1 = as planned). From standing a steered walk starts (until
-        ``stop``); while walking, the new heading and speed take over at the next step boundary."""
+        ``stop``); while walking, the new heading and speed take over at the next step boundary.
+        Faster than planned the family's tables are checked against the servos at that speed, as
+        ``dbot steer --speed`` checks them: ``ValueError`` with the CLI's words when a servo could
+        not follow one, or when this ``Board`` did not set the family or upload its tables (on
+        ``virtual:PATH`` they are read from the image), unless ``allow_infeasible`` (then a
+        ``UserWarning``)."""
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
     def set_torque(self, enable: bool, joint: int | None = None) -> None: ...

@@ -375,10 +375,45 @@ impl Board {
 
     /// The descending command: walk at `heading` rad (positive left, within the family's range)
     /// and `speed` (1 = as planned). From standing a steered walk starts (until `stop`); while it
-    /// walks, the new heading and speed take over at the next step boundary.
-    #[pyo3(signature = (heading, speed = 1.0))]
-    fn steer(&self, py: Python<'_>, heading: f64, speed: f64) -> PyResult<()> {
-        self.with(py, move |l| l.steer(heading, speed))
+    /// walks, the new heading and speed take over at the next step boundary. Faster than planned
+    /// (`speed` > 1) the family's tables are checked against the servos at that speed, as `dbot
+    /// steer --speed` checks them: refused (ValueError, the same words) when a servo could not
+    /// follow one, or when this `Board` did not set the family or upload (or, on `virtual:PATH`,
+    /// find) its tables, unless `allow_infeasible` (a UserWarning).
+    #[pyo3(signature = (heading, speed = 1.0, allow_infeasible = false))]
+    fn steer(
+        &self,
+        py: Python<'_>,
+        heading: f64,
+        speed: f64,
+        allow_infeasible: bool,
+    ) -> PyResult<()> {
+        let (tables, model) = {
+            let naming = self.naming();
+            // The tables this `Board` uploaded, by slot.
+            let tables: Vec<Option<Vec<u8>>> = (0..protocol::MAX_SLOTS)
+                .map(|slot| {
+                    let slot = u8::try_from(slot).unwrap_or(u8::MAX);
+                    naming.uploaded_table(slot).0.map(<[u8]>::to_vec)
+                })
+                .collect();
+            (tables, naming.uploaded_table(0).1.clone())
+        };
+        let port = self.port.clone();
+        let held = move |slot: u8| match tables.get(usize::from(slot)).cloned().flatten() {
+            Some(t) => Ok(Some(t)),
+            None => ::board::rules::period::table_of_port(&port, slot),
+        };
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        let warning = {
+            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+            let link = guard
+                .as_mut()
+                .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
+            ::board::rules::steer::steer(link, heading, speed, &held, &model, overrides)
+                .map_err(rule_error)?
+        };
+        warn_overridden(py, warning.as_ref())
     }
 
     /// Names the joints of records and setpoints after `model`'s joints (default: the built-in

@@ -49,3 +49,75 @@ def test_an_installed_library_runs_nothing(backend) -> None:
     lib.touch()
     script.write_text("exit 1\n")  # would fail if it ran
     mod._ensure_mujoco()
+
+
+def test_a_script_that_installs_nothing_stops_with_one_line(backend) -> None:
+    mod, script, lib = backend
+    script.write_text("exit 0\n")  # succeeds, but the library is still missing
+    with pytest.raises(SystemExit) as stop:
+        mod._ensure_mujoco()
+    text = str(stop.value)
+    assert "\n" not in text
+    assert "scripts/setup.d/20-mujoco.sh" in text
+    assert "ended without .mujoco/lib/libmujoco.so.3.17.0" in text
+
+
+def test_a_silent_failure_still_names_the_script(backend) -> None:
+    mod, script, _ = backend
+    script.write_text("exit 3\n")
+    with pytest.raises(SystemExit) as stop:
+        mod._ensure_mujoco()
+    text = str(stop.value)
+    assert "\n" not in text
+    assert "(no output)" in text
+    assert "run `bash scripts/setup.d/20-mujoco.sh`" in text
+
+
+def test_an_own_mujoco_folder_without_the_library_stops_with_one_line(
+    backend, monkeypatch, tmp_path
+) -> None:
+    mod, script, lib = backend
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    monkeypatch.setenv("MUJOCO_DYNAMIC_LINK_DIR", str(empty))
+    script.write_text(f"touch '{tmp_path / 'ran'}'\n")
+    with pytest.raises(SystemExit) as stop:
+        mod._ensure_mujoco()
+    text = str(stop.value)
+    assert "\n" not in text
+    assert f"MUJOCO_DYNAMIC_LINK_DIR={empty} has no libmujoco.so.3.17.0" in text
+    assert "scripts/setup.d/20-mujoco.sh" in text
+    assert not (tmp_path / "ran").exists()  # the script installs elsewhere: not run
+
+
+def test_an_own_mujoco_folder_with_the_library_runs_nothing(backend, monkeypatch, tmp_path) -> None:
+    mod, script, _ = backend
+    own = tmp_path / "own"
+    own.mkdir()
+    (own / "libmujoco.so.3.17.0").touch()
+    monkeypatch.setenv("MUJOCO_DYNAMIC_LINK_DIR", str(own))
+    script.write_text("exit 1\n")  # would fail if it ran
+    mod._ensure_mujoco()
+
+
+def test_the_backend_looks_where_cargo_and_the_script_put_the_library() -> None:
+    """The backend's paths against the two files that fix them: .cargo/config.toml (the folder the
+    Rust build links) and scripts/setup.d/20-mujoco.sh (the folder it fills)."""
+    import sys
+    import tomllib
+
+    sys.path.insert(0, str(BACKEND))
+    try:
+        mod = importlib.import_module("dbot_build")
+    finally:
+        sys.path.remove(str(BACKEND))
+    root = BACKEND.parents[1]
+    config = tomllib.loads((root / ".cargo" / "config.toml").read_text())
+    linked = config["env"]["MUJOCO_DYNAMIC_LINK_DIR"]
+    assert linked["relative"] is True
+    assert mod.LIBRARY.parent == root / linked["value"]
+    script = (root / "scripts" / "setup.d" / "20-mujoco.sh").read_text()
+    assert 'lib="$dir/lib-from-scripts-setup.d-20-mujoco.sh"' in script
+    assert "dir=.mujoco" in script
+    assert "version=3.17.0" in script and mod.LIBRARY.name == "libmujoco.so.3.17.0"
+    assert mod.SCRIPT.is_file()

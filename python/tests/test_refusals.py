@@ -7,7 +7,8 @@ with the text ``dbot table`` prints; ``allow_infeasible=True`` builds the bytes
 ``dbot table --allow-infeasible`` writes, with the CLI's warning. ``Board.play(period_scale=)``
 refuses a scale at which a servo could not follow the table as ``dbot run --period`` does, with the
 speed computed here by hand (planned peak speed / scale against the MX-28's 55 rev/min no-load
-speed from its e-manual).
+speed from its e-manual). ``Board.steer(speed=)`` refuses a speed at which a servo could not follow
+the family's tables as ``dbot steer --speed`` does, with the same words.
 
 Needs the CLI binary: ``cargo build -p dbot`` (or ``DBOT_BIN``)."""
 
@@ -174,6 +175,50 @@ def test_a_table_the_cli_uploaded_is_checked_from_the_image(plans: pathlib.Path)
         with pytest.raises(ValueError) as e:
             board.play(2, steps=1, period_scale=0.4)
         assert str(e.value) == by_cli
+
+
+def test_a_steering_speed_the_servos_cannot_follow_is_refused_as_steer_speed(
+    plans: pathlib.Path,
+) -> None:
+    port = ("--port", "virtual:steer.flash")
+    ok("upload", "--plan", "safe", "--slot", "1", *port, "--create", cwd=plans)
+    steer = ("steer", "--family", "1,1,1", "--range", "0.06", "--heading", "0", "--steps", "1")
+    # Speed 2.5: the 2.5 s plan at 1.0 s per step, every speed 2.5 times the planned one.
+    by_cli = refusal(*steer, "--speed", "2.5", *port, cwd=plans)
+    assert by_cli.startswith(
+        'steering at speed 2.5: slot 1 ("safe"): at 1.000 s per step (0.400 times the planned '
+        "2.500 s) the servos cannot follow it:\n"
+    ), by_cli
+    out = cli(*steer, "--speed", "2.5", "--allow-infeasible", *port, cwd=plans)
+    assert out.returncode == 0, out.stderr
+    safe = read_relative(plans, "safe")
+    j = safe.joint_names.index("LF_FTi")
+    planned = peak_speed([float(a) for a in safe.angles[:, j]], safe.period_s / safe.slices)
+    assert planned < MX28_NO_LOAD < planned * 2.5
+    assert abs(named_speed(by_cli, "LF_FTi") - planned * 2.5) < 0.008
+    with dbot.Board.open("virtual") as board:
+        board.upload_plan(1, safe)
+        board.set_steer_family(1, 1, 1, 0.06)
+        with pytest.raises(ValueError) as e:
+            board.steer(0.0, 2.5)
+        assert str(e.value) == by_cli
+        assert board.status()["state"] in ("Boot", "Idle", "Standing")
+        # As planned nothing is checked; the override steers with the CLI's warning.
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            board.steer(0.0, 1.0)
+        board.stop()
+        with pytest.warns(UserWarning) as w:
+            board.steer(0.0, 2.5, allow_infeasible=True)
+        board.stop()
+    assert out.stderr.startswith("warning: " + str(w[0].message)), out.stderr
+
+
+def test_steering_fast_over_a_family_set_elsewhere_is_refused() -> None:
+    """A `Board` that did not set the family does not know which tables to check."""
+    with dbot.Board.open("virtual") as board:
+        with pytest.raises(ValueError, match="this host did not set the family"):
+            board.steer(0.0, 2.0)
 
 
 def test_a_stiffness_the_p_gain_register_cannot_hold_is_refused_as_by_set(

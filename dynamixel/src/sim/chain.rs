@@ -41,9 +41,13 @@ pub struct VirtualChain {
     servos: Vec<VirtualServo>,
 }
 
-/// Default ID layout of the 22 servos until the model's servo map says otherwise (legs LF, LM,
-/// LH, RF, RM, RH; front legs ThC1, ThC3, CTr, TrF, FTi; middle and hind legs CTr, TrF, FTi).
-/// MX-64(2.0) on the six CTr joints: IDs 3, 6, 9, 14, 17, 20; MX-28(2.0) on the rest.
+/// The servo IDs of Drosophibot II's MX-64(2.0), the six CTr joints (legs LF, LM, LH, RF, RM, RH;
+/// front legs ThC1, ThC3, CTr, TrF, FTi; middle and hind legs CTr, TrF, FTi); MX-28(2.0) on the
+/// rest. The robot's model file (`drosophibot2.toml`, read by `planner::model`) owns this map;
+/// this crate sits below the planner and cannot read it, so this is its one copy for the crates
+/// that cannot either (this crate's chains, the firmware's testkit and tests), checked equal to
+/// the model file's map by host/board/tests/servo_map.rs. Host code reads the model
+/// (`board::robot::robot_servos`).
 pub const DROSOPHIBOT_CTR_IDS: [u8; 6] = [3, 6, 9, 14, 17, 20];
 
 impl VirtualChain {

@@ -22,15 +22,16 @@ fn gains(wire: &SimWire) -> Vec<u32> {
 
 /// The testkit's 8.4 N m/rad as each model's P gain, by hand: 1 P unit = (1/128) / 885 x stall
 /// torque x 4096 / (2 pi) = 0.014387 N m/rad (MX-28, 2.5 N m), 0.034529 (MX-64, 6.0 N m);
-/// 8.4 / 0.014387 = 583.86 -> 584, 8.4 / 0.034529 = 243.28 -> 243. MX-64: IDs 3, 6, 9, 14, 17, 20.
+/// 8.4 / 0.014387 = 583.86 -> 584, 8.4 / 0.034529 = 243.28 -> 243; each joint's model is the
+/// testkit gait's.
 fn table_gains() -> Vec<u32> {
-    (1..=JOINTS as u8)
-        .map(|id| {
-            if [3, 6, 9, 14, 17, 20].contains(&id) {
-                243
-            } else {
-                584
-            }
+    let gait = SyntheticGait::new(2, 1.0);
+    assert_eq!(gait.joints.len(), JOINTS);
+    gait.joints
+        .iter()
+        .map(|j| match j.model {
+            dynamixel::ServoModel::Mx28 => 584,
+            dynamixel::ServoModel::Mx64 => 243,
         })
         .collect()
 }

@@ -783,12 +783,11 @@ fn a_finite_run_finishes_its_steps_without_a_host() {
 /// The testkit's stiffness (8.4 N m/rad) as each model's Position P Gain, by hand:
 /// 1 P unit = (1/128) / 885 x stall torque x 4096 / (2 pi) N m/rad = 0.014387 (MX-28, 2.5 N m) and
 /// 0.034529 (MX-64, 6.0 N m); 8.4 / 0.014387 = 583.86 -> 584, 8.4 / 0.034529 = 243.28 -> 243.
-/// The testkit's MX-64 are the CTr joints, IDs 3, 6, 9, 14, 17, 20.
+/// Each joint's servo model is the testkit gait's (its servo with ID `id` is joint `id - 1`).
 fn table_gain(id: u8) -> u16 {
-    if [3, 6, 9, 14, 17, 20].contains(&id) {
-        243
-    } else {
-        584
+    match SyntheticGait::new(2, 1.0).joints[usize::from(id) - 1].model {
+        dynamixel::ServoModel::Mx28 => 584,
+        dynamixel::ServoModel::Mx64 => 243,
     }
 }
 

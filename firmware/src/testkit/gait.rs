@@ -27,8 +27,9 @@ impl SyntheticGait {
             .map(|j| JointSpec {
                 name: std::format!("J{j}"),
                 servo_id: j as u8 + 1,
-                // The chain's layout: MX-64 on the six CTr joints (IDs 3, 6, 9, 14, 17, 20).
-                model: if [3, 6, 9, 14, 17, 20].contains(&(j + 1)) {
+                // The chain's layout (dynamixel's one copy of the robot's map, tested against
+                // drosophibot2.toml in host/board/tests/servo_map.rs): MX-64 on the CTr joints.
+                model: if dynamixel::sim::DROSOPHIBOT_CTR_IDS.contains(&(j as u8 + 1)) {
                     ServoModel::Mx64
                 } else {
                     ServoModel::Mx28

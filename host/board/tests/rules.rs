@@ -1,6 +1,6 @@
 //! The rules of `board::rules` on hand-worked cases: a table played faster than planned against the
-//! servos' e-manual limits, a faster play of a table the host does not hold, and the stiffness the
-//! P gain register holds.
+//! servos' e-manual limits, a faster play of a table the host does not hold, a steered walk faster
+//! than planned (every table of the family checked), and the stiffness the P gain register holds.
 //!
 //! The synthetic gait (firmware testkit) has angle 0.4 sin(2 pi s / N + 0.5 j) rad and torque
 //! 0.3 cos(same) N m: by central differences its joint 0 (an MX-28) peaks at slice 0 at
@@ -11,9 +11,11 @@ use std::f64::consts::TAU;
 use board::link::Board;
 use board::robot::{VirtualRobot, VirtualTransport};
 use board::rules::period::{check_play, check_scaled};
+use board::rules::steer::check_steer;
 use board::rules::stiffness::{StiffnessError, units};
 use board::rules::{Overridden, Overrides, RuleError};
-use firmware::testkit::SyntheticGait;
+use firmware::testkit::{JOINTS, SyntheticGait};
+use protocol::gait::GaitTableBuilder;
 use protocol::{Direction, GaitTable, PlayCommand, Steps};
 
 /// MX-28(2.0) at 12 V (e-manual): 55 rev/min no load, 2.5 N m stall.
@@ -157,6 +159,114 @@ fn a_faster_play_of_a_table_the_host_does_not_hold_is_refused_unless_overridden(
     let other = SyntheticGait::new(100, 2.0).build();
     let e = check_play(&mut b, &play(800), Some(&other), &model, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::UnknownTable { .. }), "{e}");
+}
+
+/// The synthetic gait (100 slices, 1.0 s) with `amp sin(2 pi s / 100)` rad more on every angle,
+/// named `name`: the same slice 0, phases and stiffness as the synthetic gait, so the board takes
+/// the two as a steering family. Joint 0 then peaks at slice 0 at (0.4 + amp) sin(2 pi / 100) / dt.
+fn turning(name: &str, amp: f64) -> Vec<u8> {
+    let g = SyntheticGait::new(100, 1.0);
+    let mut b = GaitTableBuilder::new(name, g.period_s, 0.5, g.joints.clone());
+    for s in 0..g.slices {
+        let extra = amp * (TAU * s as f64 / 100.0).sin();
+        let a: Vec<f64> = (0..JOINTS).map(|j| g.angle(s, j) + extra).collect();
+        let t: Vec<f64> = (0..JOINTS).map(|j| g.torque(s, j)).collect();
+        b.slice(if s < 50 { 0b010_101 } else { 0b101_010 }, &a, &t);
+    }
+    b.build().unwrap()
+}
+
+#[test]
+fn steering_faster_than_planned_checks_every_table_of_the_family() {
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let straight = turning("straight", 0.0);
+    let left = turning("left", 0.1);
+    let right = turning("right", -0.1);
+    for (slot, t) in [(0, &straight), (1, &left), (2, &right)] {
+        b.upload(slot, t, |_, _| {}).unwrap();
+    }
+    let held = |slot: u8| {
+        Ok([&straight, &left, &right]
+            .get(usize::from(slot))
+            .map(|t| t.to_vec()))
+    };
+    let none = |_: u8| Ok(None);
+    // No family set from here: faster than planned cannot be checked.
+    let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::UnknownFamily { .. }), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("steering at speed 2: faster than planned needs a check"),
+        "{e}"
+    );
+    assert_eq!(
+        check_steer(&mut b, 2.0, &held, &model, ALLOW).unwrap(),
+        Some(Overridden::SteerUnchecked { speed: 2.0 })
+    );
+    b.set_steer_family(0, 1, 2, 0.06).unwrap();
+    // As planned and slower: nothing to check, nothing needed.
+    assert!(
+        check_steer(&mut b, 1.0, &none, &model, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    assert!(
+        check_steer(&mut b, 0.5, &none, &model, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    // Outside the board's speed range: the protocol's words.
+    let e = check_steer(&mut b, 20.0, &held, &model, CHECK).unwrap_err();
+    assert!(
+        e.to_string().contains("speed 20000 permille is outside"),
+        "{e}"
+    );
+    // Speed 2 plays at 0.5 times the period: the straight gait's joint 0 at 0.4 sin(2 pi / 100) /
+    // 0.005 s = 5.02 rad/s is followed (see above), the side gaits' at 0.5 sin(2 pi / 100) / 0.005
+    // = 6.28 rad/s is over the MX-28's no-load speed: the left gait, the first checked, is named.
+    let side = 0.5 * (TAU / 100.0).sin() / 0.005;
+    assert!(peak(0.5) < (1.0 - 0.3 / STALL) * W0 && side > W0);
+    let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.starts_with("steering at speed 2: slot 1 (\"left\"): at 0.500 s per step (0.500 times the planned 1.000 s) the servos cannot follow it:\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            " at slice 0: {side:.2} rad/s, over the servo's no-load speed {W0:.2} rad/s"
+        )),
+        "{text}"
+    );
+    // The right gait alone is as fast: a family of it and the straight gait is refused naming it.
+    b.set_steer_family(0, 0, 2, 0.06).unwrap();
+    let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("steering at speed 2: slot 2 (\"right\")"),
+        "{e}"
+    );
+    // At speed 1.25 (joint 0 of a side gait at 3.93 rad/s, 0.8 N m left on the line) all follow.
+    assert!(
+        check_steer(&mut b, 1.25, &held, &model, CHECK)
+            .unwrap()
+            .is_none()
+    );
+    // Tables the host does not hold: refused naming the straight gait's slot, unless overridden.
+    let e = check_steer(&mut b, 1.25, &none, &model, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::UnknownTable { slot: 0, .. }), "{e}");
+    // The override: the refusal's lines as a warning, then the walk starts.
+    b.set_steer_family(0, 1, 2, 0.06).unwrap();
+    let w = board::rules::steer::steer(&mut b, 0.0, 2.0, &held, &model, ALLOW)
+        .unwrap()
+        .unwrap();
+    assert!(
+        w.to_string().starts_with(
+            "steering at speed 2: slot 1 (\"left\"): the servos cannot follow this plan"
+        ),
+        "{w}"
+    );
 }
 
 #[test]

@@ -23,8 +23,9 @@ extern "C" fn on_signal(_: nix::libc::c_int) {
 
 /// Serve virtual Dynamixel servos on a pseudo-terminal, so that any Protocol 2.0 client can talk to them.
 ///
-/// Servos have IDs 1..=N; IDs 3, 6, 9, 14, 17, 20 (the CTr joints of the default layout) are
-/// MX-64(2.0), the others MX-28(2.0). Replies are paced at wall-clock wire time.
+/// Servos have IDs 1..=N, each the model the robot's model file (drosophibot2.toml) puts at that
+/// ID (MX-64(2.0) on the CTr joints), MX-28(2.0) past its 22. Replies are paced at wall-clock
+/// wire time.
 ///
 /// With --physics the pseudo-terminal is instead the physics robot's board (the board's link, as
 /// on its USB port, simulated time paced to the wall clock), and --strain-link serves the same

@@ -1,7 +1,7 @@
 //! `dbot steer`: the descending command. Sets the family of gaits the board blends, walks at the
 //! heading for the given steps, then stops at the end of the step. The rules (which gaits can be
-//! blended, the heading's range, the speed's) are the board's and the library's
-//! (`protocol::steer`, `Board::steer`).
+//! blended, the heading's range, the speed's, and faster than planned the servos' limits) are the
+//! board's and the library's (`protocol::steer`, `board::rules::steer`).
 
 use std::time::Duration;
 
@@ -29,12 +29,16 @@ pub struct Args {
     /// Heading to walk at, rad, positive left, within +-RANGE.
     #[arg(long, allow_hyphen_values = true)]
     pub heading: f64,
-    /// Speed, 1 = as planned (0.1 to 10).
+    /// Speed, 1 = as planned (0.1 to 10). Faster than planned only when every servo still follows
+    /// the family's tables at that speed (checked on a `virtual:PATH` robot, whose tables the host
+    /// holds; elsewhere give --allow-infeasible).
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
     /// Whole steps to walk before stopping at the end of the step.
     #[arg(long)]
     pub steps: u32,
+    #[command(flatten)]
+    pub feasibility: crate::feasibility_args::FeasibilityArgs,
     #[command(flatten)]
     pub board: BoardArgs,
 }
@@ -49,9 +53,28 @@ impl Args {
         s.board
             .set_steer_family(straight, left, right, self.range)
             .with_context(|| format!("setting the steering family {straight},{left},{right}"))?;
-        s.board
-            .steer(self.heading, self.speed)
-            .with_context(|| format!("steering at {} rad", self.heading))?;
+        // Faster than planned: the family's tables against the servos at that speed (the
+        // library's rule); the host holds the tables of a `virtual:PATH` robot in its image.
+        let model = crate::common::model_spec::load_model(
+            s.setup.model.as_deref().unwrap_or("drosophibot2"),
+        )?;
+        let port = s.board.port().to_owned();
+        let held = |slot| board::rules::period::table_of_port(&port, slot);
+        let warning = board::rules::steer::steer(
+            &mut s.board,
+            self.heading,
+            self.speed,
+            &held,
+            &model,
+            self.feasibility.overrides(),
+        )
+        .map_err(|e| match e {
+            board::rules::RuleError::Link(e) => {
+                anyhow::Error::new(e).context(format!("steering at {} rad", self.heading))
+            }
+            other => other.into(),
+        })?;
+        crate::feasibility_args::warn(warning.as_ref());
         println!(
             "steering at {} rad (family {straight},{left},{right} over +-{} rad), speed {}",
             self.heading, self.range, self.speed

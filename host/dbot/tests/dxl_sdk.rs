@@ -19,10 +19,19 @@ fn python_sdk_drives_the_virtual_bus() {
     );
     // Factory Return Delay Time (250 = 500 us), as a fresh servo has it.
     let bus = sim_bus_support::SimBus::start(22, 1_000_000, 250);
+    // Where the model file puts the MX-64s (the SDK reads their model number, 311, there).
+    let mx64: Vec<String> = planner::model::builtin("drosophibot2")
+        .unwrap()
+        .servo_chain()
+        .into_iter()
+        .filter(|s| s.1 == dynamixel::ServoModel::Mx64)
+        .map(|s| s.0.to_string())
+        .collect();
+    assert_eq!(mx64.len(), 6);
     let out = Command::new(&python)
         .arg(root.join("host/dbot/tests/sdk/sdk_check.py"))
         .arg(bus.link())
-        .args(["1000000", "22"])
+        .args(["1000000", "22", &mx64.join(",")])
         .output()
         .expect("run the SDK script");
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -1,7 +1,8 @@
 //! The rules that protect the robot are the library's (`board::rules`), so every door refuses
 //! alike: the same infeasible plan is refused by `dbot table` and `dbot upload --plan` with the same
 //! words, `--allow-infeasible` builds the same bytes through both; `dbot run --period` refuses a
-//! period at which a servo could not follow the table, naming the joint, the speed and the limit;
+//! period at which a servo could not follow the table, naming the joint, the speed and the limit,
+//! and `dbot steer --speed` refuses the speed that asks for that period with the same words;
 //! `dbot set --stiffness` refuses what the servos' P gain register cannot hold. The Python doors
 //! are python/tests/test_refusals.py.
 //!
@@ -233,6 +234,61 @@ fn a_period_the_servos_cannot_follow_is_refused_naming_joint_speed_and_limit() {
     ok(o);
     assert!(
         warned.starts_with("warning: slot 1 (\"p\"): the servos cannot follow this plan"),
+        "{warned}"
+    );
+}
+
+#[test]
+fn a_steering_speed_the_servos_cannot_follow_is_refused_as_run_period() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(dbot(d, &["plan", "--out", "p", "--slices", "50"]));
+    ok(on_robot(d, &["upload", "--plan", "p", "--slot", "1"]));
+    let steer = |speed: &str, extra: &[&str]| {
+        let mut args = vec![
+            "steer",
+            "--family",
+            "1,1,1",
+            "--range",
+            "0.06",
+            "--heading",
+            "0",
+            "--speed",
+            speed,
+            "--steps",
+            "1",
+        ];
+        args.extend(extra);
+        on_robot(d, &args)
+    };
+    // Speed 2.5 plays the table at 1 / 2.5 = 0.4 times its period: 1.0 s per step, the period
+    // `run --period 1.0` is refused at, so the same lines follow the speed named.
+    let by_run = refusal(&on_robot(
+        d,
+        &["run", "--slot", "1", "--steps", "1", "--period", "1.0"],
+    ));
+    let by_steer = refusal(&steer("2.5", &[]));
+    assert_eq!(by_steer, format!("steering at speed 2.5: {by_run}"));
+    let q = angles(&d.join("p"), "LF_FTi");
+    let scaled = peak_speed(&q, 2.5 / 50.0) * 2.5;
+    assert!(scaled > MX28_NO_LOAD, "{scaled}");
+    assert!(
+        (named_speed(&by_steer, "LF_FTi") - scaled).abs() < 0.008,
+        "{scaled}: {by_steer}"
+    );
+    assert!(
+        !ok(on_robot(d, &["status"])).contains("Walking"),
+        "walked after a refusal"
+    );
+    // As planned it walks; the override walks the fast one, warning in the library's words.
+    ok(steer("1", &[]));
+    let o = steer("2.5", &["--allow-infeasible"]);
+    let warned = stderr(&o);
+    assert!(ok(o).contains("1 step(s), the robot stands"));
+    assert!(
+        warned.starts_with(
+            "warning: steering at speed 2.5: slot 1 (\"p\"): the servos cannot follow this plan"
+        ),
         "{warned}"
     );
 }

@@ -165,7 +165,13 @@ impl<'a> GaitTable<'a> {
                 });
             }
             for j in 0..self.joints {
-                let map = self.joint_unchecked(j);
+                let Some(map) = self.joint_record(j) else {
+                    // Not reached: `parse` checked every joint record first (`check_joint`).
+                    return Err(TableError::BadJoint {
+                        joint: j as u8,
+                        field: JointField::Model,
+                    });
+                };
                 let angle = le_i16(self.bytes, start + SLICE_PREFIX_LEN + j * SAMPLE_LEN);
                 if angle < map.min || angle > map.max {
                     return Err(TableError::AngleOutOfLimits {
@@ -183,12 +189,15 @@ impl<'a> GaitTable<'a> {
         HEADER_LEN + self.joints * JOINT_RECORD_LEN
     }
 
-    fn joint_unchecked(&self, j: usize) -> JointMap {
+    /// Joint `j`'s record (`j` below the joint count). `None` only for a servo model code that
+    /// [`ServoModel::from_table_code`] does not know, which `parse` refuses before any table
+    /// exists (`TableError::BadJoint`, field `servo model`; protocol/tests/gait_table.rs): no
+    /// table stands in another servo's limits for an unknown one.
+    fn joint_record(&self, j: usize) -> Option<JointMap> {
         let r = &self.bytes[HEADER_LEN + j * JOINT_RECORD_LEN..][..JOINT_RECORD_LEN];
-        JointMap {
+        Some(JointMap {
             servo_id: r[0],
-            // Validated in `parse`.
-            model: ServoModel::from_table_code(r[1]).unwrap_or(ServoModel::Mx28),
+            model: ServoModel::from_table_code(r[1])?,
             sign: if r[2] as i8 == -1 {
                 Sign::Negative
             } else {
@@ -198,7 +207,7 @@ impl<'a> GaitTable<'a> {
             min: le_i16(r, 6),
             max: le_i16(r, 8),
             stiffness: le_u32(r, 12),
-        }
+        })
     }
 
     /// The header.
@@ -226,9 +235,11 @@ impl<'a> GaitTable<'a> {
         self.slices
     }
 
-    /// The map of `joint`.
+    /// The map of `joint` (`None` past the last joint).
     pub fn joint(&self, joint: usize) -> Option<JointMap> {
-        (joint < self.joints).then(|| self.joint_unchecked(joint))
+        (joint < self.joints)
+            .then(|| self.joint_record(joint))
+            .flatten()
     }
 
     /// One slice.

@@ -45,6 +45,9 @@ pub struct Board<T: Transport> {
     telemetry_dropped: u64,
     /// A `DeviceInfo` reply of another protocol version that did not decode as a whole.
     foreign: Option<ForeignInfo>,
+    /// The steering family this host last set and the board accepted (for the servo check of a
+    /// steered walk faster than planned, `rules::steer`).
+    steer_family: Option<protocol::SteerFamily>,
 }
 
 impl<T: Transport> Board<T> {
@@ -68,6 +71,7 @@ impl<T: Transport> Board<T> {
             bad_frames: 0,
             telemetry_dropped: 0,
             foreign: None,
+            steer_family: None,
         };
         // A lone delimiter ends whatever partial frame an earlier session left in the board's
         // receiver, so our first request is not glued to garbage.
@@ -342,13 +346,23 @@ impl<T: Transport> Board<T> {
     ) -> Result<(), LinkError> {
         let family = protocol::steer::family_of(straight, left, right, range_rad)
             .map_err(LinkError::Steer)?;
-        self.call(family)
+        self.steer_family = None;
+        self.call(family)?;
+        self.steer_family = Some(family);
+        Ok(())
+    }
+
+    /// The steering family this host set with [`Board::set_steer_family`] and the board accepted
+    /// (`None`: not set from this connection).
+    pub fn steer_family(&self) -> Option<protocol::SteerFamily> {
+        self.steer_family
     }
 
     /// The descending command: walk at `heading_rad` (positive left, within the family's range)
     /// and `speed` (1 = as planned). From standing the steered walk starts and goes on until
     /// [`Board::stop`]; while it walks, the new heading and speed take over at the next step
-    /// boundary.
+    /// boundary. Unchecked against the servos: faster than planned, `rules::steer::steer` checks
+    /// the family's tables first (every door steers through it).
     pub fn steer(&mut self, heading_rad: f64, speed: f64) -> Result<(), LinkError> {
         let command = protocol::steer::command_of(heading_rad, speed).map_err(LinkError::Steer)?;
         self.call(command)

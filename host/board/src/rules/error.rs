@@ -32,7 +32,7 @@ pub enum RuleError {
     },
     /// A servo cannot follow the table at the period it was asked to play at.
     #[error(
-        "{what}: at {period_s:.3} s per step ({scale:.3} times the planned {planned_s:.3} s) the servos cannot follow it:\n{violations}\nplay it at a longer period, or pass --allow-infeasible (Python: allow_infeasible=True) to play it anyway"
+        "{what}: at {period_s:.3} s per step ({scale:.3} times the planned {planned_s:.3} s) the servos cannot follow it:\n{violations}\nplay it at a longer period (steering: at a lower speed), or pass --allow-infeasible (Python: allow_infeasible=True) to play it anyway"
     )]
     TooFast {
         what: String,
@@ -46,6 +46,12 @@ pub enum RuleError {
         "slot {slot}: playing it {scale:.3} times the planned period needs a check of its speeds against the servos, but this host does not hold its table (CRC {crc:#010x}; the board does not send tables back); play it at its planned period or slower, upload it from here first, or pass --allow-infeasible (Python: allow_infeasible=True) to play it anyway"
     )]
     UnknownTable { slot: u8, scale: f64, crc: u32 },
+    /// Steering faster than planned, but this host did not set the steering family, so it does
+    /// not know which tables to check.
+    #[error(
+        "steering at speed {speed}: faster than planned needs a check of the steering family's tables against the servos, but this host did not set the family; set it first (dbot steer --family, Python: Board.set_steer_family), steer at speed 1 or slower, or pass --allow-infeasible (Python: allow_infeasible=True) to steer anyway"
+    )]
+    UnknownFamily { speed: f64 },
     /// More slices than one gait slot of the board holds.
     #[error(
         "{what} {slices}: at most {max} slices per step fit a gait slot of the board ({capacity} bytes for {joints} joints, {per_slice} bytes per slice)"
@@ -89,6 +95,9 @@ pub enum RuleError {
         what: String,
         source: protocol::gait::TableError,
     },
+    /// The host's copy of a table (a `virtual:PATH` robot's image) could not be read.
+    #[error(transparent)]
+    Image(#[from] crate::robot::ImageError),
     #[error(transparent)]
     Link(#[from] crate::link::LinkError),
 }
@@ -104,6 +113,8 @@ pub enum Overridden {
     },
     /// A table played faster than planned whose speeds the host could not check.
     Unchecked { slot: u8, scale: f64, crc: u32 },
+    /// Steering faster than planned over a family this host did not set (its tables unchecked).
+    SteerUnchecked { speed: f64 },
 }
 
 impl std::fmt::Display for Overridden {
@@ -116,6 +127,10 @@ impl std::fmt::Display for Overridden {
             Self::Unchecked { slot, scale, crc } => write!(
                 f,
                 "slot {slot}: played at {scale:.3} times the planned period without a check of its speeds against the servos (this host does not hold its table, CRC {crc:#010x}; --allow-infeasible / allow_infeasible=True)"
+            ),
+            Self::SteerUnchecked { speed } => write!(
+                f,
+                "steering at speed {speed} without a check of the family's tables against the servos (this host did not set the family; --allow-infeasible / allow_infeasible=True)"
             ),
         }
     }

@@ -1,5 +1,5 @@
 //! The rules that protect the robot, enforced by the library calls that build a step table
-//! ([`build`]), upload one ([`upload`]), play one faster than planned ([`period`]) and set a servo's
+//! ([`build`]), upload one ([`upload`]), play one faster than planned ([`period`]), steer faster than planned ([`steer`]) and set a servo's
 //! stiffness ([`stiffness`]), so `dbot`, Python and any Rust caller refuse alike, with the same
 //! words ([`RuleError`]'s Display). One override, [`Overrides::allow_infeasible`], lets a plan the
 //! servos cannot follow through; what it let through comes back as an [`Overridden`] warning whose
@@ -13,6 +13,7 @@ mod error;
 pub mod feasibility;
 pub mod period;
 pub mod slots;
+pub mod steer;
 pub mod stiffness;
 pub mod upload;
 
@@ -21,7 +22,7 @@ pub use error::{Overridden, RuleError, Violations};
 /// What the caller chose to let through.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Overrides {
-    /// Build, upload or play a table even when a servo cannot follow it (speed over the no-load
+    /// Build, upload, play or steer a table even when a servo cannot follow it (speed over the no-load
     /// speed, torque over stall or over the torque-speed line, an inverse-kinematics jump);
     /// `dbot --allow-infeasible`, Python `allow_infeasible=True`.
     pub allow_infeasible: bool,

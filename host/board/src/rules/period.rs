@@ -97,13 +97,21 @@ pub fn check_play<T: Transport>(
     if scale >= 1.0 {
         return Ok(None);
     }
-    let slot = command.slot;
-    let Some(stored) = board
-        .gaits()?
-        .into_iter()
-        .find(|s| s.slot == slot)
-        .and_then(|s| s.gait)
-    else {
+    let stored = board.gaits()?;
+    check_slot(&stored, command.slot, known, model, scale, overrides)
+}
+
+/// The check of [`check_play`] for the table in `slot` at `scale` (< 1), given the board's list
+/// of slots (`stored`, for the CRC of the table it holds there).
+pub(super) fn check_slot(
+    stored: &[protocol::SlotInfo],
+    slot: u8,
+    known: Option<&[u8]>,
+    model: &Model,
+    scale: f64,
+    overrides: Overrides,
+) -> Result<Option<Overridden>, RuleError> {
+    let Some(stored) = stored.iter().find(|s| s.slot == slot).and_then(|s| s.gait) else {
         return Ok(None);
     };
     let table = known

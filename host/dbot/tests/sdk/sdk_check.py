@@ -1,6 +1,7 @@
 """Drives `dbot sim-bus` with the official ROBOTIS Dynamixel SDK (dynamixel-sdk, Protocol 2.0).
 
-Usage: sdk_check.py PORT BAUD SERVOS. Exits non-zero with a message naming the first check that
+Usage: sdk_check.py PORT BAUD SERVOS MX64_IDS (comma-separated: the IDs the robot's model file puts
+an MX-64(2.0) at, passed by host/dbot/tests/dxl_sdk.rs from drosophibot2.toml). Exits non-zero with a message naming the first check that
 failed. Expected values come from the e-manual (model numbers MX-28(2.0) = 30, MX-64(2.0) = 311,
 addresses) and from what this script itself wrote.
 """
@@ -17,7 +18,6 @@ from dynamixel_sdk import (COMM_RX_TIMEOUT, COMM_SUCCESS, GroupSyncRead, GroupSy
 # longer than 34 ms: give it 2 x 100 ms. Wire timing is tested in Rust on simulated time.
 dynamixel_sdk.port_handler.LATENCY_TIMER = 100
 
-CTR_IDS = {3, 6, 9, 14, 17, 20}  # MX-64(2.0) in the default layout of `dbot sim-bus`
 ADDR_MODEL, ADDR_TORQUE, ADDR_GOAL, ADDR_FEEDBACK, ADDR_POSITION = 0, 64, 116, 126, 132
 
 
@@ -28,6 +28,7 @@ def fail(msg):
 
 def main():
     port_name, baud, servos = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+    mx64_ids = {int(i) for i in sys.argv[4].split(",")}
     ids = list(range(1, servos + 1))
     port = PortHandler(port_name)
     ph = PacketHandler(2.0)
@@ -36,7 +37,7 @@ def main():
 
     for i in ids:
         model, comm, err = ph.ping(port, i)
-        want = 311 if i in CTR_IDS else 30
+        want = 311 if i in mx64_ids else 30
         if comm != COMM_SUCCESS or err != 0 or model != want:
             fail("ping ID %d: %s, error %d, model %d (want %d)" % (i, ph.getTxRxResult(comm), err, model, want))
     print("ok: ping of %d IDs" % len(ids))
@@ -48,7 +49,7 @@ def main():
 
     for i in ids:
         model, comm, err = ph.read2ByteTxRx(port, i, ADDR_MODEL)
-        want = 311 if i in CTR_IDS else 30
+        want = 311 if i in mx64_ids else 30
         if comm != COMM_SUCCESS or model != want:
             fail("read Model Number of ID %d: %s, %d (want %d)" % (i, ph.getTxRxResult(comm), model, want))
     print("ok: model numbers")
