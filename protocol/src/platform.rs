@@ -61,8 +61,6 @@ pub enum PlatformError {
     Checking { servo_id: u8 },
     /// The gait has `joints` joints: no room beside them in a Sync Write.
     NoRoom { joints: u8 },
-    /// A steered walk or streaming carries no platform: clear it first.
-    NotForThisRun,
 }
 
 impl fmt::Display for PlatformError {
@@ -101,10 +99,6 @@ impl fmt::Display for PlatformError {
             Self::NoRoom { joints } => write!(
                 f,
                 "the gait has {joints} joints: no room for the platform servo beside them"
-            ),
-            Self::NotForThisRun => write!(
-                f,
-                "a platform is set up: steering and streaming carry none, clear it first"
             ),
         }
     }
