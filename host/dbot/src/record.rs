@@ -232,7 +232,10 @@ impl Args {
                 Some(p) => s.board.set_platform(p.setup).with_context(|| {
                     format!("--perturb {}", self.perturb.as_deref().unwrap_or(""))
                 })?,
-                None => s.board.clear_platform().context("clearing the platform")?,
+                None if s.board.platform()?.is_some() => {
+                    s.board.clear_platform().context("clearing the platform")?
+                }
+                None => {}
             }
         }
         // Calibrated, with its baseline sample in, before the robot moves.

@@ -1,7 +1,7 @@
 //! `dbot record --perturb LEG:STEP:MOVE` (issue 29 item 3): a leg that is not a leg, a step
 //! beyond the run's steps, the lab's ID 22 that is a joint's servo in the built-in model, and a
 //! platform servo that does not answer (the virtual robot has none) are refused with words before
-//! anything moves, and no trial is kept.
+//! anything moves, and no trial is kept; `dbot run --perturb` refuses alike.
 
 mod board_fakes;
 
@@ -83,4 +83,33 @@ fn a_joints_id_and_a_platform_servo_that_does_not_answer_are_named() {
         &["virtual: perturbation platform: platform servo ID 23 does not answer"],
     );
     no_trial(dir.path());
+}
+
+#[test]
+fn dbot_run_refuses_the_same_perturbations_in_the_same_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = table(dir.path(), "g.dbgt", 40, 0.4);
+    let run_with = |extra: &[&str]| {
+        let mut a = strings(&["run", "--table", &t, "--steps", "2", "--port", "virtual"]);
+        a.extend(strings(extra));
+        run(dir.path(), &a)
+    };
+    let d = run_with(&["--perturb", "RM:2:rise"]);
+    fails_naming(
+        &d,
+        "run --perturb RM:2",
+        &[
+            "--perturb RM:2:rise",
+            "perturbation step 2 is beyond the run's 2 steps",
+        ],
+    );
+    let d = run_with(&["--perturb", "RM:1:rise", "--platform-id", "23"]);
+    fails_naming(
+        &d,
+        "run: no servo at 23",
+        &["virtual: perturbation platform: platform servo ID 23 does not answer"],
+    );
+    // Without --perturb the walk runs as before.
+    let d = run_with(&[]);
+    assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
 }
