@@ -6,7 +6,8 @@
 use core::cell::RefCell;
 
 use dynamixel::control_table::{
-    GOAL_POSITION, HARDWARE_ERROR_STATUS, POSITION_P_GAIN, TORQUE_ENABLE,
+    GOAL_POSITION, HARDWARE_ERROR_STATUS, POSITION_P_GAIN, PRESENT_POSITION, PROFILE_VELOCITY,
+    TORQUE_ENABLE,
 };
 use dynamixel::master::{BusError, BusMaster, Clock, DirectionPin, Reply, ReplyFault};
 use embedded_io_async::{Read, ReadReady, Write};
@@ -100,7 +101,7 @@ impl BusLoop {
         }
         self.next_us = Some(next);
         shared.with(|c| {
-            c.complete(&plan, outcome, &replies[..plan.n], late);
+            c.complete(&plan, outcome, &replies[..plan.reply_count()], late);
             c.count_overruns(missed);
         });
 
@@ -132,19 +133,24 @@ where
 {
     let (ids, n) = plan.ids();
     let ids = &ids[..n];
+    // Goal writes and torque switches carry the platform's servo after the joints'.
+    let (all_goals, all_n) = plan.goals_with_platform();
+    let all_goals = &all_goals[..all_n];
+    let (torque_ids, torque_n) = plan.torque_ids();
+    let torque_ids = &torque_ids[..torque_n];
     match plan.action {
         BusAction::Nothing => Outcome::Done(Ok(())),
-        BusAction::Cycle => Outcome::Feedback(bus.cycle(plan.goals(), replies).await),
+        BusAction::Cycle => Outcome::Feedback(bus.cycle(all_goals, replies).await),
         BusAction::ReadOnly => Outcome::Feedback(bus.read_feedback(ids, replies).await),
         BusAction::TorqueOn => {
             let mut bytes = [[0u8; 4]; MAX_JOINTS];
-            for (b, g) in bytes.iter_mut().zip(plan.goals()) {
+            for (b, g) in bytes.iter_mut().zip(all_goals) {
                 *b = g.position.to_le_bytes();
             }
-            let goals = plan.goals().iter().zip(&bytes).map(|(g, b)| (g.id, &b[..]));
+            let goals = all_goals.iter().zip(&bytes).map(|(g, b)| (g.id, &b[..]));
             let r = match bus.sync_write(GOAL_POSITION.addr, 4, goals).await {
                 Ok(()) => match write_gains(plan, bus).await {
-                    Ok(()) => torque(bus, ids, 1).await,
+                    Ok(()) => torque(bus, torque_ids, 1).await,
                     Err(e) => Err(e),
                 },
                 Err(e) => Err(e),
@@ -152,10 +158,10 @@ where
             Outcome::Done(r)
         }
         BusAction::WriteGains => match write_gains(plan, bus).await {
-            Ok(()) => Outcome::Feedback(bus.cycle(plan.goals(), replies).await),
+            Ok(()) => Outcome::Feedback(bus.cycle(all_goals, replies).await),
             Err(e) => Outcome::Feedback(Err(e)),
         },
-        BusAction::TorqueOff => Outcome::Done(torque(bus, ids, 0).await),
+        BusAction::TorqueOff => Outcome::Done(torque(bus, torque_ids, 0).await),
         BusAction::Reboot { joints } => {
             let mut result = Ok(());
             let chosen = ids
@@ -177,7 +183,59 @@ where
             let r = bus.read(id, HARDWARE_ERROR_STATUS.addr, &mut bits).await;
             Outcome::HardwareError(r.map(|_| bits[0]))
         }
+        BusAction::PlatformCheck {
+            id,
+            profile_velocity,
+            rest,
+            torque,
+        } => {
+            Outcome::PlatformChecked(check_platform(bus, id, profile_velocity, rest, torque).await)
+        }
     }
+}
+
+/// The platform servo's set-up: ping, Profile Velocity, Goal Position `rest`, Present Position
+/// read, then Torque Enable if the joints hold torque. Any step that fails (no answer, or a status
+/// with an error number) fails the check: the servo is not there as set up.
+async fn check_platform<IO, D, C>(
+    bus: &mut BusMaster<IO, D, C>,
+    id: u8,
+    profile_velocity: u16,
+    rest: u16,
+    torque: bool,
+) -> Result<u16, BusError>
+where
+    IO: Read + ReadReady + Write,
+    D: DirectionPin,
+    C: Clock,
+{
+    let refused = |e: dynamixel::instruction::StatusError| {
+        (e.0 & 0x7F != 0).then_some(BusError::Reply {
+            id,
+            fault: ReplyFault::Status(e),
+        })
+    };
+    let ping = bus.ping(id).await?;
+    if let Some(e) = refused(ping.error) {
+        return Err(e);
+    }
+    let velocity = u32::from(profile_velocity).to_le_bytes();
+    if let Some(e) = refused(bus.write(id, PROFILE_VELOCITY.addr, &velocity).await?) {
+        return Err(e);
+    }
+    let goal = u32::from(rest).to_le_bytes();
+    if let Some(e) = refused(bus.write(id, GOAL_POSITION.addr, &goal).await?) {
+        return Err(e);
+    }
+    let mut present = [0u8; 4];
+    if let Some(e) = refused(bus.read(id, PRESENT_POSITION.addr, &mut present).await?) {
+        return Err(e);
+    }
+    if torque && let Some(e) = refused(bus.write(id, TORQUE_ENABLE.addr, &[1]).await?) {
+        return Err(e);
+    }
+    let ticks = i32::from_le_bytes(present);
+    Ok(ticks.clamp(0, i32::from(u16::MAX)) as u16)
 }
 
 /// Sync Write of the plan's Position P Gains (joints with stiffness 0 left out; none: no packet).

@@ -48,6 +48,20 @@ pub struct Record {
     pub timeouts: u32,
     pub crc_errors: u32,
     pub overruns: u32,
+    /// The perturbation platform's servo, while one is set up and checked.
+    pub platform: Option<PlatformSample>,
+}
+
+/// The platform servo in a record. Positions in servo ticks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlatformSample {
+    pub id: u8,
+    /// The goal this cycle's Sync Write carried (the held goal when it wrote none).
+    pub goal: u16,
+    pub present: u16,
+    /// `NO_REPLY`, `CRC_ERROR` of its last reply.
+    pub flags: u8,
 }
 
 /// A bounded queue that drops instead of blocking.

@@ -15,8 +15,9 @@
 use crate::MAX_CHUNK_LEN;
 use crate::gait::GaitHeader;
 use crate::message::{
-    DeviceInfo, JointIds, PlayCommand, ProtocolError, QueueCommand, Request, Response, ServoSelect,
-    Settings, SlotInfo, Status, SteerCommand, SteerFamily, StreamConfig,
+    DeviceInfo, JointIds, PlatformSetup, PlatformStatus, PlayCommand, ProtocolError, QueueCommand,
+    Request, Response, ServoSelect, Settings, SlotInfo, Status, SteerCommand, SteerFamily,
+    StreamConfig,
 };
 pub use crate::reply::{ChunkAccepted, Committed};
 use crate::reply::{IntoResponse, Reply};
@@ -201,4 +202,10 @@ endpoints! {
     SetSteerFamily(SteerFamily) => (), set_steer_family;
     /// The descending command: heading and speed.
     Steer(SteerCommand) => (), steer;
+    /// Sets up the perturbation platform for the next runs.
+    SetPlatform(PlatformSetup) => (), set_platform;
+    /// No platform any more.
+    ClearPlatform => (), clear_platform;
+    /// The platform set up and its servo's state (`None`: none is set).
+    GetPlatform => Option<PlatformStatus>, get_platform;
 }

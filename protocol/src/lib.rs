@@ -112,6 +112,7 @@ pub mod frame;
 pub mod gait;
 pub mod limits;
 pub mod message;
+pub mod platform;
 mod reply;
 pub mod steer;
 pub mod switch;
@@ -126,12 +127,13 @@ pub use frame::{FrameAccumulator, FrameError, decode_message, encode_frame};
 pub use gait::{BuildError, GaitTableBuilder, JointSpec};
 pub use gait::{GaitHeader, GaitTable, JointMap, ServoModel, Sign, TableError};
 pub use message::*;
+pub use platform::PlatformError;
 pub use steer::SteerError;
 pub use switch::{SwitchError, check_switch};
 pub use upload::{UploadError, UploadLimits, UploadTracker};
 
 /// Version of the wire protocol; bumped on every change of the encoded bytes.
-pub const PROTOCOL_VERSION: u16 = 6;
+pub const PROTOCOL_VERSION: u16 = 7;
 
 /// USB vendor ID of the board: pid.codes' open-source vendor ID.
 pub const USB_VID: u16 = 0x1209;

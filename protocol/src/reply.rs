@@ -7,7 +7,9 @@
 use core::fmt;
 
 use crate::frame::FrameError;
-use crate::message::{DeviceInfo, DeviceMessage, JointIds, Response, Settings, SlotInfo, Status};
+use crate::message::{
+    DeviceInfo, DeviceMessage, JointIds, PlatformStatus, Response, Settings, SlotInfo, Status,
+};
 use crate::{MAX_SLOTS, ProtocolError};
 
 /// Reply to [`UploadChunk`](crate::endpoint::UploadChunk): `received` bytes of the table have arrived in order.
@@ -145,6 +147,7 @@ reply_variant!(Status, Status);
 reply_variant!(Settings, Settings);
 reply_variant!(heapless::Vec<SlotInfo, MAX_SLOTS>, Slots);
 reply_variant!(Option<JointIds>, JointMap);
+reply_variant!(Option<PlatformStatus>, Platform);
 
 /// Takes `message` as the reply to request `seq` and extracts the value of type `R`.
 pub fn reply<R: Reply>(seq: u16, message: DeviceMessage) -> Result<R, ReplyError> {

@@ -70,6 +70,7 @@ fn replies_are_matched_by_seq_and_kind() {
         slice: 0,
         joints: heapless::Vec::new(),
         bus: BusStats::default(),
+        platform: None,
     });
     assert_eq!(reply::<()>(4, tel), Err(ReplyError::NotAReply));
 }

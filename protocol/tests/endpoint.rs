@@ -30,6 +30,18 @@ impl Handler for FakeBoard {
     fn steer(&mut self, _: SteerCommand) -> Result<(), ProtocolError> {
         unsupported()
     }
+    fn set_platform(&mut self, _: PlatformSetup) -> Result<(), ProtocolError> {
+        unsupported()
+    }
+    fn clear_platform(&mut self, _: ep::ClearPlatform) -> Result<(), ProtocolError> {
+        unsupported()
+    }
+    fn get_platform(
+        &mut self,
+        _: ep::GetPlatform,
+    ) -> Result<Option<PlatformStatus>, ProtocolError> {
+        unsupported()
+    }
     fn get_device_info(&mut self, _: ep::GetDeviceInfo) -> Result<DeviceInfo, ProtocolError> {
         unsupported()
     }

@@ -48,7 +48,10 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 5: Request::QueueGait / ClearQueue and ProtocolError::Switch appended (gait switching).
     // 6: Request::SetSteerFamily / Steer and ProtocolError::Steer appended (the descending
     //    command).
-    assert_eq!(PROTOCOL_VERSION, 6);
+    // 7: Request::SetPlatform / ClearPlatform / GetPlatform, Response::Platform,
+    //    ProtocolError::Platform appended, Telemetry::platform added at the end (the perturbation
+    //    platform's servo).
+    assert_eq!(PROTOCOL_VERSION, 7);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 
@@ -93,6 +96,51 @@ fn steer_right_150_mrad_at_half_speed() {
         &[
             0x01, 0x0B, 0x07, 0x1A, 0xAB, 0x02, 0xF4, 0x03, 0x8C, 0x5F, 0x0E, 0xDA, 0x00,
         ],
+    );
+}
+
+#[test]
+fn set_platform_the_labs_rise_at_step_3() {
+    // 00 (Request) 09 (seq 9) 1B (SetPlatform = variant 27 of Request)
+    // servo_id 22 -> 16 (raw u8)
+    // rest 2020 = 15 * 128 + 100 -> E4 0F; rise 2330 = 18 * 128 + 26 -> 9A 12;
+    // fall 1570 = 12 * 128 + 34 -> A2 0C; profile velocity 240 = 128 + 112 -> F0 01
+    // moves Rise = variant 0 -> 00; step 3 -> 03; hold_cycles 2 -> 02
+    // CRC-32 (zlib.crc32) = 0x5CF1DF77 -> 77 DF F1 5C
+    // COBS: 01 (leading zero), 0C + 11 bytes up to Rise's zero, 07 + the last 6 bytes
+    assert_golden(
+        HostMessage::Request {
+            seq: 9,
+            request: Request::SetPlatform(PlatformSetup::lab(PlatformMove::Rise, 3)),
+        },
+        &[
+            0x00, 0x09, 0x1B, 0x16, 0xE4, 0x0F, 0x9A, 0x12, 0xA2, 0x0C, 0xF0, 0x01, 0x00, 0x03,
+            0x02,
+        ],
+        &[
+            0x01, 0x0C, 0x09, 0x1B, 0x16, 0xE4, 0x0F, 0x9A, 0x12, 0xA2, 0x0C, 0xF0, 0x01, 0x07,
+            0x03, 0x02, 0x77, 0xDF, 0xF1, 0x5C, 0x00,
+        ],
+    );
+}
+
+#[test]
+fn platform_requests_and_the_error_are_appended() {
+    // ClearPlatform = variant 28, GetPlatform = 29 of Request; Response::Platform = variant 9;
+    // ProtocolError::Platform = variant 13, PlatformError::NotAnswering = variant 5.
+    let req = |request| postcard::to_allocvec(&request).unwrap();
+    assert_eq!(req(Request::ClearPlatform), [0x1C]);
+    assert_eq!(req(Request::GetPlatform), [0x1D]);
+    assert_eq!(
+        postcard::to_allocvec(&Response::Platform(None)).unwrap(),
+        [0x09, 0x00]
+    );
+    assert_eq!(
+        postcard::to_allocvec(&ProtocolError::Platform(PlatformError::NotAnswering {
+            servo_id: 22
+        }))
+        .unwrap(),
+        [0x0D, 0x05, 0x16]
     );
 }
 

@@ -186,6 +186,12 @@ fn the_largest_messages_fit_max_message_len() {
             slice: u16::MAX,
             joints: core::iter::repeat_n(full_fb, MAX_JOINTS).collect(),
             bus,
+            platform: Some(PlatformFeedback {
+                servo_id: u8::MAX,
+                goal: u16::MAX,
+                present: u16::MAX,
+                flags: u8::MAX,
+            }),
         }),
         DeviceMessage::Proprioception(Proprioception {
             time_us: u64::MAX,
@@ -215,6 +221,22 @@ fn the_largest_messages_fit_max_message_len() {
         DeviceMessage::Reply {
             seq: u16::MAX,
             response: Response::Slots(slots),
+        },
+        DeviceMessage::Reply {
+            seq: u16::MAX,
+            response: Response::Platform(Some(PlatformStatus {
+                setup: PlatformSetup {
+                    servo_id: u8::MAX,
+                    rest: u16::MAX,
+                    rise: u16::MAX,
+                    fall: u16::MAX,
+                    profile_velocity: u16::MAX,
+                    moves: PlatformMove::Fall,
+                    step: u32::MAX,
+                    hold_cycles: u16::MAX,
+                },
+                state: PlatformState::Ready { present: u16::MAX },
+            })),
         },
         DeviceMessage::Reply {
             seq: u16::MAX,

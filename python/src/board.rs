@@ -416,6 +416,39 @@ impl Board {
         warn_overridden(py, warning.as_ref())
     }
 
+    /// Sets up the perturbation platform for the next runs, as `dbot record --perturb` does:
+    /// `perturb` is `LEG:STEP:MOVE` (e.g. `"RM:3:rise"`; steps from 0, MOVE `rise` or `fall`) with
+    /// the lab's positions (rest 2020, rise 2330, fall 1570 ticks, back to rest two cycles later)
+    /// on servo `platform_id`. With `steps` (the run's) a step beyond it is refused here; `play`
+    /// refuses it on the board too. Raises, naming the problem, before anything moves: a leg that
+    /// is not a leg, a joint's ID, a platform servo that does not answer. Returns the trial
+    /// record's perturbation (`leg`, `step`, `rest`, `moved_to`).
+    #[pyo3(signature = (perturb, steps = None, platform_id = ::board::platform::LAB_PLATFORM_ID))]
+    fn set_platform<'py>(
+        &self,
+        py: Python<'py>,
+        perturb: &str,
+        steps: Option<u32>,
+        platform_id: u8,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let p = ::board::platform::Perturb::parse(perturb, platform_id)
+            .and_then(|p| p.check_steps(steps).map(|()| p))
+            .map_err(|e| value_error(format!("perturb = {perturb:?}: {e}")))?;
+        self.with(py, move |l| l.set_platform(p.setup))?;
+        let r = p.record();
+        let d = PyDict::new(py);
+        d.set_item("leg", r.leg)?;
+        d.set_item("step", r.step)?;
+        d.set_item("rest", r.rest)?;
+        d.set_item("moved_to", r.moved_to)?;
+        Ok(d)
+    }
+
+    /// No perturbation platform any more (not while moving).
+    fn clear_platform(&self, py: Python<'_>) -> PyResult<()> {
+        self.with(py, |l| l.clear_platform())
+    }
+
     /// Names the joints of records and setpoints after `model`'s joints (default: the built-in
     /// drosophibot2), by the servo IDs of the table this `Board` uploaded for the gait in use.
     fn set_model(&self, model: &Model) {

@@ -37,6 +37,8 @@ pub enum CommandError {
     Switch(protocol::SwitchError),
     /// A steering family or command was refused (`protocol::steer`).
     Steer(protocol::SteerError),
+    /// The perturbation platform was refused (`protocol::platform`).
+    Platform(protocol::PlatformError),
 }
 
 /// Which setting was out of range: the protocol's own names.
@@ -180,6 +182,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 event: Event::Start,
             }));
         }
+        self.platform_ready_for(p.steps)?;
         let mut clock = PlayClock::new(sel.layout.period_us, p.direction, p.steps);
         clock.set_scale(p.period_scale.into());
         self.play = Some(clock);

@@ -36,6 +36,15 @@ pub enum BusAction {
     Reboot { joints: u32 },
     /// Read the Hardware Error Status of one joint's servo.
     ReadHardwareError { joint: u8 },
+    /// Check the perturbation platform's servo `id` once it is set up: ping it, write its Profile
+    /// Velocity and its Goal Position `rest`, read its Present Position, and with `torque` (the
+    /// joints hold torque) switch its torque on.
+    PlatformCheck {
+        id: u8,
+        profile_velocity: u16,
+        rest: u16,
+        torque: bool,
+    },
 }
 
 /// The next bus action with the goals it writes (`goals[..n]`, also the servos it reads).
@@ -57,6 +66,9 @@ pub struct CyclePlan {
     pub gains: [u16; MAX_JOINTS],
     /// The stiffness settings the gains come from (a change during the bus action makes them stale).
     pub gain_gen: u32,
+    /// The perturbation platform's servo and goal, while a checked platform is set up: it rides
+    /// in the joints' goal Sync Write (and Sync Read) after them, and in their torque switches.
+    pub platform: Option<Goal>,
 }
 
 impl CyclePlan {
@@ -71,6 +83,37 @@ impl CyclePlan {
             .zip(&self.gains)
             .filter(|(_, p)| **p != 0)
             .map(|(g, p)| (g.id, *p))
+    }
+
+    /// The goals a goal Sync Write carries: the joints' and, last, the platform's. There is room:
+    /// a platform is refused beside a full joint map.
+    pub fn goals_with_platform(&self) -> ([Goal; MAX_JOINTS], usize) {
+        let mut all = self.goals;
+        match self.platform {
+            Some(g) if self.n < MAX_JOINTS => {
+                all[self.n] = g;
+                (all, self.n + 1)
+            }
+            _ => (all, self.n),
+        }
+    }
+
+    /// Replies a bus action reads: one per joint, and the platform's after them in a goal cycle.
+    pub fn reply_count(&self) -> usize {
+        match self.action {
+            BusAction::Cycle | BusAction::WriteGains => self.goals_with_platform().1,
+            _ => self.n,
+        }
+    }
+
+    /// Bus IDs whose torque a switch addresses: the joints' and the platform's.
+    pub fn torque_ids(&self) -> ([u8; MAX_JOINTS], usize) {
+        let (goals, n) = self.goals_with_platform();
+        let mut ids = [0; MAX_JOINTS];
+        for (i, g) in ids.iter_mut().zip(&goals[..n]) {
+            *i = g.id;
+        }
+        (ids, n)
     }
 
     /// Bus IDs in joint order.
@@ -93,6 +136,8 @@ pub enum Outcome {
     Done(Result<(), BusError>),
     /// ReadHardwareError: the status bits.
     HardwareError(Result<u8, BusError>),
+    /// PlatformCheck: the platform servo's present position, ticks.
+    PlatformChecked(Result<u16, BusError>),
 }
 
 /// Streaming mode: latest setpoint goals and their age.
@@ -117,6 +162,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.last_plan_us = Some(now_us);
         self.flash_ops_at_plan = self.flash_ops;
         let action = self.next_action(dt);
+        let platform = self.platform_goal(action);
         let (goals, n) = self.goal_list();
         let clamped = (0..n.min(32))
             .filter(|&j| self.clamped[j])
@@ -135,6 +181,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             setpoint,
             gains: self.gain_list(action),
             gain_gen: self.gains_wanted,
+            platform,
         }
     }
 
@@ -163,6 +210,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     }
 
     fn next_action(&mut self, dt: u32) -> BusAction {
+        if let Some(check) = self.platform_check_due() {
+            // Set up only when not moving: one cycle of the standing posture's writes is skipped.
+            return check;
+        }
         if self.joints.is_empty() {
             if self.state == State::Boot {
                 self.event(Event::BootDone);

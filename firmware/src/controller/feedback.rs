@@ -72,21 +72,36 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                     );
                 }
             }
+            (BusAction::PlatformCheck { id, .. }, Outcome::PlatformChecked(r)) => {
+                self.platform_checked(id, r);
+            }
             // No servos: the record still tells the host the board is alive and in which state.
             (BusAction::Nothing, _) => self.queue_telemetry(plan, &CycleStats::default()),
             (BusAction::WriteGains, Outcome::Feedback(Ok(stats))) => {
                 self.gains_written = plan.gain_gen;
                 self.take_replies(plan, replies);
+                self.take_platform_reply(plan, replies);
                 self.queue_telemetry(plan, &stats);
             }
             (BusAction::Cycle | BusAction::ReadOnly, Outcome::Feedback(Ok(stats))) => {
                 self.take_replies(plan, replies);
+                self.take_platform_reply(plan, replies);
                 self.queue_telemetry(plan, &stats);
             }
             (_, Outcome::Done(Err(_)) | Outcome::Feedback(Err(_))) => {
                 self.counters.bus_errors = self.counters.bus_errors.wrapping_add(1);
             }
             _ => {}
+        }
+    }
+
+    /// The platform servo's reply, after the joints' in a goal cycle's Sync Read.
+    fn take_platform_reply(&mut self, plan: &CyclePlan, replies: &[Reply]) {
+        if plan.platform.is_some()
+            && plan.reply_count() > plan.n
+            && let Some(reply) = replies.get(plan.n)
+        {
+            self.platform_reply(reply);
         }
     }
 
@@ -237,6 +252,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             timeouts: self.counters.timeouts,
             crc_errors: self.counters.crc_errors,
             overruns: self.counters.overruns,
+            platform: self.platform_sample(plan),
         };
         self.telemetry.push(record);
     }

@@ -11,6 +11,7 @@ mod feedback;
 mod gain_wire_tests;
 #[cfg(test)]
 mod limits_tests;
+mod platform;
 mod steer;
 mod switch;
 #[cfg(test)]
@@ -162,6 +163,8 @@ pub struct Controller<F> {
     /// The gaits `Steer` blends (set by `set_steer_family`), and the steered walk playing.
     steer_family: Option<protocol::SteerFamily>,
     steer: Option<steer::Steering>,
+    /// The perturbation platform set up, if any.
+    platform: Option<platform::PlatformRun>,
     counters: Counters,
     telemetry: DropQueue<Record, TELEMETRY_QUEUE>,
     telemetry_countdown: u16,
@@ -204,6 +207,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             steps_before: 0,
             steer_family: None,
             steer: None,
+            platform: None,
             counters: Counters::default(),
             telemetry: DropQueue::new(),
             telemetry_countdown: 0,

@@ -11,6 +11,7 @@ use crate::store::nor_double::NorDouble;
 use crate::store::record::CRC32;
 use crate::testkit::{JOINTS, STIFFNESS, SyntheticGait};
 
+mod platform;
 mod steer;
 mod switch;
 
@@ -32,6 +33,12 @@ struct IdealServos {
     /// fail before one succeeds.
     p_gain: [u16; 32],
     fail_gain_writes: usize,
+    /// The perturbation platform's servo: whether it answers, where it is (it reaches its goal
+    /// at once), its torque, and the goal each goal Sync Write carried for it (`None`: none).
+    platform_answers: bool,
+    platform_pos: i32,
+    platform_torque: bool,
+    platform_goals: Vec<Option<i32>>,
 }
 
 impl IdealServos {
@@ -50,6 +57,10 @@ impl IdealServos {
             reboots: 0,
             p_gain: [850; 32],
             fail_gain_writes: 0,
+            platform_answers: true,
+            platform_pos: 2047,
+            platform_torque: false,
+            platform_goals: vec![],
         }
     }
 
@@ -92,6 +103,22 @@ impl IdealServos {
                         }
                     }
                 }
+                self.platform_goals.push(plan.platform.map(|g| g.position));
+                if let Some(g) = plan.platform {
+                    if self.platform_torque {
+                        self.platform_pos = g.position;
+                    }
+                    replies[plan.n] = if self.platform_answers {
+                        Ok(Feedback {
+                            load: 0,
+                            velocity: 0,
+                            position: self.platform_pos,
+                            alert: false,
+                        })
+                    } else {
+                        Err(ReplyFault::Timeout)
+                    };
+                }
                 feedback(self, replies)
             }
             BusAction::ReadOnly => feedback(self, replies),
@@ -101,11 +128,13 @@ impl IdealServos {
                     assert_eq!(g.position, self.pos[j], "joint {j} would jump at torque-on");
                 }
                 self.torque = true;
+                self.platform_torque |= plan.platform.is_some();
                 self.torque_writes.push(true);
                 Outcome::Done(Ok(()))
             }
             BusAction::TorqueOff => {
                 self.torque = false;
+                self.platform_torque &= plan.platform.is_none();
                 self.torque_writes.push(false);
                 Outcome::Done(Ok(()))
             }
@@ -118,6 +147,18 @@ impl IdealServos {
                 Outcome::Done(Ok(()))
             }
             BusAction::ReadHardwareError { .. } => Outcome::HardwareError(Ok(0x20)),
+            BusAction::PlatformCheck { rest, torque, .. } => {
+                if !self.platform_answers {
+                    return Outcome::PlatformChecked(Err(BusError::Reply {
+                        id: 23,
+                        fault: ReplyFault::Timeout,
+                    }));
+                }
+                let present = self.platform_pos as u16;
+                self.platform_pos = i32::from(rest);
+                self.platform_torque = torque;
+                Outcome::PlatformChecked(Ok(present))
+            }
         }
     }
 }
@@ -157,7 +198,8 @@ impl Rig {
         let plan = self.c.plan(self.now);
         let mut replies = [Err(ReplyFault::Timeout); 32];
         let outcome = self.servos.serve(&plan, &mut replies);
-        self.c.complete(&plan, outcome, &replies[..plan.n], 0);
+        self.c
+            .complete(&plan, outcome, &replies[..plan.reply_count()], 0);
         self.now += u64::from(self.c.period_us());
         plan.action
     }

@@ -108,6 +108,12 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
             slice: r.slice,
             joints,
             bus,
+            platform: r.platform.map(|p| protocol::PlatformFeedback {
+                servo_id: p.id,
+                goal: p.goal,
+                present: p.present,
+                flags: p.flags,
+            }),
         })
     }
 }
@@ -132,6 +138,7 @@ pub fn command_error(e: CommandError) -> ProtocolError {
         CommandError::Store(e) => store_error(e),
         CommandError::Switch(e) => ProtocolError::Switch(e),
         CommandError::Steer(e) => ProtocolError::Steer(e),
+        CommandError::Platform(e) => ProtocolError::Platform(e),
         // CommandError is non_exhaustive for its users, not for this crate.
     }
 }

@@ -263,6 +263,21 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
         self.c.steer(s).map_err(command_error)
     }
 
+    fn set_platform(&mut self, setup: protocol::PlatformSetup) -> Result<(), ProtocolError> {
+        self.c.set_platform(setup).map_err(command_error)
+    }
+
+    fn clear_platform(&mut self, _: ep::ClearPlatform) -> Result<(), ProtocolError> {
+        self.c.clear_platform().map_err(command_error)
+    }
+
+    fn get_platform(
+        &mut self,
+        _: ep::GetPlatform,
+    ) -> Result<Option<protocol::PlatformStatus>, ProtocolError> {
+        Ok(self.c.platform())
+    }
+
     fn stop(&mut self, _: ep::Stop) -> Result<(), ProtocolError> {
         self.c.stop().map_err(command_error)
     }

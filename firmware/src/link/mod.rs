@@ -4,7 +4,7 @@
 //! the link drops, only the partial frame is forgotten: the controller, a running gait and an upload
 //! in progress carry on, and the host resumes where it was.
 
-mod convert;
+pub(crate) mod convert;
 mod dispatch;
 #[cfg(test)]
 mod store_tests;

@@ -8,6 +8,7 @@
 pub mod bus;
 pub mod files;
 pub mod link;
+pub mod platform;
 pub mod port;
 pub mod record;
 pub mod robot;

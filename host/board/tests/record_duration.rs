@@ -14,6 +14,7 @@ fn record(time_us: u64, cycle: u32) -> Telemetry {
         slice: 0,
         joints: heapless::Vec::new(),
         bus: BusStats::default(),
+        platform: None,
     }
 }
 

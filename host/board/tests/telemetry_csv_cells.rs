@@ -31,6 +31,7 @@ fn torque_off_rows_have_an_empty_goal() {
         slice: 0,
         joints,
         bus: BusStats::default(),
+        platform: None,
     })
     .unwrap();
     drop(rec);

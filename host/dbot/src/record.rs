@@ -19,6 +19,7 @@ use std::time::SystemTime;
 
 use anyhow::{Context, bail};
 use board::link::{Board, Transport};
+use board::platform::Perturb;
 use board::record::{
     CaptureError, Ended, JointMeta, Recorder, Until, capture_until_standing, capture_while,
     joint_names, joints_of_table, missing_cycles,
@@ -45,7 +46,8 @@ use crate::common::playback;
   dbot record --out trials --table walk.dbgt --play 1 --steps 10 --notes first-try
   dbot record --out trials --port physics --table walk.dbgt --play 0 --steps 2   # uploads, walks, records
   dbot record --out trials --table walk.dbgt --seconds 20   # whatever the board is doing
-  dbot record --out trials --table walk.dbgt --play 1 --steps 10 --strain /dev/ttyACM1   # with strain")]
+  dbot record --out trials --table walk.dbgt --play 1 --steps 10 --strain /dev/ttyACM1   # with strain
+  dbot record --out trials --table walk.dbgt --play 1 --steps 6 --perturb RM:3:rise --platform-id 23")]
 pub struct Args {
     /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.
     #[arg(long)]
@@ -91,6 +93,16 @@ pub struct Args {
     /// zero strain otherwise); it calibrates before the robot moves.
     #[arg(long, value_name = "PORT")]
     pub strain: Option<String>,
+    /// With --play: move the perturbation platform under a leg, LEG:STEP:MOVE (e.g. RM:3:rise):
+    /// at the first bus cycle of step STEP (counted from 0, within --steps) the platform servo
+    /// goes to `rise` (2330 ticks) or `fall` (1570), two cycles later back to `rest` (2020), the
+    /// lab's positions; kept in the trial. Without it a platform left set up is cleared.
+    #[arg(long, requires = "play", value_name = "LEG:STEP:MOVE")]
+    pub perturb: Option<String>,
+    /// With --perturb: the platform servo's bus ID (the lab's 22; the built-in model's joints
+    /// use 1-22, so its gaits need another, e.g. 23).
+    #[arg(long, requires = "perturb", default_value_t = board::platform::LAB_PLATFORM_ID)]
+    pub platform_id: u8,
     /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
     /// silence limit allows at the bus's rate: 199 at 100 Hz).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
@@ -134,6 +146,8 @@ impl Args {
                 .with_context(|| format!("{} (--table) is not a step table", t.path.display()))?;
         }
         let plan = self.plan_meta()?;
+        // A leg that is not a leg, a step beyond the run: refused before any port is opened.
+        let perturb = self.perturbation()?;
         // Refused before any port is opened; `StrainBeside::start` checks the connected port again.
         if let (Some(strain), Some(servo)) = (&self.strain, &self.board.port) {
             board::strain::port::check_not_servo_port(strain, servo)
@@ -144,7 +158,7 @@ impl Args {
         interrupt::hold();
         // A trial folder that exists or cannot be written fails here, before the robot moves.
         let folder = TrialFolder::begin(&self.out, self.trial.as_deref(), SystemTime::now())?;
-        match self.start(table.as_ref(), plan, &folder) {
+        match self.start(table.as_ref(), plan, perturb, &folder) {
             Ok((mut s, joints, until, meta, strain)) => {
                 let slices = table
                     .as_ref()
@@ -161,6 +175,17 @@ impl Args {
                 Err(e)
             }
         }
+    }
+
+    /// `--perturb` and `--platform-id`, checked against `--steps`.
+    fn perturbation(&self) -> anyhow::Result<Option<Perturb>> {
+        let Some(spec) = &self.perturb else {
+            return Ok(None);
+        };
+        let p = Perturb::parse(spec, self.platform_id)
+            .and_then(|p| p.check_steps(self.steps).map(|()| p))
+            .with_context(|| format!("--perturb {spec}"))?;
+        Ok(Some(p))
     }
 
     /// `--plan`, or the table's folder when it is a plan directory.
@@ -185,6 +210,7 @@ impl Args {
         &self,
         table: Option<&Table>,
         plan: Option<PlanMeta>,
+        perturb: Option<Perturb>,
         folder: &TrialFolder,
     ) -> anyhow::Result<Started> {
         let mut s = self.board.connect()?;
@@ -198,6 +224,19 @@ impl Args {
             playback::upload_table(&mut s, slot, &t.path, &t.bytes)?;
         }
         let joints = named_joints(&mut s, table.map(|t| t.bytes.as_slice()), self.play)?;
+        // The platform's servo answers (checked by the board) before anything moves; a platform
+        // an earlier trial left set up does not move in this one.
+        if self.play.is_some() {
+            match &perturb {
+                Some(p) => s.board.set_platform(p.setup).with_context(|| {
+                    format!("--perturb {}", self.perturb.as_deref().unwrap_or(""))
+                })?,
+                None if s.board.platform()?.is_some() => {
+                    s.board.clear_platform().context("clearing the platform")?
+                }
+                None => {}
+            }
+        }
         // Calibrated, with its baseline sample in, before the robot moves.
         let strain = match &self.strain {
             Some(p) => {
@@ -231,7 +270,7 @@ impl Args {
             steps: None,
             substrate,
             strain: strain.is_some(),
-            perturbation: None,
+            perturbation: perturb.map(|p| p.record()),
             notes: self.notes.clone(),
             joints: joints.iter().map(|j| j.name.clone()).collect(),
             cycles: 0,

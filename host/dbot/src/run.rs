@@ -53,6 +53,15 @@ pub struct Args {
     /// each for --steps at --period; the board refuses one that cannot follow, saying why.
     #[arg(long, value_name = "SLOT[:back]", value_parser = parse_then)]
     pub then: Vec<(u8, bool)>,
+    /// Move the perturbation platform under a leg, LEG:STEP:MOVE (e.g. RM:3:rise), as
+    /// `dbot record --perturb` does (steps from 0, within --steps; the lab's positions). Without
+    /// it a platform left set up is cleared.
+    #[arg(long, value_name = "LEG:STEP:MOVE")]
+    pub perturb: Option<String>,
+    /// With --perturb: the platform servo's bus ID (the lab's 22; the built-in model's joints
+    /// use 1-22, so its gaits need another, e.g. 23).
+    #[arg(long, requires = "perturb", default_value_t = board::platform::LAB_PLATFORM_ID)]
+    pub platform_id: u8,
     #[command(flatten)]
     pub board: BoardArgs,
     #[command(flatten)]
@@ -65,6 +74,15 @@ impl Args {
             interrupt::catch()?;
             interrupt::hold();
         }
+        // A leg that is not a leg, a step beyond the run: refused before the port opens.
+        let perturb = match &self.perturb {
+            Some(spec) => Some(
+                board::platform::Perturb::parse(spec, self.platform_id)
+                    .and_then(|p| p.check_steps(self.steps).map(|()| p))
+                    .with_context(|| format!("--perturb {spec}"))?,
+            ),
+            None => None,
+        };
         let mut s = self.board.connect()?;
         let slot = self.slot.or(s.setup.slot).unwrap_or(0);
         if s.is_virtual() && (self.steps.is_none() || self.detach) {
@@ -86,6 +104,17 @@ impl Args {
             upload_table(&mut s, slot, path, &bytes)?;
         }
         let (command, gait) = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        // The platform's servo answers (checked by the board) before anything moves.
+        match (&perturb, &self.perturb) {
+            (Some(p), Some(spec)) => s
+                .board
+                .set_platform(p.setup)
+                .with_context(|| format!("--perturb {spec}"))?,
+            _ if s.board.platform()?.is_some() => {
+                s.board.clear_platform().context("clearing the platform")?
+            }
+            _ => {}
+        }
         // Faster than planned: the table's speeds at that period against the servos (the
         // library's rule); the host holds the table of a `virtual:PATH` robot in its image.
         let known = board::rules::period::table_of_port(s.board.port(), slot)?;

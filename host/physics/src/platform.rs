@@ -4,10 +4,12 @@
 //! lab's schedule: at the start of the chosen step the servo's goal goes to `rise` (or `fall`),
 //! `hold_cycles` bus cycles later back to `rest`; the goal moves at the profile velocity.
 //!
-//! Who writes the servo's goal: on the real robot that is the firmware's job, in the joints' Sync
-//! Write; that part is NOT built yet. On the physics robot the body applies [`Platform::goal`]
-//! itself each bus cycle, from the firmware's own playback position (the step and slice it plays),
-//! so the timing is the firmware's.
+//! Who writes the servo's goal: on a board the firmware, in the joints' Sync Write
+//! (`protocol::PlatformSetup::goal`, the same schedule; `firmware::controller` platform). On the
+//! physics robot the body still applies [`Platform::goal`] itself each bus cycle, from the
+//! firmware's own playback position (the step and slice it plays), so the timing is the
+//! firmware's; driving the box from the board's Sync Write goal for the platform's ID is NOT built
+//! yet.
 //!
 //! A `fall` goal lowers the box's top below the ground plane, where the plane still holds the foot:
 //! only `rise` perturbs the physics robot (a hole in the ground is not modelled).

@@ -3,6 +3,7 @@
 use core::fmt;
 
 use super::RunState;
+use crate::platform::PlatformError;
 use crate::steer::SteerError;
 use crate::switch::SwitchError;
 use crate::{FrameError, TableError, UploadError};
@@ -79,6 +80,8 @@ pub enum ProtocolError {
     Switch(SwitchError),
     /// A steering family or command was refused (appended: protocol version 6).
     Steer(SteerError),
+    /// The perturbation platform was refused (appended: protocol version 7).
+    Platform(PlatformError),
 }
 
 impl fmt::Display for ProtocolError {
@@ -103,6 +106,7 @@ impl fmt::Display for ProtocolError {
             Self::Frame(e) => write!(f, "frame: {e}"),
             Self::Switch(e) => write!(f, "gait switch: {e}"),
             Self::Steer(e) => write!(f, "steering: {e}"),
+            Self::Platform(e) => write!(f, "perturbation platform: {e}"),
         }
     }
 }
@@ -124,6 +128,12 @@ impl From<SwitchError> for ProtocolError {
 impl From<SteerError> for ProtocolError {
     fn from(e: SteerError) -> Self {
         Self::Steer(e)
+    }
+}
+
+impl From<PlatformError> for ProtocolError {
+    fn from(e: PlatformError) -> Self {
+        Self::Platform(e)
     }
 }
 

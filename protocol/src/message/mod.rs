@@ -5,6 +5,7 @@
 
 mod device;
 mod error;
+mod platform;
 mod request;
 mod status;
 mod steer;
@@ -15,6 +16,7 @@ pub use device::{
     SlotInfo,
 };
 pub use error::{Fault, FaultKind, ProtocolError, Setting};
+pub use platform::{PlatformFeedback, PlatformMove, PlatformSetup, PlatformState, PlatformStatus};
 pub use request::{
     Direction, PlayCommand, QueueCommand, Request, ServoSelect, Steps, StreamConfig,
 };
@@ -87,6 +89,9 @@ pub enum Response {
     Error(ProtocolError),
     /// Servo IDs of a table's joints; `None` when the slot is empty or no gait is selected.
     JointMap(Option<JointIds>),
+    /// The platform set up and its servo's state; `None` when none is set (appended: protocol
+    /// version 7).
+    Platform(Option<PlatformStatus>),
 }
 
 #[cfg(feature = "std")]

@@ -85,6 +85,17 @@ pub enum Request {
     /// `Stop`; while steering, the new heading and speed take over at the next step boundary (the
     /// blend moving by at most one side gait per boundary). Reply: `Ack`.
     Steer(crate::SteerCommand),
+    /// Sets up the perturbation platform for the next runs, checked with
+    /// [`crate::PlatformSetup::check`] against the joint map (refused with
+    /// [`crate::ProtocolError::Platform`]); only when not moving. The board then pings the servo
+    /// and writes its profile velocity at its next bus cycle ([`Request::GetPlatform`] says how
+    /// that went), and from then on writes the platform's goal in every goal Sync Write. `Play`
+    /// refuses a step beyond the run's steps and a servo that did not answer. Reply: `Ack`.
+    SetPlatform(crate::PlatformSetup),
+    /// No platform any more (its servo keeps its last goal). Reply: `Ack`.
+    ClearPlatform,
+    /// Reply: `Platform`.
+    GetPlatform,
 }
 
 /// Which servos a command addresses.

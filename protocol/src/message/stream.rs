@@ -82,6 +82,8 @@ pub struct Telemetry {
     pub slice: u16,
     pub joints: heapless::Vec<JointFeedback, MAX_JOINTS>,
     pub bus: BusStats,
+    /// The perturbation platform's servo, while one is set up (appended: protocol version 7).
+    pub platform: Option<super::PlatformFeedback>,
 }
 
 /// Feedback of one bus cycle in streaming mode, every [`crate::StreamConfig::feedback_every`]

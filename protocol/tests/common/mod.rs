@@ -109,7 +109,51 @@ pub fn request() -> impl Strategy<Value = Request> {
         }),
         Just(Request::LeaveStreaming),
         any::<Option<u8>>().prop_map(|slot| Request::GetJointMap { slot }),
+        platform_setup().prop_map(Request::SetPlatform),
+        Just(Request::ClearPlatform),
+        Just(Request::GetPlatform),
     ]
+}
+
+pub fn platform_setup() -> impl Strategy<Value = PlatformSetup> {
+    let moves = prop_oneof![Just(PlatformMove::Rise), Just(PlatformMove::Fall)];
+    (
+        any::<(u8, u16, u16, u16, u16)>(),
+        moves,
+        any::<(u32, u16)>(),
+    )
+        .prop_map(
+            |((servo_id, rest, rise, fall, profile_velocity), moves, (step, hold_cycles))| {
+                PlatformSetup {
+                    servo_id,
+                    rest,
+                    rise,
+                    fall,
+                    profile_velocity,
+                    moves,
+                    step,
+                    hold_cycles,
+                }
+            },
+        )
+}
+
+pub fn platform_status() -> impl Strategy<Value = PlatformStatus> {
+    let state = prop_oneof![
+        Just(PlatformState::Checking),
+        any::<u16>().prop_map(|present| PlatformState::Ready { present }),
+        Just(PlatformState::NotAnswering),
+    ];
+    (platform_setup(), state).prop_map(|(setup, state)| PlatformStatus { setup, state })
+}
+
+pub fn platform_feedback() -> impl Strategy<Value = PlatformFeedback> {
+    any::<(u8, u16, u16, u8)>().prop_map(|(servo_id, goal, present, flags)| PlatformFeedback {
+        servo_id,
+        goal,
+        present,
+        flags,
+    })
 }
 
 pub fn setpoint() -> impl Strategy<Value = Setpoint> {
@@ -242,6 +286,14 @@ pub fn protocol_error() -> impl Strategy<Value = ProtocolError> {
         table_error().prop_map(ProtocolError::Table),
         any::<u32>().prop_map(|offset| ProtocolError::Flash { offset }),
         frame_error().prop_map(ProtocolError::Frame),
+        (any::<u8>(), any::<u8>()).prop_map(|(servo_id, joint)| ProtocolError::Platform(
+            PlatformError::JointId { servo_id, joint }
+        )),
+        (any::<u32>(), any::<u32>()).prop_map(|(step, steps)| ProtocolError::Platform(
+            PlatformError::StepBeyondRun { step, steps }
+        )),
+        any::<u8>()
+            .prop_map(|servo_id| ProtocolError::Platform(PlatformError::NotAnswering { servo_id })),
     ]
 }
 
@@ -406,6 +458,7 @@ pub fn response() -> impl Strategy<Value = Response> {
         (any::<u8>(), any::<u32>()).prop_map(|(slot, crc)| Response::Committed { slot, crc }),
         protocol_error().prop_map(Response::Error),
         proptest::option::of(joint_ids()).prop_map(Response::JointMap),
+        proptest::option::of(platform_status()).prop_map(Response::Platform),
     ]
 }
 
@@ -436,8 +489,9 @@ pub fn device_message() -> impl Strategy<Value = DeviceMessage> {
         any::<(u64, u32, u32, u16)>(),
         hvec(feedback(), MAX_JOINTS),
         bus_stats(),
+        proptest::option::of(platform_feedback()),
     )
-        .prop_map(|((time_us, cycle, step, slice), joints, bus)| {
+        .prop_map(|((time_us, cycle, step, slice), joints, bus, platform)| {
             DeviceMessage::Telemetry(Telemetry {
                 time_us,
                 cycle,
@@ -445,6 +499,7 @@ pub fn device_message() -> impl Strategy<Value = DeviceMessage> {
                 slice,
                 joints,
                 bus,
+                platform,
             })
         });
     let proprio = (

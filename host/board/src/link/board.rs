@@ -368,6 +368,58 @@ impl<T: Transport> Board<T> {
         self.call(command)
     }
 
+    /// Sets up the perturbation platform for the next runs and waits (at most 1 s of the
+    /// transport's clock) until the board has checked its servo: refused before sending when the
+    /// set-up breaks `protocol::platform`'s rule against the board's joint map (an ID of a joint,
+    /// positions outside a turn, a hold of 0), and an error naming the ID when the servo does not
+    /// answer. `Board::play` is then refused by the board for a step beyond the run.
+    pub fn set_platform(&mut self, setup: protocol::PlatformSetup) -> Result<(), LinkError> {
+        let ids = self
+            .joint_map(None)?
+            .map(|m| m.servo_ids.to_vec())
+            .unwrap_or_default();
+        let refused = |port: &str, error| LinkError::Platform {
+            port: port.to_owned(),
+            error,
+        };
+        let port = self.port().to_owned();
+        setup.check(&ids).map_err(|e| refused(&port, e))?;
+        self.call(setup)?;
+        for _ in 0..100 {
+            let status = self.platform()?;
+            match status.map(|p| p.state) {
+                Some(protocol::PlatformState::Ready { .. }) => return Ok(()),
+                Some(protocol::PlatformState::NotAnswering) => {
+                    return Err(refused(
+                        &port,
+                        protocol::PlatformError::NotAnswering {
+                            servo_id: setup.servo_id,
+                        },
+                    ));
+                }
+                Some(protocol::PlatformState::Checking) | None => {
+                    self.wait(Duration::from_millis(10))?
+                }
+            }
+        }
+        Err(refused(
+            &port,
+            protocol::PlatformError::Checking {
+                servo_id: setup.servo_id,
+            },
+        ))
+    }
+
+    /// No platform any more.
+    pub fn clear_platform(&mut self) -> Result<(), LinkError> {
+        self.call(ep::ClearPlatform)
+    }
+
+    /// The platform set up and its servo's state (`None`: none).
+    pub fn platform(&mut self) -> Result<Option<protocol::PlatformStatus>, LinkError> {
+        self.call(ep::GetPlatform)
+    }
+
     pub fn emergency_stop(&mut self) -> Result<(), LinkError> {
         self.call(ep::EmergencyStop)
     }

@@ -49,6 +49,13 @@ pub enum LinkError {
     /// A steering value that cannot be sent (`protocol::steer`), refused before sending.
     #[error("steering: {0}")]
     Steer(protocol::SteerError),
+    /// The perturbation platform refused before sending (`protocol::platform`), or its servo did
+    /// not answer the board's check.
+    #[error("{port}: perturbation platform: {error}")]
+    Platform {
+        port: String,
+        error: protocol::PlatformError,
+    },
     #[error("{port}: {request} refused: {error}")]
     Device {
         port: String,

@@ -1,0 +1,217 @@
+//! The perturbation platform with the real firmware image on the emulated bus: a 23rd servo
+//! (ID 23 here, after the test gait's joints 1..=22) whose goal rides in the joints' Goal Position
+//! Sync Write, `rise` at the first cycle of the chosen step and back to `rest` exactly
+//! `hold_cycles` cycles later; and a platform servo that does not answer refuses `Play` with
+//! words naming its ID, before any goal is written.
+//!
+//! Independent truth, from the bus frames alone (parsed with the dynamixel crate's parser, not
+//! the firmware's telemetry) and their start on the emulator's simulated clock, never
+//! wall-clock: the ramp ends with the cycle that writes the table's slice 0 (the gait stops at a
+//! step's end, so the last Sync Write holds those goals too), and the gait's step is 0.6 s, so
+//! step 1's first cycle is the first goal write 0.6 s or more after it (less 5 ms, half the
+//! 100 Hz cycle, for the bytes' own delay after the cycle's start). Cycles are counted as Sync
+//! Writes: a cycle start the board skips (an overrun) writes nothing, and the platform's hold
+//! counts cycles that write.
+
+use anyhow::{Context, Result, bail, ensure};
+use dynamixel::control_table::GOAL_POSITION;
+use dynamixel::parser::Parser;
+use hil_tests::TracedBurst;
+use hil_tests::drive::{T, play_steps, start_with_servos};
+use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::link::Link;
+use protocol::message::Direction;
+use protocol::{
+    DeviceMessage, MAX_CHUNK_LEN, PlatformError, PlatformMove, PlatformSetup, PlatformState,
+    PlatformStatus, PlayCommand, ProtocolError, Request, Response, Steps,
+};
+use std::time::Duration;
+
+const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
+/// Sync Write instruction (e-manual).
+const SYNC_WRITE: u8 = 0x83;
+const PLATFORM_ID: u8 = 23;
+/// The test gait's step period.
+const STEP: Duration = Duration::from_millis(600);
+/// Half the 100 Hz bus cycle.
+const HALF_CYCLE: Duration = Duration::from_millis(5);
+
+fn setup(step: u32) -> PlatformSetup {
+    PlatformSetup {
+        servo_id: PLATFORM_ID,
+        ..PlatformSetup::lab(PlatformMove::Rise, step)
+    }
+}
+
+/// Uploads the test gait into slot 0 and sets the platform up; waits (bounded) until the board
+/// has checked its servo, and returns what it found.
+fn prepare(link: &mut Link, step: u32) -> Result<PlatformStatus> {
+    let (builder, table) = sine_gait("platform", 40, 0.2)?;
+    let r = upload(link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
+    ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
+    let r: Response = link.request(&Request::SetPlatform(setup(step)), T)?;
+    ensure!(r == Response::Ack, "SetPlatform answered {r:?}");
+    for _ in 0..50 {
+        let p: Option<PlatformStatus> = link.request(&Request::GetPlatform, T)?;
+        let p = p.context("the board forgot the platform")?;
+        if p.state != PlatformState::Checking {
+            return Ok(p);
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    bail!("the board did not check the platform servo within 5 s (wall)")
+}
+
+/// A Goal Position Sync Write: its burst's start (simulated time) and each servo's goal, ticks,
+/// by ID.
+type GoalWrite = (Duration, Vec<(u8, i32)>);
+
+/// Every Goal Position Sync Write on the wire.
+fn goal_writes(bursts: &[TracedBurst]) -> Result<Vec<GoalWrite>> {
+    let mut out = Vec::new();
+    for b in bursts {
+        let mut parser = Parser::<1024>::new();
+        ensure!(parser.feed(&b.bytes) == b.bytes.len(), "burst too long");
+        while let Some(frame) = parser.next_frame() {
+            let f = frame.map_err(|e| anyhow::anyhow!("corrupt packet on the bus: {e:?}"))?;
+            if f.instruction != SYNC_WRITE {
+                continue;
+            }
+            // Sync Write parameters (e-manual): address (2, LE), length (2, LE), then per servo
+            // its ID and `length` data bytes.
+            let p = f.params;
+            ensure!(p.len() >= 4, "short Sync Write");
+            let addr = u16::from_le_bytes([p[0], p[1]]);
+            let len = usize::from(u16::from_le_bytes([p[2], p[3]]));
+            if addr != GOAL_POSITION.addr || len != 4 {
+                continue;
+            }
+            let mut goals: Vec<(u8, i32)> = p[4..]
+                .chunks_exact(5)
+                .map(|c| (c[0], i32::from_le_bytes([c[1], c[2], c[3], c[4]])))
+                .collect();
+            goals.sort_by_key(|g| g.0);
+            out.push((b.burst.start, goals));
+        }
+    }
+    Ok(out)
+}
+
+#[test]
+fn the_platform_goal_rises_at_the_first_cycle_of_its_step_and_rests_two_cycles_later() -> Result<()>
+{
+    let test = "platform_rise";
+    let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS + 1, 1_000_000)? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip(test, "the bus trace needs the emulator");
+    };
+    let p = prepare(&mut link, 1)?;
+    ensure!(
+        matches!(p.state, PlatformState::Ready { .. }),
+        "platform servo {PLATFORM_ID} not ready: {p:?}"
+    );
+    emu.bus_trace_start()?;
+    play_steps(&mut link, 0, Direction::Forward, 3)?;
+    let writes = goal_writes(&emu.bus_trace_stop_bytes()?)?;
+    // Every goal write carries the 22 joints and, last by ID, the platform.
+    for (_, w) in &writes {
+        ensure!(
+            w.len() == JOINTS + 1 && w[JOINTS].0 == PLATFORM_ID,
+            "a goal Sync Write without the platform: {w:?}"
+        );
+    }
+    let joints = |w: &GoalWrite| w.1[..JOINTS].to_vec();
+    let slice0 = joints(writes.last().context("no goal writes")?);
+    let arrival = (0..writes.len())
+        .find(|&k| joints(&writes[k]) == slice0)
+        .context("slice 0 never written")?;
+    let t0 = writes[arrival].0;
+    let step1 = (arrival..writes.len())
+        .find(|&k| writes[k].0 + HALF_CYCLE >= t0 + STEP)
+        .context("no write in step 1")?;
+    let platform: Vec<i32> = writes.iter().map(|w| w.1[JOINTS].1).collect();
+    let rises: Vec<usize> = (0..platform.len())
+        .filter(|&k| platform[k] == 2330)
+        .collect();
+    println!(
+        "{} goal writes; the ramp arrived in write {arrival}, step 1 starts in write {step1} \
+         ({:?} later); the platform at rise in writes {rises:?}",
+        writes.len(),
+        writes[step1].0 - t0
+    );
+    assert_eq!(
+        rises,
+        [step1, step1 + 1],
+        "the rise is step 1's first two cycles"
+    );
+    assert!(
+        platform.iter().all(|&g| g == 2330 || g == 2020),
+        "{platform:?}"
+    );
+    Ok(())
+}
+
+#[test]
+fn a_platform_servo_that_does_not_answer_refuses_play_naming_its_id() -> Result<()> {
+    let test = "platform_silent";
+    // Only the joints' servos on the bus: nobody answers at ID 23.
+    let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, 1_000_000)? else {
+        return Ok(());
+    };
+    let Some(emu) = board.emulator() else {
+        return hil_tests::target::skip(test, "the bus trace needs the emulator");
+    };
+    let p = prepare(&mut link, 0)?;
+    assert_eq!(p.state, PlatformState::NotAnswering);
+    emu.bus_trace_start()?;
+    let play = Request::Play(PlayCommand {
+        slot: 0,
+        direction: Direction::Forward,
+        period_scale: 1000,
+        steps: Steps::Count(2),
+    });
+    // The first Play selects the gait, whose new joint map sends the board to Boot to find its
+    // servos (refused with WrongState, as `hil_tests::drive::start_playing` knows); once they
+    // are found, Play meets the platform.
+    let mut error = None;
+    for _ in 0..50 {
+        let seq = link.send(&play)?;
+        let e = loop {
+            match link.next_message(T)? {
+                Some(DeviceMessage::Reply { seq: got, response }) if got == seq => match response {
+                    Response::Error(e) => break e,
+                    other => bail!("Play answered {other:?}"),
+                },
+                Some(_) => {}
+                None => bail!("no answer to Play"),
+            }
+        };
+        if !matches!(e, ProtocolError::WrongState { .. }) {
+            error = Some(e);
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let error = error.context("Play refused with WrongState for 5 s (wall)")?;
+    assert_eq!(
+        error,
+        ProtocolError::Platform(PlatformError::NotAnswering {
+            servo_id: PLATFORM_ID
+        })
+    );
+    assert_eq!(
+        error.to_string(),
+        "perturbation platform: platform servo ID 23 does not answer (ping, profile velocity or \
+         position read failed): check its cable and ID"
+    );
+    // Nothing moves: ten cycles later no goal has been written.
+    emu.run_for(Duration::from_millis(100))?;
+    let writes = goal_writes(&emu.bus_trace_stop_bytes()?)?;
+    assert!(
+        writes.is_empty(),
+        "goals written after the refusal: {writes:?}"
+    );
+    Ok(())
+}
