@@ -113,6 +113,7 @@ impl Response {
             }
             Response::Error(e) => format!("an error: {e}"),
             Response::JointMap(_) => "a joint map".into(),
+            Response::Platform(_) => "the perturbation platform's set-up".into(),
         }
     }
 }
