@@ -44,7 +44,7 @@ fn python_sdk_drives_the_virtual_bus() {
     assert!(stdout.contains("PASS"), "{stdout}");
     let log = bus.log();
     assert!(
-        log.contains("SyncWrite") && log.contains("SyncRead"),
+        log.contains("Sync Write") && log.contains("Sync Read"),
         "sim-bus log lacks the sync requests:\n{log}"
     );
 }

@@ -1,12 +1,13 @@
 //! Every figure the host draws, reachable from the CLI and from Python without the CLI: plan plots
 //! (joint angles, footfall, feet), the dynamics' torque and GRF plots, the predicted gauge strain, per-leg panels of
-//! comparisons, and the recording's plots. PNG via plotters with an embedded font.
+//! comparisons, the recording's plots and a perturbed leg's load per step. PNG via plotters with an embedded font.
 
 mod bitmap;
 pub mod dynamics;
 pub mod legend;
 pub mod legs;
 pub mod paper_robot;
+pub mod perturbation;
 pub mod plan;
 pub mod recording;
 pub mod robot;

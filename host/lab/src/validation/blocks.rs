@@ -380,7 +380,9 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     b.insert("steer-blend", crate::steer_blend::block()?);
     b.insert("performance", super::timing::performance()?);
     b.insert("substrates", super::trials::substrates()?);
-    b.insert("perturbation", super::trials::perturbation()?);
+    let (perturbation, png) = super::trials::perturbation(plots_dir)?;
+    b.insert("perturbation", perturbation);
+    plots.push(("perturbation_load.png", png));
     Ok(Generated { blocks: b, plots })
 }
 

@@ -3,6 +3,7 @@
 //! does to the perturbed leg's load (`perturbation`).
 
 use std::fmt::Write;
+use std::path::Path;
 
 use physics::Platform;
 use planner::model::Leg;
@@ -52,8 +53,9 @@ pub fn substrates() -> Result<String> {
     Ok(s)
 }
 
-/// The `perturbation` block: the lab's rise under RF in step 3 of 5.
-pub fn perturbation() -> Result<String> {
+/// The `perturbation` block (the lab's rise under RF in step 3 of 5) and its plot
+/// (perturbation_load.png: the leg's load step by step, drawn in `plots_dir`), as PNG bytes.
+pub fn perturbation(plots_dir: &Path) -> Result<(String, Vec<u8>)> {
     let platform = Platform::lab(Leg::RF, 3);
     let w = walk_perturbed(&tripod_table()?, &Ground::Flat, platform, 5)?;
     let mut s = format!(
@@ -90,5 +92,24 @@ pub fn perturbation() -> Result<String> {
             Some(v) => v,
         }
     );
-    Ok(s)
+    let bars: Vec<report::perturbation::StepBar> = w
+        .steps
+        .iter()
+        .map(|st| report::perturbation::StepBar {
+            step: st.step,
+            peak_n: st.peak_n,
+            mean_n: st.mean_n,
+        })
+        .collect();
+    std::fs::create_dir_all(plots_dir)?;
+    let f = plots_dir.join("perturbation_load.png");
+    report::perturbation::plot_step_loads(
+        &f,
+        platform.leg.name(),
+        crate::perturbation::WINDOW_S * 1e3,
+        &bars,
+        platform.step,
+    )?;
+    let png = std::fs::read(&f)?;
+    Ok((s, png))
 }
