@@ -11,6 +11,7 @@ use crate::store::nor_double::NorDouble;
 use crate::store::record::CRC32;
 use crate::testkit::{JOINTS, STIFFNESS, SyntheticGait};
 
+mod reupload;
 mod steer;
 mod switch;
 
