@@ -3,7 +3,8 @@
 //! then read in place with the format's layout constants, so a cycle costs no CRC and no copy.
 
 use protocol::gait::{
-    GaitTable, HEADER_LEN, JOINT_RECORD_LEN, SAMPLE_LEN, SLICE_PREFIX_LEN, TableError, slice_len,
+    CRC_LEN, GaitTable, HEADER_LEN, JOINT_RECORD_LEN, SAMPLE_LEN, SLICE_PREFIX_LEN, TableError,
+    slice_len,
 };
 
 use crate::bias::JointCal;
@@ -27,6 +28,16 @@ pub struct Checked {
     pub layout: Layout,
     pub joints: heapless::Vec<JointCal, MAX_JOINTS>,
     pub stiffness: [u32; MAX_JOINTS],
+}
+
+/// The CRC-32 a table carries in its last bytes (`GaitTable::crc` without the parse): what tells
+/// two tables apart. Not the CRC-32 over all of `bytes`, which is the same constant (the CRC-32
+/// residue, 0x2144DF1C) for every table whose own CRC is right. 0 for bytes too short to hold one.
+pub fn stored_crc(bytes: &[u8]) -> u32 {
+    match bytes.len().checked_sub(CRC_LEN) {
+        Some(at) => u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]),
+        None => 0,
+    }
 }
 
 /// Validates `bytes` as a gait table and converts its joint map.

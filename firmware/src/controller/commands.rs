@@ -4,7 +4,7 @@ use embedded_storage::nor_flash::NorFlash;
 
 use super::{Controller, Selected};
 use crate::bias::JointCal;
-use crate::gait_view;
+use crate::gait_view::{self, stored_crc};
 use crate::playback::{Direction, MAX_JOINTS, PlayClock};
 use crate::safety::{Event, Refused, SafeReason, State};
 use crate::store::{CommitError, FlashWindow, SlotInfo, StoreError};
@@ -109,21 +109,23 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         if slot >= slots {
             return Err(CommandError::NoSuchSlot { slot, slots });
         }
-        let crc = self.store.info(slot).map(|i| i.crc);
-        if crc.is_some()
-            && self
-                .selected
-                .is_some_and(|s| s.slot == slot && Some(s.crc) == crc)
-        {
-            return Ok(());
-        }
         let bytes = self
             .store
             .table(slot)
             .ok_or(CommandError::SlotEmpty { slot })?;
+        // The table's own CRC tells a new upload apart, not the store's CRC-32 over the whole
+        // table: with the table's CRC in its last bytes, that one is the same constant (the
+        // CRC-32 residue) for every valid table.
+        let crc = stored_crc(bytes);
+        if self
+            .selected
+            .is_some_and(|s| s.slot == slot && s.crc == crc)
+        {
+            return Ok(());
+        }
         let checked =
             gait_view::check(bytes).map_err(|error| CommandError::BadTable { slot, error })?;
-        self.adopt(slot, checked, crc.unwrap_or(0))
+        self.adopt(slot, checked, crc)
     }
 
     /// Takes over a checked table of `slot` (its CRC `crc`): joint map, stiffness, limits.

@@ -105,7 +105,8 @@ pub struct Counters {
 pub(crate) struct Selected {
     pub slot: u8,
     pub layout: crate::gait_view::Layout,
-    /// CRC of the table's bytes: a new upload to the same slot is a new table.
+    /// The table's own CRC-32 (its last bytes, [`crate::gait_view::stored_crc`]): a new upload to
+    /// the same slot is a new table.
     pub crc: u32,
 }
 

@@ -12,6 +12,7 @@ use crate::store::record::CRC32;
 use crate::testkit::{JOINTS, STIFFNESS, SyntheticGait};
 
 mod platform;
+mod reupload;
 mod steer;
 mod switch;
 
