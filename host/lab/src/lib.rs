@@ -18,6 +18,8 @@
 //!   speed sweep, their plots.
 //! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge;
 //!   [`strain_walk`]: the physics robot's simulated gauges walking, against the prediction.
+//! - [`physics_walk`]: one walk of a table on a fresh physics robot, followed until it stands
+//!   (what the substrate, strain and perturbation walks share).
 //! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
 //! - [`substrates`]: one gait walked on several substrates, slip per foot and travel per step.
 //! - [`plan_dir_write`]: the one writer of a plan directory (files, plots, the dynamics, strain).
@@ -29,6 +31,7 @@ pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;
 pub mod perturbation;
+pub mod physics_walk;
 pub mod plan_comparison;
 pub mod plan_dir_write;
 pub mod plan_walk;

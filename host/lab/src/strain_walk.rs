@@ -19,16 +19,15 @@
 //! the 45 deg gauges' torsion) are dominated by these differences.
 
 use std::path::Path;
-use std::time::Duration;
 
 use board::files::write_atomically;
 use board::link::Board;
-use physics::{PhysicsRobot, WalkLog};
+use physics::{PhysicsRobot, PhysicsTransport, WalkLog};
 use planner::dynamics::CycleSolution;
 use planner::plan::Plan;
-use protocol::{Direction, PlayCommand, RunState, Steps};
 
 use crate::error::{Context, Result};
+use crate::physics_walk::walk_forward;
 use crate::walk_fits::{Fit, counted, fit_figures, per_slice, phase_csv};
 
 /// Per slice, every gauge's predicted reading in microstrain (`[slice][gauge]`, the model's gauge
@@ -208,49 +207,20 @@ pub fn walk_strain(
         .context("the step table `strain`")?
         .into_bytes();
     let predicted = predicted(plan, cycle)?;
-    let robot = PhysicsRobot::new(&plan.model, &planner::terrain::Ground::Flat)?;
+    let mut robot = PhysicsRobot::new(&plan.model, &planner::terrain::Ground::Flat)?;
     let names = robot.gauge_names();
-    let mut b = Board::connect(robot.into_transport())?;
-    b.upload(0, &table, |_, _| {})?;
-    if !bias_on {
-        // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
-        let joints = protocol::GaitTable::parse(&table)?.joint_count();
-        for j in 0..joints {
-            b.set_stiffness(j as u8, 0)?;
+    robot.start_log(usize::MAX);
+    let joints = protocol::GaitTable::parse(&table)?.joint_count();
+    let no_bias = |b: &mut Board<PhysicsTransport>| -> Result<()> {
+        if !bias_on {
+            // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
+            for j in 0..joints {
+                b.set_stiffness(j as u8, 0)?;
+            }
         }
-    }
-    b.transport_mut()
-        .robot_mut()
-        .servos_mut()
-        .start_log(usize::MAX);
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(steps),
-    })?;
-    // One bus cycle a poll; the bound only ends a gait that never stops.
-    let polls = ((f64::from(steps) + 3.0) * plan.period_s / 0.01).ceil() as u32;
-    for _ in 0..polls {
-        b.wait(Duration::from_millis(10))?;
-        let c = b.transport().robot().controller();
-        if c.state() == firmware::safety::State::Standing && c.playback().is_none() {
-            break;
-        }
-    }
-    let s = b.status()?;
-    if let Some(fault) = s.fault {
-        crate::bail!("the strain walk faulted: {fault}");
-    }
-    if s.state != RunState::Standing {
-        crate::bail!("the strain walk did not end standing");
-    }
-    let log = b
-        .transport_mut()
-        .robot_mut()
-        .servos_mut()
-        .take_log()
-        .unwrap_or_default();
+        Ok(())
+    };
+    let log = walk_forward(robot, &table, steps, "the strain walk", no_bias, |_| {})?.log;
     Ok(StrainWalk {
         bias_on,
         steps,

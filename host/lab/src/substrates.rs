@@ -4,15 +4,12 @@
 //! mu times its normal force, so a lower mu ([`physics::substrate::friction`], ESTIMATES) caps
 //! the traction a foot gets; over a few steps slip is not monotonic in mu (docs/validation.md).
 
-use std::time::Duration;
-
-use board::link::Board;
 use physics::{Figures, PhysicsRobot, Substrate, WalkLog};
 use planner::model::Leg;
 use planner::terrain::Ground;
-use protocol::{Direction, PlayCommand, RunState, Steps};
 
 use crate::error::Result;
+use crate::physics_walk::{BodyWalk, walk_forward};
 
 /// One walk on one substrate.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,37 +72,8 @@ fn walk_on(
     // Poses are not needed: one every 10^6 cycles keeps the log to forces and positions.
     robot.start_log(1_000_000);
     let mu = physics::substrate::friction(substrate);
-    let mut b = Board::connect(robot.into_transport())?;
-    b.upload(0, table, |_, _| {})?;
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(steps),
-    })?;
-    // Simulated time: the walk takes `steps` periods after a start ramp; the loop's bound only
-    // keeps a gait that never ends from running forever.
-    let period_s = protocol::GaitTable::parse(table)?.header().step_period_us as f64 * 1e-6;
-    let polls = ((f64::from(steps) + 3.0) * period_s / 0.25).ceil() as u32 + 8;
-    for _ in 0..polls {
-        b.wait(Duration::from_millis(250))?;
-        let s = b.status()?;
-        if let Some(fault) = s.fault {
-            crate::bail!(
-                "walking on {}: the robot faulted: {fault}",
-                substrate.name()
-            );
-        }
-        if s.playback.is_none() && s.state == RunState::Standing {
-            break;
-        }
-    }
-    let robot = b.transport_mut().robot_mut().servos_mut();
-    let figures = robot
-        .figures()
-        .cloned()
-        .ok_or_else(|| crate::LabError::invalid("the physics robot sampled nothing"))?;
-    let log = robot.take_log().unwrap_or_default();
+    let what = format!("walking on {}", substrate.name());
+    let BodyWalk { figures, log } = walk_forward(robot, table, steps, &what, |_| Ok(()), |_| {})?;
     Ok(SubstrateWalk {
         substrate,
         mu,
