@@ -28,7 +28,7 @@ use planner::plan::Plan;
 
 use crate::error::{Context, Result};
 use crate::physics_walk::walk_forward;
-use crate::walk_fits::{Fit, counted, fit_figures, per_slice, phase_csv};
+use crate::walk_fits::{Fit, counted, phase_csv};
 
 /// Per slice, every gauge's predicted reading in microstrain (`[slice][gauge]`, the model's gauge
 /// order), from the plan and its solved cycle; empty without gauges.
@@ -52,7 +52,6 @@ pub fn strain_fits(
     predicted: &[Vec<f64>],
     steps: u32,
 ) -> Vec<Fit> {
-    let slices = predicted.len();
     names
         .iter()
         .enumerate()
@@ -78,15 +77,8 @@ pub fn strain_fits(
                 pairs.push((sim, pred));
                 by_slice.push((slice, sim));
             }
-            let (r2, rms) = fit_figures(&pairs);
-            Fit {
-                name: name.clone(),
-                r2,
-                rms,
-                samples: pairs.len(),
-                measured: per_slice(&by_slice, slices),
-                modelled: predicted.iter().map(|row| row[g]).collect(),
-            }
+            let modelled = predicted.iter().map(|row| row[g]).collect();
+            Fit::of(name.clone(), &pairs, &by_slice, modelled)
         })
         .collect()
 }

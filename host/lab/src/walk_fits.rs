@@ -24,6 +24,27 @@ pub struct Fit {
     pub measured: Vec<PhaseStats>,
 }
 
+impl Fit {
+    /// The fit of `name` from its (measured, model) `pairs` and its measured `(slice, value)`
+    /// samples, `modelled` per slice of the step (its length is the table's slice count).
+    pub(crate) fn of(
+        name: String,
+        pairs: &[(f64, f64)],
+        by_slice: &[(usize, f64)],
+        modelled: Vec<f64>,
+    ) -> Self {
+        let (r2, rms) = fit_figures(pairs);
+        Self {
+            name,
+            r2,
+            rms,
+            samples: pairs.len(),
+            measured: per_slice(by_slice, modelled.len()),
+            modelled,
+        }
+    }
+}
+
 /// The R^2 of the model predicting the measurements `pairs` (measured, model), and the RMS
 /// difference (0 without samples).
 pub(crate) fn fit_figures(pairs: &[(f64, f64)]) -> (Option<f64>, f64) {
@@ -78,15 +99,7 @@ pub fn load_fits(rows: &[Row], names: &[String], modelled: &[Vec<f64>], steps: u
                 .filter_map(|r| Some((usize::from(r.slice), r.torque_estimate_nm?)))
                 .collect();
             let table = modelled.get(j).cloned().unwrap_or_default();
-            let (r2, rms) = fit_figures(&pairs);
-            Fit {
-                name: name.clone(),
-                r2,
-                rms,
-                samples: pairs.len(),
-                measured: per_slice(&by_slice, table.len()),
-                modelled: table,
-            }
+            Fit::of(name.clone(), &pairs, &by_slice, table)
         })
         .collect()
 }
@@ -115,15 +128,8 @@ pub fn grf_fits(log: &WalkLog, legs: &[Leg], grf_z: &[Vec<f64>], steps: u32) -> 
                 pairs.push((f[2], grf_z[slice][k]));
                 by_slice.push((slice, f[2]));
             }
-            let (r2, rms) = fit_figures(&pairs);
-            Fit {
-                name: leg.name().to_owned(),
-                r2,
-                rms,
-                samples: pairs.len(),
-                measured: per_slice(&by_slice, slices),
-                modelled: grf_z.iter().map(|row| row[k]).collect(),
-            }
+            let modelled = grf_z.iter().map(|row| row[k]).collect();
+            Fit::of(leg.name().to_owned(), &pairs, &by_slice, modelled)
         })
         .collect()
 }
