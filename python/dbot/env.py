@@ -65,7 +65,7 @@ step, m (0 on a board, which cannot see its body); pass ``reward=`` to replace i
 from __future__ import annotations
 
 import math
-from typing import Any, Callable
+from typing import Any, Callable, Iterable
 
 import gymnasium as gym
 import numpy as np
@@ -225,26 +225,7 @@ class DbotEnv(gym.Env):
         robot only: ``flat``, ``incline:DEG``, ``ball``, ``ball-fixed``) and ``stiffness_nm_rad``
         (every servo's stiffness, N m/rad: P gain and torque bias; None: the model's)."""
         super().reset(seed=seed)
-        options = dict(options or {})
-        if "scene" in options:
-            if not self.physics:
-                raise ValueError(f"scene: the port {self.port} is a board, not the physics robot")
-            self.scene = str(options.pop("scene"))
-        stiffness = options.pop("stiffness_nm_rad", self.stiffness_nm_rad)
-        if options:
-            raise ValueError(f"unknown reset options: {', '.join(sorted(options))}")
-        board = self._fresh_board()
-        board.upload(0, self._table)
-        self._clear_upload_fault(board)
-        if stiffness is not None:
-            for j in range(len(self.joint_names)):
-                board.set_stiffness(j, float(stiffness))
-        board.set_torque(True)
-        # The physics robot's gravity ramps in over 1 s from torque-on; then it settles.
-        board.wait((1.0 if self.physics else 0.0) + self.settle_s)
-        state = board.status()["state"]
-        if state != "Standing":
-            raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
+        board = self._standing_board(options, [(0, self._table)])
         board.enter_streaming(timeout_cycles=self.timeout_cycles, feedback_every=1)
         first = self._next(board)
         if first is None:
@@ -258,6 +239,35 @@ class DbotEnv(gym.Env):
         obs, rec = got
         self._t0 = float(rec["time_s"][0])
         return self._begin_episode(obs, self._make_info(rec))
+
+    def _standing_board(
+        self, options: dict[str, Any] | None, uploads: Iterable[tuple[int, bytes]]
+    ) -> Board:
+        """A fresh board standing (torque on, settled, nothing played) with each table of
+        `uploads` in its slot: the reset options ``scene`` and ``stiffness_nm_rad`` applied
+        (any other option is refused), as every environment's reset starts."""
+        options = dict(options or {})
+        if "scene" in options:
+            if not self.physics:
+                raise ValueError(f"scene: the port {self.port} is a board, not the physics robot")
+            self.scene = str(options.pop("scene"))
+        stiffness = options.pop("stiffness_nm_rad", self.stiffness_nm_rad)
+        if options:
+            raise ValueError(f"unknown reset options: {', '.join(sorted(options))}")
+        board = self._fresh_board()
+        for slot, table in uploads:
+            board.upload(slot, table)
+            self._clear_upload_fault(board)
+        if stiffness is not None:
+            for j in range(len(self.joint_names)):
+                board.set_stiffness(j, float(stiffness))
+        board.set_torque(True)
+        # The physics robot's gravity ramps in over 1 s from torque-on; then it settles.
+        board.wait((1.0 if self.physics else 0.0) + self.settle_s)
+        state = board.status()["state"]
+        if state != "Standing":
+            raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
+        return board
 
     def _begin_episode(
         self, obs: dict[str, np.ndarray], info: dict[str, Any]
