@@ -298,13 +298,17 @@ class DbotEnv(gym.Env):
             board.clear_fault()
         elif state in ("Streaming", "Walking", "Ramping", "Stopping"):
             board.stop()
-            for _ in range(3000):
-                if board.status()["state"] in ("Standing", "Idle"):
-                    break
-                board.wait(0.01)
+            self._wait_stopped(board)
         if board.status()["state"] == "Standing":
             board.set_torque(False)
         return board
+
+    def _wait_stopped(self, board: Board) -> None:
+        """Waits (at most 3000 polls 10 ms apart) for a stopped walk to stand or idle."""
+        for _ in range(3000):
+            if board.status()["state"] in ("Standing", "Idle"):
+                break
+            board.wait(0.01)
 
     @staticmethod
     def _wait_cycles(board: Board, cycles: int) -> None:

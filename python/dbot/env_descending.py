@@ -129,21 +129,8 @@ class DescendingEnv(DbotEnv):
         self.rest_rad = np.asarray(rec["commanded_rad"][0], dtype=np.float64)
         return self._begin_episode(obs, self._info_of(rec))
 
-    def _fresh_board(self) -> Board:
-        if self.physics:
-            return super()._fresh_board()
-        if self.board is None:
-            self.board = Board.open(self.port, reply_timeout_s=self.reply_timeout_s)
-        board = self.board
-        state = board.status()["state"]
-        if state == "Fault":
-            board.clear_fault()
-        elif state in ("Streaming", "Walking", "Ramping", "Stopping"):
-            board.stop()
-            self._wait_state(board, ("Standing", "Idle"), STOP_CYCLES, "the walk to stop")
-        if board.status()["state"] == "Standing":
-            board.set_torque(False)
-        return board
+    def _wait_stopped(self, board: Board) -> None:
+        self._wait_state(board, ("Standing", "Idle"), STOP_CYCLES, "the walk to stop")
 
     def _wait_state(
         self, board: Board, states: tuple[str, ...], cycles: int, what: str

@@ -5,6 +5,7 @@ pass without running."""
 
 from __future__ import annotations
 
+import csv
 import os
 import pathlib
 import subprocess
@@ -28,3 +29,18 @@ def run(*args: str, cwd: pathlib.Path) -> str:
     )
     assert out.returncode == 0, out.stderr
     return out.stdout
+
+
+def record_trial(cwd: pathlib.Path, trial: str, port: str, steps: int, *extra: str) -> None:
+    """Plans 40 slices into `p`, tables them as `p/g.dbgt` and records `steps` steps of that table
+    played in slot 0 on `port` as `trials/TRIAL` (`extra`: more `dbot record` arguments)."""
+    run("plan", "--slices", "40", "--out", "p", cwd=cwd)
+    run("table", "--plan", "p", "--out", "p/g.dbgt", cwd=cwd)
+    run("record", "--out", "trials", "--trial", trial, "--table", "p/g.dbgt", "--play", "0",
+        "--steps", str(steps), "--port", port, *extra, cwd=cwd)
+
+
+def csv_rows(path: pathlib.Path) -> list[dict[str, str]]:
+    """The rows of a CSV file the CLI wrote, by header (Python's csv module)."""
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))

@@ -6,23 +6,18 @@ Needs the CLI binary: `cargo build -p dbot` (scripts/test.sh builds it before py
 
 from __future__ import annotations
 
-import csv
 import pathlib
 
 import pytest
 
 import dbot
-from dbot_cli import run
+from dbot_cli import csv_rows, record_trial, run
 
 
 def test_compare_from_python_gives_the_cli_rows(tmp_path: pathlib.Path) -> None:
-    run("plan", "--slices", "40", "--out", "p", cwd=tmp_path)
-    run("table", "--plan", "p", "--out", "p/g.dbgt", cwd=tmp_path)
-    run("record", "--out", "trials", "--trial", "t", "--table", "p/g.dbgt", "--plan", "p",
-        "--play", "0", "--steps", "3", "--port", "virtual", cwd=tmp_path)
+    record_trial(tmp_path, "t", "virtual", 3, "--plan", "p")
     run("compare", "p", "trials/t", "--out", "by-cli", cwd=tmp_path)
-    with open(tmp_path / "by-cli" / "compare.csv", newline="") as f:
-        cli_rows = list(csv.DictReader(f))
+    cli_rows = csv_rows(tmp_path / "by-cli" / "compare.csv")
     rows = dbot.compare(tmp_path / "p", tmp_path / "trials" / "t", tmp_path / "by-python")
     assert len(rows) == len(cli_rows) >= 18
     for py_row, cli_row in zip(rows, cli_rows):
@@ -36,9 +31,6 @@ def test_compare_from_python_gives_the_cli_rows(tmp_path: pathlib.Path) -> None:
 
 
 def test_compare_refuses_a_trial_too_short_naming_why(tmp_path: pathlib.Path) -> None:
-    run("plan", "--slices", "40", "--out", "p", cwd=tmp_path)
-    run("table", "--plan", "p", "--out", "p/g.dbgt", cwd=tmp_path)
-    run("record", "--out", "trials", "--trial", "short", "--table", "p/g.dbgt", "--play", "0",
-        "--steps", "1", "--port", "virtual", cwd=tmp_path)
+    record_trial(tmp_path, "short", "virtual", 1)
     with pytest.raises(ValueError, match="at least 2 .*start ramp"):
         dbot.compare(tmp_path / "p", tmp_path / "trials" / "short", tmp_path / "c")

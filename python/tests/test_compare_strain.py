@@ -12,21 +12,16 @@ Needs the CLI binary: `cargo build -p dbot` (scripts/test.sh builds it before py
 
 from __future__ import annotations
 
-import csv
 import pathlib
 
 import dbot
-from dbot_cli import run
+from dbot_cli import csv_rows, record_trial, run
 
 
 def test_compare_strain_from_python_gives_the_cli_rows(tmp_path: pathlib.Path) -> None:
-    run("plan", "--slices", "40", "--out", "p", cwd=tmp_path)
-    run("table", "--plan", "p", "--out", "p/g.dbgt", cwd=tmp_path)
-    run("record", "--out", "trials", "--trial", "t", "--table", "p/g.dbgt", "--play", "0",
-        "--steps", "3", "--port", "physics", "--strain", "virtual", cwd=tmp_path)
+    record_trial(tmp_path, "t", "physics", 3, "--strain", "virtual")
     run("compare", "--strain", "trials/t", "p", "--out", "by-cli", cwd=tmp_path)
-    with open(tmp_path / "by-cli" / "strain_gains.csv", newline="") as f:
-        cli_rows = list(csv.DictReader(f))
+    cli_rows = csv_rows(tmp_path / "by-cli" / "strain_gains.csv")
     rows = dbot.compare_strain(tmp_path / "trials" / "t", tmp_path / "p")
     assert len(rows) == len(cli_rows) == 36
     cell = lambda v: "" if v is None else f"{v + 0.0:.6f}"  # noqa: E731 (the CLI's format)
