@@ -28,20 +28,21 @@ def cli_error(*args: str) -> str:
     return out.stderr
 
 
-def test_the_planner_refuses_blocks_in_the_same_words_from_the_cli_and_python(tmp_path) -> None:
+def assert_plan_refuses(terrain: str, words: str, tmp_path) -> None:
+    """`dbot.plan` and `dbot plan` both refuse `terrain`, in words that hold `words`."""
     model = dbot.Model.builtin("drosophibot2")
     with pytest.raises(ValueError) as e:
-        dbot.plan(model, terrain="blocks:4")
-    assert REFUSAL in str(e.value)
-    assert REFUSAL in cli_error("plan", "--terrain", "blocks:4", "--out", str(tmp_path / "p"))
+        dbot.plan(model, terrain=terrain)
+    assert words in str(e.value)
+    assert words in cli_error("plan", "--terrain", terrain, "--out", str(tmp_path / "p"))
+
+
+def test_the_planner_refuses_blocks_in_the_same_words_from_the_cli_and_python(tmp_path) -> None:
+    assert_plan_refuses("blocks:4", REFUSAL, tmp_path)
 
 
 def test_an_unknown_ground_is_refused_alike_everywhere(tmp_path) -> None:
-    model = dbot.Model.builtin("drosophibot2")
-    with pytest.raises(ValueError) as e:
-        dbot.plan(model, terrain="lava")
-    assert UNKNOWN in str(e.value)
-    assert UNKNOWN in cli_error("plan", "--terrain", "lava", "--out", str(tmp_path / "p"))
+    assert_plan_refuses("lava", UNKNOWN, tmp_path)
     with pytest.raises(dbot.BoardError) as e:
         dbot.Board.open("physics:lava")
     assert str(e.value).startswith("port `physics:lava`: " + UNKNOWN)
