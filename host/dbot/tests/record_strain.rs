@@ -5,42 +5,26 @@
 //! trial says strain yes, and the servo board's own port is refused as the strain port by name.
 
 mod board_fakes;
+mod cli_support;
 
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
+
+use cli_support::Server;
 
 use board::trial::{latest_trial, read_trial};
 use board_fakes::cli::{run, strings, table};
 
-/// A `dbot sim-strain` process, killed when dropped.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
+/// Starts `dbot sim-strain` with `faults` on `link` and waits for the link to appear.
 fn sim_strain(faults: &[&str], link: &Path) -> Server {
     let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
     c.arg("sim-strain");
     for f in faults {
         c.args(["--fault", f]);
     }
-    let child = c
-        .arg("--link")
-        .arg(link)
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let until = Instant::now() + Duration::from_secs(60);
-    while std::fs::symlink_metadata(link).is_err() {
-        assert!(Instant::now() < until, "sim-strain never made {link:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    Server(child)
+    c.arg("--link").arg(link);
+    cli_support::serve(c, &[link], Duration::from_secs(60), "sim-strain")
 }
 
 fn record(dir: &Path, out: &Path, t: &str, extra: &[&str]) -> board_fakes::cli::Done {
