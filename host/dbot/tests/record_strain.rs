@@ -14,7 +14,7 @@ use std::time::Duration;
 use cli_support::Server;
 
 use board::trial::{latest_trial, read_trial};
-use board_fakes::cli::{run, strings, table};
+use board_fakes::cli::{record_args, run, strings, table};
 
 /// Starts `dbot sim-strain` with `faults` on `link` and waits for the link to appear.
 fn sim_strain(faults: &[&str], link: &Path) -> Server {
@@ -28,19 +28,7 @@ fn sim_strain(faults: &[&str], link: &Path) -> Server {
 }
 
 fn record(dir: &Path, out: &Path, t: &str, extra: &[&str]) -> board_fakes::cli::Done {
-    let mut a = strings(&[
-        "record",
-        "--out",
-        out.to_str().unwrap(),
-        "--table",
-        t,
-        "--play",
-        "0",
-        "--steps",
-        "3",
-        "--port",
-        "virtual",
-    ]);
+    let mut a = record_args(out, t, "virtual", &["--steps", "3"]);
     a.extend(strings(extra));
     run(dir, &a)
 }
@@ -137,22 +125,7 @@ fn the_servo_boards_port_is_refused_as_the_strain_port() {
     let port = dir.path().join("ttyACM0");
     let p = port.to_str().unwrap();
     let out = dir.path().join("trials");
-    let d = run(
-        dir.path(),
-        &strings(&[
-            "record",
-            "--out",
-            out.to_str().unwrap(),
-            "--table",
-            &t,
-            "--play",
-            "0",
-            "--port",
-            p,
-            "--strain",
-            p,
-        ]),
-    );
+    let d = run(dir.path(), &record_args(&out, &t, p, &["--strain", p]));
     assert!(!d.status.success());
     assert!(
         d.stderr.contains(&format!("--strain {p}"))
@@ -234,23 +207,15 @@ fn the_physics_robots_gauges_feed_the_virtual_strain_board() {
     let dir = tmp.path();
     let t = table(dir, "g.dbgt", 40, 2.0);
     let out = dir.join("trials");
-    let mut a = strings(&[
-        "record",
-        "--out",
-        out.to_str().unwrap(),
-        "--table",
-        &t,
-        "--play",
-        "0",
-        "--steps",
-        "1",
-        "--port",
-        "physics",
-        "--strain",
-        "virtual",
-    ]);
-    a.extend(strings(&[]));
-    let d = run(dir, &a);
+    let d = run(
+        dir,
+        &record_args(
+            &out,
+            &t,
+            "physics",
+            &["--steps", "1", "--strain", "virtual"],
+        ),
+    );
     assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
     let trial = latest_trial(&out).unwrap().unwrap();
     let base = std::fs::read_to_string(trial.join("strain_baseline.csv")).unwrap();
