@@ -225,26 +225,7 @@ class DbotEnv(gym.Env):
         robot only: ``flat``, ``incline:DEG``, ``ball``, ``ball-fixed``) and ``stiffness_nm_rad``
         (every servo's stiffness, N m/rad: P gain and torque bias; None: the model's)."""
         super().reset(seed=seed)
-        options = dict(options or {})
-        if "scene" in options:
-            if not self.physics:
-                raise ValueError(f"scene: the port {self.port} is a board, not the physics robot")
-            self.scene = str(options.pop("scene"))
-        stiffness = options.pop("stiffness_nm_rad", self.stiffness_nm_rad)
-        if options:
-            raise ValueError(f"unknown reset options: {', '.join(sorted(options))}")
-        board = self._fresh_board()
-        board.upload(0, self._table)
-        self._clear_upload_fault(board)
-        if stiffness is not None:
-            for j in range(len(self.joint_names)):
-                board.set_stiffness(j, float(stiffness))
-        board.set_torque(True)
-        # The physics robot's gravity ramps in over 1 s from torque-on; then it settles.
-        board.wait((1.0 if self.physics else 0.0) + self.settle_s)
-        state = board.status()["state"]
-        if state != "Standing":
-            raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
+        board = self._prepare_board(options, [(0, self._table)])
         board.enter_streaming(timeout_cycles=self.timeout_cycles, feedback_every=1)
         first = self._next(board)
         if first is None:
@@ -259,6 +240,33 @@ class DbotEnv(gym.Env):
         self._t0 = float(rec["time_s"][0])
         return self._begin_episode(obs, self._make_info(rec))
 
+
+    def _prepare_board(self, options: dict[str, Any] | None, uploads: list) -> Board:
+        """A fresh board with each ``(slot, table)`` of ``uploads`` uploaded, the reset
+        ``options`` applied (``scene``, ``stiffness_nm_rad``; any other is refused by name),
+        torque on and the robot settled standing."""
+        options = dict(options or {})
+        if "scene" in options:
+            if not self.physics:
+                raise ValueError(f"scene: the port {self.port} is a board, not the physics robot")
+            self.scene = str(options.pop("scene"))
+        stiffness = options.pop("stiffness_nm_rad", self.stiffness_nm_rad)
+        if options:
+            raise ValueError(f"unknown reset options: {', '.join(sorted(options))}")
+        board = self._fresh_board()
+        for slot, table in uploads:
+            board.upload(slot, table)
+            self._clear_upload_fault(board)
+        if stiffness is not None:
+            for j in range(len(self.joint_names)):
+                board.set_stiffness(j, float(stiffness))
+        board.set_torque(True)
+        # The physics robot's gravity ramps in over 1 s from torque-on; then it settles.
+        board.wait((1.0 if self.physics else 0.0) + self.settle_s)
+        state = board.status()["state"]
+        if state != "Standing":
+            raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
+        return board
     def _begin_episode(
         self, obs: dict[str, np.ndarray], info: dict[str, Any]
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
@@ -288,13 +296,17 @@ class DbotEnv(gym.Env):
             board.clear_fault()
         elif state in ("Streaming", "Walking", "Ramping", "Stopping"):
             board.stop()
-            for _ in range(3000):
-                if board.status()["state"] in ("Standing", "Idle"):
-                    break
-                board.wait(0.01)
+            self._wait_stopped(board)
         if board.status()["state"] == "Standing":
             board.set_torque(False)
         return board
+
+    def _wait_stopped(self, board: Board) -> None:
+        """Waits (up to 30 s of polling) for a stopped walk to stand or idle."""
+        for _ in range(3000):
+            if board.status()["state"] in ("Standing", "Idle"):
+                break
+            board.wait(0.01)
 
     @staticmethod
     def _wait_cycles(board: Board, cycles: int) -> None:

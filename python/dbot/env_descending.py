@@ -118,27 +118,8 @@ class DescendingEnv(DbotEnv):
         1, 2 and set. Options as DbotEnv's: ``scene`` (physics robot only), ``stiffness_nm_rad``."""
         # gymnasium.Env.reset seeds self.np_random; DbotEnv.reset would enter streaming.
         super(DbotEnv, self).reset(seed=seed)
-        options = dict(options or {})
-        if "scene" in options:
-            if not self.physics:
-                raise ValueError(f"scene: the port {self.port} is a board, not the physics robot")
-            self.scene = str(options.pop("scene"))
-        stiffness = options.pop("stiffness_nm_rad", self.stiffness_nm_rad)
-        if options:
-            raise ValueError(f"unknown reset options: {', '.join(sorted(options))}")
-        board = self._fresh_board()
-        for slot, table in zip(FAMILY_SLOTS, self._tables, strict=True):
-            board.upload(slot, table)
-            self._clear_upload_fault(board)
-        if stiffness is not None:
-            for j in range(len(self.joint_names)):
-                board.set_stiffness(j, float(stiffness))
-        board.set_torque(True)
-        # The physics robot's gravity ramps in over 1 s from torque-on; then it settles.
-        board.wait((1.0 if self.physics else 0.0) + self.settle_s)
-        state = board.status()["state"]
-        if state != "Standing":
-            raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
+        uploads = list(zip(FAMILY_SLOTS, self._tables, strict=True))
+        board = self._prepare_board(options, uploads)
         board.set_steer_family(*FAMILY_SLOTS, self.range_rad)
         board.set_telemetry(1)
         self._command = None
@@ -149,21 +130,9 @@ class DescendingEnv(DbotEnv):
         self.rest_rad = np.asarray(rec["commanded_rad"][0], dtype=np.float64)
         return self._begin_episode(obs, self._info_of(rec))
 
-    def _fresh_board(self) -> Board:
-        if self.physics:
-            return super()._fresh_board()
-        if self.board is None:
-            self.board = Board.open(self.port, reply_timeout_s=self.reply_timeout_s)
-        board = self.board
-        state = board.status()["state"]
-        if state == "Fault":
-            board.clear_fault()
-        elif state in ("Streaming", "Walking", "Ramping", "Stopping"):
-            board.stop()
-            self._wait_state(board, ("Standing", "Idle"), STOP_CYCLES, "the walk to stop")
-        if board.status()["state"] == "Standing":
-            board.set_torque(False)
-        return board
+    def _wait_stopped(self, board: Board) -> None:
+        """The walk stopped within STOP_CYCLES of the board's own bus cycles, or an error."""
+        self._wait_state(board, ("Standing", "Idle"), STOP_CYCLES, "the walk to stop")
 
     def _wait_state(
         self, board: Board, states: tuple[str, ...], cycles: int, what: str
