@@ -74,24 +74,21 @@ fn plan_writes_every_output() {
 fn params_file_and_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let params = dir.path().join("p.toml");
+    let plan_with_params = || {
+        dbot(&[
+            "plan",
+            "--params",
+            params.to_str().unwrap(),
+            "--out",
+            dir.path().to_str().unwrap(),
+        ])
+    };
     std::fs::write(&params, "duty = 1.5\n").unwrap();
-    let o = dbot(&[
-        "plan",
-        "--params",
-        params.to_str().unwrap(),
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let o = plan_with_params();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("duty"));
     std::fs::write(&params, "dutty = 0.5\n").unwrap();
-    let o = dbot(&[
-        "plan",
-        "--params",
-        params.to_str().unwrap(),
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let o = plan_with_params();
     assert!(String::from_utf8_lossy(&o.stderr).contains("dutty"));
 }
 
