@@ -25,6 +25,7 @@ from gymnasium.utils.env_checker import check_env
 
 import dbot
 from dbot.env import DbotEnv
+from traces import assert_bit_identical
 
 STRAIN_KEYS = {"strain_microstrain", "strain_age_s"}
 
@@ -92,9 +93,7 @@ def test_same_seed_and_actions_give_bit_identical_observations() -> None:
             trace.append(obs)
         runs.append(trace)
         env.close()
-    for a, b in zip(*runs, strict=True):
-        for key in a:
-            assert a[key].tobytes() == b[key].tobytes(), key
+    assert_bit_identical(runs)
 
 
 def test_reset_stands_streaming_in_the_resting_posture() -> None:

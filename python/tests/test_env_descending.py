@@ -23,6 +23,7 @@ from gymnasium.utils.env_checker import check_env
 from dbot import plan
 from dbot.env import DbotEnv
 from dbot.env_descending import RANGE_RAD, DescendingEnv
+from traces import assert_bit_identical
 
 
 def unwrap(a: float) -> float:
@@ -82,9 +83,7 @@ def test_same_seed_and_actions_give_bit_identical_observations() -> None:
             trace.append(obs)
         runs.append(trace)
         env.close()
-    for a, b in zip(*runs, strict=True):
-        for key in a:
-            assert a[key].tobytes() == b[key].tobytes(), key
+    assert_bit_identical(runs)
 
 
 def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
