@@ -107,17 +107,14 @@ fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
 fn corrupt_replies_are_counted_and_only_a_run_of_them_is_a_fault() {
     let (mut board, wire, mut client, _) = walking();
     let limit = Config::default().miss_limit;
+    let corrupt = Faults {
+        corrupt_crc: true,
+        ..Faults::default()
+    };
     let crc0 = status(&mut board, &mut client).counters.crc_errors;
     // Corrupt CRCs for limit - 1 cycles in a row, then good ones: a glitch, not a fault.
     for round in 0..5 {
-        set_faults(
-            &wire,
-            12,
-            Faults {
-                corrupt_crc: true,
-                ..Faults::default()
-            },
-        );
+        set_faults(&wire, 12, corrupt);
         for _ in 0..limit - 1 {
             cycle(&mut board, &wire);
         }
@@ -134,14 +131,7 @@ fn corrupt_replies_are_counted_and_only_a_run_of_them_is_a_fault() {
         "one CRC error per corrupt reply"
     );
     // A servo whose every reply is corrupt is as good as silent.
-    set_faults(
-        &wire,
-        12,
-        Faults {
-            corrupt_crc: true,
-            ..Faults::default()
-        },
-    );
+    set_faults(&wire, 12, corrupt);
     run_until(&mut board, &wire, usize::from(limit) + 1, |s| {
         matches!(s, State::Safe(_))
     });

@@ -65,7 +65,7 @@ step, m (0 on a board, which cannot see its body); pass ``reward=`` to replace i
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Iterable
+from typing import Any, Callable
 
 import gymnasium as gym
 import numpy as np
@@ -225,7 +225,7 @@ class DbotEnv(gym.Env):
         robot only: ``flat``, ``incline:DEG``, ``ball``, ``ball-fixed``) and ``stiffness_nm_rad``
         (every servo's stiffness, N m/rad: P gain and torque bias; None: the model's)."""
         super().reset(seed=seed)
-        board = self._standing_board(options, [(0, self._table)])
+        board = self._prepare_board(options, [(0, self._table)])
         board.enter_streaming(timeout_cycles=self.timeout_cycles, feedback_every=1)
         first = self._next(board)
         if first is None:
@@ -240,12 +240,11 @@ class DbotEnv(gym.Env):
         self._t0 = float(rec["time_s"][0])
         return self._begin_episode(obs, self._make_info(rec))
 
-    def _standing_board(
-        self, options: dict[str, Any] | None, uploads: Iterable[tuple[int, bytes]]
-    ) -> Board:
-        """A fresh board standing (torque on, settled, nothing played) with each table of
-        `uploads` in its slot: the reset options ``scene`` and ``stiffness_nm_rad`` applied
-        (any other option is refused), as every environment's reset starts."""
+
+    def _prepare_board(self, options: dict[str, Any] | None, uploads: list) -> Board:
+        """A fresh board with each ``(slot, table)`` of ``uploads`` uploaded, the reset
+        ``options`` applied (``scene``, ``stiffness_nm_rad``; any other is refused by name),
+        torque on and the robot settled standing."""
         options = dict(options or {})
         if "scene" in options:
             if not self.physics:
@@ -268,7 +267,6 @@ class DbotEnv(gym.Env):
         if state != "Standing":
             raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
         return board
-
     def _begin_episode(
         self, obs: dict[str, np.ndarray], info: dict[str, Any]
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
@@ -304,7 +302,7 @@ class DbotEnv(gym.Env):
         return board
 
     def _wait_stopped(self, board: Board) -> None:
-        """Waits (at most 3000 polls 10 ms apart) for a stopped walk to stand or idle."""
+        """Waits (up to 30 s of polling) for a stopped walk to stand or idle."""
         for _ in range(3000):
             if board.status()["state"] in ("Standing", "Idle"):
                 break

@@ -118,7 +118,8 @@ class DescendingEnv(DbotEnv):
         1, 2 and set. Options as DbotEnv's: ``scene`` (physics robot only), ``stiffness_nm_rad``."""
         # gymnasium.Env.reset seeds self.np_random; DbotEnv.reset would enter streaming.
         super(DbotEnv, self).reset(seed=seed)
-        board = self._standing_board(options, zip(FAMILY_SLOTS, self._tables, strict=True))
+        uploads = list(zip(FAMILY_SLOTS, self._tables, strict=True))
+        board = self._prepare_board(options, uploads)
         board.set_steer_family(*FAMILY_SLOTS, self.range_rad)
         board.set_telemetry(1)
         self._command = None
@@ -130,6 +131,7 @@ class DescendingEnv(DbotEnv):
         return self._begin_episode(obs, self._info_of(rec))
 
     def _wait_stopped(self, board: Board) -> None:
+        """The walk stopped within STOP_CYCLES of the board's own bus cycles, or an error."""
         self._wait_state(board, ("Standing", "Idle"), STOP_CYCLES, "the walk to stop")
 
     def _wait_state(

@@ -236,10 +236,3 @@ def servo_rest(plan: dbot.Plan, model: dbot.Model) -> np.ndarray:
     """The gait's first slice at the servo joints (joint-map order), rad."""
     return plan.angles[0, model.servo_joints]
 
-
-def assert_bit_identical(runs: list[list[dict[str, np.ndarray]]]) -> None:
-    """Two runs' observation traces are the same bytes, observation by observation and key by
-    key (the determinism tests of the environments)."""
-    for a, b in zip(*runs, strict=True):
-        for key in a:
-            assert a[key].tobytes() == b[key].tobytes(), key

@@ -25,7 +25,7 @@ from gymnasium.utils.env_checker import check_env
 
 import dbot
 from dbot.env import DbotEnv
-from conftest import assert_bit_identical
+from traces import assert_bit_identical
 
 STRAIN_KEYS = {"strain_microstrain", "strain_age_s"}
 

@@ -23,7 +23,7 @@ from gymnasium.utils.env_checker import check_env
 from dbot import plan
 from dbot.env import DbotEnv
 from dbot.env_descending import RANGE_RAD, DescendingEnv
-from conftest import assert_bit_identical
+from traces import assert_bit_identical
 
 
 def unwrap(a: float) -> float:

@@ -5,27 +5,20 @@
 #[path = "sdk/sim_bus.rs"]
 mod sim_bus_support;
 
+mod cli_support;
+
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+use cli_support::{in_dir, text};
 
 fn dbot(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dbot"))
+    in_dir(dir)
         .args(args)
-        .current_dir(dir)
-        .env_remove("DBOT_CONFIG")
-        .env("XDG_CONFIG_HOME", dir)
         .env("HOME", dir)
         .env("RUST_BACKTRACE", "0")
         .output()
         .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
 }
 
 #[test]

@@ -9,6 +9,18 @@ fn dbot(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// `dbot model export --model MODEL FLAG FILE`.
+fn export(model: &str, flag: &str, file: &std::path::Path) -> std::process::Output {
+    dbot(&[
+        "model",
+        "export",
+        "--model",
+        model,
+        flag,
+        file.to_str().unwrap(),
+    ])
+}
+
 #[test]
 fn plan_writes_every_output() {
     let dir = tempfile::tempdir().unwrap();
@@ -62,24 +74,21 @@ fn plan_writes_every_output() {
 fn params_file_and_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let params = dir.path().join("p.toml");
+    let plan_with_params = || {
+        dbot(&[
+            "plan",
+            "--params",
+            params.to_str().unwrap(),
+            "--out",
+            dir.path().to_str().unwrap(),
+        ])
+    };
     std::fs::write(&params, "duty = 1.5\n").unwrap();
-    let o = dbot(&[
-        "plan",
-        "--params",
-        params.to_str().unwrap(),
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let o = plan_with_params();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("duty"));
     std::fs::write(&params, "dutty = 0.5\n").unwrap();
-    let o = dbot(&[
-        "plan",
-        "--params",
-        params.to_str().unwrap(),
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let o = plan_with_params();
     assert!(String::from_utf8_lossy(&o.stderr).contains("dutty"));
 }
 
@@ -87,14 +96,7 @@ fn params_file_and_bad_input() {
 fn model_export_urdf() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("fly.urdf");
-    let o = dbot(&[
-        "model",
-        "export",
-        "--model",
-        "scale-drosophila",
-        "--urdf",
-        f.to_str().unwrap(),
-    ]);
+    let o = export("scale-drosophila", "--urdf", &f);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let robot = urdf_rs::read_file(&f).unwrap();
     assert!(robot.links.iter().any(|l| l.name == "LF_tip"));
@@ -113,14 +115,7 @@ fn model_export_mjcf_writes_a_timestep_at_which_the_model_does_not_ring() {
     let dir = tempfile::tempdir().unwrap();
     // The robot: its stiffest joint rings at about 63 rad/s, far inside 0.5 ms (omega dt 0.03).
     let robot = dir.path().join("robot.xml");
-    let o = dbot(&[
-        "model",
-        "export",
-        "--model",
-        "drosophibot2",
-        "--mjcf",
-        robot.to_str().unwrap(),
-    ]);
+    let o = export("drosophibot2", "--mjcf", &robot);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(mjcf_timestep(&robot), 5e-4);
     assert!(
@@ -131,14 +126,7 @@ fn model_export_mjcf_writes_a_timestep_at_which_the_model_does_not_ring() {
     // The fly: 3.8e-8 N m/rad on 5.06e-15 kg m^2 rings at sqrt(3.8e-8 / 5.06e-15) = 2740 rad/s;
     // omega dt <= 0.3 needs dt <= 0.109 ms, rounded down to 0.1 ms, and the export says why.
     let fly = dir.path().join("fly.xml");
-    let o = dbot(&[
-        "model",
-        "export",
-        "--model",
-        "scale-drosophila",
-        "--mjcf",
-        fly.to_str().unwrap(),
-    ]);
+    let o = export("scale-drosophila", "--mjcf", &fly);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!((mjcf_timestep(&fly) - 1e-4).abs() < 1e-12);
     let said = String::from_utf8_lossy(&o.stdout);

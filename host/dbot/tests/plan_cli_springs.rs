@@ -13,25 +13,23 @@ fn dbot(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// `dbot plan --spring paper EXTRA --slices 40 --out p` in a fresh directory named for `tag` and
+/// this process: the directory and what the plan printed.
+fn plan_with_springs(tag: &str, extra: &[&str]) -> (std::path::PathBuf, std::process::Output) {
+    let dir = std::env::temp_dir().join(format!("{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut args = vec!["plan", "--spring", "paper"];
+    args.extend_from_slice(extra);
+    args.extend(["--slices", "40", "--out", "p"]);
+    let o = dbot(&dir, &args);
+    (dir, o)
+}
+
 #[test]
 fn springs_and_body_height_offsets_reach_plan_json() {
-    let dir = std::env::temp_dir().join(format!("plan-cli-springs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let o = dbot(
-        &dir,
-        &[
-            "plan",
-            "--spring",
-            "paper",
-            "--body-height-offset",
-            "0,0.015,-0.01",
-            "--swing",
-            "1.6",
-            "--slices",
-            "40",
-            "--out",
-            "p",
-        ],
+    let (dir, o) = plan_with_springs(
+        "plan-cli-springs",
+        &["--body-height-offset", "0,0.015,-0.01", "--swing", "1.6"],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json: serde_json::Value =
@@ -68,22 +66,7 @@ fn dead_fly_equilibrium_reaches_plan_json_and_the_model_file() {
     // --spring-equilibrium dead-fly: the CTr springs rest at -35 deg = -0.6108652 rad (the
     // original solver's, ../shared/reference/solver.md), recorded so that a re-plan from the plan
     // directory's model.toml resolves the same proxy.
-    let dir = std::env::temp_dir().join(format!("plan-cli-dead-fly-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let o = dbot(
-        &dir,
-        &[
-            "plan",
-            "--spring",
-            "paper",
-            "--spring-equilibrium",
-            "dead-fly",
-            "--slices",
-            "40",
-            "--out",
-            "p",
-        ],
-    );
+    let (dir, o) = plan_with_springs("plan-cli-dead-fly", &["--spring-equilibrium", "dead-fly"]);
     let json = std::fs::read_to_string(dir.join("p/plan.json"));
     let model = std::fs::read_to_string(dir.join("p/model.toml"));
     let _ = std::fs::remove_dir_all(&dir);

@@ -4,11 +4,15 @@
 //! (same gait name and CRC, read back from the board) and the demo's own table. An old or foreign
 //! directory is refused by each reader naming plan.json and the format version.
 
+mod cli_support;
+
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+use cli_support::in_dir;
 
 fn dbot(dir: &Path, args: &[&str]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
+    let mut c = in_dir(dir);
     c.args(args);
     // No --allow-infeasible: `dbot plan`'s and the demo's defaults (servo-safe) are plans the
     // servos can follow, so every table here is built through the feasibility check.
@@ -16,11 +20,7 @@ fn dbot(dir: &Path, args: &[&str]) -> Output {
     if args.iter().any(|a| a.starts_with("virtual:")) {
         c.arg("--create");
     }
-    c.current_dir(dir)
-        .env_remove("DBOT_CONFIG")
-        .env("XDG_CONFIG_HOME", dir)
-        .output()
-        .unwrap()
+    c.output().unwrap()
 }
 
 fn ok(dir: &Path, args: &[&str]) -> String {

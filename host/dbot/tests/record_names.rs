@@ -1,7 +1,11 @@
 //! `dbot record` names its joints (issue 20 item 2) with and without --table, writes README.md
 //! beside the CSV, reports missing telemetry, and leaves no torque.png of an earlier recording.
 
+mod cli_support;
+
 use firmware::testkit::SyntheticGait;
+
+use cli_support::on_virtual;
 use planner::model::builtin;
 use planner::plan::table::servo_joints;
 
@@ -24,15 +28,7 @@ fn record_names_joints_with_and_without_a_table() {
     let dir = tempfile::tempdir().unwrap();
     let t = dir.path().join("g.dbgt");
     std::fs::write(&t, SyntheticGait::new(100, 0.5).build()).unwrap();
-    let image = format!("virtual:{}", dir.path().join("r.flash").display());
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_dbot"))
-            .args(args)
-            .args(["--port", &image, "--create"])
-            .current_dir(dir.path())
-            .output()
-            .unwrap()
-    };
+    let run = |args: &[&str]| on_virtual(dir.path(), args);
     let ok = |o: &std::process::Output| {
         assert!(
             o.status.success(),

@@ -5,58 +5,30 @@
 //! trial says strain yes, and the servo board's own port is refused as the strain port by name.
 
 mod board_fakes;
+mod cli_support;
 
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
+
+use cli_support::Server;
 
 use board::trial::{latest_trial, read_trial};
-use board_fakes::cli::{run, strings, table};
+use board_fakes::cli::{record_args, run, strings, table};
 
-/// A `dbot sim-strain` process, killed when dropped.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
+/// Starts `dbot sim-strain` with `faults` on `link` and waits for the link to appear.
 fn sim_strain(faults: &[&str], link: &Path) -> Server {
     let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
     c.arg("sim-strain");
     for f in faults {
         c.args(["--fault", f]);
     }
-    let child = c
-        .arg("--link")
-        .arg(link)
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let until = Instant::now() + Duration::from_secs(60);
-    while std::fs::symlink_metadata(link).is_err() {
-        assert!(Instant::now() < until, "sim-strain never made {link:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    Server(child)
+    c.arg("--link").arg(link);
+    cli_support::serve(c, &[link], Duration::from_secs(60), "sim-strain")
 }
 
 fn record(dir: &Path, out: &Path, t: &str, extra: &[&str]) -> board_fakes::cli::Done {
-    let mut a = strings(&[
-        "record",
-        "--out",
-        out.to_str().unwrap(),
-        "--table",
-        t,
-        "--play",
-        "0",
-        "--steps",
-        "3",
-        "--port",
-        "virtual",
-    ]);
+    let mut a = record_args(out, t, "virtual", &["--steps", "3"]);
     a.extend(strings(extra));
     run(dir, &a)
 }
@@ -153,22 +125,7 @@ fn the_servo_boards_port_is_refused_as_the_strain_port() {
     let port = dir.path().join("ttyACM0");
     let p = port.to_str().unwrap();
     let out = dir.path().join("trials");
-    let d = run(
-        dir.path(),
-        &strings(&[
-            "record",
-            "--out",
-            out.to_str().unwrap(),
-            "--table",
-            &t,
-            "--play",
-            "0",
-            "--port",
-            p,
-            "--strain",
-            p,
-        ]),
-    );
+    let d = run(dir.path(), &record_args(&out, &t, p, &["--strain", p]));
     assert!(!d.status.success());
     assert!(
         d.stderr.contains(&format!("--strain {p}"))
@@ -250,23 +207,15 @@ fn the_physics_robots_gauges_feed_the_virtual_strain_board() {
     let dir = tmp.path();
     let t = table(dir, "g.dbgt", 40, 2.0);
     let out = dir.join("trials");
-    let mut a = strings(&[
-        "record",
-        "--out",
-        out.to_str().unwrap(),
-        "--table",
-        &t,
-        "--play",
-        "0",
-        "--steps",
-        "1",
-        "--port",
-        "physics",
-        "--strain",
-        "virtual",
-    ]);
-    a.extend(strings(&[]));
-    let d = run(dir, &a);
+    let d = run(
+        dir,
+        &record_args(
+            &out,
+            &t,
+            "physics",
+            &["--steps", "1", "--strain", "virtual"],
+        ),
+    );
     assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
     let trial = latest_trial(&out).unwrap().unwrap();
     let base = std::fs::read_to_string(trial.join("strain_baseline.csv")).unwrap();

@@ -8,23 +8,11 @@ mod board_fakes;
 use std::path::Path;
 
 use board::trial::{Outcome, latest_trial, list_trials, read_trial};
-use board_fakes::cli::{fails_naming, run, strings, table, tree};
+use board_fakes::cli::{fails_naming, record_args, run, strings, table, tree};
 use protocol::GaitTable;
 
 fn record(out: &Path, t: &str, port: &str, extra: &[&str]) -> Vec<String> {
-    let mut a = strings(&[
-        "record",
-        "--out",
-        out.to_str().unwrap(),
-        "--table",
-        t,
-        "--play",
-        "0",
-        "--steps",
-        "1",
-        "--port",
-        port,
-    ]);
+    let mut a = record_args(out, t, port, &["--steps", "1"]);
     a.extend(strings(extra));
     a
 }

@@ -11,16 +11,17 @@
 //! difference of the paper's equation 1, and the P gain register's range (1 to 16383) times the
 //! e-manual's P gain scaling.
 
+mod cli_support;
+
 use std::f64::consts::TAU;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+use cli_support::in_dir;
 
 fn dbot(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dbot"))
+    in_dir(dir)
         .args(args)
-        .current_dir(dir)
-        .env_remove("DBOT_CONFIG")
-        .env("XDG_CONFIG_HOME", dir)
         .env("RUST_BACKTRACE", "0")
         .output()
         .unwrap()

@@ -10,7 +10,17 @@ use std::os::unix::fs::PermissionsExt as _;
 use std::path::Path;
 use std::time::Duration;
 
-use board_fakes::cli::{fails_naming, run, spawn, strings, table, tree};
+use board_fakes::cli::{Done, fails_naming, run, spawn, strings, table, tree};
+
+/// `dbot upload --table TABLE [--slot SLOT] --port IMAGE`, run in `dir`.
+fn upload(dir: &Path, table: &str, slot: Option<&str>, image: &str) -> Done {
+    let mut args = vec!["upload", "--table", table];
+    if let Some(slot) = slot {
+        args.extend(["--slot", slot]);
+    }
+    args.extend(["--port", image]);
+    run(dir, &strings(&args))
+}
 
 fn mode(p: &Path) -> u32 {
     std::fs::metadata(p).unwrap().permissions().mode() & 0o777
@@ -37,10 +47,7 @@ fn record_every_0_into_a_good_recording_is_refused_and_keeps_it() {
     let dir = tempfile::tempdir().unwrap();
     let image = format!("virtual:{}", dir.path().join("robot.flash").display());
     let t = table(dir.path(), "g.dbgt", 40, 0.4);
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &t, "--port", &image]),
-    );
+    let d = upload(dir.path(), &t, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     let rec = dir.path().join("rec");
     let record = |every: &str| {
@@ -79,18 +86,12 @@ fn a_read_only_store_is_refused_and_kept_with_its_mode() {
     let image = format!("virtual:{}", path.display());
     let a = table(dir.path(), "a.dbgt", 20, 0.5);
     let b = table(dir.path(), "b.dbgt", 30, 0.6);
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &a, "--port", &image]),
-    );
+    let d = upload(dir.path(), &a, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     let before = std::fs::read(&path).unwrap();
     chmod(&path, 0o444);
     // Before: the upload succeeded and the file came back 0644 with the new gait.
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &b, "--port", &image]),
-    );
+    let d = upload(dir.path(), &b, None, &image);
     fails_naming(
         &d,
         "upload into a read-only store",
@@ -107,16 +108,10 @@ fn a_store_keeps_its_permissions() {
     let path = dir.path().join("robot.flash");
     let image = format!("virtual:{}", path.display());
     let a = table(dir.path(), "a.dbgt", 20, 0.5);
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &a, "--port", &image]),
-    );
+    let d = upload(dir.path(), &a, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     chmod(&path, 0o600);
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &a, "--slot", "1", "--port", &image]),
-    );
+    let d = upload(dir.path(), &a, Some("1"), &image);
     assert!(d.status.success(), "{}", d.stderr);
     // Before: every save made a new file with the default mode (0644).
     assert_eq!(mode(&path), 0o600);
@@ -128,10 +123,7 @@ fn a_command_beside_an_upload_does_not_undo_it() {
     let image = format!("virtual:{}", dir.path().join("robot.flash").display());
     let walk = table(dir.path(), "walk.dbgt", 100, 1.0);
     let new = table(dir.path(), "new.dbgt", 50, 0.5);
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &walk, "--port", &image]),
-    );
+    let d = upload(dir.path(), &walk, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     let empty = slot_line(dir.path(), &image, 1);
     // A walk of 4 steps (about 3 s here, 10 s on a loaded machine: under the 30 s an upload waits)
@@ -176,10 +168,7 @@ fn a_store_in_a_directory_nobody_may_write_is_refused_before_any_success() {
     let path = store.join("robot.flash");
     let image = format!("virtual:{}", path.display());
     let a = table(dir.path(), "a.dbgt", 20, 0.5);
-    let d = run(
-        dir.path(),
-        &strings(&["upload", "--table", &a, "--port", &image]),
-    );
+    let d = upload(dir.path(), &a, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     let before = std::fs::read(&path).unwrap();
     chmod(dir.path(), 0o755);

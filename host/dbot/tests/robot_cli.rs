@@ -1,33 +1,14 @@
 //! Every board command of `dbot` run as a process against the virtual robot whose flash lives in
 //! a file (`--port virtual:PATH`), checking what each command reports and what the board then holds.
 
+mod cli_support;
+
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
+
+use cli_support::{in_dir, on_virtual as dbot, stderr, stdout};
 
 use firmware::testkit::SyntheticGait;
-
-fn dbot(dir: &Path, args: &[&str]) -> Output {
-    let image = dir.join("robot.flash");
-    Command::new(env!("CARGO_BIN_EXE_dbot"))
-        .args(args)
-        .arg("--port")
-        .arg(format!("virtual:{}", image.display()))
-        // Each test starts with no store: the first command creates it.
-        .arg("--create")
-        .current_dir(dir)
-        .env_remove("DBOT_CONFIG")
-        .env("XDG_CONFIG_HOME", dir)
-        .output()
-        .unwrap()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 fn ok(dir: &Path, args: &[&str]) -> String {
     let o = dbot(dir, args);
@@ -169,15 +150,7 @@ fn the_setup_file_names_port_and_slot_and_flags_override_it() {
         "port = \"virtual:setup.flash\"\nslot = 2\n",
     )
     .unwrap();
-    let plain = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_dbot"))
-            .args(args)
-            .current_dir(dir.path())
-            .env_remove("DBOT_CONFIG")
-            .env("XDG_CONFIG_HOME", dir.path())
-            .output()
-            .unwrap()
-    };
+    let plain = |args: &[&str]| in_dir(dir.path()).args(args).output().unwrap();
     let o = plain(&["upload", "--table", &t, "--create"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("slot 2:"), "{}", stdout(&o));
@@ -202,9 +175,8 @@ fn the_setup_file_names_port_and_slot_and_flags_override_it() {
 #[test]
 fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
     let dir = tempfile::tempdir().unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+    let o = in_dir(dir.path())
         .args(["plan", "--preset", "table1", "--out", "p", "--slices", "50"])
-        .current_dir(dir.path())
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
@@ -250,15 +222,13 @@ fn upload_from_a_plan_directory_builds_the_table_of_that_plan() {
         "{out}"
     );
     // The default plan (servo-safe, swing 1.0 s) is built without the override.
-    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+    let o = in_dir(dir.path())
         .args(["plan", "--out", "q", "--slices", "50"])
-        .current_dir(dir.path())
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = Command::new(env!("CARGO_BIN_EXE_dbot"))
+    let o = in_dir(dir.path())
         .args(["table", "--plan", "q", "--out", "q.dbgt"])
-        .current_dir(dir.path())
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));

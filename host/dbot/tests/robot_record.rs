@@ -1,9 +1,13 @@
 //! Recording telemetry from the virtual robot: the tidy CSV, the torque estimate against the plan,
 //! and a board that vanishes mid-recording (clear error, the CSV so far is kept).
 
+mod cli_support;
+
 use board::link::Board;
+
 use board::record::{CaptureError, Recorder, Until, capture, joints_of_table, tracking};
 use board::robot::{VirtualRobot, VirtualTransport};
+use cli_support::on_virtual;
 use firmware::testkit::SyntheticGait;
 use protocol::{Direction, GaitTable, PlayCommand, Steps};
 
@@ -141,15 +145,7 @@ fn the_cli_records_a_played_gait_with_plots() {
     let dir = tempfile::tempdir().unwrap();
     let t = dir.path().join("g.dbgt");
     std::fs::write(&t, SyntheticGait::new(100, 0.5).build()).unwrap();
-    let image = format!("virtual:{}", dir.path().join("r.flash").display());
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_dbot"))
-            .args(args)
-            .args(["--port", &image, "--create"])
-            .current_dir(dir.path())
-            .output()
-            .unwrap()
-    };
+    let run = |args: &[&str]| on_virtual(dir.path(), args);
     let o = run(&["upload", "--table", t.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = dir.path().join("rec");

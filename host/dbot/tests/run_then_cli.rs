@@ -4,24 +4,14 @@
 //! switch rule's reason.
 
 use std::f64::consts::PI;
+mod cli_support;
+
 use std::path::Path;
-use std::process::{Command, Output};
 
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::gait::GaitTableBuilder;
 
-fn dbot(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dbot"))
-        .args(args)
-        .arg("--port")
-        .arg(format!("virtual:{}", dir.join("robot.flash").display()))
-        .arg("--create")
-        .current_dir(dir)
-        .env_remove("DBOT_CONFIG")
-        .env("XDG_CONFIG_HOME", dir)
-        .output()
-        .unwrap()
-}
+use cli_support::on_virtual as dbot;
 
 fn ok(dir: &Path, args: &[&str]) -> String {
     let o = dbot(dir, args);

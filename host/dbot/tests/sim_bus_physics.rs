@@ -9,41 +9,28 @@
 //! equals 300 + 0.5 x the in-process body's reading (rounded) within the tolerance below.
 
 mod board_fakes;
+mod cli_support;
 
 use std::path::Path;
-use std::process::{Child, Command};
+use std::process::Command;
 use std::time::{Duration, Instant};
+
+use cli_support::Server;
 
 use board::link::Board;
 use board::trial::latest_trial;
 use board_fakes::cli::{run, strings};
 use physics::PhysicsRobot;
 
-/// A `dbot sim-bus` process, killed when dropped.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
+/// Starts `dbot sim-bus` on the physics robot with its board on `board` and its strain board on
+/// `strain`, and waits for both links to appear.
 fn sim_bus(board: &Path, strain: &Path) -> Server {
-    let child = Command::new(env!("CARGO_BIN_EXE_dbot"))
-        .args(["sim-bus", "--physics", "physics", "--link"])
+    let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
+    c.args(["sim-bus", "--physics", "physics", "--link"])
         .arg(board)
         .arg("--strain-link")
-        .arg(strain)
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let until = Instant::now() + Duration::from_secs(120);
-    while std::fs::symlink_metadata(board).is_err() || std::fs::symlink_metadata(strain).is_err() {
-        assert!(Instant::now() < until, "sim-bus never made {board:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    Server(child)
+        .arg(strain);
+    cli_support::serve(c, &[board, strain], Duration::from_secs(120), "sim-bus")
 }
 
 /// Counts, any gauge: the board rounds to whole counts, and the stance the body stands in after

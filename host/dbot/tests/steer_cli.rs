@@ -3,33 +3,14 @@
 //! of the board and the library in their own words.
 
 use std::f64::consts::PI;
+mod cli_support;
+
 use std::path::Path;
-use std::process::{Command, Output};
 
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::gait::GaitTableBuilder;
 
-fn dbot(dir: &Path, args: &[&str]) -> Output {
-    let image = dir.join("robot.flash");
-    Command::new(env!("CARGO_BIN_EXE_dbot"))
-        .args(args)
-        .arg("--port")
-        .arg(format!("virtual:{}", image.display()))
-        .arg("--create")
-        .current_dir(dir)
-        .env_remove("DBOT_CONFIG")
-        .env("XDG_CONFIG_HOME", dir)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+use cli_support::{on_virtual as dbot, text};
 
 /// The synthetic gait (20 slices, 0.4 s) with `amp sin(2 pi s / 20) + offset` rad on every
 /// angle, written to `name.dbgt`: with offset 0 it shares the straight gait's slice 0.

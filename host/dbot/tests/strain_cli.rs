@@ -3,19 +3,13 @@
 //! Expected words and numbers come from the protocol (`../shared/reference/lab-practice.md`):
 //! legs LH, RH, LM, RM, LF, RF and gauges troch axial .. femur axial in the board's order.
 
+mod cli_support;
+
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output};
+use std::time::Duration;
 
-/// A server process, killed when dropped.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use cli_support::Server;
 
 fn dbot() -> Command {
     Command::new(env!("CARGO_BIN_EXE_dbot"))
@@ -23,19 +17,9 @@ fn dbot() -> Command {
 
 /// Starts `dbot ARGS --link LINK` and waits for the link to appear.
 fn serve(args: &[&str], link: &Path) -> Server {
-    let child = dbot()
-        .args(args)
-        .arg("--link")
-        .arg(link)
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let until = Instant::now() + Duration::from_secs(60);
-    while std::fs::symlink_metadata(link).is_err() {
-        assert!(Instant::now() < until, "the server never made {link:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    Server(child)
+    let mut c = dbot();
+    c.args(args).arg("--link").arg(link);
+    cli_support::serve(c, &[link], Duration::from_secs(60), "the server")
 }
 
 fn strain(link: &Path) -> Output {

@@ -2,7 +2,7 @@
 //! horizontal leg on a fixed stand, with and without a parallel spring.
 
 use nalgebra::{Isometry3, Matrix3, Unit, Vector3};
-use planner::dynamics::{Base, DynamicsOptions, SliceInput, solve_slice};
+use planner::dynamics::{Base, DynamicsOptions, SliceInput, SliceSolution, solve_slice};
 use planner::model::{
     Actuation, ActuatorKind, Body, EquilibriumSource, Foot, Joint, JointKind, Leg, Model,
     ParallelSpring,
@@ -138,16 +138,22 @@ fn arm(spring: Option<ParallelSpring>) -> Model {
     m
 }
 
-#[test]
-fn horizontal_leg_on_a_stand_carries_its_weight() {
-    let model = arm(None);
-    let mut input = SliceInput::still(&model, vec![0.0; 3]);
+/// One still slice of `model` at `q` on a fixed base (the stand), the foot in the air.
+fn on_the_stand(model: &Model, q: Vec<f64>) -> (SliceInput, SliceSolution) {
+    let mut input = SliceInput::still(model, q);
     input.stance = vec![false];
     let options = DynamicsOptions {
         base: Base::Fixed,
         ..Default::default()
     };
-    let s = solve_slice(&model, &input, &options, 0).unwrap();
+    let s = solve_slice(model, &input, &options, 0).unwrap();
+    (input, s)
+}
+
+#[test]
+fn horizontal_leg_on_a_stand_carries_its_weight() {
+    let model = arm(None);
+    let (_, s) = on_the_stand(&model, vec![0.0; 3]);
     // Hip about +y: to hold a mass at +x against gravity the parent pushes with moment
     // n_y = -(x m g): r x F with r = (x,0,0), F = (0,0,-m g) is (0, x m g, 0); n cancels it.
     let (m1, m2, l1) = (0.3, 0.2, 0.1);
@@ -169,23 +175,19 @@ fn horizontal_leg_on_a_stand_carries_its_weight() {
     assert!((s.base_force - Vector3::new(0.0, 0.0, (1.0 + m1 + m2) * G)).norm() < 1e-12);
 }
 
+/// A parallel spring of 0.5 N m/rad resting at 0.4 rad, on every joint of the arm.
+const SPRING: ParallelSpring = ParallelSpring {
+    stiffness: 0.5,
+    equilibrium: 0.4,
+    equilibrium_from: EquilibriumSource::Given,
+};
+
 #[test]
 fn parallel_spring_takes_part_of_the_torque() {
     // Spring torque -k_s (q - q_eq) = -0.5 (0 - 0.4) = +0.2 N m on every joint: the actuator
     // supplies the total axis moment minus that.
-    let spring = ParallelSpring {
-        stiffness: 0.5,
-        equilibrium: 0.4,
-        equilibrium_from: EquilibriumSource::Given,
-    };
-    let model = arm(Some(spring));
-    let mut input = SliceInput::still(&model, vec![0.0; 3]);
-    input.stance = vec![false];
-    let options = DynamicsOptions {
-        base: Base::Fixed,
-        ..Default::default()
-    };
-    let s = solve_slice(&model, &input, &options, 0).unwrap();
+    let model = arm(Some(SPRING));
+    let (_, s) = on_the_stand(&model, vec![0.0; 3]);
     let hip = -(0.3 * G * 0.05 + 0.2 * G * 0.175);
     assert!((s.spring_torque[1] - 0.2).abs() < 1e-15);
     assert!((s.axis_moment[1] - hip).abs() < 1e-12);
@@ -199,19 +201,8 @@ fn parallel_spring_takes_part_of_the_torque() {
 fn servo_command_bias_is_torque_over_servo_stiffness() {
     // Paper section 2.5: command = planned angle + torque / servo stiffness. The spring does not
     // enter: with a spring the actuator torque is smaller, and so is the bias.
-    let spring = ParallelSpring {
-        stiffness: 0.5,
-        equilibrium: 0.4,
-        equilibrium_from: EquilibriumSource::Given,
-    };
-    let model = arm(Some(spring));
-    let mut input = SliceInput::still(&model, vec![0.1, -0.2, 0.3]);
-    input.stance = vec![false];
-    let options = DynamicsOptions {
-        base: Base::Fixed,
-        ..Default::default()
-    };
-    let s = solve_slice(&model, &input, &options, 0).unwrap();
+    let model = arm(Some(SPRING));
+    let (input, s) = on_the_stand(&model, vec![0.1, -0.2, 0.3]);
     let cmd = planner::dynamics::output::biased_commands(&model, &input.q, &s.torque);
     // Servo stiffness of every joint of the arm is 2.0 N m/rad.
     for ((c, q), t) in cmd.iter().zip(&input.q).zip(&s.torque) {

@@ -1,59 +1,66 @@
 //! Forward kinematics against a hand calculation, leg Jacobians against finite differences, and
 //! the URDF export against an independent chain walk of the parsed URDF (urdf-rs).
 
+mod model_blocks;
+
+use model_blocks::{Joint, body, foot};
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use planner::kinematics::{LegChain, forward, leg_jacobian};
 use planner::model::*;
 use std::collections::HashMap;
 
-const TWO_JOINTS: &str = r#"
-name = "two-joint"
-[[body]]
-name = "thorax"
-mass_kg = 1.0
-com_m = [0.0, 0.0, 0.0]
-inertia_kg_m2 = [1e-3, 1e-3, 1e-3, 0.0, 0.0, 0.0]
-[[body]]
-name = "femur"
-mass_kg = 0.1
-com_m = [0.0, 0.05, 0.0]
-inertia_kg_m2 = [1e-4, 1e-5, 1e-4, 0.0, 0.0, 0.0]
-[[body]]
-name = "tibia"
-mass_kg = 0.1
-com_m = [0.1, 0.0, 0.0]
-inertia_kg_m2 = [1e-5, 1e-4, 1e-4, 0.0, 0.0, 0.0]
-[[joint]]
-leg = "LF"
-kind = "CTr"
-parent = "thorax"
-child = "femur"
-origin_xyz_m = [0.1, 0.05, 0.0]
-origin_rpy_rad = [0.0, 0.0, 0.0]
-axis = [1.0, 0.0, 0.0]
-limits_rad = [-2.0, 2.0]
-actuation = "mx64"
-stiffness_nm_per_rad = 30.0
-[[joint]]
-leg = "LF"
-kind = "FTi"
-parent = "femur"
-child = "tibia"
-origin_xyz_m = [0.0, 0.1, 0.0]
-origin_rpy_rad = [0.0, 0.0, 1.5707963267948966]
-axis = [0.0, 0.0, 1.0]
-limits_rad = [-2.0, 2.0]
-actuation = "mx28"
-stiffness_nm_per_rad = 15.0
-[[foot]]
-leg = "LF"
-body = "tibia"
-point_m = [0.2, 0.0, 0.0]
-"#;
+/// Thorax; femur on LF's CTr (x axis, an MX-64 at 30 N m/rad) at (0.1, 0.05, 0); tibia on FTi
+/// (z axis, turned pi/2 about z, an MX-28 at 15 N m/rad) at (0, 0.1, 0) on the femur; the foot
+/// at (0.2, 0, 0) on the tibia.
+fn two_joints() -> String {
+    let joint = |kind, parent, child, origin_xyz_m, origin_rpy_rad, axis, actuation, k| {
+        Joint {
+            leg: "LF",
+            kind,
+            parent,
+            child,
+            origin_xyz_m,
+            origin_rpy_rad,
+            axis,
+            limit_rad: 2.0,
+            actuation,
+            stiffness_nm_per_rad: k,
+        }
+        .block()
+    };
+    [
+        "name = \"two-joint\"\n".to_string(),
+        body("thorax", 1.0, [0.0; 3], [1e-3, 1e-3, 1e-3]),
+        body("femur", 0.1, [0.0, 0.05, 0.0], [1e-4, 1e-5, 1e-4]),
+        body("tibia", 0.1, [0.1, 0.0, 0.0], [1e-5, 1e-4, 1e-4]),
+        joint(
+            "CTr",
+            "thorax",
+            "femur",
+            [0.1, 0.05, 0.0],
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            "mx64",
+            30.0,
+        ),
+        joint(
+            "FTi",
+            "femur",
+            "tibia",
+            [0.0, 0.1, 0.0],
+            [0.0, 0.0, std::f64::consts::FRAC_PI_2],
+            [0.0, 0.0, 1.0],
+            "mx28",
+            15.0,
+        ),
+        foot("LF", "tibia", [0.2, 0.0, 0.0]),
+    ]
+    .concat()
+}
 
 #[test]
 fn fk_matches_hand_calculation() {
-    let m = from_toml_str(TWO_JOINTS, "two.toml").unwrap();
+    let m = from_toml_str(&two_joints(), "two.toml").unwrap();
     let (t1, t2) = (std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_6);
     let p = forward(&m, &[t1, t2]);
     // By hand: foot = (0.1, 0.05, 0) + Rx(t1) [(0, 0.1, 0) + Rz(pi/2 + t2) (0.2, 0, 0)]

@@ -3,10 +3,13 @@
 //! is the foot force moved to the section plus the weight of what hangs distal of it, and the
 //! readings follow by hand. Read through the model file format, so the gauge section is too.
 
+mod model_blocks;
+
+use model_blocks::{Joint, body, foot};
 use nalgebra::Vector3;
-use planner::dynamics::{DynamicsOptions, SliceInput, solve_cycle};
+use planner::dynamics::{CycleSolution, DynamicsOptions, SliceInput, solve_cycle};
 use planner::model::{Model, from_toml_str};
-use planner::strain::predict;
+use planner::strain::{StrainPrediction, predict};
 
 /// The planner's standard gravity, m/s^2 (`SliceInput::still` uses it).
 const G: f64 = 9.81;
@@ -17,100 +20,55 @@ const G: f64 = 9.81;
 /// knee (y) at x = 0.1, tibia hanging down (0.2 kg, L2 = 0.15 m, CoM 0.075 m below the knee),
 /// foot at its end. Gauges on the femur's top face (+z) at half its length, a tube of 20 mm
 /// outer diameter and 2 mm wall, E = 2.4 GPa, nu = 0.39.
-const POGO: &str = r#"
-name = "pogo"
-[[body]]
-name = "thorax"
-mass_kg = 2.0
-com_m = [0.1075, 0.0, 0.0]
-inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
-[[body]]
-name = "coxa"
-mass_kg = 1e-12
-com_m = [0.0, 0.0, 0.0]
-inertia_kg_m2 = [1e-18, 1e-18, 1e-18, 0.0, 0.0, 0.0]
-[[body]]
-name = "femur"
-mass_kg = 0.3
-com_m = [0.05, 0.0, 0.0]
-inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
-[[body]]
-name = "tibia"
-mass_kg = 0.2
-com_m = [0.0, 0.0, -0.075]
-inertia_kg_m2 = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
-[[joint]]
-leg = "LM"
-kind = "ThC1"
-parent = "thorax"
-child = "coxa"
-origin_xyz_m = [0.0, 0.0, 0.0]
-origin_rpy_rad = [0.0, 0.0, 0.0]
-axis = [0.0, 0.0, 1.0]
-limits_rad = [-3.0, 3.0]
-actuation = "mx28"
-stiffness_nm_per_rad = 2.0
-[[joint]]
-leg = "LM"
-kind = "CTr"
-parent = "coxa"
-child = "femur"
-origin_xyz_m = [0.0, 0.0, 0.0]
-origin_rpy_rad = [0.0, 0.0, 0.0]
-axis = [0.0, 1.0, 0.0]
-limits_rad = [-3.0, 3.0]
-actuation = "mx28"
-stiffness_nm_per_rad = 2.0
-[[joint]]
-leg = "LM"
-kind = "FTi"
-parent = "femur"
-child = "tibia"
-origin_xyz_m = [0.1, 0.0, 0.0]
-origin_rpy_rad = [0.0, 0.0, 0.0]
-axis = [0.0, 1.0, 0.0]
-limits_rad = [-3.0, 3.0]
-actuation = "mx28"
-stiffness_nm_per_rad = 2.0
-[[foot]]
-leg = "LM"
-body = "tibia"
-point_m = [0.0, 0.0, -0.15]
-[[gauge]]
-name = "LM_femur_axial"
-leg = "LM"
-segment = "femur"
-position_fraction = 0.5
-face = [0.0, 0.0, 1.0]
-direction = "axial"
-section = { shape = "circular_tube", outer_diameter_m = 0.02, wall_m = 0.002 }
-material = { youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }
-[[gauge]]
-name = "LM_femur_transverse"
-leg = "LM"
-segment = "femur"
-position_fraction = 0.5
-face = [0.0, 0.0, 1.0]
-direction = "transverse"
-section = { shape = "circular_tube", outer_diameter_m = 0.02, wall_m = 0.002 }
-material = { youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }
-[[gauge]]
-name = "LM_femur_hip"
-leg = "LM"
-segment = "femur"
-position_fraction = 0.0
-face = [0.0, 0.0, 1.0]
-direction = "axial"
-section = { shape = "circular_tube", outer_diameter_m = 0.02, wall_m = 0.002 }
-material = { youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }
-"#;
-
-fn pogo() -> Model {
-    from_toml_str(POGO, "pogo.toml").unwrap()
+fn pogo_toml() -> String {
+    let joint = |kind, parent, child, origin_xyz_m, axis| {
+        Joint {
+            leg: "LM",
+            kind,
+            parent,
+            child,
+            origin_xyz_m,
+            origin_rpy_rad: [0.0; 3],
+            axis,
+            limit_rad: 3.0,
+            actuation: "mx28",
+            stiffness_nm_per_rad: 2.0,
+        }
+        .block()
+    };
+    let (z, y) = ([0.0, 0.0, 1.0], [0.0, 1.0, 0.0]);
+    let gauge = |name, position_fraction: f64, direction| {
+        format!(
+            "[[gauge]]\nname = \"{name}\"\nleg = \"LM\"\nsegment = \"femur\"\n\
+             position_fraction = {position_fraction:?}\nface = [0.0, 0.0, 1.0]\n\
+             direction = \"{direction}\"\n\
+             section = {{ shape = \"circular_tube\", outer_diameter_m = 0.02, wall_m = 0.002 }}\n\
+             material = {{ youngs_modulus_pa = 2.4e9, poisson_ratio = 0.39 }}\n"
+        )
+    };
+    [
+        "name = \"pogo\"\n".to_string(),
+        body("thorax", 2.0, [0.1075, 0.0, 0.0], [1e-6; 3]),
+        body("coxa", 1e-12, [0.0; 3], [1e-18; 3]),
+        body("femur", 0.3, [0.05, 0.0, 0.0], [1e-6; 3]),
+        body("tibia", 0.2, [0.0, 0.0, -0.075], [1e-6; 3]),
+        joint("ThC1", "thorax", "coxa", [0.0; 3], z),
+        joint("CTr", "coxa", "femur", [0.0; 3], y),
+        joint("FTi", "femur", "tibia", [0.1, 0.0, 0.0], y),
+        foot("LM", "tibia", [0.0, 0.0, -0.15]),
+        gauge("LM_femur_axial", 0.5, "axial"),
+        gauge("LM_femur_transverse", 0.5, "transverse"),
+        gauge("LM_femur_hip", 0.0, "axial"),
+    ]
+    .concat()
 }
 
-#[test]
-fn standing_leg_section_wrench_is_the_foot_force_moved_to_the_section_plus_distal_weight() {
+fn pogo() -> Model {
+    from_toml_str(&pogo_toml(), "pogo.toml").unwrap()
+}
+
+/// The pogo standing still: its one-slice cycle and the strain it predicts.
+fn standing() -> (CycleSolution, StrainPrediction) {
     let model = pogo();
     let input = SliceInput::still(&model, vec![0.0; 3]);
     let cycle = solve_cycle(
@@ -119,9 +77,15 @@ fn standing_leg_section_wrench_is_the_foot_force_moved_to_the_section_plus_dista
         &DynamicsOptions::default(),
     )
     .unwrap();
+    let strain = predict(&model, &[input], &cycle).unwrap();
+    (cycle, strain)
+}
+
+#[test]
+fn standing_leg_section_wrench_is_the_foot_force_moved_to_the_section_plus_distal_weight() {
+    let (cycle, strain) = standing();
     let w_total = 2.5 * G;
     assert!((cycle.slices[0].grf[0] - Vector3::new(0.0, 0.0, w_total)).norm() < 1e-9 * w_total);
-    let strain = predict(&model, &[input], &cycle).unwrap();
     let r = strain.readings[0][0];
     // By hand, section at P = (0.05, 0, 0); distal: the tibia (0.2 kg at (0.1, 0, -0.075)) and
     // the femur's distal half (0.15 kg at (0.075, 0, 0)). Force of the distal part on the
@@ -160,15 +124,7 @@ fn standing_leg_section_wrench_is_the_foot_force_moved_to_the_section_plus_dista
 /// hip joint carries: the joint's force and moment (parent on child) with the sign flipped.
 #[test]
 fn a_cut_at_the_proximal_joint_carries_the_joint_wrench() {
-    let model = pogo();
-    let input = SliceInput::still(&model, vec![0.0; 3]);
-    let cycle = solve_cycle(
-        &model,
-        std::slice::from_ref(&input),
-        &DynamicsOptions::default(),
-    )
-    .unwrap();
-    let strain = predict(&model, &[input], &cycle).unwrap();
+    let (cycle, strain) = standing();
     let r = strain.readings[0][2];
     let (jf, jm) = (
         cycle.slices[0].joint_force[1],

@@ -94,6 +94,24 @@ pub fn strings(args: &[&str]) -> Vec<String> {
     args.iter().map(|s| s.to_string()).collect()
 }
 
+/// `record --out OUT --table T --play 0 --port PORT EXTRA`: a recording of the gait in `t`
+/// uploaded to slot 0 and played there.
+pub fn record_args(out: &Path, t: &str, port: &str, extra: &[&str]) -> Vec<String> {
+    let mut a = strings(&[
+        "record",
+        "--out",
+        out.to_str().unwrap(),
+        "--table",
+        t,
+        "--play",
+        "0",
+        "--port",
+        port,
+    ]);
+    a.extend(strings(extra));
+    a
+}
+
 /// A failure (not a panic, not a signal) whose stderr names every one of `needles`.
 pub fn fails_naming(d: &Done, what: &str, needles: &[&str]) {
     assert!(

@@ -95,6 +95,22 @@ fn open(path: &Path) -> Result<(csv::Reader<std::fs::File>, csv::StringRecord), 
     Ok((rd, headers))
 }
 
+/// Data record `i` of `path` with its line number in the file (the header is line 1), or the
+/// error naming that line.
+fn numbered(
+    path: &Path,
+    i: usize,
+    rec: csv::Result<csv::StringRecord>,
+) -> Result<(usize, csv::StringRecord), PlanDirError> {
+    let line = i + 2;
+    let rec = rec.map_err(|e| PlanDirError::Row {
+        file: path.to_path_buf(),
+        line,
+        problem: e.to_string(),
+    })?;
+    Ok((line, rec))
+}
+
 fn column(
     path: &Path,
     headers: &csv::StringRecord,
@@ -154,12 +170,7 @@ fn read_joints(path: &Path, model: &Model, slices: usize) -> Result<JointColumns
     let mut torque = tc.map(|_| vec![Vec::with_capacity(n); slices]);
     let mut rows = 0;
     for (i, rec) in rd.records().enumerate() {
-        let line = i + 2;
-        let rec = rec.map_err(|e| PlanDirError::Row {
-            file: path.to_path_buf(),
-            line,
-            problem: e.to_string(),
-        })?;
+        let (line, rec) = numbered(path, i, rec)?;
         let (s, j) = (i / n.max(1), i % n.max(1));
         let joint = model.joints.get(j).filter(|_| s < slices);
         let found: usize = number(path, line, SLICE, &rec[sc])?;
@@ -204,12 +215,7 @@ fn read_feet(path: &Path, legs: &[Leg], slices: usize) -> Result<Vec<Vec<bool>>,
     let mut stance = vec![vec![false; legs.len()]; slices];
     let mut seen = vec![vec![false; legs.len()]; slices];
     for (i, rec) in rd.records().enumerate() {
-        let line = i + 2;
-        let rec = rec.map_err(|e| PlanDirError::Row {
-            file: path.to_path_buf(),
-            line,
-            problem: e.to_string(),
-        })?;
+        let (line, rec) = numbered(path, i, rec)?;
         let bad = |problem: String| PlanDirError::Row {
             file: path.to_path_buf(),
             line,
