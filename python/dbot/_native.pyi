@@ -312,6 +312,10 @@ class Records(TypedDict):
 class Telemetry(Records):
     step: npt.NDArray[np.int64]
     slice: npt.NDArray[np.int64]
+    platform_goal_ticks: NotRequired[npt.NDArray[np.float64]]
+    """[record]: a platform set up only: its servo's goal, ticks (NaN: a record without it)."""
+    platform_present_ticks: NotRequired[npt.NDArray[np.float64]]
+    """[record]: a platform set up only: its servo's present position, ticks (NaN: none)."""
 
 class Proprioception(Records):
     time_us: npt.NDArray[np.int64]
