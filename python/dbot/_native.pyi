@@ -312,6 +312,10 @@ class Records(TypedDict):
 class Telemetry(Records):
     step: npt.NDArray[np.int64]
     slice: npt.NDArray[np.int64]
+    platform_goal_ticks: NotRequired[npt.NDArray[np.float64]]
+    """[record]: a platform set up only: its servo's goal, ticks (NaN: a record without it)."""
+    platform_present_ticks: NotRequired[npt.NDArray[np.float64]]
+    """[record]: a platform set up only: its servo's present position, ticks (NaN: none)."""
 
 class Proprioception(Records):
     time_us: npt.NDArray[np.int64]
@@ -491,6 +495,30 @@ class Board:
         bias's divisor, as ``dbot set --stiffness --joint``."""
     def wait(self, seconds: float) -> None:
         """Lets time pass on the board's clock, keeping telemetry and proprioception."""
+    def record_trial(
+        self,
+        out: str | PathLike[str],
+        *,
+        table: str | PathLike[str] | None = None,
+        plan: str | PathLike[str] | None = None,
+        play: int | None = None,
+        steps: int | None = None,
+        backward: bool = False,
+        period: float | None = None,
+        seconds: float | None = None,
+        notes: str = "",
+        trial: str | None = None,
+        substrate: str | None = None,
+        strain: str | None = None,
+        perturb: str | None = None,
+        platform_id: int | None = None,
+        every: int = 1,
+    ) -> str:
+        """Records a trial folder in ``out`` as ``dbot record --out`` does (the same library call;
+        the keywords are its flags): returns the published folder. ``ValueError`` with the CLI's
+        words before anything moves for a refusal, ``dbot.BoardError`` for a failed link;
+        Ctrl-C stops the walk, keeps the trial and raises ``KeyboardInterrupt`` naming it."""
+        ...
     def record(
         self,
         duration_s: float,

@@ -612,6 +612,67 @@ impl Board {
         Ok(dict)
     }
 
+    /// Records a trial folder in `out` exactly as `dbot record` does (the same call, refusals and
+    /// files; the keywords are its flags): returns the published folder. See
+    /// `crate::trial_record`.
+    #[pyo3(signature = (out, *, table = None, plan = None, play = None, steps = None,
+        backward = false, period = None, seconds = None, notes = String::new(), trial = None,
+        substrate = None, strain = None, perturb = None, platform_id = None, every = 1))]
+    #[allow(clippy::too_many_arguments)]
+    fn record_trial(
+        &self,
+        py: Python<'_>,
+        out: std::path::PathBuf,
+        table: Option<std::path::PathBuf>,
+        plan: Option<std::path::PathBuf>,
+        play: Option<u8>,
+        steps: Option<u32>,
+        backward: bool,
+        period: Option<f64>,
+        seconds: Option<f64>,
+        notes: String,
+        trial: Option<String>,
+        substrate: Option<String>,
+        strain: Option<String>,
+        perturb: Option<String>,
+        platform_id: Option<u8>,
+        every: u16,
+    ) -> PyResult<String> {
+        let args = crate::trial_record::TrialArgs {
+            out,
+            table,
+            plan,
+            play,
+            steps,
+            backward,
+            period,
+            seconds,
+            notes,
+            trial,
+            substrate,
+            strain,
+            perturb,
+            platform_id,
+            every,
+        };
+        let model = self.naming().uploaded_table(0).1.clone();
+        let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_mut()
+            .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
+        let path = crate::trial_record::record(py, link, &args, model)?;
+        if let (Some(slot), Some(bytes)) = (
+            play,
+            args.table.as_ref().and_then(|p| std::fs::read(p).ok()),
+        ) {
+            self.naming().uploaded(slot, bytes);
+        }
+        if let Some(slot) = play {
+            self.naming().played(slot);
+        }
+        Ok(path.display().to_string())
+    }
+
     /// The next playback telemetry record (a dict of arrays with one row, the keys of `record`),
     /// waiting up to `timeout_s` on the board's clock; None if none came. Records come every
     /// `set_telemetry(every)` bus cycles outside streaming, so a host can follow a walk cycle by

@@ -18,6 +18,7 @@ mod render;
 mod standing;
 mod stream;
 mod trial;
+mod trial_record;
 
 use pyo3::prelude::*;
 

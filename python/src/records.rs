@@ -66,6 +66,15 @@ pub fn telemetry_dict<'py>(
         "cycle_us",
         icol(&|t| i64::from(t.bus.cycle_us)).to_pyarray(py),
     )?;
+    // The platform servo (goal and present position, ticks; NaN in a record without it), only
+    // when a platform is set up.
+    if recs.iter().any(|t| t.platform.is_some()) {
+        let ticks = |g: fn(&protocol::PlatformFeedback) -> u16| {
+            col(&|t| t.platform.as_ref().map_or(f64::NAN, |p| f64::from(g(p)))).to_pyarray(py)
+        };
+        d.set_item("platform_goal_ticks", ticks(|p| p.goal))?;
+        d.set_item("platform_present_ticks", ticks(|p| p.present))?;
+    }
     let rows: Vec<&[JointFeedback]> = recs.iter().map(|t| t.joints.as_slice()).collect();
     joint_columns(py, &d, &rows, naming)?;
     Ok(d)

@@ -10,9 +10,10 @@ use protocol::RunState;
 
 use crate::args::board::BoardArgs;
 use crate::common::interrupt;
-use crate::common::playback::{announce, play_command, stop_walk, upload_table};
+use crate::common::playback::stop_walk;
 use crate::common::session::Session;
 use crate::common::words::{WalkReport, direction_name, state_name};
+use lab::trial_record::playback::{announce, play_command, upload_table};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
 ///
@@ -101,9 +102,14 @@ impl Args {
         if let Some(path) = &self.table {
             let bytes = std::fs::read(path)
                 .with_context(|| format!("reading the step table {}", path.display()))?;
-            upload_table(&mut s, slot, path, &bytes)?;
+            if let Some(line) =
+                upload_table(&mut s.board, slot, path, &bytes, interrupt::requested)?
+            {
+                println!("{line}");
+            }
         }
-        let (command, gait) = play_command(&mut s, slot, self.steps, self.period, self.backward)?;
+        let (command, gait) =
+            play_command(&mut s.board, slot, self.steps, self.period, self.backward)?;
         // The platform's servo answers (checked by the board) before anything moves.
         match (&perturb, &self.perturb) {
             (Some(p), Some(spec)) => s
@@ -138,7 +144,7 @@ impl Args {
             .play(command)
             .with_context(|| format!("playing slot {slot}"))?;
         for &(next, back) in &self.then {
-            let (c, _) = play_command(&mut s, next, self.steps, self.period, back)?;
+            let (c, _) = play_command(&mut s.board, next, self.steps, self.period, back)?;
             let queued = protocol::QueueCommand {
                 slot: c.slot,
                 direction: c.direction,

@@ -22,6 +22,7 @@
 //!   (what the substrate, strain and perturbation walks share).
 //! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
 //! - [`substrates`]: one gait walked on several substrates, slip per foot and travel per step.
+//! - [`trial_record`]: recording a trial folder from a board (`dbot record`, `Board.record_trial`).
 //! - [`plan_dir_write`]: the one writer of a plan directory (files, plots, the dynamics, strain).
 //! - [`validation`]: the run results of docs/validation.md.
 
@@ -39,6 +40,7 @@ pub mod steer_blend;
 pub mod strain_compare;
 pub mod strain_walk;
 pub mod substrates;
+pub mod trial_record;
 pub mod trial_traces;
 pub mod validation;
 pub mod walk;

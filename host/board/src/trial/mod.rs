@@ -24,3 +24,4 @@ pub use meta::{
     Substrate, TRIAL_FORMAT, TrialMeta,
 };
 pub use read::{Trial, read_trial};
+pub use readme::direction_word;

@@ -10,7 +10,7 @@ use super::meta::TrialMeta;
 use crate::record::TELEMETRY_README;
 
 /// `forward` or `backward`.
-pub(super) fn direction_word(d: Direction) -> &'static str {
+pub fn direction_word(d: Direction) -> &'static str {
     match d {
         Direction::Forward => "forward",
         Direction::Backward => "backward",

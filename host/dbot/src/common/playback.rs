@@ -1,131 +1,13 @@
-//! Starting and stopping playback, shared by `run` and `record --play`: the table to upload
-//! first (`--table`), the play command, its announcement, and the stop on Ctrl-C.
+//! Stopping playback on Ctrl-C, for `dbot run`. Starting it (the table to upload first, the play
+//! command and its announcement) is the lab's, `lab::trial_record::playback`, shared with
+//! `dbot record` and Python.
 
-use std::path::Path;
-
-use anyhow::{Context, bail};
-use board::link::{Board, LinkError, Transport};
+use anyhow::Context;
+use board::link::{Board, Transport};
 use board::record::Stopped;
-use protocol::{Direction, GaitSummary, PlayCommand, SlotInfo, Steps};
-
-use crate::common::interrupt;
-use crate::common::session::Session;
-use crate::common::words::direction_name;
-use board::slot_health;
-use board::slot_health::describe;
-
-/// A slot about to be played: the gait it holds and what it lost, if anything.
-#[derive(Debug, Clone, Copy)]
-pub struct Stored {
-    pub gait: GaitSummary,
-    pub info: SlotInfo,
-}
-
-/// What is about to be played, in one line: the slot, the gait stored there (name, size, period,
-/// duty, CRC), and how it will be played; then, for a slot that fell back to an older gait, which
-/// newer gait was lost and why (on its own line, so it is not missed).
-pub fn announce(slot: u8, stored: &Stored, command: &PlayCommand) -> String {
-    let gait = &stored.gait;
-    let planned = f64::from(gait.header.step_period_us) * 1e-6;
-    let period = planned * f64::from(command.period_scale) / 1000.0;
-    let steps = match command.steps {
-        Steps::Count(1) => "1 step".to_owned(),
-        Steps::Count(k) => format!("{k} steps"),
-        Steps::Continuous => "steps until stopped".to_owned(),
-    };
-    let line = format!(
-        "slot {slot}: {}; playing {steps} {} at {period:.3} s per step",
-        describe(gait),
-        direction_name(command.direction),
-    );
-    match slot_health::loss(&stored.info) {
-        Some(loss) => format!("{line}\nWARNING slot {slot}: {loss}"),
-        None => line,
-    }
-}
-
-/// The play command for `slot` and the gait stored there: the period (s) becomes a scale of the
-/// slot's planned period.
-pub fn play_command(
-    s: &mut Session,
-    slot: u8,
-    steps: Option<u32>,
-    period: Option<f64>,
-    backward: bool,
-) -> anyhow::Result<(PlayCommand, Stored)> {
-    let gaits = s.board.gaits()?;
-    let info = gaits.iter().find(|g| g.slot == slot).copied();
-    let Some((gait, info)) = info.and_then(|i| Some((i.gait?, i))) else {
-        if let Some(loss) = info.as_ref().and_then(slot_health::loss) {
-            bail!("slot {slot} holds no readable gait: {loss}; upload a table again");
-        }
-        bail!("{}", slot_health::no_gait_in(slot, gaits.len()));
-    };
-    let planned = f64::from(gait.header.step_period_us) * 1e-6;
-    let period_scale = match period {
-        None => protocol::units::PERIOD_SCALE_ONE,
-        Some(p) => {
-            let scale = (p / planned * 1000.0).round();
-            if !(p.is_finite() && (100.0..=10_000.0).contains(&scale)) {
-                bail!(
-                    "--period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
-                );
-            }
-            scale as u16
-        }
-    };
-    if steps == Some(0) {
-        bail!("--steps 0: give at least one step");
-    }
-    let command = PlayCommand {
-        slot,
-        direction: if backward {
-            Direction::Backward
-        } else {
-            Direction::Forward
-        },
-        period_scale,
-        steps: steps.map_or(Steps::Continuous, Steps::Count),
-    };
-    Ok((command, Stored { gait, info }))
-}
 
 /// Asks the board to stop the walk (the one stop path, `board::record::stop_walk`) and says
 /// what it did.
 pub fn stop_walk<T: Transport>(board: &mut Board<T>) -> anyhow::Result<Stopped> {
     board::record::stop_walk(board).context("stopping the walk after Ctrl-C")
-}
-
-/// Puts the step table `bytes` (read from `path`) into `slot` before a walk, unless the slot
-/// holds that very table (same CRC, so a board's flash is not rewritten for nothing): the way a
-/// lab walks its own gait on a robot that each command opens afresh (`--port physics`,
-/// `--port virtual`). The upload is the library's, with every refusal `dbot upload` has.
-pub fn upload_table(s: &mut Session, slot: u8, path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let table = protocol::GaitTable::parse(bytes)
-        .with_context(|| format!("{} (--table) is not a step table", path.display()))?;
-    let held = s
-        .board
-        .gaits()?
-        .iter()
-        .find(|g| g.slot == slot)
-        .and_then(|g| g.gait)
-        .is_some_and(|g| g.crc == table.crc());
-    if held {
-        return Ok(());
-    }
-    let report = s
-        .board
-        .upload_unless(slot, bytes, |_, _| {}, interrupt::requested);
-    if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
-        bail!("interrupted: {e}");
-    }
-    let report = report
-        .with_context(|| format!("uploading {} into slot {slot} (--table)", path.display()))?;
-    println!(
-        "slot {slot}: uploaded {} from {} (verified: CRC {:#010x})",
-        describe(&report.stored),
-        path.display(),
-        report.stored.crc
-    );
-    Ok(())
 }
