@@ -29,7 +29,7 @@ pub use error::PhysicsError;
 pub use figures::{Figures, Monitor};
 pub use gauges::{STRAIN_SAMPLE_S, SimulatedGauges, SimulatedStrain};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
-pub use platform::{Platform, PlatformMove};
+pub use platform::{HEIGHT_PER_TICK_M, LEVEL_TICKS};
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
 pub use substrate::Substrate;
 pub use timestep::{Stiffest, stiffest_joint};

@@ -198,12 +198,13 @@ impl Plant {
         }
     }
 
-    /// The perturbation platform's actuator and its slide's qpos address, if the plant has one.
-    pub(crate) fn platform_slide(&self) -> Option<(usize, usize)> {
+    /// The perturbation platform's actuator and its slide's qpos and qvel addresses, if the plant
+    /// has one.
+    pub(crate) fn platform_slide(&self) -> Option<(usize, usize, usize)> {
         let m = self.data.model();
         let a = m.name_to_id(MjtObjBase::mjOBJ_ACTUATOR, "platform")?;
         let j = m.name_to_id(MjtObjBase::mjOBJ_JOINT, "platform")?;
-        Some((a, m.jnt_qposadr()[j] as usize))
+        Some((a, m.jnt_qposadr()[j] as usize, m.jnt_dofadr()[j] as usize))
     }
 
     /// The sliding friction coefficient of foot `leg`'s sphere.
