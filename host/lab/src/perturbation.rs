@@ -5,7 +5,7 @@
 //! force) at the start of every step, so the perturbed step stands against the others.
 
 use board::platform::{Perturb, default_platform_id};
-use physics::{Figures, PhysicsRobot, Substrate, WalkLog};
+use physics::{Figures, PhysicsRobot, PlatformPlace, Substrate, WalkLog};
 use planner::model::Leg;
 use planner::terrain::Ground;
 use protocol::PlatformMove;
@@ -34,9 +34,6 @@ pub struct PerturbedWalk {
     pub steps: Vec<StepLoad>,
     /// The platform's highest top over the walk, m.
     pub platform_peak_m: f64,
-    /// Where the platform stood (world x, y, m): under the leg's foot at the perturbed step's
-    /// start, found by a scouting walk without it.
-    pub at_xy: [f64; 2],
     pub figures: Figures,
 }
 
@@ -90,21 +87,14 @@ pub fn walk_perturbed(
             steps.saturating_sub(1)
         );
     }
-    // Where the leg's foot stands when the step starts: the same walk without the platform
-    // (the physics robot is deterministic) is scouted first.
-    let mut scout = PhysicsRobot::drosophibot(scene)?;
-    scout.start_log(1_000_000);
-    let scouted = walk_forward(scout, table, steps, "the scouting walk", |_| Ok(()), |_| {})?;
-    let at_xy = scouted
-        .log
-        .samples
-        .iter()
-        .find(|s| s.walking && s.playback.is_some_and(|(done, _)| done == setup.step))
-        .and_then(|s| s.foot_spheres.iter().find(|(l, _)| *l == perturb.leg))
-        .map(|(_, p)| [p[0], p[1]])
-        .ok_or_else(|| crate::LabError::invalid("the scouting walk never reached the step"))?;
-    let mut robot =
-        PhysicsRobot::with_platform(scene, Substrate::Sandpaper, setup.servo_id, at_xy)?;
+    // The box waits beside the robot and goes under the leg's foot when the firmware first
+    // moves its servo (the perturbed step's first cycle): `physics::PlatformPlace`.
+    let mut robot = PhysicsRobot::with_platform(
+        scene,
+        Substrate::Sandpaper,
+        setup.servo_id,
+        PlatformPlace::UnderFootOf(perturb.leg),
+    )?;
     robot.start_log(1_000_000);
     let mut platform_peak_m: f64 = 0.0;
     let walk = walk_forward(
@@ -123,7 +113,6 @@ pub fn walk_perturbed(
         perturb,
         steps: step_loads(&walk.log, perturb.leg),
         platform_peak_m,
-        at_xy,
         figures: walk.figures,
     })
 }

@@ -30,6 +30,7 @@ pub use figures::{Figures, Monitor};
 pub use gauges::{STRAIN_SAMPLE_S, SimulatedGauges, SimulatedStrain};
 pub use plant::{GRAVITY_RAMP_S, Plant, PlantJoint};
 pub use platform::{HEIGHT_PER_TICK_M, LEVEL_TICKS};
+pub use robot::PlatformPlace;
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsTransport, TIMESTEP_S};
 pub use substrate::Substrate;
 pub use timestep::{Stiffest, stiffest_joint};

@@ -207,6 +207,22 @@ impl Plant {
         Some((a, m.jnt_qposadr()[j] as usize, m.jnt_dofadr()[j] as usize))
     }
 
+    /// Moves the perturbation platform's box (body `platform`) to stand centred at `xy` (world,
+    /// m), its slide where it is; nothing without a platform.
+    pub(crate) fn place_platform(&mut self, xy: [f64; 2]) {
+        let Some(b) = self
+            .data
+            .model()
+            .name_to_id(MjtObjBase::mjOBJ_BODY, "platform")
+        else {
+            return;
+        };
+        // SAFETY: only a body's position offset changes; every size, index and address stays.
+        let m = unsafe { self.data.model_mut() };
+        let z = m.body_pos()[b][2];
+        m.body_pos_mut()[b] = [xy[0], xy[1], z];
+    }
+
     /// The sliding friction coefficient of foot `leg`'s sphere.
     pub fn foot_friction(&self, leg: Leg) -> Option<f64> {
         let (_, g) = self.feet.iter().find(|&&(l, _)| l == leg)?;

@@ -15,13 +15,14 @@ use dynamixel::control_table as ct;
 use dynamixel::sim::VirtualChain;
 use dynamixel::sim::physics::MotorState;
 use firmware::controller::{Config, Controller};
-use planner::model::{MjcfOptions, Model};
+use planner::model::{Leg, MjcfOptions, Model};
 use planner::terrain::Ground;
 
 use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
 use crate::gauges::{SimulatedStrain, StrainSampler};
 use crate::plant::Plant;
+use crate::platform::LEVEL_TICKS;
 use crate::servo;
 use crate::substrate::Substrate;
 use crate::walk_log::{WalkLog, WalkSample};
@@ -67,7 +68,25 @@ struct PlatformRig {
     command_m: f64,
     /// The servo's Goal Position this cycle, ticks.
     goal: u32,
+    /// The leg under whose foot the box goes when the goal first leaves [`LEVEL_TICKS`]
+    /// (`None`: it stays where it was put).
+    follow: Option<Leg>,
 }
+
+/// Where the perturbation platform's box stands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PlatformPlace {
+    /// Centred at this world x, y, m, from the start.
+    At([f64; 2]),
+    /// Parked 1 m beside the robot until the platform servo's Goal Position first leaves
+    /// [`LEVEL_TICKS`] (the firmware's schedule moving it, at the perturbed step's first cycle),
+    /// then centred under this leg's foot as it is at that cycle (its top still level with the
+    /// ground: the foot lands on it or already stands on it as it rises).
+    UnderFootOf(Leg),
+}
+
+/// Where [`PlatformPlace::UnderFootOf`] parks the box: 1 m to the robot's left, no foot near.
+const PARKED_XY: [f64; 2] = [0.0, 1.0];
 
 impl PhysicsRobot {
     /// Drosophibot II (the built-in model) on `scene`, on sand paper (the paper's substrate).
@@ -135,16 +154,19 @@ impl PhysicsRobot {
         })
     }
 
-    /// Drosophibot II on `scene` and `substrate` with the perturbation platform centred at
-    /// `at_xy` (world, m: where its leg's foot will stand when the platform moves), moved by a
-    /// servo at bus ID `servo_id` (beside the joints' servos: no joint's ID) whose Goal Position
-    /// the slide follows (see [`crate::platform`]).
+    /// Drosophibot II on `scene` and `substrate` with the perturbation platform at `place`,
+    /// moved by a servo at bus ID `servo_id` (beside the joints' servos: no joint's ID) whose
+    /// Goal Position the slide follows (see [`crate::platform`]).
     pub fn with_platform(
         scene: &Ground,
         substrate: Substrate,
         servo_id: u8,
-        at_xy: [f64; 2],
+        place: PlatformPlace,
     ) -> Result<Self, PhysicsError> {
+        let (at_xy, follow) = match place {
+            PlatformPlace::At(xy) => (xy, None),
+            PlatformPlace::UnderFootOf(leg) => (PARKED_XY, Some(leg)),
+        };
         let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
             model: "drosophibot2".into(),
             message: e.to_string(),
@@ -170,7 +192,8 @@ impl PhysicsRobot {
                 qpos,
                 qvel,
                 command_m: 0.0,
-                goal: u32::from(crate::platform::LEVEL_TICKS),
+                goal: u32::from(LEVEL_TICKS),
+                follow,
             }),
             ..plain
         })
@@ -198,6 +221,22 @@ impl PhysicsRobot {
             return;
         };
         r.goal = servo.get(ct::GOAL_POSITION);
+        if let Some(leg) = r.follow
+            && r.goal != u32::from(LEVEL_TICKS)
+        {
+            r.follow = None;
+            if let Some((_, p)) = self
+                .plant
+                .foot_positions()
+                .into_iter()
+                .find(|(l, _)| *l == leg)
+            {
+                self.plant.place_platform([p[0], p[1]]);
+            }
+        }
+        let Some(r) = self.platform.as_mut() else {
+            return;
+        };
         let target = crate::platform::height_m(r.goal);
         r.command_m = match crate::platform::speed_m_s(servo.get(ct::PROFILE_VELOCITY)) {
             Some(v) => r.command_m + (target - r.command_m).clamp(-v * dt_s, v * dt_s),
@@ -252,7 +291,7 @@ impl PhysicsRobot {
             && let Ok(s) = chain.servo_mut(id)
         {
             // Level with the ground until the firmware writes a goal.
-            s.put(ct::GOAL_POSITION, u32::from(crate::platform::LEVEL_TICKS));
+            s.put(ct::GOAL_POSITION, u32::from(LEVEL_TICKS));
         }
         self.push_state(chain);
     }

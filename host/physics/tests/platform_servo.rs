@@ -11,7 +11,7 @@ use std::time::Duration;
 use board::link::Board;
 use dynamixel::control_table as ct;
 use physics::platform::{HEIGHT_PER_TICK_M, LEVEL_TICKS, PLATFORM_KP_N_PER_M, PLATFORM_MASS_KG};
-use physics::{PhysicsRobot, Substrate};
+use physics::{PhysicsRobot, PlatformPlace, Substrate};
 use planner::model::builtin;
 use planner::terrain::Ground;
 use protocol::{PlatformMove, PlatformSetup, ServoSelect};
@@ -21,8 +21,13 @@ fn the_platform_slide_follows_the_goal_position_the_firmware_writes() {
     let model = builtin("drosophibot2").unwrap();
     let (_, _, table) = support::tripod(&model);
     // The box 1 m from the robot: no foot on it, only its own weight.
-    let robot =
-        PhysicsRobot::with_platform(&Ground::Flat, Substrate::Sandpaper, 23, [1.0, 1.0]).unwrap();
+    let robot = PhysicsRobot::with_platform(
+        &Ground::Flat,
+        Substrate::Sandpaper,
+        23,
+        PlatformPlace::At([1.0, 1.0]),
+    )
+    .unwrap();
     let mut b = Board::connect(robot.into_transport()).unwrap();
     b.upload(0, &table, |_, _| {}).unwrap();
     b.set_torque(ServoSelect::All, true).unwrap();
