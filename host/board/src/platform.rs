@@ -29,6 +29,21 @@ pub fn default_platform_id(servo_ids: &[u8]) -> u8 {
         .unwrap_or(protocol::platform::MAX_SERVO_ID)
 }
 
+/// [`default_platform_id`] for the gait of step table `table` (its joints' servo IDs), or
+/// without a table (or one that does not parse) for the built-in robot's servos (23).
+pub fn default_platform_id_for(table: Option<&[u8]>) -> u8 {
+    let ids: Vec<u8> = match table.and_then(|t| protocol::GaitTable::parse(t).ok()) {
+        Some(t) => (0..t.joint_count())
+            .filter_map(|j| t.joint(j).map(|m| m.servo_id))
+            .collect(),
+        None => crate::robot::robot_servos()
+            .iter()
+            .map(|(id, _)| *id)
+            .collect(),
+    };
+    default_platform_id(&ids)
+}
+
 /// A perturbation of one trial: the leg on the platform and the platform's set-up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Perturb {

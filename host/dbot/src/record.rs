@@ -47,7 +47,8 @@ use crate::common::playback;
   dbot record --out trials --port physics --table walk.dbgt --play 0 --steps 2   # uploads, walks, records
   dbot record --out trials --table walk.dbgt --seconds 20   # whatever the board is doing
   dbot record --out trials --table walk.dbgt --play 1 --steps 10 --strain /dev/ttyACM1   # with strain
-  dbot record --out trials --table walk.dbgt --play 1 --steps 6 --perturb RM:3:rise --platform-id 23")]
+  dbot record --out trials --table walk.dbgt --play 1 --steps 6 --perturb RM:3:rise
+  dbot record --out trials --port physics:flat+platform:RM --table walk.dbgt --play 0 --steps 6 --perturb RM:3:rise")]
 pub struct Args {
     /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.
     #[arg(long)]
@@ -99,10 +100,10 @@ pub struct Args {
     /// lab's positions; kept in the trial. Without it a platform left set up is cleared.
     #[arg(long, requires = "play", value_name = "LEG:STEP:MOVE")]
     pub perturb: Option<String>,
-    /// With --perturb: the platform servo's bus ID (the lab's 22; the built-in model's joints
-    /// use 1-22, so its gaits need another, e.g. 23).
-    #[arg(long, requires = "perturb", default_value_t = board::platform::LAB_PLATFORM_ID)]
-    pub platform_id: u8,
+    /// With --perturb: the platform servo's bus ID (default: the lab's 22 unless the gait's
+    /// joints use it, then the first free ID after theirs: 23 for the built-in model's).
+    #[arg(long, requires = "perturb")]
+    pub platform_id: Option<u8>,
     /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
     /// silence limit allows at the bus's rate: 199 at 100 Hz).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
@@ -182,7 +183,11 @@ impl Args {
         let Some(spec) = &self.perturb else {
             return Ok(None);
         };
-        let p = Perturb::parse(spec, self.platform_id)
+        let table = self.table.as_ref().and_then(|t| std::fs::read(t).ok());
+        let id = self
+            .platform_id
+            .unwrap_or_else(|| board::platform::default_platform_id_for(table.as_deref()));
+        let p = Perturb::parse(spec, id)
             .and_then(|p| p.check_steps(self.steps).map(|()| p))
             .with_context(|| format!("--perturb {spec}"))?;
         Ok(Some(p))
@@ -223,14 +228,23 @@ impl Args {
         if let (Some(slot), Some(t)) = (self.play, table) {
             playback::upload_table(&mut s, slot, &t.path, &t.bytes)?;
         }
+        if let Some(m) =
+            perturb.and_then(|p| board::port::platform_port_problem(s.board.port(), p.leg))
+        {
+            bail!("--perturb: {m}");
+        }
         let joints = named_joints(&mut s, table.map(|t| t.bytes.as_slice()), self.play)?;
         // The platform's servo answers (checked by the board) before anything moves; a platform
         // an earlier trial left set up does not move in this one.
         if self.play.is_some() {
             match &perturb {
-                Some(p) => s.board.set_platform(p.setup).with_context(|| {
-                    format!("--perturb {}", self.perturb.as_deref().unwrap_or(""))
-                })?,
+                Some(p) => s
+                    .board
+                    .set_platform(p.setup)
+                    .map(|()| println!("platform servo ID {}", p.setup.servo_id))
+                    .with_context(|| {
+                        format!("--perturb {}", self.perturb.as_deref().unwrap_or(""))
+                    })?,
                 None if s.board.platform()?.is_some() => {
                     s.board.clear_platform().context("clearing the platform")?
                 }

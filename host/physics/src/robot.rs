@@ -296,12 +296,15 @@ impl PhysicsRobot {
         self.push_state(chain);
     }
 
-    /// A link to [`Self::into_board`], named `physics:SCENE`.
+    /// A link to [`Self::into_board`], named `physics:SCENE[+SUBSTRATE][+platform:LEG]`.
     pub fn into_transport(self) -> PhysicsTransport {
-        let name = match self.substrate {
+        let mut name = match self.substrate {
             Substrate::Sandpaper => format!("physics:{}", self.scene),
             s => format!("physics:{}+{}", self.scene, s.name()),
         };
+        if let Some(leg) = self.platform.as_ref().and_then(|r| r.follow) {
+            name = format!("{name}+platform:{}", leg.name());
+        }
         VirtualTransport::named(self.into_board(), &name)
     }
 
