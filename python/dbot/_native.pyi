@@ -469,16 +469,17 @@ class Board:
         ``virtual:PATH`` they are read from the image), unless ``allow_infeasible`` (then a
         ``UserWarning``)."""
     def set_platform(
-        self, perturb: str, steps: int | None = None, platform_id: int = 22
+        self, perturb: str, steps: int | None = None, platform_id: int | None = None
     ) -> dict[str, Any]:
         """Sets up the perturbation platform as ``dbot record --perturb`` does: ``perturb`` is
         ``LEG:STEP:MOVE`` (e.g. ``"RM:3:rise"``; steps from 0, MOVE ``rise`` or ``fall``) with
         the lab's positions (rest 2020, rise 2330, fall 1570 ticks, back to rest two cycles
-        later) on servo ``platform_id`` (the lab's 22; the built-in model's joints use 1-22, so
-        its gaits need e.g. 23). With ``steps`` (the run's) a step beyond it is refused; ``play``
-        refuses it on the board too. Raises before anything moves: a leg that is not a leg, a
-        joint's ID, a platform servo that does not answer (naming its ID). Returns the trial
-        record's perturbation: ``leg``, ``step``, ``rest``, ``moved_to``."""
+        later) on servo ``platform_id`` (default: the lab's 22 unless the board's gait's joints
+        use it, then the first free ID after theirs, 23 for the built-in model, as ``dbot``
+        chooses). With ``steps`` (the run's) a step beyond it is refused; ``play`` refuses it on
+        the board too. Raises before anything moves: a leg that is not a leg, a joint's ID, a
+        platform servo that does not answer (naming its ID). Returns the trial record's
+        perturbation: ``leg``, ``step``, ``rest``, ``moved_to``, and the ``platform_id`` used."""
     def clear_platform(self) -> None:
         """No perturbation platform any more (not while moving)."""
     def emergency_stop(self) -> None: ...

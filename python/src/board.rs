@@ -419,28 +419,40 @@ impl Board {
     /// Sets up the perturbation platform for the next runs, as `dbot record --perturb` does:
     /// `perturb` is `LEG:STEP:MOVE` (e.g. `"RM:3:rise"`; steps from 0, MOVE `rise` or `fall`) with
     /// the lab's positions (rest 2020, rise 2330, fall 1570 ticks, back to rest two cycles later)
-    /// on servo `platform_id`. With `steps` (the run's) a step beyond it is refused here; `play`
-    /// refuses it on the board too. Raises, naming the problem, before anything moves: a leg that
-    /// is not a leg, a joint's ID, a platform servo that does not answer. Returns the trial
-    /// record's perturbation (`leg`, `step`, `rest`, `moved_to`).
-    #[pyo3(signature = (perturb, steps = None, platform_id = ::board::platform::LAB_PLATFORM_ID))]
+    /// on servo `platform_id` (default: the lab's 22 unless the board's gait's joints use it, then
+    /// the first free ID after theirs, 23 for the built-in model: `dbot`'s rule). With `steps`
+    /// (the run's) a step beyond it is refused here; `play` refuses it on the board too. Raises,
+    /// naming the problem, before anything moves: a leg that is not a leg, a joint's ID, a
+    /// platform servo that does not answer. Returns the trial record's perturbation (`leg`,
+    /// `step`, `rest`, `moved_to`) and the `platform_id` used.
+    #[pyo3(signature = (perturb, steps = None, platform_id = None))]
     fn set_platform<'py>(
         &self,
         py: Python<'py>,
         perturb: &str,
         steps: Option<u32>,
-        platform_id: u8,
+        platform_id: Option<u8>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let p = ::board::platform::Perturb::parse(perturb, platform_id)
+        let given = platform_id.unwrap_or(::board::platform::LAB_PLATFORM_ID);
+        let mut p = ::board::platform::Perturb::parse(perturb, given)
             .and_then(|p| p.check_steps(steps).map(|()| p))
             .map_err(|e| value_error(format!("perturb = {perturb:?}: {e}")))?;
-        self.with(py, move |l| l.set_platform(p.setup))?;
+        let id = self.with(py, move |l| {
+            if platform_id.is_none() {
+                p.setup.servo_id = match l.joint_map(None)? {
+                    Some(m) => ::board::platform::default_platform_id(&m.servo_ids),
+                    None => ::board::platform::default_platform_id_for(None),
+                };
+            }
+            l.set_platform(p.setup).map(|()| p.setup.servo_id)
+        })?;
         let r = p.record();
         let d = PyDict::new(py);
         d.set_item("leg", r.leg)?;
         d.set_item("step", r.step)?;
         d.set_item("rest", r.rest)?;
         d.set_item("moved_to", r.moved_to)?;
+        d.set_item("platform_id", id)?;
         Ok(d)
     }
 

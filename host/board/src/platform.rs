@@ -12,8 +12,37 @@ use protocol::{PlatformError, PlatformMove, PlatformSetup, Steps};
 use crate::trial::Perturbation;
 
 /// The lab's platform servo ID (after its joints' IDs 0-21). The built-in model numbers its
-/// joints' servos 1-22, so on its gaits the platform needs another ID (`--platform-id 23`).
+/// joints' servos 1-22, so on its gaits the platform needs another ID: [`default_platform_id`].
 pub const LAB_PLATFORM_ID: u8 = 22;
+
+/// The platform servo's ID when none is given, for a gait whose joints' servos have
+/// `servo_ids`: the lab's [`LAB_PLATFORM_ID`] unless a joint uses it, then the first ID after
+/// the joints' highest that no joint uses (23 for the built-in model's 1-22). The one place
+/// the CLI and Python choose it.
+pub fn default_platform_id(servo_ids: &[u8]) -> u8 {
+    if !servo_ids.contains(&LAB_PLATFORM_ID) {
+        return LAB_PLATFORM_ID;
+    }
+    let after = servo_ids.iter().copied().max().unwrap_or(0);
+    (after.saturating_add(1)..=protocol::platform::MAX_SERVO_ID)
+        .find(|id| !servo_ids.contains(id))
+        .unwrap_or(protocol::platform::MAX_SERVO_ID)
+}
+
+/// [`default_platform_id`] for the gait of step table `table` (its joints' servo IDs), or
+/// without a table (or one that does not parse) for the built-in robot's servos (23).
+pub fn default_platform_id_for(table: Option<&[u8]>) -> u8 {
+    let ids: Vec<u8> = match table.and_then(|t| protocol::GaitTable::parse(t).ok()) {
+        Some(t) => (0..t.joint_count())
+            .filter_map(|j| t.joint(j).map(|m| m.servo_id))
+            .collect(),
+        None => crate::robot::robot_servos()
+            .iter()
+            .map(|(id, _)| *id)
+            .collect(),
+    };
+    default_platform_id(&ids)
+}
 
 /// A perturbation of one trial: the leg on the platform and the platform's set-up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -135,6 +164,18 @@ mod tests {
             Perturb::parse("LF:0:fall", 22).unwrap().record().moved_to,
             1570
         );
+    }
+
+    #[test]
+    fn the_default_id_is_the_labs_unless_a_joint_has_it() {
+        // The lab's joints 0-21: 22 is free.
+        let lab: Vec<u8> = (0..=21).collect();
+        assert_eq!(default_platform_id(&lab), 22);
+        // The built-in model's 1-22: the first after them.
+        let ours: Vec<u8> = (1..=22).collect();
+        assert_eq!(default_platform_id(&ours), 23);
+        // No joint map known: the lab's.
+        assert_eq!(default_platform_id(&[]), 22);
     }
 
     #[test]

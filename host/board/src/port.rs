@@ -1,7 +1,9 @@
 //! Ports by name: a serial device path, `virtual` (an in-process virtual robot with a fresh
 //! flash), `virtual:PATH` (one whose flash lives in the file PATH between commands) or
-//! `physics[:SCENE[+SUBSTRATE]]` (the physics robot: the virtual robot driving a MuJoCo body, on
-//! a [`Ground`] and a [`Substrate`]).
+//! `physics[:SCENE[+SUBSTRATE][+platform:LEG]]` (the physics robot: the virtual robot driving a
+//! MuJoCo body, on a [`Ground`] and a [`Substrate`]; with `+platform:LEG` the perturbation
+//! platform's servo is on its bus at [`crate::platform::default_platform_id`] of its joints' IDs
+//! (23) and the box goes under LEG's foot when that servo first moves, `physics::PlatformPlace`).
 //!
 //! This crate parses every name ([`PortSpec`]) and opens the kinds it owns ([`open_serial`],
 //! [`open_virtual`]); the physics robot needs MuJoCo, which this library builds without, so the
@@ -14,7 +16,10 @@ use std::time::Duration;
 
 use planner::terrain::{Ground, TerrainError};
 
+use planner::model::Leg;
+
 use crate::link::{Board, LinkError, SerialTransport, Transport, TransportError};
+use crate::platform::{PerturbError, leg_named};
 use crate::robot::{VirtualRobot, VirtualTransport};
 use crate::saved_settings::{self, SettingsError};
 use crate::substrate::{Substrate, SubstrateError};
@@ -26,9 +31,14 @@ pub enum PortSpec {
     Serial(String),
     /// `virtual` (no image) or `virtual:PATH`.
     Virtual { image: Option<PathBuf> },
-    /// `physics` (scene `flat`) or `physics:SCENE[+SUBSTRATE]` (any [`Ground`]; sand paper, the
-    /// paper's substrate, unless `+floor`, `+wire-mesh` ... says otherwise).
-    Physics { scene: Ground, substrate: Substrate },
+    /// `physics` (scene `flat`) or `physics:SCENE[+SUBSTRATE][+platform:LEG]` (any [`Ground`];
+    /// sand paper, the paper's substrate, unless `+floor`, `+wire-mesh` ... says otherwise; the
+    /// leg the perturbation platform stands under, if it has one).
+    Physics {
+        scene: Ground,
+        substrate: Substrate,
+        platform: Option<Leg>,
+    },
 }
 
 /// A port name that names a physics scene that cannot be.
@@ -46,6 +56,8 @@ pub enum SceneError {
     Terrain(#[from] TerrainError),
     #[error(transparent)]
     Substrate(#[from] SubstrateError),
+    #[error(transparent)]
+    Platform(#[from] PerturbError),
 }
 
 /// Why a port could not be opened and connected.
@@ -67,6 +79,7 @@ impl PortSpec {
             return Ok(Self::Physics {
                 scene: Ground::Flat,
                 substrate: Substrate::Sandpaper,
+                platform: None,
             });
         }
         if let Some(scene) = s.strip_prefix("physics:") {
@@ -74,9 +87,17 @@ impl PortSpec {
                 port: s.to_owned(),
                 source,
             };
+            let (scene, platform) = match scene.rsplit_once("+platform:") {
+                Some((scene, leg)) => (scene, Some(leg_named(leg).map_err(|e| fail(e.into()))?)),
+                None => (scene, None),
+            };
             let (terrain, substrate) = Substrate::split_scene(scene).map_err(|e| fail(e.into()))?;
             let scene = Ground::parse(terrain).map_err(|e| fail(e.into()))?;
-            return Ok(Self::Physics { scene, substrate });
+            return Ok(Self::Physics {
+                scene,
+                substrate,
+                platform,
+            });
         }
         Ok(match s.strip_prefix("virtual") {
             Some("") => Self::Virtual { image: None },
@@ -128,6 +149,33 @@ pub fn connect<T: Transport>(
         saved_settings::apply(&mut board, store)?;
     }
     Ok(board)
+}
+
+/// Why `port` cannot carry a perturbation under `leg` (`None`: it can, or it is no physics
+/// port: a board's platform servo answers or not at set-up): a physics port without a platform,
+/// or with it under another leg, names the spec to use.
+pub fn platform_port_problem(port: &str, leg: Leg) -> Option<String> {
+    let Ok(PortSpec::Physics { platform, .. }) = PortSpec::parse(port) else {
+        return None;
+    };
+    let plain = port.split("+platform:").next().unwrap_or(port);
+    let plain = if plain == "physics" {
+        "physics:flat"
+    } else {
+        plain
+    };
+    let want = format!("{plain}+platform:{}", leg.name());
+    match platform {
+        None => Some(format!(
+            "port `{port}` has no perturbation platform: use --port {want}"
+        )),
+        Some(l) if l != leg => Some(format!(
+            "port `{port}` has its platform under {}, not {}: use --port {want}",
+            l.name(),
+            leg.name()
+        )),
+        Some(_) => None,
+    }
 }
 
 /// The substrate of a trial on `port` with `--substrate` `flag`: a physics port's scene says
@@ -182,6 +230,29 @@ mod tests {
     }
 
     #[test]
+    fn a_physics_port_for_a_perturbation_names_the_spec_with_the_platform() {
+        use planner::model::Leg;
+        assert_eq!(
+            platform_port_problem("physics", Leg::RM).as_deref(),
+            Some(
+                "port `physics` has no perturbation platform: use --port physics:flat+platform:RM"
+            )
+        );
+        assert_eq!(
+            platform_port_problem("physics:flat+platform:LF", Leg::RM).as_deref(),
+            Some(
+                "port `physics:flat+platform:LF` has its platform under LF, not RM: use --port \
+                 physics:flat+platform:RM"
+            )
+        );
+        assert_eq!(
+            platform_port_problem("physics:flat+platform:RM", Leg::RM),
+            None
+        );
+        assert_eq!(platform_port_problem("/dev/ttyACM0", Leg::RM), None);
+    }
+
+    #[test]
     fn names_parse() {
         assert_eq!(
             PortSpec::parse("virtual").unwrap(),
@@ -206,6 +277,7 @@ mod tests {
             Ok(PortSpec::Physics {
                 scene: Ground::Incline { angle_deg: 10.0 },
                 substrate: Substrate::Sandpaper,
+                platform: None,
             })
         );
         assert_eq!(
@@ -213,7 +285,23 @@ mod tests {
             Ok(PortSpec::Physics {
                 scene: Ground::Flat,
                 substrate: Substrate::Sandpaper,
+                platform: None,
             })
+        );
+        assert_eq!(
+            PortSpec::parse("physics:flat+floor+platform:RM"),
+            Ok(PortSpec::Physics {
+                scene: Ground::Flat,
+                substrate: Substrate::Floor,
+                platform: Some(planner::model::Leg::RM),
+            })
+        );
+        assert_eq!(
+            PortSpec::parse("physics:flat+platform:RX")
+                .unwrap_err()
+                .to_string(),
+            "port `physics:flat+platform:RX`: perturbation leg `RX` is not a leg (legs: LF, LM, \
+             LH, RF, RM, RH)"
         );
         let e = PortSpec::parse("physics:grass").unwrap_err().to_string();
         assert!(

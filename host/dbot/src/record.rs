@@ -37,7 +37,8 @@ use crate::common::interrupt;
   dbot record --out trials --port physics --table walk.dbgt --play 0 --steps 2   # uploads, walks, records
   dbot record --out trials --table walk.dbgt --seconds 20   # whatever the board is doing
   dbot record --out trials --table walk.dbgt --play 1 --steps 10 --strain /dev/ttyACM1   # with strain
-  dbot record --out trials --table walk.dbgt --play 1 --steps 6 --perturb RM:3:rise --platform-id 23")]
+  dbot record --out trials --table walk.dbgt --play 1 --steps 6 --perturb RM:3:rise
+  dbot record --out trials --port physics:flat+platform:RM --table walk.dbgt --play 0 --steps 6 --perturb RM:3:rise")]
 pub struct Args {
     /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.
     #[arg(long)]
@@ -89,10 +90,10 @@ pub struct Args {
     /// lab's positions; kept in the trial. Without it a platform left set up is cleared.
     #[arg(long, requires = "play", value_name = "LEG:STEP:MOVE")]
     pub perturb: Option<String>,
-    /// With --perturb: the platform servo's bus ID (the lab's 22; the built-in model's joints
-    /// use 1-22, so its gaits need another, e.g. 23).
-    #[arg(long, requires = "perturb", default_value_t = board::platform::LAB_PLATFORM_ID)]
-    pub platform_id: u8,
+    /// With --perturb: the platform servo's bus ID (default: the lab's 22 unless the gait's
+    /// joints use it, then the first free ID after theirs: 23 for the built-in model's).
+    #[arg(long, requires = "perturb")]
+    pub platform_id: Option<u8>,
     /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
     /// silence limit allows at the bus's rate: 199 at 100 Hz).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
@@ -149,7 +150,7 @@ impl Args {
             }),
             strain: self.strain.clone(),
             perturb: self.perturb.clone(),
-            platform_id: Some(self.platform_id),
+            platform_id: self.platform_id,
             every: self.every,
             command_line: std::env::args().collect(),
             model,

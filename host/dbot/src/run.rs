@@ -59,10 +59,10 @@ pub struct Args {
     /// it a platform left set up is cleared.
     #[arg(long, value_name = "LEG:STEP:MOVE")]
     pub perturb: Option<String>,
-    /// With --perturb: the platform servo's bus ID (the lab's 22; the built-in model's joints
-    /// use 1-22, so its gaits need another, e.g. 23).
-    #[arg(long, requires = "perturb", default_value_t = board::platform::LAB_PLATFORM_ID)]
-    pub platform_id: u8,
+    /// With --perturb: the platform servo's bus ID (default: the lab's 22 unless the gait's
+    /// joints use it, then the first free ID after theirs: 23 for the built-in model's).
+    #[arg(long, requires = "perturb")]
+    pub platform_id: Option<u8>,
     #[command(flatten)]
     pub board: BoardArgs,
     #[command(flatten)]
@@ -78,9 +78,13 @@ impl Args {
         // A leg that is not a leg, a step beyond the run: refused before the port opens.
         let perturb = match &self.perturb {
             Some(spec) => Some(
-                board::platform::Perturb::parse(spec, self.platform_id)
-                    .and_then(|p| p.check_steps(self.steps).map(|()| p))
-                    .with_context(|| format!("--perturb {spec}"))?,
+                board::platform::Perturb::parse(
+                    spec,
+                    self.platform_id
+                        .unwrap_or_else(|| board::platform::default_platform_id_for(None)),
+                )
+                .and_then(|p| p.check_steps(self.steps).map(|()| p))
+                .with_context(|| format!("--perturb {spec}"))?,
             ),
             None => None,
         };

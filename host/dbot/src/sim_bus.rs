@@ -133,7 +133,9 @@ impl Args {
     /// `--physics`: the physics robot's board on `--link`, its gauges on `--strain-link`.
     fn run_physics(&self, spec: &str) -> anyhow::Result<()> {
         let (scene, substrate) = match board::port::PortSpec::parse(spec)? {
-            board::port::PortSpec::Physics { scene, substrate } => (scene, substrate),
+            board::port::PortSpec::Physics {
+                scene, substrate, ..
+            } => (scene, substrate),
             _ => anyhow::bail!(
                 "--physics {spec}: not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE]`"
             ),

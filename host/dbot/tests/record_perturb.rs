@@ -1,6 +1,6 @@
 //! `dbot record --perturb LEG:STEP:MOVE` (issue 29 item 3): a leg that is not a leg, a step
-//! beyond the run's steps, the lab's ID 22 that is a joint's servo in the built-in model, and a
-//! platform servo that does not answer (the virtual robot has none) are refused with words before
+//! beyond the run's steps, the lab's ID 22 given for the built-in model (a joint's servo), and a
+//! platform servo that does not answer at the default ID 23 (the virtual robot has none) are refused with words before
 //! anything moves, and no trial is kept; `dbot run --perturb` refuses alike.
 
 mod board_fakes;
@@ -66,17 +66,17 @@ fn a_leg_that_is_not_a_leg_and_a_step_beyond_the_run_are_refused_before_the_port
 #[test]
 fn a_joints_id_and_a_platform_servo_that_does_not_answer_are_named() {
     let dir = tempfile::tempdir().unwrap();
-    let d = record(dir.path(), &["--perturb", "RM:1:rise"]);
+    let d = record(
+        dir.path(),
+        &["--perturb", "RM:1:rise", "--platform-id", "22"],
+    );
     fails_naming(
         &d,
         "the lab's ID 22",
         &["platform servo ID 22 is the ID of joint 21"],
     );
     no_trial(dir.path());
-    let d = record(
-        dir.path(),
-        &["--perturb", "RM:1:fall", "--platform-id", "23"],
-    );
+    let d = record(dir.path(), &["--perturb", "RM:1:fall"]);
     fails_naming(
         &d,
         "no servo at 23",

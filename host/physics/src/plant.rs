@@ -198,12 +198,29 @@ impl Plant {
         }
     }
 
-    /// The perturbation platform's actuator and its slide's qpos address, if the plant has one.
-    pub(crate) fn platform_slide(&self) -> Option<(usize, usize)> {
+    /// The perturbation platform's actuator and its slide's qpos and qvel addresses, if the plant
+    /// has one.
+    pub(crate) fn platform_slide(&self) -> Option<(usize, usize, usize)> {
         let m = self.data.model();
         let a = m.name_to_id(MjtObjBase::mjOBJ_ACTUATOR, "platform")?;
         let j = m.name_to_id(MjtObjBase::mjOBJ_JOINT, "platform")?;
-        Some((a, m.jnt_qposadr()[j] as usize))
+        Some((a, m.jnt_qposadr()[j] as usize, m.jnt_dofadr()[j] as usize))
+    }
+
+    /// Moves the perturbation platform's box (body `platform`) to stand centred at `xy` (world,
+    /// m), its slide where it is; nothing without a platform.
+    pub(crate) fn place_platform(&mut self, xy: [f64; 2]) {
+        let Some(b) = self
+            .data
+            .model()
+            .name_to_id(MjtObjBase::mjOBJ_BODY, "platform")
+        else {
+            return;
+        };
+        // SAFETY: only a body's position offset changes; every size, index and address stays.
+        let m = unsafe { self.data.model_mut() };
+        let z = m.body_pos()[b][2];
+        m.body_pos_mut()[b] = [xy[0], xy[1], z];
     }
 
     /// The sliding friction coefficient of foot `leg`'s sphere.

@@ -6,20 +6,23 @@
 //! bus traffic the servos report the state at its start (a real servo samples continuously: up
 //! to one cycle of extra latency here). On request it logs every cycle ([`WalkLog`]: gait slice,
 //! thorax pose, foot forces, joint angles every N cycles, the gauge samples taken in it) for the
-//! demo's comparisons and animation.
+//! demo's comparisons and animation. With the perturbation platform ([`Self::with_platform`])
+//! the bus carries one more servo, the platform's, whose Goal Position the slide follows
+//! ([`crate::platform`]).
 
-use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport, robot_chain};
+use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport, robot_servos};
 use dynamixel::control_table as ct;
 use dynamixel::sim::VirtualChain;
+use dynamixel::sim::physics::MotorState;
 use firmware::controller::{Config, Controller};
-use planner::model::{MjcfOptions, Model};
+use planner::model::{Leg, MjcfOptions, Model};
 use planner::terrain::Ground;
 
 use crate::error::PhysicsError;
 use crate::figures::{Figures, Monitor};
 use crate::gauges::{SimulatedStrain, StrainSampler};
 use crate::plant::Plant;
-use crate::platform::Platform;
+use crate::platform::LEVEL_TICKS;
 use crate::servo;
 use crate::substrate::Substrate;
 use crate::walk_log::{WalkLog, WalkSample};
@@ -51,19 +54,39 @@ pub struct PhysicsRobot {
     platform: Option<PlatformRig>,
 }
 
-/// The perturbation platform in the plant and where its schedule is.
+/// The perturbation platform in the plant and its servo on the bus.
 #[derive(Debug, Clone)]
 struct PlatformRig {
-    platform: Platform,
-    /// The slide's actuator (its control is the top's height, m) and its qpos address.
+    /// The platform servo's bus ID.
+    servo_id: u8,
+    /// The slide's actuator (its control is the top's height, m) and its qpos and qvel
+    /// addresses.
     actuator: usize,
     qpos: usize,
+    qvel: usize,
     /// The height the servo's profile has reached, m.
     command_m: f64,
-    /// The goal of this cycle, ticks, and the step and cycle in it the schedule is at.
-    goal: u16,
-    at: Option<(u32, u32)>,
+    /// The servo's Goal Position this cycle, ticks.
+    goal: u32,
+    /// The leg under whose foot the box goes when the goal first leaves [`LEVEL_TICKS`]
+    /// (`None`: it stays where it was put).
+    follow: Option<Leg>,
 }
+
+/// Where the perturbation platform's box stands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PlatformPlace {
+    /// Centred at this world x, y, m, from the start.
+    At([f64; 2]),
+    /// Parked 1 m beside the robot until the platform servo's Goal Position first leaves
+    /// [`LEVEL_TICKS`] (the firmware's schedule moving it, at the perturbed step's first cycle),
+    /// then centred under this leg's foot as it is at that cycle (its top still level with the
+    /// ground: the foot lands on it or already stands on it as it rises).
+    UnderFootOf(Leg),
+}
+
+/// Where [`PlatformPlace::UnderFootOf`] parks the box: 1 m to the robot's left, no foot near.
+const PARKED_XY: [f64; 2] = [0.0, 1.0];
 
 impl PhysicsRobot {
     /// Drosophibot II (the built-in model) on `scene`, on sand paper (the paper's substrate).
@@ -131,15 +154,19 @@ impl PhysicsRobot {
         })
     }
 
-    /// Drosophibot II on `scene` and `substrate` with the perturbation `platform` centred at
-    /// `at_xy` (world, m: where its leg's foot will stand at the perturbed step), which the body
-    /// moves on the platform's schedule from the firmware's playback (see [`crate::platform`]).
+    /// Drosophibot II on `scene` and `substrate` with the perturbation platform at `place`,
+    /// moved by a servo at bus ID `servo_id` (beside the joints' servos: no joint's ID) whose
+    /// Goal Position the slide follows (see [`crate::platform`]).
     pub fn with_platform(
         scene: &Ground,
         substrate: Substrate,
-        platform: Platform,
-        at_xy: [f64; 2],
+        servo_id: u8,
+        place: PlatformPlace,
     ) -> Result<Self, PhysicsError> {
+        let (at_xy, follow) = match place {
+            PlatformPlace::At(xy) => (xy, None),
+            PlatformPlace::UnderFootOf(leg) => (PARKED_XY, Some(leg)),
+        };
         let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
             model: "drosophibot2".into(),
             message: e.to_string(),
@@ -149,61 +176,103 @@ impl PhysicsRobot {
         let xml = crate::platform::with_platform(&planner::model::to_mjcf(&model, &options), at_xy);
         let mut plant = Plant::from_mjcf(&model, &options, &xml)?;
         plant.set_friction(crate::substrate::friction(plain.substrate));
-        let (actuator, qpos) = plant
-            .platform_slide()
-            .ok_or_else(|| PhysicsError::Missing {
-                model: model.name.clone(),
-                kind: "slide",
-                name: "platform".into(),
-            })?;
+        let (actuator, qpos, qvel) =
+            plant
+                .platform_slide()
+                .ok_or_else(|| PhysicsError::Missing {
+                    model: model.name.clone(),
+                    kind: "slide",
+                    name: "platform".into(),
+                })?;
         Ok(Self {
             plant,
             platform: Some(PlatformRig {
-                platform,
+                servo_id,
                 actuator,
                 qpos,
+                qvel,
                 command_m: 0.0,
-                goal: platform.rest,
-                at: None,
+                goal: u32::from(LEVEL_TICKS),
+                follow,
             }),
             ..plain
         })
     }
 
-    /// The platform's goal this cycle (ticks) and its top's height above the ground now, m.
-    pub fn platform_state(&self) -> Option<(u16, f64)> {
+    /// The platform servo's Goal Position this cycle (ticks) and its top's height above the
+    /// ground now, m.
+    pub fn platform_state(&self) -> Option<(u32, f64)> {
         let r = self.platform.as_ref()?;
         Some((r.goal, self.plant.data.qpos()[r.qpos]))
     }
 
-    /// Applies the platform's schedule for the cycle starting now: the goal from the firmware's
-    /// playback (whole steps done, cycles into the step), the height ramped toward it at the
-    /// profile velocity over one bus cycle of `dt_s`.
-    fn drive_platform(&mut self, playback: Option<(u32, u16)>, walking: bool, dt_s: f64) {
+    /// The platform servo's bus ID (`None`: no platform).
+    pub fn platform_servo_id(&self) -> Option<u8> {
+        self.platform.as_ref().map(|r| r.servo_id)
+    }
+
+    /// Moves the slide's command for the cycle starting now toward the platform servo's Goal
+    /// Position in `chain`, at its Profile Velocity, over one bus cycle of `dt_s`.
+    fn drive_platform(&mut self, chain: &VirtualChain, dt_s: f64) {
         let Some(r) = self.platform.as_mut() else {
             return;
         };
-        r.at = match (playback, r.at) {
-            (Some((done, _)), Some((d, c))) if walking && done == d => Some((d, c + 1)),
-            (Some((done, _)), _) if walking => Some((done, 0)),
-            _ => None,
+        let Some(servo) = chain.servo(r.servo_id) else {
+            return;
         };
-        r.goal = match r.at {
-            Some((done, c)) => r.platform.goal(done, c),
-            None => r.platform.rest,
+        r.goal = servo.get(ct::GOAL_POSITION);
+        if let Some(leg) = r.follow
+            && r.goal != u32::from(LEVEL_TICKS)
+        {
+            r.follow = None;
+            if let Some((_, p)) = self
+                .plant
+                .foot_positions()
+                .into_iter()
+                .find(|(l, _)| *l == leg)
+            {
+                self.plant.place_platform([p[0], p[1]]);
+            }
+        }
+        let Some(r) = self.platform.as_mut() else {
+            return;
         };
-        let target = r.platform.height_m(r.goal);
-        r.command_m = match r.platform.speed_m_s() {
+        let target = crate::platform::height_m(r.goal);
+        r.command_m = match crate::platform::speed_m_s(servo.get(ct::PROFILE_VELOCITY)) {
             Some(v) => r.command_m + (target - r.command_m).clamp(-v * dt_s, v * dt_s),
             None => target,
         };
         self.plant.data.ctrl_mut()[r.actuator] = r.command_m;
     }
 
-    /// The board's virtual robot (22 servos, erased gait store) with this body, its servos showing
-    /// the body's state from power-on.
+    /// The platform servo's motor state: the slide's height and speed in ticks (no torque
+    /// reported).
+    fn platform_motor(&self) -> Option<(u8, MotorState)> {
+        let r = self.platform.as_ref()?;
+        let rad_per_tick = std::f64::consts::TAU / 4096.0;
+        let h = self.plant.data.qpos()[r.qpos];
+        let v = self.plant.data.qvel()[r.qvel];
+        Some((
+            r.servo_id,
+            MotorState {
+                angle_rad: f64::from(crate::platform::ticks_at_height(h)) * rad_per_tick,
+                velocity_rad_s: v / crate::platform::HEIGHT_PER_TICK_M * rad_per_tick,
+                torque_nm: 0.0,
+                duty: 0.0,
+            },
+        ))
+    }
+
+    /// The board's virtual robot (22 servos, and the platform's if it has one; erased gait
+    /// store) with this body, its servos showing the body's state from power-on.
     pub fn into_board(self) -> PhysicsBoard {
-        let mut chain = robot_chain(Config::default().baud);
+        let mut servos = robot_servos();
+        if let Some(r) = &self.platform {
+            servos.push((r.servo_id, dynamixel::ServoModel::Mx28));
+        }
+        let mut chain = VirtualChain::new(&servos, Config::default().baud)
+            .expect("the board's baud is a servo baud");
+        chain.set_return_delay_all(0);
         self.power_on(&mut chain);
         VirtualRobot::with_parts(VirtualFlash::new(board::robot::FLASH_SECTORS), chain, self)
     }
@@ -218,15 +287,24 @@ impl PhysicsRobot {
                 s.put(ct::POSITION_P_GAIN, u32::from(p));
             }
         }
+        if let Some(id) = self.platform_servo_id()
+            && let Ok(s) = chain.servo_mut(id)
+        {
+            // Level with the ground until the firmware writes a goal.
+            s.put(ct::GOAL_POSITION, u32::from(LEVEL_TICKS));
+        }
         self.push_state(chain);
     }
 
-    /// A link to [`Self::into_board`], named `physics:SCENE`.
+    /// A link to [`Self::into_board`], named `physics:SCENE[+SUBSTRATE][+platform:LEG]`.
     pub fn into_transport(self) -> PhysicsTransport {
-        let name = match self.substrate {
+        let mut name = match self.substrate {
             Substrate::Sandpaper => format!("physics:{}", self.scene),
             s => format!("physics:{}+{}", self.scene, s.name()),
         };
+        if let Some(leg) = self.platform.as_ref().and_then(|r| r.follow) {
+            name = format!("{name}+platform:{}", leg.name());
+        }
         VirtualTransport::named(self.into_board(), &name)
     }
 
@@ -344,6 +422,7 @@ impl PhysicsRobot {
                 let d = servo::duty(q, j.goal, j.torque_on, j.kp, j.stall);
                 (j.map.id, servo::motor_state(&j.map, q, qd, tau, d))
             })
+            .chain(self.platform_motor())
             .collect();
         for s in chain.servos_mut() {
             s.external_plant = true;
@@ -386,8 +465,7 @@ impl ServoDynamics for PhysicsRobot {
             }
         }
         let dt_s = now_us as f64 * 1e-6 - self.plant.time();
-        let walking = controller.state() == firmware::safety::State::Walking;
-        self.drive_platform(controller.playback(), walking, dt_s);
+        self.drive_platform(chain, dt_s);
         self.plant.advance_to(now_us as f64 * 1e-6);
         self.push_state(chain);
         self.monitor.sample(&self.plant);

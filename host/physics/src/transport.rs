@@ -12,6 +12,7 @@ use std::time::Duration;
 use board::link::{Board, DEFAULT_REPLY_TIMEOUT, SerialTransport, Transport, TransportError};
 use board::port::{self, PortSpec};
 use board::robot::VirtualTransport;
+use planner::model::Leg;
 use planner::terrain::Ground;
 
 use crate::body::Body;
@@ -143,12 +144,23 @@ impl Transport for RobotLink {
     }
 }
 
-/// Opens the physics robot (Drosophibot II) on `scene` and `substrate`.
+/// Opens the physics robot (Drosophibot II) on `scene` and `substrate`, with the perturbation
+/// platform under `platform`'s foot if given (`board::port`'s `+platform:LEG`).
 pub fn open_physics(
     scene: &Ground,
     substrate: Substrate,
+    platform: Option<Leg>,
 ) -> Result<PhysicsTransport, PhysicsError> {
-    PhysicsRobot::drosophibot_on(scene, substrate)
+    let robot = match platform {
+        None => PhysicsRobot::drosophibot_on(scene, substrate),
+        Some(leg) => PhysicsRobot::with_platform(
+            scene,
+            substrate,
+            board::platform::default_platform_id_for(None),
+            crate::PlatformPlace::UnderFootOf(leg),
+        ),
+    };
+    robot
         .map(PhysicsRobot::into_transport)
         .map_err(|e| match e {
             PhysicsError::Scene { .. } | PhysicsError::Substrate { .. } => PhysicsError::Port {
@@ -173,9 +185,11 @@ pub fn open_within(port: &str, reply_timeout: Duration) -> Result<Robot, OpenErr
         PortSpec::Virtual { image } => {
             RobotLink::Virtual(Box::new(port::open_virtual(image.as_deref())?))
         }
-        PortSpec::Physics { scene, substrate } => {
-            RobotLink::Physics(Box::new(open_physics(scene, *substrate)?))
-        }
+        PortSpec::Physics {
+            scene,
+            substrate,
+            platform,
+        } => RobotLink::Physics(Box::new(open_physics(scene, *substrate, *platform)?)),
     };
     Ok(port::connect(link, &spec, reply_timeout)?)
 }

@@ -18,6 +18,7 @@ fn the_scene_substrate_sets_every_foot_friction() {
         let PortSpec::Physics {
             scene: ground,
             substrate: parsed,
+            ..
         } = PortSpec::parse(&port).unwrap()
         else {
             panic!("{port} is not a physics port");

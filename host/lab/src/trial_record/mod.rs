@@ -91,10 +91,12 @@ pub struct TrialRequest {
 }
 
 /// The platform servo's bus ID of `request`: the one place its default is chosen.
+/// Without one given: the lab's 22 unless the table's joints use it, then the first free ID after
+/// theirs (`board::platform::default_platform_id_for`).
 pub fn platform_id(request: &TrialRequest) -> u8 {
-    request
-        .platform_id
-        .unwrap_or(board::platform::LAB_PLATFORM_ID)
+    request.platform_id.unwrap_or_else(|| {
+        board::platform::default_platform_id_for(request.table.as_ref().map(|t| t.bytes.as_slice()))
+    })
 }
 
 /// The line said when a stop was asked for while the trial records.

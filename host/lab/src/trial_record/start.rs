@@ -43,6 +43,14 @@ pub(super) fn start(
     {
         hooks.say(&line);
     }
+    // A physics robot without the platform under that leg cannot move it: said before anything
+    // moves, naming the port spec to use.
+    if let Some(m) = checked
+        .perturb
+        .and_then(|p| board::port::platform_port_problem(board.port(), p.leg))
+    {
+        crate::bail!("--perturb: {m}");
+    }
     let joints = joints::named_joints(
         board,
         &request.model,
@@ -53,9 +61,12 @@ pub(super) fn start(
     // earlier trial left set up does not move in this one.
     if play.is_some() {
         match &checked.perturb {
-            Some(p) => board.set_platform(p.setup).with_context(|| {
-                format!("--perturb {}", request.perturb.as_deref().unwrap_or(""))
-            })?,
+            Some(p) => {
+                board.set_platform(p.setup).with_context(|| {
+                    format!("--perturb {}", request.perturb.as_deref().unwrap_or(""))
+                })?;
+                hooks.say(&format!("platform servo ID {}", p.setup.servo_id));
+            }
             None if board.platform()?.is_some() => {
                 board.clear_platform().context("clearing the platform")?
             }

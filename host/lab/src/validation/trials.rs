@@ -5,7 +5,6 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use physics::Platform;
 use planner::model::Leg;
 use planner::terrain::Ground;
 
@@ -56,8 +55,9 @@ pub fn substrates() -> Result<String> {
 /// The `perturbation` block (the lab's rise under RF in step 3 of 5) and its plot
 /// (perturbation_load.png: the leg's load step by step, drawn in `plots_dir`), as PNG bytes.
 pub fn perturbation(plots_dir: &Path) -> Result<(String, Vec<u8>)> {
-    let platform = Platform::lab(Leg::RF, 3);
-    let w = walk_perturbed(&tripod_table()?, &Ground::Flat, platform, 5)?;
+    let perturb = crate::perturbation::lab_rise(Leg::RF, 3);
+    let platform = perturb.setup;
+    let w = walk_perturbed(&tripod_table()?, &Ground::Flat, perturb, 5)?;
     let mut s = format!(
         "The paper's tripod, five steps on `physics:flat`; the lab's platform (rest {}, rise {} ticks, profile velocity {}, {} cycles up) under {} at step {} (from 0); the platform's top rose {:.2} mm. The leg's foot normal force in the first {:.0} ms of each step:\n\n\
          | step | peak | mean |\n|---|---|---|\n",
@@ -65,7 +65,7 @@ pub fn perturbation(plots_dir: &Path) -> Result<(String, Vec<u8>)> {
         platform.rise,
         platform.profile_velocity,
         platform.hold_cycles,
-        platform.leg.name(),
+        perturb.leg.name(),
         platform.step,
         w.platform_peak_m * 1e3,
         crate::perturbation::WINDOW_S * 1e3,
@@ -105,7 +105,7 @@ pub fn perturbation(plots_dir: &Path) -> Result<(String, Vec<u8>)> {
     let f = plots_dir.join("perturbation_load.png");
     report::perturbation::plot_step_loads(
         &f,
-        platform.leg.name(),
+        perturb.leg.name(),
         crate::perturbation::WINDOW_S * 1e3,
         &bars,
         platform.step,
