@@ -12,7 +12,8 @@ use pyo3::types::PyDict;
 use crate::errors::value_error;
 
 /// Reads the trial folder `path`: a dict of arrays (`time_s`, `cycle`, `step`, `slice` per
-/// record; `planned_rad`, `commanded_rad`, `present_rad`, `velocity_rad_s`, `load_raw`,
+/// record; `platform_goal_ticks`, `platform_present_ticks` per record, NaN without a platform;
+/// `planned_rad`, `commanded_rad`, `present_rad`, `velocity_rad_s`, `load_raw`,
 /// `torque_estimate_nm`, `modelled_torque_nm`, `error`, `flags` per record and joint, NaN where
 /// the CSV has no value), `joint_names`, `meta` (trial.json) and `path`. ValueError naming the
 /// file and line of anything it cannot read.
@@ -34,6 +35,15 @@ pub fn read_trial<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, Py
     d.set_item("cycle", ifirst(&|r| i64::from(r.cycle)).to_pyarray(py))?;
     d.set_item("step", ifirst(&|r| i64::from(r.step)).to_pyarray(py))?;
     d.set_item("slice", ifirst(&|r| i64::from(r.slice)).to_pyarray(py))?;
+    let ticks = |v: Option<u16>| v.map_or(f64::NAN, f64::from);
+    d.set_item(
+        "platform_goal_ticks",
+        first(&|r| ticks(r.platform_goal_ticks)).to_pyarray(py),
+    )?;
+    d.set_item(
+        "platform_present_ticks",
+        first(&|r| ticks(r.platform_present_ticks)).to_pyarray(py),
+    )?;
     let cell = |g: &dyn Fn(&board::record::Row) -> f64| {
         Array2::from_shape_fn((n, joints), |(i, j)| records[i].get(j).map_or(f64::NAN, g))
     };

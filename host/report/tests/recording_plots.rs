@@ -82,6 +82,8 @@ fn rows() -> Vec<Row> {
                     protocol::feedback_flags::TORQUE_OFF
                 },
                 bus_cycle_us: 5000,
+                platform_goal_ticks: None,
+                platform_present_ticks: None,
             });
         }
     }

@@ -10,7 +10,7 @@ use protocol::units::angle_to_rad;
 use super::joints::JointMeta;
 
 /// Column names of the CSV, in order.
-pub const CSV_HEADER: [&str; 15] = [
+pub const CSV_HEADER: [&str; 17] = [
     "time_s",
     "cycle",
     "step",
@@ -26,7 +26,13 @@ pub const CSV_HEADER: [&str; 15] = [
     "servo_error",
     "flags",
     "bus_cycle_us",
+    "platform_goal_ticks",
+    "platform_present_ticks",
 ];
+
+/// Columns of the telemetry CSV written before the platform's (trials of the first format
+/// version without them are read with the platform unknown).
+pub const CSV_HEADER_BEFORE_PLATFORM: usize = 15;
 
 /// One row: one joint in one bus cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +58,10 @@ pub struct Row {
     pub error: u8,
     pub flags: u8,
     pub bus_cycle_us: u32,
+    /// The perturbation platform servo's goal this cycle, ticks (`None`: no platform set up).
+    pub platform_goal_ticks: Option<u16>,
+    /// The platform servo's present position, ticks (`None`: no platform set up).
+    pub platform_present_ticks: Option<u16>,
 }
 
 /// What the columns of telemetry.csv mean: written as README.md beside it.
@@ -137,12 +147,15 @@ impl Recorder {
                 error: f.error,
                 flags: f.flags,
                 bus_cycle_us: t.bus.cycle_us,
+                platform_goal_ticks: t.platform.map(|p| p.goal),
+                platform_present_ticks: t.platform.map(|p| p.present),
             };
             let name = meta.map_or_else(|| format!("J{j}"), |m| m.name.clone());
+            let ticks = |v: Option<u16>| v.map_or(String::new(), |x| x.to_string());
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
             writeln!(
                 self.out,
-                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{}",
+                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{}",
                 row.time_s,
                 row.cycle,
                 row.step,
@@ -158,7 +171,9 @@ impl Recorder {
                 opt(row.modelled_nm),
                 row.error,
                 row.flags,
-                row.bus_cycle_us
+                row.bus_cycle_us,
+                ticks(row.platform_goal_ticks),
+                ticks(row.platform_present_ticks)
             )?;
             self.rows.push(row);
         }

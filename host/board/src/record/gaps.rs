@@ -41,6 +41,8 @@ mod tests {
             error: 0,
             flags: 0,
             bus_cycle_us: 0,
+            platform_goal_ticks: None,
+            platform_present_ticks: None,
         }
     }
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::error::TrialError;
 use super::folder::{TELEMETRY_CSV, TRIAL_JSON};
 use super::meta::{TRIAL_FORMAT, TrialMeta};
-use crate::record::{CSV_HEADER, Row};
+use crate::record::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Row};
 
 /// A trial read back.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,20 +64,25 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
     };
     let mut lines = text.lines().enumerate();
     let header = lines.next().map(|(_, l)| l).unwrap_or_default();
-    if header != CSV_HEADER.join(",") {
+    // A trial written before the platform's columns: the platform is unknown.
+    let columns = if header == CSV_HEADER.join(",") {
+        CSV_HEADER.len()
+    } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_PLATFORM].join(",") {
+        CSV_HEADER_BEFORE_PLATFORM
+    } else {
         return Err(bad(
             1,
             format!("the header is not `{}`", CSV_HEADER.join(",")),
         ));
-    }
+    };
     lines
         .map(|(i, l)| {
             let line = i + 1;
             let cells: Vec<&str> = l.split(',').collect();
-            if cells.len() != CSV_HEADER.len() {
+            if cells.len() != columns {
                 return Err(bad(
                     line,
-                    format!("{} cells, expected {}", cells.len(), CSV_HEADER.len()),
+                    format!("{} cells, expected {columns}", cells.len()),
                 ));
             }
             let cell = |k: usize| cells[k];
@@ -114,6 +119,13 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
                     format!("column {}: {v} is out of range", CSV_HEADER[k]),
                 )
             };
+            // Empty (or not written at all): no platform set up.
+            let tick = |k: usize| -> Result<Option<u16>, TrialError> {
+                match cells.get(k) {
+                    None | Some(&"") => Ok(None),
+                    Some(_) => fit(int(k)?).map(Some).ok_or_else(|| ranged(k, int(k).ok())),
+                }
+            };
             let joint = joints.iter().position(|n| n == cell(4)).ok_or_else(|| {
                 bad(
                     line,
@@ -137,6 +149,8 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
                 error: fit(int(12)?).ok_or_else(|| ranged(12, int(12).ok()))?,
                 flags: fit(int(13)?).ok_or_else(|| ranged(13, int(13).ok()))?,
                 bus_cycle_us: fit(int(14)?).ok_or_else(|| ranged(14, int(14).ok()))?,
+                platform_goal_ticks: tick(15)?,
+                platform_present_ticks: tick(16)?,
             })
         })
         .collect()
