@@ -20,6 +20,8 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   (``enter_streaming``, ``send_setpoint``, ``next_proprioception``); ``Board.kind`` says which
   kind a port is and ``Board.body()`` reads the physics robot's simulated body (thorax pose and
   velocity, foot forces, contact, slip).
+* :class:`Bench` - the servo bench of ``dbot dxl``: Dynamixel servos on a U2D2 or ``dbot sim-bus``
+  (``Bench.open(port, baud=57600 or "auto")``, ``scan``, ``read``, ``write``, ``setup``).
 * :func:`render_pose` / :func:`write_walk_gif` - the walk drawing of a simulated pose as RGB
   pixels or a GIF (the environment's ``rgb_array``).
 * :mod:`dbot.env` - ``DbotEnv``, a Gymnasium environment over the physics robot or a board port
@@ -33,6 +35,7 @@ Units are SI (m, rad, s, N m); arrays are indexed ``[slice, joint]`` / ``[record
 
 from ._native import (
     BUILTIN_MODELS,
+    Bench,
     Board,
     BoardError,
     DbotError,
@@ -56,6 +59,7 @@ from ._native import (
 
 __all__ = [
     "BUILTIN_MODELS",
+    "Bench",
     "Board",
     "BoardError",
     "DbotError",

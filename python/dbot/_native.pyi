@@ -645,3 +645,31 @@ def write_walk_gif(
     delay_ms: int = 100,
 ) -> int:
     """Writes ``poses`` as a looping GIF, the camera following the thorax; returns the frame count."""
+
+# --- servo bench (python/src/bench.rs, board::bench; `dbot dxl`) ---
+class Bench:
+    """Dynamixel servos on a USB serial adapter (U2D2) or `dbot sim-bus`, as `dbot dxl` reaches them."""
+
+    @staticmethod
+    def open(port: str, baud: int | str | None = None, reply_slack_us: int = 20000) -> Bench: ...
+    @property
+    def baud(self) -> int | None: ...
+    def scan(self, max_id: int = 252) -> list[dict[str, Any]]: ...
+    def read(
+        self, id: int, field: str | None = None, addr: int | None = None, length: int | None = None
+    ) -> dict[str, Any]: ...
+    def write(
+        self,
+        id: int,
+        value: int,
+        field: str | None = None,
+        addr: int | None = None,
+        length: int | None = None,
+    ) -> None: ...
+    def setup(
+        self,
+        id: int,
+        new_id: int | None = None,
+        new_baud: int | None = None,
+        return_delay_us: int | None = None,
+    ) -> dict[str, Any]: ...

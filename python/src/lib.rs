@@ -4,6 +4,7 @@
 //! converts between Python/NumPy values and the host types.
 
 mod arrays;
+mod bench;
 mod board;
 mod body;
 mod compare;
@@ -35,6 +36,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<plan_dir::PlanDir>()?;
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
+    m.add_class::<bench::Bench>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     lab::register(m)?;

@@ -5,6 +5,7 @@
 //! rules that protect the robot, enforced by the calls that build, upload and play a step table
 //! (`rules`); the lab's strain board (driver, recorder, virtual board).
 
+pub mod bench;
 pub mod bus;
 pub mod files;
 pub mod link;
