@@ -4,14 +4,12 @@
 //! `hold_cycles` cycles later; and a platform servo that does not answer refuses `Play` with
 //! words naming its ID, before any goal is written.
 //!
-//! Independent truth, from the bus frames alone (parsed with the dynamixel crate's parser, not
-//! the firmware's telemetry) and their start on the emulator's simulated clock, never
-//! wall-clock: the ramp ends with the cycle that writes the table's slice 0 (the gait stops at a
-//! step's end, so the last Sync Write holds those goals too), and the gait's step is 0.6 s, so
-//! step 1's first cycle is the first goal write 0.6 s or more after it (less 5 ms, half the
-//! 100 Hz cycle, for the bytes' own delay after the cycle's start). Cycles are counted as Sync
-//! Writes: a cycle start the board skips (an overrun) writes nothing, and the platform's hold
-//! counts cycles that write.
+//! Independent truth: the bus frames (parsed with the dynamixel crate's parser, not the
+//! firmware's code) for what the Sync Writes carry, and the board's own cycle and step counts in
+//! its telemetry for when: the first cycle the board counts in step 1 and the one after it carry
+//! `rise`, the cycles either side `rest`. Never the emulator's clock or wall-clock time: the
+//! emulator now and then skips a cycle start, which moved a time-based estimate of step 1 by one
+//! write (the test raced the emulator).
 
 use anyhow::{Context, Result, bail, ensure};
 use dynamixel::control_table::GOAL_POSITION;
@@ -31,10 +29,6 @@ const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 /// Sync Write instruction (e-manual).
 const SYNC_WRITE: u8 = 0x83;
 const PLATFORM_ID: u8 = 23;
-/// The test gait's step period.
-const STEP: Duration = Duration::from_millis(600);
-/// Half the 100 Hz bus cycle.
-const HALF_CYCLE: Duration = Duration::from_millis(5);
 
 fn setup(step: u32) -> PlatformSetup {
     PlatformSetup {
@@ -113,7 +107,7 @@ fn the_platform_goal_rises_at_the_first_cycle_of_its_step_and_rests_two_cycles_l
         "platform servo {PLATFORM_ID} not ready: {p:?}"
     );
     emu.bus_trace_start()?;
-    play_steps(&mut link, 0, Direction::Forward, 3)?;
+    let records = play_steps(&mut link, 0, Direction::Forward, 3)?;
     let writes = goal_writes(&emu.bus_trace_stop_bytes()?)?;
     // Every goal write carries the 22 joints and, last by ID, the platform.
     for (_, w) in &writes {
@@ -122,39 +116,46 @@ fn the_platform_goal_rises_at_the_first_cycle_of_its_step_and_rests_two_cycles_l
             "a goal Sync Write without the platform: {w:?}"
         );
     }
-    let joints = |w: &GoalWrite| w.1[..JOINTS].to_vec();
-    let slice0 = joints(writes.last().context("no goal writes")?);
-    let arrival = (0..writes.len())
-        .find(|&k| joints(&writes[k]) == slice0)
-        .context("slice 0 never written")?;
-    let t0 = writes[arrival].0;
-    let step1 = (arrival..writes.len())
-        .find(|&k| writes[k].0 + HALF_CYCLE >= t0 + STEP)
-        .context("no write in step 1")?;
+    // Where step 1 starts, in the board's own counts: the first cycle whose record says one step
+    // is done. Its record and the one after carry `rise`, the cycles before and after `rest`
+    // (each record's platform goal is what that cycle's Sync Write carried). The records around
+    // it must be consecutive cycles, so a record lost on the link cannot pass for the timing.
+    let k = records
+        .iter()
+        .position(|r| r.step == 1)
+        .context("no telemetry record in step 1")?;
+    ensure!(
+        k >= 1 && k + 2 < records.len(),
+        "too few records around step 1's start"
+    );
+    let around = &records[k - 1..=k + 2];
+    ensure!(
+        around.windows(2).all(|w| w[1].cycle == w[0].cycle + 1),
+        "the records around step 1's start are not consecutive cycles: {:?}",
+        around.iter().map(|r| r.cycle).collect::<Vec<_>>()
+    );
+    let goals: Vec<Option<u16>> = around.iter().map(|r| r.platform.map(|p| p.goal)).collect();
+    println!(
+        "{} goal writes, {} records; step 1 starts at cycle {}; platform goals around it {goals:?}",
+        writes.len(),
+        records.len(),
+        records[k].cycle
+    );
+    assert_eq!(
+        goals,
+        [Some(2020), Some(2330), Some(2330), Some(2020)],
+        "rest, then rise for the first two cycles of step 1, then rest"
+    );
+    // On the wire: exactly two goal writes at rise, one after the other (the lab's hold).
     let platform: Vec<i32> = writes.iter().map(|w| w.1[JOINTS].1).collect();
     let rises: Vec<usize> = (0..platform.len())
         .filter(|&k| platform[k] == 2330)
         .collect();
-    println!(
-        "{} goal writes; the ramp arrived in write {arrival}, step 1 starts in write {step1} \
-         ({:?} later); the platform at rise in writes {rises:?}",
-        writes.len(),
-        writes[step1].0 - t0
-    );
-    // The rise is two consecutive cycles (the lab's hold) starting at step 1's first cycle. The
-    // trace gives that cycle only to within one write: the emulator now and then skips a cycle
-    // start, which shifts the writes against the trace's times by one (the firmware's own cycle
-    // count, which places the rise, does not see it). The firmware unit test
-    // `controller::tests::platform` pins the exact cycle on a bus it counts itself.
     assert_eq!(rises.len(), 2, "two cycles at rise: {rises:?}");
     assert_eq!(
         rises[1],
         rises[0] + 1,
         "the two cycles follow each other: {rises:?}"
-    );
-    assert!(
-        rises[0].abs_diff(step1) <= 1,
-        "the rise {rises:?} is not at step 1's first cycle (write {step1}, one write either way)"
     );
     assert!(
         platform.iter().all(|&g| g == 2330 || g == 2020),
