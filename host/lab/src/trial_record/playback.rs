@@ -60,15 +60,12 @@ pub fn play_command<T: Transport>(
     let planned = f64::from(gait.header.step_period_us) * 1e-6;
     let period_scale = match period {
         None => protocol::units::PERIOD_SCALE_ONE,
-        Some(p) => {
-            let scale = (p / planned * 1000.0).round();
-            if !(p.is_finite() && (100.0..=10_000.0).contains(&scale)) {
-                crate::bail!(
-                    "--period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
-                );
-            }
-            scale as u16
-        }
+        Some(p) => match protocol::units::to_fixed(p / planned, 1000.0, 100, 10_000) {
+            Some(scale) => scale as u16,
+            None => crate::bail!(
+                "--period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
+            ),
+        },
     };
     if steps == Some(0) {
         crate::bail!("--steps 0: give at least one step");
