@@ -22,7 +22,7 @@ use hil_tests::drive::{T, start_playing, start_with_servos, telemetry};
 use hil_tests::gait::{JOINTS, upload_table};
 use planner::gait::{StepParams, Turn};
 use protocol::message::{Direction, RunState, Status, Steps};
-use protocol::{MAX_CHUNK_LEN, QueueCommand, Request, Response, Telemetry};
+use protocol::{MAX_CHUNK_LEN, PlayCommand, QueueCommand, Request, Response, Telemetry};
 
 const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 const SLICES: usize = 50;
@@ -112,12 +112,7 @@ fn straight_then_a_curve_then_backward_then_stop_switching_at_step_boundaries() 
         (1u8, Direction::Forward, Steps::Count(2)),
         (0, Direction::Backward, Steps::Continuous),
     ] {
-        let q = QueueCommand {
-            slot,
-            direction,
-            period_scale: 1000,
-            steps,
-        };
+        let q = QueueCommand(PlayCommand::new(slot, direction, 1000, steps));
         let r: Response = link.request(&Request::QueueGait(q), T)?;
         ensure!(r == Response::Ack, "queueing slot {slot}: {r:?}");
     }

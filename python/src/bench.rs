@@ -29,7 +29,8 @@ fn py_err(e: BenchError) -> PyErr {
         | BenchError::ValueRange { .. }
         | BenchError::ReturnDelay { .. }
         | BenchError::NewIdRange { .. }
-        | BenchError::NewBaud { .. } => value_error(chain(&e)),
+        | BenchError::NewBaud { .. }
+        | BenchError::NotSerialPort { .. } => value_error(chain(&e)),
         _ => board_error(chain(&e)),
     }
 }

@@ -280,18 +280,7 @@ impl Board {
         backward: bool,
         allow_infeasible: bool,
     ) -> PyResult<()> {
-        let scale = protocol::units::to_fixed(period_scale, 1000.0, 100, 10_000)
-            .ok_or_else(|| value_error(format!("period_scale = {period_scale}: give 0.1..=10")))?;
-        let command = PlayCommand {
-            slot,
-            direction: if backward {
-                Direction::Backward
-            } else {
-                Direction::Forward
-            },
-            period_scale: scale as u16,
-            steps: steps.map_or(Steps::Continuous, Steps::Count),
-        };
+        let command = scaled_command(slot, steps, period_scale, backward)?;
         let stored = self.with(py, |l| l.gaits())?;
         let (known, model) = {
             let naming = self.naming();
@@ -341,18 +330,7 @@ impl Board {
         period_scale: f64,
         backward: bool,
     ) -> PyResult<()> {
-        let scale = protocol::units::to_fixed(period_scale, 1000.0, 100, 10_000)
-            .ok_or_else(|| value_error(format!("period_scale = {period_scale}: give 0.1..=10")))?;
-        let command = protocol::QueueCommand {
-            slot,
-            direction: if backward {
-                Direction::Backward
-            } else {
-                Direction::Forward
-            },
-            period_scale: scale as u16,
-            steps: steps.map_or(Steps::Continuous, Steps::Count),
-        };
+        let command = protocol::QueueCommand(scaled_command(slot, steps, period_scale, backward)?);
         self.with(py, move |l| l.queue_gait(command))
     }
 
@@ -650,7 +628,7 @@ impl Board {
         platform_id: Option<u8>,
         every: u16,
     ) -> PyResult<String> {
-        let args = crate::trial_record::TrialArgs {
+        let args = lab::trial_record::TrialArgs {
             out,
             table,
             plan,
@@ -868,4 +846,22 @@ impl Board {
 /// fell back"`, `"store damaged: no readable record in any slot"`.
 fn store_health(slots: &[protocol::SlotInfo]) -> String {
     board::slot_health::store_line(slots).unwrap_or_else(|| "ok".to_owned())
+}
+
+/// The play command of `play()` and `queue_gait()`: `period_scale` times the planned period
+/// (0.1 to 10), `steps` whole steps or until stopped.
+fn scaled_command(
+    slot: u8,
+    steps: Option<u32>,
+    period_scale: f64,
+    backward: bool,
+) -> PyResult<PlayCommand> {
+    let scale = protocol::units::to_fixed(period_scale, 1000.0, 100, 10_000)
+        .ok_or_else(|| value_error(format!("period_scale = {period_scale}: give 0.1..=10")))?;
+    Ok(PlayCommand::new(
+        slot,
+        Direction::backward_if(backward),
+        scale as u16,
+        steps.map_or(Steps::Continuous, Steps::Count),
+    ))
 }

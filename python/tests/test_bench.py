@@ -85,3 +85,22 @@ def test_bad_field_and_value_name_the_problem(link: str) -> None:
         dbot.Bench.open(link, baud="fast")
     with pytest.raises(dbot.BoardError, match="ID 9"):
         bench.read(9, field="LED")
+
+
+def test_a_port_that_is_no_serial_port_is_refused_with_the_clis_words(tmp_path: pathlib.Path) -> None:
+    # /dev/null is a character device but no terminal; a regular file and a missing path are
+    # named as what they are, before the terminal layer's "Not a typewriter".
+    notes = tmp_path / "notes.txt"
+    notes.write_text("x")
+    for port, words in [
+        ("/dev/null", "/dev/null is a device but not a serial port (not a terminal)"),
+        (str(notes), f"{notes} is a regular file, not a serial port"),
+        (str(tmp_path / "ttyUSB9"), f"{tmp_path / 'ttyUSB9'}: no such serial port"),
+    ]:
+        with pytest.raises(ValueError, match=re.escape(words)):
+            dbot.Bench.open(port, baud=1000000).scan(max_id=1)
+        out = subprocess.run(
+            [str(dbot_cli()), "dxl", "scan", "--port", port, "--baud", "1000000"],
+            capture_output=True, text=True, timeout=60,
+        )
+        assert out.returncode == 1 and words in out.stderr, out.stderr

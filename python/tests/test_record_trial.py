@@ -79,13 +79,15 @@ def test_refusals_are_the_clis_words_before_anything_moves(tmp_path: pathlib.Pat
     out = tmp_path / "trials"
     with dbot.Board.open("virtual") as b:
         for kwargs, words in [
-            (dict(seconds=-1.0), "--seconds -1: must be a positive number of seconds"),
-            (dict(play=0, steps=2, perturb="XX:1:rise"), "--perturb XX:1:rise"),
-            (dict(play=0, steps=2, perturb="RM:5:rise"), "--perturb RM:5:rise"),
-            (dict(), "the virtual robot only walks while dbot runs"),
+            (dict(seconds=-1.0), "seconds -1: must be a positive number of seconds"),
+            (dict(play=0, steps=2, perturb="XX:1:rise"), "perturb XX:1:rise"),
+            (dict(play=0, steps=2, perturb="RM:5:rise"), "perturb RM:5:rise"),
+            (dict(), "the virtual robot only walks while the trial records: give --play SLOT"),
+            (dict(steps=2), "steps needs a slot to play: give --play SLOT (Python: play=SLOT)"),
+            (dict(table=str(tmp_path / "none.dbgt")), f"reading {tmp_path / 'none.dbgt'}"),
         ]:
             try:
-                b.record_trial(str(out), table=str(table), **kwargs)
+                b.record_trial(str(out), **{"table": str(table), **kwargs})
             except ValueError as e:
                 assert words in str(e), (kwargs, str(e))
             else:

@@ -245,7 +245,7 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
             .map_err(command_error)
     }
 
-    fn queue_gait(&mut self, q: QueueCommand) -> Result<(), ProtocolError> {
+    fn queue_gait(&mut self, QueueCommand(q): QueueCommand) -> Result<(), ProtocolError> {
         self.c
             .queue_gait(play_params(q.slot, q.direction, q.period_scale, q.steps))
             .map_err(command_error)

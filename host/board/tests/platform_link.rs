@@ -13,7 +13,7 @@ use board::robot::{FLASH_SECTORS, VirtualFlash, VirtualRobot, VirtualTransport, 
 use dynamixel::ServoModel;
 use dynamixel::sim::VirtualChain;
 use firmware::testkit::SyntheticGait;
-use protocol::{Direction, PlatformError, PlayCommand, RunState, Steps};
+use protocol::{PlatformError, PlayCommand, RunState, Steps};
 
 fn board_with_platform_servo() -> Board<VirtualTransport> {
     let mut servos = robot_servos();
@@ -29,12 +29,7 @@ fn board_with_platform_servo() -> Board<VirtualTransport> {
 }
 
 fn play(steps: u32) -> PlayCommand {
-    PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Steps::Count(steps),
-    }
+    PlayCommand::forward(0, Steps::Count(steps))
 }
 
 #[test]

@@ -6,15 +6,10 @@ use std::time::Duration;
 use board::link::Board;
 use board::robot::{VirtualRobot, VirtualTransport};
 use firmware::testkit::SyntheticGait;
-use protocol::{Direction, PlayCommand, RunState, Steps};
+use protocol::{PlayCommand, RunState, Steps};
 
 fn play() -> PlayCommand {
-    PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Steps::Count(2),
-    }
+    PlayCommand::forward(0, Steps::Count(2))
 }
 
 fn chain_ids(b: &Board<VirtualTransport>) -> Vec<u8> {

@@ -30,12 +30,7 @@ fn turn(g: &SyntheticGait) -> Vec<u8> {
 }
 
 fn queued(slot: u8, direction: Direction) -> QueueCommand {
-    QueueCommand {
-        slot,
-        direction,
-        period_scale: 1000,
-        steps: Steps::Count(2),
-    }
+    QueueCommand(PlayCommand::new(slot, direction, 1000, Steps::Count(2)))
 }
 
 #[test]
@@ -44,13 +39,7 @@ fn forward_turn_backward_and_stop_play_as_one_run() {
     let g = SyntheticGait::new(100, 1.0);
     b.upload(0, &g.build(), |_, _| {}).unwrap();
     b.upload(1, &turn(&g), |_, _| {}).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Steps::Count(2),
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, Steps::Count(2))).unwrap();
     b.queue_gait(queued(1, Direction::Forward)).unwrap();
     b.queue_gait(queued(0, Direction::Backward)).unwrap();
     // Ramp (at least 0.5 s) plus 3 x 2 steps of 1 s; status every 0.1 s.

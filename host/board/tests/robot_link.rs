@@ -99,13 +99,7 @@ fn walking(steps: Steps) -> Board<VirtualTransport> {
     let mut b = board();
     b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
         .unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps,
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, steps)).unwrap();
     while b.status().unwrap().state != RunState::Walking {
         b.wait(Duration::from_millis(50)).unwrap();
     }

@@ -8,8 +8,7 @@ use board::link::Board;
 use board::robot::{VirtualRobot, VirtualTransport};
 use dynamixel::sim::Faults;
 use planner::dynamics::{DynamicsOptions, output, plan_inputs, solve_cycle};
-use planner::plan::gait_table::{gait_table, stance_bits};
-use protocol::{Direction, FaultKind, PlayCommand, RunState, Steps, Telemetry};
+use protocol::{FaultKind, PlayCommand, RunState, Steps, Telemetry};
 
 /// The step table `dbot demo` builds: the paper's table 1 parameters on flat ground.
 fn tripod_table() -> Vec<u8> {
@@ -22,33 +21,14 @@ fn tripod_table() -> Vec<u8> {
         &DynamicsOptions::default(),
     )
     .unwrap();
-    let stance: Vec<u8> = plan
-        .stance
-        .iter()
-        .map(|s| stance_bits(&plan.legs, s))
-        .collect();
-    gait_table(
-        &plan.model,
-        "dbII tripod",
-        plan.period_s,
-        plan.params.duty,
-        &plan.q,
-        &output::torque_rows(&cycle),
-        &stance,
-    )
-    .unwrap()
+    planner::plan::table::step_table(&plan, Some(&output::torque_rows(&cycle)), "dbII tripod")
+        .unwrap()
 }
 
 fn walking(table: &[u8], steps: Steps) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
     b.upload(0, table, |_, _| {}).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps,
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, steps)).unwrap();
     b
 }
 

@@ -95,13 +95,7 @@ fn record_walk(folder: &TrialFolder) -> (Vec<String>, Recorder) {
     let table = GaitTable::parse(&gait).unwrap();
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
     b.upload(0, &gait, |_, _| {}).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Steps::Count(2),
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, Steps::Count(2))).unwrap();
     let names: Vec<String> = (0..22).map(|j| format!("JOINT{j}")).collect();
     let mut rec = Recorder::create(
         &folder.work_dir().join(TELEMETRY_CSV),

@@ -9,20 +9,14 @@ use board::link::Board;
 use board::record::{Ended, Recorder, Stopped, capture_until_standing, joints_of_table, stop_walk};
 use board::robot::{VirtualRobot, VirtualTransport};
 use firmware::testkit::SyntheticGait;
-use protocol::{Direction, GaitTable, PlayCommand, RunState, Steps};
+use protocol::{GaitTable, PlayCommand, RunState, Steps};
 
 /// A board walking an endless 0.6 s gait, `after` board time after the play command.
 fn walking(gait: &[u8], after: Duration) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
     b.upload(0, gait, |_, _| {}).unwrap();
     b.set_telemetry(1).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Steps::Continuous,
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, Steps::Continuous)).unwrap();
     b.wait(after).unwrap();
     // The recording starts now (the records kept while waiting are not its own).
     b.discard_telemetry();

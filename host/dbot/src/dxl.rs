@@ -7,7 +7,6 @@ use board::bench::{Bench, Pinged, Reading, SetupRequest, Target};
 use std::path::PathBuf;
 
 use crate::common::baud::{BaudChoice, FACTORY_BAUD, mx_rate};
-use crate::common::serial_path::check_serial_path;
 
 /// Talk to Dynamixel servos through a USB serial adapter (U2D2) or `dbot sim-bus`.
 #[derive(Debug, clap::Args)]
@@ -100,7 +99,6 @@ impl Register {
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
-        check_serial_path(&self.port)?;
         let port = self.port.to_string_lossy().into_owned();
         let mut bench = Bench::new(&port, self.baud, self.reply_slack_us);
         let id = match &self.op {

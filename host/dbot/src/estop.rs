@@ -4,33 +4,23 @@
 use crate::args::board::BoardArgs;
 use crate::common::words::state_name;
 
-/// Emergency stop: torque off on every servo now (the robot goes limp).
-#[derive(Debug, clap::Args)]
-#[command(after_help = "Example:
-  dbot estop                     # then: dbot set --clear-fault")]
-pub struct Args {
-    #[command(flatten)]
-    pub board: BoardArgs,
-}
-
-impl Args {
-    pub fn run(self) -> anyhow::Result<()> {
-        let mut s = self.board.connect()?;
-        s.board.emergency_stop()?;
-        let st = s.board.status()?;
-        let fault = st
-            .fault
-            .map_or("no fault recorded".to_owned(), |f| f.to_string());
-        // The virtual robot boots afresh at the next command, so there is no fault left to clear.
-        let next = if s.is_virtual() {
-            "the virtual robot starts afresh (idle, torque off) at the next command"
-        } else {
-            "clear it with `dbot set --clear-fault`"
-        };
-        println!(
-            "emergency stop: the board is in state {} ({fault}); {next}",
-            state_name(st.state)
-        );
-        s.close()
-    }
+/// Runs the command on the board `board` names.
+pub fn run(board: BoardArgs) -> anyhow::Result<()> {
+    let mut s = board.connect()?;
+    s.board.emergency_stop()?;
+    let st = s.board.status()?;
+    let fault = st
+        .fault
+        .map_or("no fault recorded".to_owned(), |f| f.to_string());
+    // The virtual robot boots afresh at the next command, so there is no fault left to clear.
+    let next = if s.is_virtual() {
+        "the virtual robot starts afresh (idle, torque off) at the next command"
+    } else {
+        "clear it with `dbot set --clear-fault`"
+    };
+    println!(
+        "emergency stop: the board is in state {} ({fault}); {next}",
+        state_name(st.state)
+    );
+    s.close()
 }

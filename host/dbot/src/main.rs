@@ -1,7 +1,8 @@
 //! `dbot`: plan gaits for Drosophibot II, build step tables, drive the board and record what it did.
 //!
 //! One file per subcommand; each holds a clap `Args` struct whose doc comments are the help text,
-//! and a `run(self)` that does the work.
+//! and a `run(self)` that does the work (`gaits`, `stop`, `estop` and `status` take only the board's
+//! flags: their `run(board)` takes those, and their help text is on their variant below).
 
 mod args;
 mod common;
@@ -33,6 +34,8 @@ mod validate;
 
 use clap::{Parser, Subcommand};
 
+use crate::args::board::BoardArgs;
+
 /// Plan, run and record gaits of the Drosophibot II hexapod.
 ///
 /// Units on the command line are SI (m, s, rad, N m) unless a flag says otherwise.
@@ -45,8 +48,9 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Cmd {
-    // No doc comments here: clap takes each subcommand's help (short and long) from its
-    // `Args` struct's doc comment, which a comment on the variant would replace.
+    // No doc comments on a variant with its own `Args`: clap takes that subcommand's help (short
+    // and long) from the struct's doc comment, which a comment on the variant would replace. The
+    // commands that take nothing but the board carry their help here.
     Demo(demo::Args),
     PaperRobot(paper_robot::Args),
     Plan(plan::Args),
@@ -55,12 +59,26 @@ enum Cmd {
     Compare(compare::Args),
     Devices(devices::Args),
     Upload(upload::Args),
-    Gaits(gaits::Args),
+    /// List the board's gait slots.
+    #[command(after_help = "Examples:
+  dbot gaits
+  dbot gaits --port virtual:lab.flash")]
+    Gaits(BoardArgs),
     Run(run::Args),
-    Stop(stop::Args),
+    /// Stop walking at the end of the current step.
+    #[command(after_help = "Example:
+  dbot stop")]
+    Stop(BoardArgs),
     Steer(steer::Args),
-    Estop(estop::Args),
-    Status(status::Args),
+    /// Emergency stop: torque off on every servo now (the robot goes limp).
+    #[command(after_help = "Example:
+  dbot estop                     # then: dbot set --clear-fault")]
+    Estop(BoardArgs),
+    /// Show the board's state and counters.
+    #[command(after_help = "Examples:
+  dbot status
+  dbot status --port virtual:lab.flash")]
+    Status(BoardArgs),
     Servos(servos::Args),
     Set(set::Args),
     Record(record::Args),
@@ -86,12 +104,12 @@ fn main() -> std::process::ExitCode {
         Cmd::Compare(a) => a.run(),
         Cmd::Devices(a) => a.run(),
         Cmd::Upload(a) => a.run(),
-        Cmd::Gaits(a) => a.run(),
+        Cmd::Gaits(board) => gaits::run(board),
         Cmd::Run(a) => a.run(),
-        Cmd::Stop(a) => a.run(),
+        Cmd::Stop(board) => stop::run(board),
         Cmd::Steer(a) => a.run(),
-        Cmd::Estop(a) => a.run(),
-        Cmd::Status(a) => a.run(),
+        Cmd::Estop(board) => estop::run(board),
+        Cmd::Status(board) => status::run(board),
         Cmd::Servos(a) => a.run(),
         Cmd::Set(a) => a.run(),
         Cmd::Record(a) => a.run(),

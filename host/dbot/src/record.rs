@@ -14,14 +14,12 @@
 //! the telemetry's time base at the end; a strain board that fails mid-recording costs only its
 //! own later rows, the servo recording goes on and the trial is kept.
 //!
-//! The recording is the lab's (`lab::trial_record`, also `Board.record_trial` in Python): this
-//! file turns the flags into a `TrialRequest` and gives it Ctrl-C, a spinner and the terminal.
+//! The recording is the lab's (`lab::trial_record`, also `Board.record_trial` in Python), and so
+//! are its flags (`lab::trial_record::TrialArgs`, also Python's keyword arguments): this file
+//! gives the recording Ctrl-C, a spinner and the terminal.
 
-use std::path::PathBuf;
-
-use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use lab::trial_record::{TrialHooks, TrialPlay, TrialRequest, TrialTable, record_trial};
+use lab::trial_record::{TrialArgs, TrialHooks, record_trial};
 
 use crate::args::board::BoardArgs;
 use crate::common::interrupt;
@@ -40,64 +38,8 @@ use crate::common::interrupt;
   dbot record --out trials --table walk.dbgt --play 1 --steps 6 --perturb RM:3:rise
   dbot record --out trials --port physics:flat+platform:RM --table walk.dbgt --play 0 --steps 6 --perturb RM:3:rise")]
 pub struct Args {
-    /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Name of the trial's folder (default: its start time, UTC); one that exists is refused.
-    #[arg(long)]
-    pub trial: Option<String>,
-    /// Free-text notes, kept in the trial's README, trial.json and the index.
-    #[arg(long, default_value = "")]
-    pub notes: String,
-    /// The ground walked on: floor, sandpaper, wire-mesh or anti-slip-mat (kept in the trial).
-    /// A physics port's scene names its own (`--port physics:flat+floor`; sandpaper without);
-    /// this, if given, must agree with it.
-    #[arg(long)]
-    pub substrate: Option<String>,
-    /// Seconds to record, board clock (default: until the gait started with --play ends, else 10).
-    #[arg(long)]
-    pub seconds: Option<f64>,
-    /// Step table of the gait: its joint map turns load registers into torques and gives the
-    /// modelled torque (without it only raw registers are recorded). With --play it is uploaded
-    /// into that slot first unless the slot holds it already (so the fresh robot of `--port
-    /// physics` or `--port virtual` walks it).
-    #[arg(long)]
-    pub table: Option<PathBuf>,
-    /// The plan directory the step table was built from, for the trial's metadata (default: the
-    /// table's folder when it holds a plan.json).
-    #[arg(long, requires = "table")]
-    pub plan: Option<PathBuf>,
-    /// Start this gait slot first and record it (the way to record on the virtual robot).
-    #[arg(long)]
-    pub play: Option<u8>,
-    /// With --play: whole steps to play.
-    #[arg(long, requires = "play")]
-    pub steps: Option<u32>,
-    /// With --play: walk backward.
-    #[arg(long, requires = "play")]
-    pub backward: bool,
-    /// With --play: step period, s (default: the planned one).
-    #[arg(long, requires = "play")]
-    pub period: Option<f64>,
-    /// Record the lab's strain board on this port beside the servos (a serial path, or `virtual`
-    /// for a board in this process: fed by the body's simulated gauges on `--port physics`, at
-    /// zero strain otherwise); it calibrates before the robot moves.
-    #[arg(long, value_name = "PORT")]
-    pub strain: Option<String>,
-    /// With --play: move the perturbation platform under a leg, LEG:STEP:MOVE (e.g. RM:3:rise):
-    /// at the first bus cycle of step STEP (counted from 0, within --steps) the platform servo
-    /// goes to `rise` (2330 ticks) or `fall` (1570), two cycles later back to `rest` (2020), the
-    /// lab's positions; kept in the trial. Without it a platform left set up is cleared.
-    #[arg(long, requires = "play", value_name = "LEG:STEP:MOVE")]
-    pub perturb: Option<String>,
-    /// With --perturb: the platform servo's bus ID (default: the lab's 22 unless the gait's
-    /// joints use it, then the first free ID after theirs: 23 for the built-in model's).
-    #[arg(long, requires = "perturb")]
-    pub platform_id: Option<u8>,
-    /// Telemetry every this many bus cycles (1 to 65535, and at most what the recorder's 2 s
-    /// silence limit allows at the bus's rate: 199 at 100 Hz).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
-    pub every: u16,
+    #[command(flatten)]
+    pub trial: TrialArgs,
     #[command(flatten)]
     pub board: BoardArgs,
 }
@@ -106,7 +48,8 @@ impl Args {
     pub fn run(self) -> anyhow::Result<()> {
         let setup = self.board.setup()?;
         let spec = setup.model.as_deref().unwrap_or("drosophibot2");
-        let request = self.request(crate::common::model_spec::load_model(spec)?)?;
+        let model = crate::common::model_spec::load_model(spec)?;
+        let request = self.trial.request(std::env::args().collect(), model)?;
         // Everything that needs no board is refused before any port is opened.
         request.check(self.board.port.as_deref())?;
         interrupt::catch()?;
@@ -123,38 +66,6 @@ impl Args {
         hooks.bar.finish_and_clear();
         println!("{}", summary?);
         s.close()
-    }
-
-    /// The flags as the lab's request (the table read, the command line as typed).
-    fn request(&self, model: planner::model::Model) -> anyhow::Result<TrialRequest> {
-        let table = match &self.table {
-            Some(p) => Some(TrialTable {
-                path: p.clone(),
-                bytes: std::fs::read(p).with_context(|| format!("reading {}", p.display()))?,
-            }),
-            None => None,
-        };
-        Ok(TrialRequest {
-            out: self.out.clone(),
-            trial: self.trial.clone(),
-            notes: self.notes.clone(),
-            substrate: self.substrate.clone(),
-            seconds: self.seconds,
-            table,
-            plan: self.plan.clone(),
-            play: self.play.map(|slot| TrialPlay {
-                slot,
-                steps: self.steps,
-                backward: self.backward,
-                period: self.period,
-            }),
-            strain: self.strain.clone(),
-            perturb: self.perturb.clone(),
-            platform_id: self.platform_id,
-            every: self.every,
-            command_line: std::env::args().collect(),
-            model,
-        })
     }
 }
 

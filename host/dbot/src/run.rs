@@ -149,14 +149,8 @@ impl Args {
             .with_context(|| format!("playing slot {slot}"))?;
         for &(next, back) in &self.then {
             let (c, _) = play_command(&mut s.board, next, self.steps, self.period, back)?;
-            let queued = protocol::QueueCommand {
-                slot: c.slot,
-                direction: c.direction,
-                period_scale: c.period_scale,
-                steps: c.steps,
-            };
             s.board
-                .queue_gait(queued)
+                .queue_gait(protocol::QueueCommand(c))
                 .with_context(|| format!("queueing slot {next} after the gait before it"))?;
         }
         if self.detach {

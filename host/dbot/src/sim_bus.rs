@@ -1,6 +1,6 @@
 //! `dbot sim-bus`: serves a virtual chain of Dynamixel servos on a pseudo-terminal until
 //! interrupted, printing every request it answers; with `--physics`, the physics robot's board
-//! instead (`board::robot::pty`), and with `--strain-link` its body's gauges on a virtual strain
+//! instead (`lab::physics_serve`), and with `--strain-link` its body's gauges on a virtual strain
 //! board beside it.
 
 use anyhow::Context as _;
@@ -8,6 +8,7 @@ use board::bus::pty::{PtyServer, Served};
 use dynamixel::ServoModel;
 use dynamixel::instruction::Instruction;
 use dynamixel::sim::VirtualChain;
+use lab::physics_serve::{PhysicsServer, StrainLink};
 use nix::sys::signal::{SaFlags, SigAction, SigHandler, SigSet, Signal, sigaction};
 use std::io::Write as _;
 
@@ -132,67 +133,19 @@ impl Args {
 impl Args {
     /// `--physics`: the physics robot's board on `--link`, its gauges on `--strain-link`.
     fn run_physics(&self, spec: &str) -> anyhow::Result<()> {
-        let (scene, substrate) = match board::port::PortSpec::parse(spec)? {
-            board::port::PortSpec::Physics {
-                scene, substrate, ..
-            } => (scene, substrate),
-            _ => anyhow::bail!(
-                "--physics {spec}: not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE]`"
-            ),
-        };
-        let mut robot = physics::PhysicsRobot::drosophibot_on(&scene, substrate)
+        let strain = self.strain_link.as_ref().map(|link| StrainLink {
+            link: link.clone(),
+            gain: self.strain_gain,
+        });
+        let server = PhysicsServer::open(spec, &self.link, strain)
             .with_context(|| format!("--physics {spec}"))?;
         install_stop_handler()?;
-        let strain = match &self.strain_link {
-            Some(link) => {
-                let feed = board::strain::source::Shared::default();
-                robot.feed_strain(feed.clone());
-                let board = board::strain::virtual_board::VirtualStrainBoard::new(
-                    Box::new(feed),
-                    Vec::new(),
-                    true,
-                )
-                .with_gain(self.strain_gain);
-                let mut server = board::strain::pty::StrainPtyServer::open(board, link)
-                    .with_context(|| {
-                        format!(
-                            "cannot serve the virtual strain board at {}",
-                            link.display()
-                        )
-                    })?;
-                let line = format!(
-                    "; its gauges on a virtual strain board on {} linked at {} ({} counts per microstrain)",
-                    server.slave_path(),
-                    link.display(),
-                    self.strain_gain
-                );
-                let thread = std::thread::spawn(move || server.serve(&STOP, |_| {}));
-                Some((line, thread))
-            }
-            None => None,
-        };
-        let mut server =
-            board::robot::pty::RobotPtyServer::open(robot.into_transport(), &self.link)
-                .with_context(|| {
-                    format!("cannot serve the physics robot at {}", self.link.display())
-                })?;
-        println!(
-            "serving the physics robot ({spec}) on {} linked at {}{}; Ctrl-C stops",
-            server.slave_path(),
-            self.link.display(),
-            strain.as_ref().map_or("", |s| s.0.as_str())
-        );
+        println!("{}; Ctrl-C stops", server.describe());
         std::io::stdout().flush().ok();
-        let served = server.serve(&STOP);
-        STOP.store(true, Ordering::Relaxed);
-        if let Some((_, thread)) = strain {
-            match thread.join() {
-                Ok(Ok(_)) => {}
-                Ok(Err(e)) => eprintln!("the virtual strain board stopped: {e}"),
-                Err(_) => eprintln!("the virtual strain board's thread panicked"),
-            }
+        let served = server.serve(&STOP)?;
+        if let Some(e) = served.strain_error {
+            eprintln!("{e}");
         }
-        served.context("serving the physics robot failed")?;
         println!("stopped");
         Ok(())
     }

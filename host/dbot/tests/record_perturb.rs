@@ -47,7 +47,7 @@ fn a_leg_that_is_not_a_leg_and_a_step_beyond_the_run_are_refused_before_the_port
     fails_naming(
         &d,
         "--perturb LX",
-        &["--perturb LX:1:rise", "perturbation leg `LX` is not a leg"],
+        &["perturb LX:1:rise", "perturbation leg `LX` is not a leg"],
     );
     no_trial(dir.path());
     // Two steps are 0 and 1.
@@ -99,7 +99,7 @@ fn dbot_run_refuses_the_same_perturbations_in_the_same_words() {
         &d,
         "run --perturb RM:2",
         &[
-            "--perturb RM:2:rise",
+            "perturb RM:2:rise",
             "perturbation step 2 is beyond the run's 2 steps",
         ],
     );

@@ -10,42 +10,27 @@ mod board_fakes;
 use std::path::Path;
 
 use board::trial::{Outcome, latest_trial, read_trial};
-use board_fakes::cli::{fails_naming, run, strings};
-use planner::gait::StepParams;
+use board_fakes::cli::{fails_naming, record_args, run};
 
 /// The paper's tripod for the built-in model, as a step table file in `dir`.
 fn tripod(dir: &Path) -> String {
-    let model = planner::model::builtin("drosophibot2").unwrap();
-    let plan = planner::plan::plan(&model, &StepParams::table1(&model.name)).unwrap();
-    let cycle = lab::walk::solve_walk_dynamics(&plan).unwrap();
-    let torques = planner::dynamics::output::torque_rows(&cycle);
-    let bytes = planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap();
+    let bytes = lab::walk::tripod_table().unwrap();
     let p = dir.join("walk.dbgt");
     std::fs::write(&p, bytes).unwrap();
     p.display().to_string()
 }
 
 fn record(dir: &Path, port: &str) -> board_fakes::cli::Done {
+    record_six_steps(dir, port, &["--perturb", "RM:3:rise"])
+}
+
+/// `dbot record` into `dir`/trials of six steps of the tripod (a table file in `dir`) on
+/// `port`, with the flags `more`.
+fn record_six_steps(dir: &Path, port: &str, more: &[&str]) -> board_fakes::cli::Done {
     let t = tripod(dir);
-    let trials = dir.join("trials");
-    run(
-        dir,
-        &strings(&[
-            "record",
-            "--out",
-            trials.to_str().unwrap(),
-            "--port",
-            port,
-            "--table",
-            &t,
-            "--play",
-            "0",
-            "--steps",
-            "6",
-            "--perturb",
-            "RM:3:rise",
-        ]),
-    )
+    let mut extra = vec!["--steps", "6"];
+    extra.extend(more);
+    run(dir, &record_args(&dir.join("trials"), &t, port, &extra))
 }
 
 #[test]
@@ -68,24 +53,8 @@ fn a_physics_port_with_a_platform_records_the_perturbed_step() {
     // joints.
     let plain_dir = dir.path().join("plain");
     std::fs::create_dir_all(&plain_dir).unwrap();
-    let t = tripod(&plain_dir);
     let plain_trials = plain_dir.join("trials");
-    let d = run(
-        &plain_dir,
-        &strings(&[
-            "record",
-            "--out",
-            plain_trials.to_str().unwrap(),
-            "--port",
-            "physics",
-            "--table",
-            &t,
-            "--play",
-            "0",
-            "--steps",
-            "6",
-        ]),
-    );
+    let d = record_six_steps(&plain_dir, "physics", &[]);
     assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
     let plain = read_trial(&latest_trial(&plain_trials).unwrap().unwrap()).unwrap();
     let change = rm_load_change(&tr, &plain);
@@ -116,7 +85,7 @@ fn a_physics_port_without_a_platform_names_the_spec_to_use() {
         &d,
         "physics without a platform",
         &[
-            "--perturb: port `physics:flat` has no perturbation platform: use --port \
+            "perturb: port `physics:flat` has no perturbation platform: use --port \
            physics:flat+platform:RM",
         ],
     );

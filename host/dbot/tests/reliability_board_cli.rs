@@ -14,8 +14,8 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use board_fakes::cli::{
-    HANG, fails_naming, run, spawn, strings, table, tree, wait_for, whole_csv_rows, whole_output,
-    with_port,
+    DEMO_FILES, HANG, fails_naming, run, spawn, strings, table, tree, wait_for, whole_csv_rows,
+    whole_output, with_port,
 };
 use board_fakes::{Answer, FakeBoard, RobotServer, host_messages, pty};
 use firmware::safety::State;
@@ -524,32 +524,7 @@ fn a_demo_interrupted_while_recording_leaves_every_file_whole() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
     // The previous run's outputs (stand-ins with known bytes).
-    let names = [
-        "plan/joints.csv",
-        "plan/feet.csv",
-        "plan/plan.json",
-        "plan/model.urdf",
-        "plan/model.toml",
-        "plan/joint_angles.png",
-        "plan/footfall.png",
-        "plan/feet.png",
-        "plan/joint_forces.csv",
-        "plan/torques.png",
-        "plan/grf.png",
-        "plan/robot.png",
-        "plan/step.gif",
-        "plan/feasibility.md",
-        "plan/README.md",
-        "plan/strain.csv",
-        "plan/strain.png",
-        "drosophibot2-tripod.dbgt",
-        "record/forward/telemetry.csv",
-        "record/forward/torque.png",
-        "record/forward/angles.png",
-        "record/backward/telemetry.csv",
-        "record/backward/torque.png",
-        "record/backward/angles.png",
-    ];
+    let names = DEMO_FILES;
     let previous = |name: &str| format!("previous {name}\n").into_bytes();
     for n in names {
         let p = out.join(n);

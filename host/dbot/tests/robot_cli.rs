@@ -138,7 +138,11 @@ fn bad_requests_name_the_problem() {
     let t = table(dir.path(), "a.dbgt", 100, 1.0);
     ok(dir.path(), &["upload", "--table", &t]);
     let o = dbot(dir.path(), &["run", "--steps", "1", "--period", "50"]);
-    assert!(stderr(&o).contains("--period 50 s"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("period 50 s: the planned step"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

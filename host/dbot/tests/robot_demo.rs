@@ -1,7 +1,11 @@
 //! `dbot demo` end to end (shortened to 2 steps each way): every output is written, and the
 //! summary's numbers agree with the files the run wrote.
 
+mod board_fakes;
+
 use std::process::Command;
+
+use board_fakes::cli::DEMO_FILES;
 
 fn number_after(text: &str, marker: &str) -> f64 {
     let rest = &text[text
@@ -31,18 +35,7 @@ fn the_demo_walks_both_ways_and_its_summary_matches_its_files() {
         "{stdout}{}",
         String::from_utf8_lossy(&o.stderr)
     );
-    for f in [
-        "plan/joints.csv",
-        "plan/feet.csv",
-        "plan/plan.json",
-        "plan/joint_angles.png",
-        "drosophibot2-tripod.dbgt",
-        "record/forward/telemetry.csv",
-        "record/forward/torque.png",
-        "record/forward/angles.png",
-        "record/backward/telemetry.csv",
-        "record/backward/torque.png",
-    ] {
+    for f in DEMO_FILES {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     // The step table is the one the summary names, and it parses.

@@ -9,18 +9,12 @@ use board::record::{CaptureError, Recorder, Until, capture, joints_of_table, tra
 use board::robot::{VirtualRobot, VirtualTransport};
 use cli_support::on_virtual;
 use firmware::testkit::SyntheticGait;
-use protocol::{Direction, GaitTable, PlayCommand, Steps};
+use protocol::{GaitTable, PlayCommand, Steps};
 
 fn walking_board(gait: &[u8], steps: Steps) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
     b.upload(0, gait, |_, _| {}).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps,
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, steps)).unwrap();
     b
 }
 

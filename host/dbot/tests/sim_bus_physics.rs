@@ -96,13 +96,8 @@ fn the_physics_robots_strain_board_on_a_pty_records_the_bodys_gauges() {
     .unwrap();
     b.wait(Duration::from_secs(2)).unwrap();
     b.upload(0, &std::fs::read(&t).unwrap(), |_, _| {}).unwrap();
-    b.play(protocol::PlayCommand {
-        slot: 0,
-        direction: protocol::Direction::Forward,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: protocol::Steps::Count(1),
-    })
-    .unwrap();
+    b.play(protocol::PlayCommand::forward(0, protocol::Steps::Count(1)))
+        .unwrap();
     let until = Instant::now() + Duration::from_secs(120);
     while b.status().unwrap().state != protocol::RunState::Standing
         || b.status().unwrap().playback.is_some()

@@ -18,6 +18,8 @@
 //!   speed sweep, their plots.
 //! - [`strain_compare`]: a recording's strain against the plan's prediction, per gauge;
 //!   [`strain_walk`]: the physics robot's simulated gauges walking, against the prediction.
+//! - [`physics_serve`]: the physics robot's board and strain board on pseudo-terminals
+//!   (`dbot sim-bus --physics`).
 //! - [`physics_walk`]: one walk of a table on a fresh physics robot, followed until it stands
 //!   (what the substrate, strain and perturbation walks share).
 //! - [`perturbation`]: a walk with the perturbation platform under one foot, that leg's load per step.
@@ -32,6 +34,7 @@ pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;
 pub mod perturbation;
+pub mod physics_serve;
 pub mod physics_walk;
 pub mod plan_comparison;
 pub mod plan_dir_write;

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use board::link::Board;
 use physics::{Figures, PhysicsRobot, PhysicsTransport, WalkLog};
-use protocol::{Direction, PlayCommand, RunState, Steps};
+use protocol::{PlayCommand, RunState, Steps};
 
 use crate::error::Result;
 
@@ -39,12 +39,7 @@ pub fn walk_forward(
     let mut b = Board::connect(robot.into_transport())?;
     b.upload(0, table, |_, _| {})?;
     before_play(&mut b)?;
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(steps),
-    })?;
+    b.play(PlayCommand::forward(0, Steps::Count(steps)))?;
     // Simulated time: `steps` periods after a start ramp; the bound only ends a gait that never
     // stops.
     let cycles = ((f64::from(steps) + 3.0) * period_s / POLL.as_secs_f64()).ceil() as u32;

@@ -54,7 +54,7 @@ pub fn traces(trial: &Trial) -> Result<Vec<DofTrace>> {
         kinds.push(dof_of(name).with_context(|| {
             format!(
                 "trial {place}: joint `{name}` is not named LEG_JOINT (e.g. LF_CTr); record with \
-                 --table or --plan so the joints carry the model's names"
+                 --table or --plan (Python: table=, plan=) so the joints carry the model's names"
             )
         })?);
     }
@@ -94,7 +94,7 @@ pub fn traces(trial: &Trial) -> Result<Vec<DofTrace>> {
             if n == 0 {
                 bail!(
                     "trial {place}: joint {name} has no measured record at slice {s} in steps 1 \
-                     to {}: record every cycle (--every 1) or walk more steps",
+                     to {}: record every cycle (--every 1, Python: every=1) or walk more steps",
                     whole - 1
                 );
             }

@@ -33,6 +33,18 @@ pub fn solve_walk_dynamics(plan: &Plan) -> Result<CycleSolution> {
         .with_context(|| format!("inverse dynamics of {}", plan.model.name))
 }
 
+/// The paper's tripod (table 1, flat ground) of the built-in Drosophibot II as a step table
+/// named `dbII tripod`, with the walks' inverse-dynamics torques as its bias: the gait the
+/// validation's trial blocks and the lab's trial tests walk.
+pub fn tripod_table() -> Result<Vec<u8>> {
+    let model = planner::model::builtin("drosophibot2")?;
+    let plan = planner::plan::plan(&model, &planner::gait::StepParams::table1(&model.name))?;
+    let cycle = solve_walk_dynamics(&plan)?;
+    let torques = planner::dynamics::output::torque_rows(&cycle);
+    planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod")
+        .map_err(|e| crate::LabError::invalid(format!("the tripod's step table: {e}")))
+}
+
 /// Plays slot 0 for `steps` steps in `direction` at its planned period and records the walk into
 /// `csv` (telemetry queued before the start is dropped); how the capture ended says whether it
 /// was interrupted (`stop` returning true ends it early).

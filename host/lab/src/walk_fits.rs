@@ -6,7 +6,7 @@
 
 use board::record::{PhaseStats, Row};
 use physics::WalkLog;
-use planner::analysis::fit::{MeanSdSums, prediction_r2, rms_difference};
+use planner::analysis::fit::{prediction_r2, rms_difference};
 use planner::model::Leg;
 
 /// How well a model predicts one series of measurements.
@@ -53,25 +53,7 @@ pub(crate) fn fit_figures(pairs: &[(f64, f64)]) -> (Option<f64>, f64) {
 
 /// Mean and SD per slice of `(slice, value)` samples over a table of `slices` slices.
 pub(crate) fn per_slice(samples: &[(usize, f64)], slices: usize) -> Vec<PhaseStats> {
-    let mut acc = vec![MeanSdSums::default(); slices];
-    for &(s, x) in samples {
-        if let Some(a) = acc.get_mut(s) {
-            a.add(x);
-        }
-    }
-    acc.into_iter()
-        .enumerate()
-        .filter_map(|(s, a)| {
-            let m = a.finish()?;
-            Some(PhaseStats {
-                phase: s as f64 / slices as f64,
-                modelled_nm: None,
-                mean_nm: m.mean,
-                sd_nm: m.sd,
-                n: m.n,
-            })
-        })
-        .collect()
+    board::record::per_slice(samples.iter().map(|&(s, x)| (s, x, None)), slices)
 }
 
 /// Whether a sample of step `step` counts: a whole step after the first (of `steps` played).

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use board::link::Board;
 use physics::{Figures, PhysicsRobot};
-use planner::gait::StepParams;
+use planner::gait::{StepParams, Turn};
 use planner::model::Model;
 use protocol::{Direction, PlayCommand, QueueCommand, RunState, Steps};
 
@@ -20,6 +20,42 @@ pub struct Segment {
     pub params: StepParams,
     pub direction: Direction,
     pub steps: u32,
+}
+
+impl Segment {
+    /// `params`' gait played `steps` steps in `direction`.
+    pub fn new(params: &StepParams, direction: Direction, steps: u32) -> Self {
+        Self {
+            params: params.clone(),
+            direction,
+            steps,
+        }
+    }
+}
+
+/// Issue 28's run: `straight` for 2 steps, the same gait turned 6 deg per step to the left for
+/// 15 steps (90 deg), `straight` backward for 2 steps, then stop, as one run of queued gaits.
+/// Returns the walk and the turn's parameters.
+pub fn ninety_degree_run(
+    model: &Model,
+    straight: &StepParams,
+) -> Result<(SequenceWalk, StepParams)> {
+    let mut turn = straight.clone();
+    Turn {
+        turn_deg: Some(6.0),
+        radius_m: None,
+    }
+    .apply(&mut turn)
+    .context("the turn of the 90 deg run")?;
+    let walk = walk_sequence(
+        model,
+        &[
+            Segment::new(straight, Direction::Forward, 2),
+            Segment::new(&turn, Direction::Forward, 15),
+            Segment::new(straight, Direction::Backward, 2),
+        ],
+    )?;
+    Ok((walk, turn))
 }
 
 /// What one segment turned.
@@ -96,12 +132,12 @@ pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk
     })?;
     for (i, s) in rest.iter().enumerate() {
         board
-            .queue_gait(QueueCommand {
-                slot: slots[i + 1],
-                direction: s.direction,
-                period_scale: protocol::units::PERIOD_SCALE_ONE,
-                steps: Steps::Count(s.steps),
-            })
+            .queue_gait(QueueCommand(PlayCommand::new(
+                slots[i + 1],
+                s.direction,
+                protocol::units::PERIOD_SCALE_ONE,
+                Steps::Count(s.steps),
+            )))
             .with_context(|| format!("queueing segment {} after the one before", i + 2))?;
     }
     let walk_s: f64 = segments

@@ -16,7 +16,7 @@ use physics::{Figures, PhysicsRobot, WalkLog};
 use planner::gait::StepParams;
 use planner::model::Model;
 use planner::plan::Plan;
-use protocol::{Direction, PlayCommand, RunState, Steps};
+use protocol::{PlayCommand, RunState, Steps};
 
 use crate::error::{Context, LabError, Result};
 
@@ -178,12 +178,7 @@ pub fn walk_turn(model: &Model, params: &StepParams, steps: u32) -> Result<TurnW
     let servos = board.transport_mut().robot_mut().servos_mut();
     servos.reset_figures();
     servos.start_log(POSE_EVERY_CYCLES);
-    board.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(steps),
-    })?;
+    board.play(PlayCommand::forward(0, Steps::Count(steps)))?;
     walk_until_standing(&mut board, f64::from(steps) * plan.period_s)?;
     let servos = board.transport_mut().robot_mut().servos_mut();
     let figures = servos

@@ -3,15 +3,10 @@
 //! step beyond the run or a leg that is not a leg is refused before anything moves.
 
 use lab::perturbation::{lab_rise, walk_perturbed};
-use planner::gait::StepParams;
 use planner::model::Leg;
 
 fn tripod_table() -> Vec<u8> {
-    let model = planner::model::builtin("drosophibot2").unwrap();
-    let plan = planner::plan::plan(&model, &StepParams::table1(&model.name)).unwrap();
-    let cycle = lab::walk::solve_walk_dynamics(&plan).unwrap();
-    let torques = planner::dynamics::output::torque_rows(&cycle);
-    planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap()
+    lab::walk::tripod_table().unwrap()
 }
 
 #[test]

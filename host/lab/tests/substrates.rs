@@ -4,14 +4,9 @@
 
 use lab::substrates::walk_on_substrates;
 use physics::Substrate;
-use planner::gait::StepParams;
 
 fn tripod_table() -> Vec<u8> {
-    let model = planner::model::builtin("drosophibot2").unwrap();
-    let plan = planner::plan::plan(&model, &StepParams::table1(&model.name)).unwrap();
-    let cycle = lab::walk::solve_walk_dynamics(&plan).unwrap();
-    let torques = planner::dynamics::output::torque_rows(&cycle);
-    planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod").unwrap()
+    lab::walk::tripod_table().unwrap()
 }
 
 #[test]

@@ -67,11 +67,11 @@ fn refusals_come_before_anything_moves() {
         (exists, "mine exists: a trial never reuses a folder"),
         (
             beyond,
-            "--perturb RM:2:rise: perturbation platform: perturbation step 2 is beyond the run's 2 steps",
+            "perturb RM:2:rise: perturbation platform: perturbation step 2 is beyond the run's 2 steps",
         ),
         (
             no_leg,
-            "--perturb XY:1:rise: perturbation leg `XY` is not a leg (legs: LF, LM, LH, RF, RM, RH)",
+            "perturb XY:1:rise: perturbation leg `XY` is not a leg (legs: LF, LM, LH, RF, RM, RH)",
         ),
     ] {
         let mut hooks = Quiet::default();

@@ -8,8 +8,8 @@
 //! run; the walks of tests/walk_turn.rs turn 0.7 to 2.2 % less), and each straight part within
 //! 3 deg of straight (measured 0.5 and 1.2 deg).
 
-use lab::walk_sequence::{Segment, walk_sequence};
-use planner::gait::{StepParams, Turn};
+use lab::walk_sequence::ninety_degree_run;
+use planner::gait::StepParams;
 use protocol::Direction;
 
 #[test]
@@ -17,27 +17,8 @@ fn straight_then_a_90_deg_left_turn_then_backward_and_stop() {
     let model = planner::model::builtin("drosophibot2").unwrap();
     let mut straight = StepParams::preset("servo-safe", "drosophibot2").unwrap();
     straight.slices = 50;
-    let mut turn = straight.clone();
-    Turn {
-        turn_deg: Some(6.0),
-        radius_m: None,
-    }
-    .apply(&mut turn)
-    .unwrap();
-    let seg = |params: &StepParams, direction, steps| Segment {
-        params: params.clone(),
-        direction,
-        steps,
-    };
-    let w = walk_sequence(
-        &model,
-        &[
-            seg(&straight, Direction::Forward, 2),
-            seg(&turn, Direction::Forward, 15),
-            seg(&straight, Direction::Backward, 2),
-        ],
-    )
-    .unwrap_or_else(|e| panic!("{}", e.chain_text()));
+    let (w, _) =
+        ninety_degree_run(&model, &straight).unwrap_or_else(|e| panic!("{}", e.chain_text()));
     eprintln!("{w:?}");
     assert_eq!(
         w.played,

@@ -23,7 +23,7 @@ use physics::{PhysicsRobot, Plant};
 use planner::dynamics::{DynamicsOptions, plan_inputs, solve_cycle};
 use planner::gait::StepParams;
 use planner::model::{MjcfOptions, Model, builtin};
-use protocol::{Direction, PlayCommand, Steps};
+use protocol::{PlayCommand, Steps};
 
 /// The MuJoCo options the tuning mode reads from the environment.
 const TUNING: [&str; 10] = [
@@ -81,13 +81,8 @@ impl Walk {
         let t0 = cpu_now();
         let mut b = Board::connect(robot.into_transport()).unwrap();
         b.upload(0, &self.table, |_, _| {}).unwrap();
-        b.play(PlayCommand {
-            slot: 0,
-            direction: Direction::Forward,
-            period_scale: 1000,
-            steps: Steps::Count(cycles),
-        })
-        .unwrap();
+        b.play(PlayCommand::forward(0, Steps::Count(cycles)))
+            .unwrap();
         b.wait(Duration::from_secs_f64(
             self.period_s * f64::from(cycles) + 1.0,
         ))

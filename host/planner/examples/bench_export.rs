@@ -279,35 +279,26 @@ fn main() -> Result<()> {
         let sub = one_leg(&model, leg);
         let chain = model.leg_chain(leg);
         let pick = |v: &[f64]| chain.iter().map(|&j| v[j]).collect::<Vec<_>>();
+        // The leg alone at slice `s`: its joints' state, in swing, the thorax fixed.
+        let leg_input = |s: usize| SliceInput {
+            q: pick(&inputs[s].q),
+            qd: pick(&inputs[s].qd),
+            qdd: pick(&inputs[s].qdd),
+            stance: vec![false],
+            thorax: ThoraxMotion::default(),
+            gravity: inputs[s].gravity,
+            normals: vec![Vector3::z()],
+        };
         let mut cases = Vec::new();
         for s in [0, 37, 71] {
-            let input = SliceInput {
-                q: pick(&inputs[s].q),
-                qd: pick(&inputs[s].qd),
-                qdd: pick(&inputs[s].qdd),
-                stance: vec![false],
-                thorax: ThoraxMotion::default(),
-                gravity: inputs[s].gravity,
-                normals: vec![Vector3::z()],
-            };
+            let input = leg_input(s);
             let tau = rnea(&sub, &input);
             cases.push(
                 json!({"slice": s, "q": input.q, "qd": input.qd, "qdd": input.qdd,
                 "gravity": v3(&input.gravity), "tau": tau}),
             );
         }
-        let input0 = {
-            let s = 0;
-            SliceInput {
-                q: pick(&inputs[s].q),
-                qd: pick(&inputs[s].qd),
-                qdd: pick(&inputs[s].qdd),
-                stance: vec![false],
-                thorax: ThoraxMotion::default(),
-                gravity: inputs[s].gravity,
-                normals: vec![Vector3::z()],
-            }
-        };
+        let input0 = leg_input(0);
         let t = time_per_call(21, 20_000, || {
             black_box(rnea(&sub, black_box(&input0)));
         });

@@ -4,44 +4,25 @@
 use std::path::Path;
 
 use crate::legs::{Panel, PlotError, Trace, plot_leg_panels, stance_spans};
+use planner::model::Leg;
 use planner::plan::Plan;
 use planner::strain::StrainPrediction;
 
 /// strain.png: every gauge of each leg in microstrain over the cycle.
 pub fn plot_strain(plan: &Plan, strain: &StrainPrediction, path: &Path) -> Result<(), PlotError> {
-    let model = &plan.model;
     let times: Vec<f64> = (0..plan.slices()).map(|s| plan.time(s)).collect();
-    let panels = plan
-        .legs
-        .iter()
-        .enumerate()
-        .filter(|(_, leg)| model.gauges.iter().any(|g| g.leg == **leg))
-        .map(|(li, leg)| {
-            let st: Vec<bool> = (0..plan.slices()).map(|s| plan.stance[s][li]).collect();
-            Panel {
-                leg: *leg,
-                title: format!("{} predicted strain", leg.name()),
-                traces: model
-                    .gauges
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, g)| g.leg == *leg)
-                    .enumerate()
-                    .map(|(k, (gi, g))| Trace {
-                        label: g
-                            .name
-                            .strip_prefix(&format!("{}_", leg.name()))
-                            .unwrap_or(&g.name)
-                            .to_string(),
-                        values: strain.readings.iter().map(|s| s[gi].microstrain).collect(),
-                        dashed: k >= 3,
-                        colour: k,
-                    })
-                    .collect(),
-                stance: stance_spans(&st, plan.dt),
-            }
-        })
-        .collect::<Vec<_>>();
+    let panels = gauge_panels(
+        plan,
+        |leg| format!("{} predicted strain", leg.name()),
+        |k, gi, label| {
+            vec![Trace {
+                label,
+                values: strain.readings.iter().map(|s| s[gi].microstrain).collect(),
+                dashed: k >= 3,
+                colour: k,
+            }]
+        },
+    );
     plot_leg_panels(path, &panels, &times, "time (s)", "strain (microstrain)")
 }
 
@@ -55,7 +36,6 @@ pub fn plot_strain_walk(
     simulated: &[Vec<Option<f64>>],
     path: &Path,
 ) -> Result<(), PlotError> {
-    let model = &plan.model;
     let times: Vec<f64> = (0..plan.slices()).map(|s| plan.time(s)).collect();
     let held = |v: &[Option<f64>]| -> Vec<f64> {
         let first = v.iter().flatten().next().copied().unwrap_or(0.0);
@@ -69,50 +49,31 @@ pub fn plot_strain_walk(
             })
             .collect()
     };
-    let panels = plan
-        .legs
-        .iter()
-        .enumerate()
-        .filter(|(_, leg)| model.gauges.iter().any(|g| g.leg == **leg))
-        .map(|(li, leg)| {
-            let st: Vec<bool> = (0..plan.slices()).map(|s| plan.stance[s][li]).collect();
-            let mut traces = Vec::new();
-            for (k, (gi, g)) in model
-                .gauges
-                .iter()
-                .enumerate()
-                .filter(|(_, g)| g.leg == *leg)
-                .enumerate()
-            {
-                let label = g
-                    .name
-                    .strip_prefix(&format!("{}_", leg.name()))
-                    .unwrap_or(&g.name)
-                    .to_string();
-                traces.push(Trace {
-                    label: label.clone(),
+    let panels = gauge_panels(
+        plan,
+        |leg| {
+            format!(
+                "{}: predicted (solid) vs simulated (dashed, mean over steps)",
+                leg.name()
+            )
+        },
+        |k, gi, label| {
+            vec![
+                Trace {
+                    label,
                     values: predicted.get(gi).cloned().unwrap_or_default(),
                     dashed: false,
                     colour: k,
-                });
-                traces.push(Trace {
+                },
+                Trace {
                     label: "simulated".to_string(),
                     values: simulated.get(gi).map(|v| held(v)).unwrap_or_default(),
                     dashed: true,
                     colour: k,
-                });
-            }
-            Panel {
-                leg: *leg,
-                title: format!(
-                    "{}: predicted (solid) vs simulated (dashed, mean over steps)",
-                    leg.name()
-                ),
-                traces,
-                stance: stance_spans(&st, plan.dt),
-            }
-        })
-        .collect::<Vec<_>>();
+                },
+            ]
+        },
+    );
     plot_leg_panels(
         path,
         &panels,
@@ -120,4 +81,40 @@ pub fn plot_strain_walk(
         "time in the step (s)",
         "strain (microstrain)",
     )
+}
+
+/// One panel per leg of `plan` that carries gauges, stance shaded, titled by `title`; the k-th
+/// gauge of the leg (index `gi` in the model's gauges, `label` its name without the leg's
+/// prefix) is drawn as the traces `traces(k, gi, label)` gives.
+fn gauge_panels(
+    plan: &Plan,
+    title: impl Fn(Leg) -> String,
+    traces: impl Fn(usize, usize, String) -> Vec<Trace>,
+) -> Vec<Panel> {
+    let model = &plan.model;
+    plan.legs
+        .iter()
+        .enumerate()
+        .filter(|(_, leg)| model.gauges.iter().any(|g| g.leg == **leg))
+        .map(|(li, &leg)| {
+            let st: Vec<bool> = (0..plan.slices()).map(|s| plan.stance[s][li]).collect();
+            let prefix = format!("{}_", leg.name());
+            Panel {
+                leg,
+                title: title(leg),
+                traces: model
+                    .gauges
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, g)| g.leg == leg)
+                    .enumerate()
+                    .flat_map(|(k, (gi, g))| {
+                        let label = g.name.strip_prefix(&prefix).unwrap_or(&g.name);
+                        traces(k, gi, label.to_string())
+                    })
+                    .collect(),
+                stance: stance_spans(&st, plan.dt),
+            }
+        })
+        .collect()
 }

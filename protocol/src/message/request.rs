@@ -137,16 +137,44 @@ pub struct PlayCommand {
     pub steps: Steps,
 }
 
-/// Parameters of [`Request::QueueGait`]: a [`PlayCommand`] that waits for its step boundary.
+impl PlayCommand {
+    /// The gait in `slot` at `period_scale` (1e-3) in `direction`, for `steps`.
+    pub const fn new(slot: u8, direction: Direction, period_scale: u16, steps: Steps) -> Self {
+        Self {
+            slot,
+            direction,
+            period_scale,
+            steps,
+        }
+    }
+
+    /// The gait in `slot` forward at its planned period, for `steps`.
+    pub const fn forward(slot: u8, steps: Steps) -> Self {
+        Self::new(
+            slot,
+            Direction::Forward,
+            crate::units::PERIOD_SCALE_ONE,
+            steps,
+        )
+    }
+}
+
+impl Direction {
+    /// `Backward` when `backward`, else `Forward`.
+    pub const fn backward_if(backward: bool) -> Self {
+        if backward {
+            Self::Backward
+        } else {
+            Self::Forward
+        }
+    }
+}
+
+/// Parameters of [`Request::QueueGait`]: a [`PlayCommand`] that waits for its step boundary. On
+/// the wire it is exactly a `PlayCommand` (postcard writes a newtype as what it wraps).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct QueueCommand {
-    pub slot: u8,
-    pub direction: Direction,
-    /// Step period scale, 1e-3 (2000 = half speed).
-    pub period_scale: u16,
-    pub steps: Steps,
-}
+pub struct QueueCommand(pub PlayCommand);
 
 /// Parameters of [`Request::EnterStreaming`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

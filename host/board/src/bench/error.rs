@@ -61,4 +61,8 @@ pub enum BenchError {
     NewIdTaken { port: String, id: u8 },
     #[error("new baud {baud}: not a rate the MX(2.0) supports")]
     NewBaud { baud: u32 },
+    /// The port cannot be a serial port (missing, a directory, a regular file, a device that is
+    /// not a terminal): said before the terminal layer's "Not a typewriter".
+    #[error("{message}")]
+    NotSerialPort { port: String, message: String },
 }

@@ -7,6 +7,7 @@ mod error;
 pub mod rates;
 pub mod registers;
 pub mod scan;
+pub mod serial_path;
 pub mod setup;
 
 pub use error::BenchError;
@@ -77,7 +78,10 @@ impl Bench {
         Ok(&mut self.open.as_mut().expect("connected").1)
     }
 
+    /// The bus at `baud`. A port that cannot be a serial port is refused first, saying what it
+    /// is ([`serial_path::check_serial_path`]), for every door (`dbot dxl`, `dbot.Bench`).
     fn open_at(&self, baud: u32) -> Result<SerialMaster, BenchError> {
+        serial_path::check_serial_path(std::path::Path::new(&self.port))?;
         open_master(&self.port, baud, self.slack_us).map_err(|source| BenchError::Open {
             port: self.port.clone(),
             source,

@@ -18,5 +18,5 @@ pub use csv_out::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Recorder, Row, TELEMET
 pub use gaps::missing_cycles;
 pub use joints::{JointMeta, joints_of_table};
 pub use names::{joint_names, joint_names_by_ids};
-pub use stats::{JointTracking, PhaseStats, phase_stats, tracking};
+pub use stats::{JointTracking, PhaseStats, per_slice, phase_stats, tracking};
 pub use stop::{Stopped, stop_walk};

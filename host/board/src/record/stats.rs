@@ -20,13 +20,27 @@ pub struct PhaseStats {
 /// Per slice of the step, the statistics of `joint` over the rows that carry a torque estimate.
 /// Rows of the start ramp (step 0 before walking) count like any other: the caller filters.
 pub fn phase_stats(rows: &[Row], joint: usize, slices: usize) -> Vec<PhaseStats> {
+    let samples = rows
+        .iter()
+        .filter(|r| r.joint == joint)
+        .filter_map(|r| Some((usize::from(r.slice), r.torque_estimate_nm?, r.modelled_nm)));
+    per_slice(samples, slices)
+}
+
+/// Mean and SD per slice of `(slice, value, modelled)` samples over a step of `slices` slices
+/// (a slice beyond them is passed over; `modelled`: the latest a slice's samples carry). Slices
+/// without samples are left out.
+pub fn per_slice(
+    samples: impl IntoIterator<Item = (usize, f64, Option<f64>)>,
+    slices: usize,
+) -> Vec<PhaseStats> {
     let mut acc = vec![(MeanSdSums::default(), None); slices];
-    for r in rows.iter().filter(|r| r.joint == joint) {
-        let (Some(x), Some(a)) = (r.torque_estimate_nm, acc.get_mut(usize::from(r.slice))) else {
+    for (s, x, modelled) in samples {
+        let Some(a) = acc.get_mut(s) else {
             continue;
         };
         a.0.add(x);
-        a.1 = r.modelled_nm.or(a.1);
+        a.1 = modelled.or(a.1);
     }
     acc.into_iter()
         .enumerate()

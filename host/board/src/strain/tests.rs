@@ -12,7 +12,7 @@ use super::*;
 
 const PORT: &str = "/dev/ttyACM7";
 
-fn quick() -> Timeouts {
+pub(super) fn quick() -> Timeouts {
     Timeouts {
         banner: Duration::from_secs(5),
         calibration: Duration::from_secs(5),
@@ -22,13 +22,23 @@ fn quick() -> Timeouts {
 
 /// A virtual board with `faults`, unpaced, on a socket pair; the driver's end.
 fn virtual_io(source: Box<dyn StrainSource>, faults: Vec<Fault>) -> UnixStream {
+    board_on_a_socket(source, faults, false)
+}
+
+/// A virtual board with `faults` on a socket pair, paced like the real one when `paced`; the
+/// driver's end.
+pub(super) fn board_on_a_socket(
+    source: Box<dyn StrainSource>,
+    faults: Vec<Fault>,
+    paced: bool,
+) -> UnixStream {
     let (host, mut dev) = UnixStream::pair().unwrap();
     host.set_read_timeout(Some(Duration::from_millis(5)))
         .unwrap();
     dev.set_read_timeout(Some(Duration::from_millis(1)))
         .unwrap();
     std::thread::spawn(move || {
-        let mut board = VirtualStrainBoard::new(source, faults, false);
+        let mut board = VirtualStrainBoard::new(source, faults, paced);
         let _ = board.serve(&mut dev, &AtomicBool::new(false));
     });
     host

@@ -3,34 +3,17 @@
 //! own telemetry stand-in gives (board time = host time since a known instant, by construction).
 
 use std::os::unix::net::UnixStream;
-use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use super::beside::{CLOCK_CSV, read_aligned};
 use super::source::Constant;
+use super::tests::{board_on_a_socket, quick};
 use super::*;
 
 const PORT: &str = "/dev/ttyACM7";
 
 fn paced_board(faults: Vec<Fault>) -> UnixStream {
-    let (host, mut dev) = UnixStream::pair().unwrap();
-    host.set_read_timeout(Some(Duration::from_millis(5)))
-        .unwrap();
-    dev.set_read_timeout(Some(Duration::from_millis(1)))
-        .unwrap();
-    std::thread::spawn(move || {
-        let mut board = VirtualStrainBoard::new(Box::new(Constant(0.0)), faults, true);
-        let _ = board.serve(&mut dev, &AtomicBool::new(false));
-    });
-    host
-}
-
-fn timeouts() -> Timeouts {
-    Timeouts {
-        banner: Duration::from_secs(5),
-        calibration: Duration::from_secs(5),
-        sample: Duration::from_secs(5),
-    }
+    board_on_a_socket(Box::new(Constant(0.0)), faults, true)
 }
 
 /// Notes a telemetry record every 10 ms for `seconds` of host time, the board's clock starting
@@ -48,7 +31,7 @@ fn telemetry_for(s: &mut StrainBeside, seconds: f64) -> Instant {
 fn a_board_that_hangs_up_mid_recording_leaves_its_rows_aligned() {
     let dir = tempfile::tempdir().unwrap();
     let io = paced_board(vec![Fault::HangUpAt(6)]);
-    let mut s = StrainBeside::start_on(Box::new(io), PORT, dir.path(), timeouts()).unwrap();
+    let mut s = StrainBeside::start_on(Box::new(io), PORT, dir.path(), quick()).unwrap();
     assert!(s.samples() >= 1, "start returns after the first sample");
     // The servo side keeps going long after the strain board is gone (6 samples: ~0.15 s).
     telemetry_for(&mut s, 0.4);
@@ -82,7 +65,7 @@ fn a_board_that_hangs_up_mid_recording_leaves_its_rows_aligned() {
 fn a_garbled_line_mid_recording_ends_the_strain_stream_naming_the_gauge() {
     let dir = tempfile::tempdir().unwrap();
     let io = paced_board(vec![Fault::GarbageAt(4)]);
-    let mut s = StrainBeside::start_on(Box::new(io), PORT, dir.path(), timeouts()).unwrap();
+    let mut s = StrainBeside::start_on(Box::new(io), PORT, dir.path(), quick()).unwrap();
     telemetry_for(&mut s, 0.3);
     let end = s.finish();
     let e = end.recording.unwrap_err();

@@ -248,3 +248,32 @@ pub fn with_port(cmd: &[String], port: &str) -> Vec<String> {
     a.extend(["--port".to_owned(), port.to_owned()]);
     a
 }
+
+/// Every file `dbot demo --out OUT` writes into OUT (its plan, its step table, its two
+/// recordings), and nothing else.
+pub const DEMO_FILES: [&str; 24] = [
+    "plan/joints.csv",
+    "plan/feet.csv",
+    "plan/plan.json",
+    "plan/model.urdf",
+    "plan/model.toml",
+    "plan/joint_angles.png",
+    "plan/footfall.png",
+    "plan/feet.png",
+    "plan/joint_forces.csv",
+    "plan/torques.png",
+    "plan/grf.png",
+    "plan/robot.png",
+    "plan/step.gif",
+    "plan/feasibility.md",
+    "plan/README.md",
+    "plan/strain.csv",
+    "plan/strain.png",
+    "drosophibot2-tripod.dbgt",
+    "record/forward/telemetry.csv",
+    "record/forward/torque.png",
+    "record/forward/angles.png",
+    "record/backward/telemetry.csv",
+    "record/backward/torque.png",
+    "record/backward/angles.png",
+];

@@ -77,7 +77,7 @@ pub fn run_all(
         .find(|e| !(e.period_s.is_finite() && PERIODS_S.contains(&e.period_s)))
     {
         bail!(
-            "--periods: {} s is not a step period in 0.5..=10 s",
+            "periods: {} s is not a step period in 0.5..=10 s",
             e.period_s
         );
     }

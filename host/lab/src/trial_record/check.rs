@@ -28,21 +28,21 @@ impl TrialRequest {
         if let Some(s) = self.seconds
             && !(s.is_finite() && s > 0.0)
         {
-            crate::bail!("--seconds {s}: must be a positive number of seconds");
+            crate::bail!("seconds {s}: must be a positive number of seconds");
         }
-        let table =
-            match &self.table {
-                Some(t) => Some(GaitTable::parse(&t.bytes).with_context(|| {
-                    format!("{} (--table) is not a step table", t.path.display())
-                })?),
-                None => None,
-            };
+        let table = match &self.table {
+            Some(t) => Some(
+                GaitTable::parse(&t.bytes)
+                    .with_context(|| format!("table {} is not a step table", t.path.display()))?,
+            ),
+            None => None,
+        };
         let plan = self.plan_meta()?;
         let perturb = match &self.perturb {
             Some(spec) => Some(
                 Perturb::parse(spec, platform_id(self))
                     .and_then(|p| p.check_steps(self.play.and_then(|p| p.steps)).map(|()| p))
-                    .with_context(|| format!("--perturb {spec}"))?,
+                    .with_context(|| format!("perturb {spec}"))?,
             ),
             None => None,
         };

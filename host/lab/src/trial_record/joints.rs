@@ -41,7 +41,7 @@ pub fn named_joints<T: Transport>(
     }
     if joints.is_empty() {
         crate::bail!(
-            "{}: the board reports no joints (no gait selected): nothing to record; upload a table and give --play SLOT",
+            "{}: the board reports no joints (no gait selected): nothing to record; upload a table and give --play SLOT (Python: play=SLOT)",
             board.port()
         );
     }

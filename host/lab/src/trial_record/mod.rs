@@ -17,10 +17,13 @@
 //! the telemetry's time base at the end; a strain board that fails mid-recording costs only its
 //! own later rows, the servo recording goes on and the trial is kept.
 //!
+//! - [`args`]: the trial's options as the user gives them (`dbot record`'s flags, Python's
+//!   keyword arguments), turned into a [`TrialRequest`].
 //! - [`playback`]: the table put into a slot first, the play command and its announcement
 //!   (also `dbot run`'s).
 //! - [`joints`]: the recorded joints named from the model.
 
+pub mod args;
 mod capture;
 mod check;
 pub mod joints;
@@ -32,6 +35,7 @@ use std::path::PathBuf;
 
 use planner::model::Model;
 
+pub use args::TrialArgs;
 pub use check::Checked;
 pub use summary::TrialSummary;
 
@@ -55,8 +59,10 @@ pub struct TrialPlay {
     pub period: Option<f64>,
 }
 
-/// Everything a trial is recorded from. Its words in errors are the CLI's flags (`--perturb`,
-/// `--seconds`, ...), the same from every door.
+/// Everything a trial is recorded from. Its errors name a field by the word both doors use
+/// (`perturb RM:2:rise: ...`, `seconds -1: ...`: `dbot record --perturb`, Python's
+/// `record_trial(perturb=...)`), and what to give in both spellings (`give --play SLOT (Python:
+/// play=SLOT)`), the same from every door.
 #[derive(Debug, Clone)]
 pub struct TrialRequest {
     /// Folder of trials: the trial is a new folder in it, listed in its TRIAL INDEX.txt.

@@ -63,23 +63,19 @@ pub fn play_command<T: Transport>(
         Some(p) => match protocol::units::to_fixed(p / planned, 1000.0, 100, 10_000) {
             Some(scale) => scale as u16,
             None => crate::bail!(
-                "--period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
+                "period {p} s: the planned step is {planned:.3} s and the board plays 0.1 to 10 times it"
             ),
         },
     };
     if steps == Some(0) {
-        crate::bail!("--steps 0: give at least one step");
+        crate::bail!("steps 0: give at least one step");
     }
-    let command = PlayCommand {
+    let command = PlayCommand::new(
         slot,
-        direction: if backward {
-            Direction::Backward
-        } else {
-            Direction::Forward
-        },
+        Direction::backward_if(backward),
         period_scale,
-        steps: steps.map_or(Steps::Continuous, Steps::Count),
-    };
+        steps.map_or(Steps::Continuous, Steps::Count),
+    );
     Ok((command, Stored { gait, info }))
 }
 
@@ -97,7 +93,7 @@ pub fn upload_table<T: Transport>(
     stop: impl FnMut() -> bool,
 ) -> Result<Option<String>> {
     let table = protocol::GaitTable::parse(bytes)
-        .with_context(|| format!("{} (--table) is not a step table", path.display()))?;
+        .with_context(|| format!("table {} is not a step table", path.display()))?;
     let held = board
         .gaits()?
         .iter()
@@ -111,8 +107,8 @@ pub fn upload_table<T: Transport>(
     if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
         return Err(LabError::Interrupted(format!("interrupted: {e}")));
     }
-    let report = report
-        .with_context(|| format!("uploading {} into slot {slot} (--table)", path.display()))?;
+    let report =
+        report.with_context(|| format!("uploading table {} into slot {slot}", path.display()))?;
     Ok(Some(format!(
         "slot {slot}: uploaded {} from {} (verified: CRC {:#010x})",
         describe(&report.stored),

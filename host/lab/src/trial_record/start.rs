@@ -33,10 +33,12 @@ pub(super) fn start(
         .map_err(library)?;
     let play = request.play;
     if matches!(board.transport(), RobotLink::Virtual(_)) && play.is_none() {
-        crate::bail!("the virtual robot only walks while dbot runs: give --play SLOT [--steps K]");
+        crate::bail!(
+            "the virtual robot only walks while the trial records: give --play SLOT [--steps K] (Python: play=SLOT, steps=K)"
+        );
     }
     board::record::set_recording_rate(board, request.every)
-        .with_context(|| format!("--every {}", request.every))?;
+        .with_context(|| format!("every {}", request.every))?;
     if let (Some(p), Some(t)) = (play, &request.table)
         && let Some(line) =
             playback::upload_table(board, p.slot, &t.path, &t.bytes, || hooks.should_stop())?
@@ -49,7 +51,7 @@ pub(super) fn start(
         .perturb
         .and_then(|p| board::port::platform_port_problem(board.port(), p.leg))
     {
-        crate::bail!("--perturb: {m}");
+        crate::bail!("perturb: {m}");
     }
     let joints = joints::named_joints(
         board,
@@ -63,7 +65,7 @@ pub(super) fn start(
         match &checked.perturb {
             Some(p) => {
                 board.set_platform(p.setup).with_context(|| {
-                    format!("--perturb {}", request.perturb.as_deref().unwrap_or(""))
+                    format!("perturb {}", request.perturb.as_deref().unwrap_or(""))
                 })?;
                 hooks.say(&format!("platform servo ID {}", p.setup.servo_id));
             }

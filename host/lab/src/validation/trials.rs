@@ -11,16 +11,7 @@ use planner::terrain::Ground;
 use crate::error::Result;
 use crate::perturbation::walk_perturbed;
 use crate::substrates::walk_on_substrates;
-
-/// The paper's tripod as a step table with the walks' inverse dynamics.
-fn tripod_table() -> Result<Vec<u8>> {
-    let model = planner::model::builtin("drosophibot2")?;
-    let plan = planner::plan::plan(&model, &planner::gait::StepParams::table1(&model.name))?;
-    let cycle = crate::walk::solve_walk_dynamics(&plan)?;
-    let torques = planner::dynamics::output::torque_rows(&cycle);
-    planner::plan::table::step_table(&plan, Some(&torques), "dbII tripod")
-        .map_err(|e| crate::LabError::invalid(format!("the tripod's step table: {e}")))
-}
+use crate::walk::tripod_table;
 
 /// The `substrates` block: the tripod for two steps on each substrate.
 pub fn substrates() -> Result<String> {

@@ -6,10 +6,9 @@ use std::fmt::Write as _;
 
 use planner::gait::{StepParams, Turn};
 use planner::model::builtin;
-use protocol::Direction;
 
 use crate::error::{Context, Result};
-use crate::walk_sequence::{Segment, walk_sequence};
+use crate::walk_sequence::ninety_degree_run;
 use crate::walk_turn::walk_turn;
 
 /// Slices per step of the walked plans (coarse: the walks measure the thorax, not the joints).
@@ -77,26 +76,7 @@ pub fn turning() -> Result<String> {
             m.centre_ahead_m * 1e3,
         )?;
     }
-    let mut turn = base.clone();
-    Turn {
-        turn_deg: Some(6.0),
-        radius_m: None,
-    }
-    .apply(&mut turn)
-    .context("the turn of the 90 deg run")?;
-    let seg = |params: &StepParams, direction, steps| Segment {
-        params: params.clone(),
-        direction,
-        steps,
-    };
-    let w = walk_sequence(
-        &model,
-        &[
-            seg(&base, Direction::Forward, 2),
-            seg(&turn, Direction::Forward, 15),
-            seg(&base, Direction::Backward, 2),
-        ],
-    )?;
+    let (w, turn) = ninety_degree_run(&model, &base)?;
     let radius = turn.turn_radius_m().unwrap_or(f64::INFINITY);
     writeln!(
         s,

@@ -76,13 +76,8 @@ pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::F
     use std::time::Duration;
     let mut b = Board::connect(robot.into_transport()).unwrap();
     b.upload(0, table, |_, _| {}).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Steps::Count(steps),
-    })
-    .unwrap();
+    b.play(PlayCommand::forward(0, Steps::Count(steps)))
+        .unwrap();
     // The walk takes `steps` periods after a start ramp of well under a period; a robot that
     // faults (e.g. a servo that cannot follow) ends it early.
     for _ in 0..(steps + 2) * 5 {

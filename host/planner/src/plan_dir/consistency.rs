@@ -28,50 +28,35 @@ fn same(a: f64, b: f64) -> bool {
 
 /// plan.json's timing, its phases and the stance flags `stance[slice][leg]` of feet.csv agree.
 pub(crate) fn check(dir: &Path, json: &PlanJson, stance: &[Vec<bool>]) -> Result<(), PlanDirError> {
+    let in_plan_json = |problem: String| disagree(dir, PLAN_JSON, problem);
     let p = &json.parameters;
     p.validate()
-        .map_err(|e| disagree(dir, PLAN_JSON, format!("parameters: {e}")))?;
+        .map_err(|e| in_plan_json(format!("parameters: {e}")))?;
     let period = p.period_s();
     if !same(json.period_s, period) {
-        return Err(disagree(
-            dir,
-            PLAN_JSON,
-            format!(
-                "period_s = {} s, but its parameters (swing_s {} s, duty {}) give a period of {period} s",
-                json.period_s, p.swing_s, p.duty
-            ),
-        ));
+        return Err(in_plan_json(format!(
+            "period_s = {} s, but its parameters (swing_s {} s, duty {}) give a period of {period} s",
+            json.period_s, p.swing_s, p.duty
+        )));
     }
     if json.slices != p.slices {
-        return Err(disagree(
-            dir,
-            PLAN_JSON,
-            format!(
-                "slices = {}, but parameters.slices = {}",
-                json.slices, p.slices
-            ),
-        ));
+        return Err(in_plan_json(format!(
+            "slices = {}, but parameters.slices = {}",
+            json.slices, p.slices
+        )));
     }
     if !same(json.dt_s * json.slices as f64, json.period_s) {
-        return Err(disagree(
-            dir,
-            PLAN_JSON,
-            format!(
-                "dt_s = {} s x {} slices is not the period {} s",
-                json.dt_s, json.slices, json.period_s
-            ),
-        ));
+        return Err(in_plan_json(format!(
+            "dt_s = {} s x {} slices is not the period {} s",
+            json.dt_s, json.slices, json.period_s
+        )));
     }
     if json.leg_phases.len() != json.legs.len() {
-        return Err(disagree(
-            dir,
-            PLAN_JSON,
-            format!(
-                "{} leg_phases for {} legs",
-                json.leg_phases.len(),
-                json.legs.len()
-            ),
-        ));
+        return Err(in_plan_json(format!(
+            "{} leg_phases for {} legs",
+            json.leg_phases.len(),
+            json.legs.len()
+        )));
     }
     for (leg, &phase) in json.legs.iter().zip(&json.leg_phases) {
         let want = p.gait.phase(*leg);

@@ -1,33 +1,42 @@
-//! Checks that a `--port` path of `dbot dxl` can be a serial port before it is opened, so that a
-//! mistyped path says what it is instead of the terminal layer's "Not a typewriter" (ENOTTY).
+//! Checks that the bench's port can be a serial port before it is opened, so that a mistyped
+//! path says what it is instead of the terminal layer's "Not a typewriter" (ENOTTY): `dbot dxl`
+//! and Python's `dbot.Bench` alike, since the bench checks before it opens its port.
 
 use std::os::unix::fs::FileTypeExt as _;
 use std::path::Path;
 
-use anyhow::{Context as _, bail};
+use super::BenchError;
 
 /// Fails with what `port` is when it cannot be a serial port: missing, a directory, a regular file,
 /// or a device that is not a terminal (such as /dev/null).
-pub fn check_serial_path(port: &Path) -> anyhow::Result<()> {
+pub fn check_serial_path(port: &Path) -> Result<(), BenchError> {
     let shown = port.display();
-    let meta = std::fs::metadata(port).with_context(|| {
-        format!("{shown}: no such serial port (a U2D2 is usually /dev/ttyUSB0; `dbot sim-bus --link PATH` serves virtual servos at PATH)")
+    let not = |message: String| BenchError::NotSerialPort {
+        port: shown.to_string(),
+        message,
+    };
+    let meta = std::fs::metadata(port).map_err(|_| {
+        not(format!("{shown}: no such serial port (a U2D2 is usually /dev/ttyUSB0; `dbot sim-bus --link PATH` serves virtual servos at PATH)"))
     })?;
     let ft = meta.file_type();
     if ft.is_dir() {
-        bail!("{shown} is a directory, not a serial port");
+        return Err(not(format!("{shown} is a directory, not a serial port")));
     }
     if ft.is_file() {
-        bail!("{shown} is a regular file, not a serial port (a U2D2 is usually /dev/ttyUSB0)");
+        return Err(not(format!(
+            "{shown} is a regular file, not a serial port (a U2D2 is usually /dev/ttyUSB0)"
+        )));
     }
     if ft.is_char_device() {
         let f = std::fs::OpenOptions::new()
             .read(true)
             .write(true)
             .open(port)
-            .with_context(|| format!("cannot open {shown}"))?;
+            .map_err(|e| not(format!("cannot open {shown}: {e}")))?;
         if !nix::unistd::isatty(&f).unwrap_or(false) {
-            bail!("{shown} is a device but not a serial port (not a terminal)");
+            return Err(not(format!(
+                "{shown} is a device but not a serial port (not a terminal)"
+            )));
         }
     }
     Ok(())
