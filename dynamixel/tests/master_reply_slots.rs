@@ -8,7 +8,7 @@
 use dynamixel::master::{
     AutoDirection, BusMaster, CycleStats, Goal, MasterConfig, Reply, ReplyFault,
 };
-use dynamixel::sim::{Faults, SimIoError, SimWire, VirtualChain, WireConfig};
+use dynamixel::sim::{Faults, SimIoError, SimWire};
 use embedded_io_async::{ErrorType, Read, ReadReady, Write};
 
 /// The slack the firmware's simulated board uses (Return Delay Time 0): one reply's budget is
@@ -63,15 +63,7 @@ type Master = BusMaster<NoisyWire, AutoDirection, SimWire>;
 /// `n` servos at 1 Mbit/s, Return Delay Time 0, echo on; `noise` goes on the wire at the start of
 /// the first reply window.
 fn bus(n: u8, noise: Vec<u8>) -> (SimWire, Master) {
-    let mut chain = VirtualChain::drosophibot(n, 1_000_000).unwrap();
-    chain.set_return_delay_all(0);
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
+    let wire = SimWire::drosophibot(n, 1_000_000, 0).unwrap();
     let io = NoisyWire {
         wire: wire.clone(),
         noise,

@@ -4,29 +4,12 @@
 
 use dynamixel::control_table as ct;
 use dynamixel::instruction::StatusError;
-use dynamixel::master::{
-    AutoDirection, BusError, BusMaster, Goal, MasterConfig, Reply, ReplyFault,
-};
-use dynamixel::sim::{Faults, SimWire, VirtualChain, WireConfig};
+use dynamixel::master::{BusError, Goal, MasterConfig, Reply, ReplyFault};
+use dynamixel::sim::{Faults, SimMaster, SimWire, VirtualChain, WireConfig};
 
-type Master = BusMaster<SimWire, AutoDirection, SimWire>;
-
-fn bus(return_delay_code: u8) -> (SimWire, Master) {
-    let mut chain = VirtualChain::drosophibot(22, 1_000_000).unwrap();
-    chain.set_return_delay_all(return_delay_code);
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
-    let master = BusMaster::new(
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        MasterConfig::new(1_000_000),
-    );
+fn bus(return_delay_code: u8) -> (SimWire, SimMaster) {
+    let wire = SimWire::drosophibot(22, 1_000_000, return_delay_code).unwrap();
+    let master = wire.master(MasterConfig::new(1_000_000));
     (wire, master)
 }
 
@@ -36,7 +19,7 @@ fn goals(pos: i32) -> Vec<Goal> {
 
 fn run_cycle(
     wire: &SimWire,
-    m: &mut Master,
+    m: &mut SimMaster,
     g: &[Goal],
 ) -> (Vec<Reply>, dynamixel::master::CycleStats) {
     let mut replies = vec![Err(ReplyFault::Timeout); g.len()];
@@ -283,7 +266,7 @@ fn sync_and_bulk_helpers() {
 }
 
 /// Runs cycles at a 10 ms period for `ms` milliseconds of simulated time.
-fn run_for(wire: &SimWire, m: &mut Master, g: &[Goal], ms: u64) -> Vec<Reply> {
+fn run_for(wire: &SimWire, m: &mut SimMaster, g: &[Goal], ms: u64) -> Vec<Reply> {
     let mut last = Vec::new();
     for _ in 0..ms / 10 {
         let t0 = wire.now_us();
@@ -293,7 +276,7 @@ fn run_for(wire: &SimWire, m: &mut Master, g: &[Goal], ms: u64) -> Vec<Reply> {
     last
 }
 
-fn torque_on(wire: &SimWire, m: &mut Master) {
+fn torque_on(wire: &SimWire, m: &mut SimMaster) {
     let on = [1u8];
     wire.block_on(m.sync_write(ct::TORQUE_ENABLE.addr, 1, (1..=22).map(|id| (id, &on[..]))))
         .unwrap();
@@ -389,12 +372,7 @@ fn without_echo_no_instruction_frames_are_seen() {
             echo: false,
         },
     );
-    let mut m = BusMaster::new(
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        MasterConfig::new(1_000_000),
-    );
+    let mut m = wire.master(MasterConfig::new(1_000_000));
     let (replies, stats) = run_cycle(&wire, &mut m, &goals(2048));
     assert!(replies.iter().all(|r| r.is_ok()));
     assert_eq!((stats.echo_frames, stats.duration_us()), (0, 6_220));

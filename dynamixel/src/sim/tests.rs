@@ -1,30 +1,15 @@
 //! The fault knobs of the virtual servos as the bus master sees them on the simulated wire.
 
-use super::{Faults, SimWire, VirtualChain, WireConfig};
-use crate::master::{AutoDirection, BusMaster, Goal, MasterConfig, Reply, ReplyFault};
+use super::{Faults, SimMaster, SimWire};
+use crate::master::{Goal, MasterConfig, Reply, ReplyFault};
 
-type Master = BusMaster<SimWire, AutoDirection, SimWire>;
-
-fn bus() -> (SimWire, Master) {
-    let mut chain = VirtualChain::drosophibot(6, 1_000_000).unwrap();
-    chain.set_return_delay_all(0);
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
-    let m = BusMaster::new(
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        MasterConfig::new(1_000_000),
-    );
+fn bus() -> (SimWire, SimMaster) {
+    let wire = SimWire::drosophibot(6, 1_000_000, 0).unwrap();
+    let m = wire.master(MasterConfig::new(1_000_000));
     (wire, m)
 }
 
-fn cycle(wire: &SimWire, m: &mut Master) -> Vec<Reply> {
+fn cycle(wire: &SimWire, m: &mut SimMaster) -> Vec<Reply> {
     let goals: Vec<Goal> = (1..=6).map(|id| Goal { id, position: 2048 }).collect();
     let mut replies = vec![Err(ReplyFault::Timeout); 6];
     wire.block_on(m.cycle(&goals, &mut replies)).unwrap();
