@@ -67,14 +67,7 @@ fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
     let (mut board, wire, mut client, _) = walking();
     let before = board.controller.borrow().counters().timeouts;
     // Servo 7 (joint 6) executes goals but stops answering.
-    set_faults(
-        &wire,
-        7,
-        Faults {
-            no_reply: true,
-            ..Faults::default()
-        },
-    );
+    set_faults(&wire, 7, Faults::SILENT);
     let limit = Config::default().miss_limit;
     // Walking goes on through limit - 1 missed cycles, and stops at the limit-th.
     for _ in 0..limit - 1 {
@@ -107,10 +100,7 @@ fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
 fn corrupt_replies_are_counted_and_only_a_run_of_them_is_a_fault() {
     let (mut board, wire, mut client, _) = walking();
     let limit = Config::default().miss_limit;
-    let corrupt = Faults {
-        corrupt_crc: true,
-        ..Faults::default()
-    };
+    let corrupt = Faults::BAD_CRC;
     let crc0 = status(&mut board, &mut client).counters.crc_errors;
     // Corrupt CRCs for limit - 1 cycles in a row, then good ones: a glitch, not a fault.
     for round in 0..5 {
@@ -154,14 +144,7 @@ fn a_stuck_servo_stops_the_walk_naming_its_joint_and_shows_in_telemetry() {
     for _ in 0..50 {
         cycle(&mut board, &wire);
     }
-    set_faults(
-        &wire,
-        3,
-        Faults {
-            stuck: true,
-            ..Faults::default()
-        },
-    );
+    set_faults(&wire, 3, Faults::JAMMED);
     let window = usize::from(Config::default().stuck.window);
     let mut records = Vec::new();
     let mut cycles = 0;
@@ -667,14 +650,7 @@ fn soak(secs: u64) -> SoakFigures {
             }
             if k >= glitch_until && rnd(500) == 0 {
                 let id = rnd(JOINTS as u64) as u8 + 1;
-                set_faults(
-                    &wire,
-                    id,
-                    Faults {
-                        corrupt_crc: true,
-                        ..Faults::default()
-                    },
-                );
+                set_faults(&wire, id, Faults::BAD_CRC);
                 // Below the miss limit, and no other glitch until this one has been healed
                 // for a few cycles.
                 for _ in 0..1 + rnd(u64::from(limit) - 1) {
@@ -686,14 +662,7 @@ fn soak(secs: u64) -> SoakFigures {
             }
             if rnd(3000) == 0 {
                 let id = rnd(JOINTS as u64) as u8 + 1;
-                set_faults(
-                    &wire,
-                    id,
-                    Faults {
-                        no_reply: true,
-                        ..Faults::default()
-                    },
-                );
+                set_faults(&wire, id, Faults::SILENT);
                 run_until(&mut board, &wire, usize::from(limit) + 1, |s| {
                     matches!(s, State::Safe(_))
                 });

@@ -29,6 +29,48 @@ pub struct Faults {
     pub stuck: bool,
 }
 
+impl Faults {
+    /// No fault: the servo behaves.
+    pub const NONE: Self = Self {
+        no_reply: false,
+        corrupt_crc: false,
+        corrupt_next: 0,
+        late_reply_us: 0,
+        stuck: false,
+    };
+    /// A servo that executes instructions but never replies.
+    pub const SILENT: Self = Self {
+        no_reply: true,
+        ..Self::NONE
+    };
+    /// A servo whose every reply has a bad CRC.
+    pub const BAD_CRC: Self = Self {
+        corrupt_crc: true,
+        ..Self::NONE
+    };
+    /// A servo with a jammed gear: it answers, but its output does not move.
+    pub const JAMMED: Self = Self {
+        stuck: true,
+        ..Self::NONE
+    };
+
+    /// A glitch: the next `n` replies have a bad CRC, then the servo is well again.
+    pub const fn corrupting_next(n: u32) -> Self {
+        Self {
+            corrupt_next: n,
+            ..Self::NONE
+        }
+    }
+
+    /// A servo that replies `us` microseconds after its Return Delay Time.
+    pub const fn late_by_us(us: u32) -> Self {
+        Self {
+            late_reply_us: us,
+            ..Self::NONE
+        }
+    }
+}
+
 /// A virtual servo.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VirtualServo {

@@ -19,16 +19,8 @@ fn cycle(wire: &SimWire, m: &mut SimMaster) -> Vec<Reply> {
 #[test]
 fn corrupt_next_spoils_exactly_that_many_replies_of_that_servo() {
     let (wire, mut m) = bus();
-    wire.with_chain(|c| {
-        c.set_faults(
-            5,
-            Faults {
-                corrupt_next: 2,
-                ..Faults::default()
-            },
-        )
-    })
-    .unwrap();
+    wire.with_chain(|c| c.set_faults(5, Faults::corrupting_next(2)))
+        .unwrap();
     for k in 0..4 {
         let replies = cycle(&wire, &mut m);
         for (i, r) in replies.iter().enumerate() {
@@ -54,20 +46,12 @@ fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
         c.set_faults(
             2,
             Faults {
-                no_reply: true,
                 corrupt_next: 1,
-                ..Faults::default()
+                ..Faults::SILENT
             },
         )
         .unwrap();
-        c.set_faults(
-            3,
-            Faults {
-                stuck: true,
-                ..Faults::default()
-            },
-        )
-        .unwrap();
+        c.set_faults(3, Faults::JAMMED).unwrap();
     });
     // Torque on, then goals 300 ticks away for 0.5 s: the others get there, servo 3 does not.
     wire.with_chain(|c| {
@@ -95,16 +79,8 @@ fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
         );
     }
     // Back on the bus, servo 2's one corrupt reply is still to come.
-    wire.with_chain(|c| {
-        c.set_faults(
-            2,
-            Faults {
-                corrupt_next: 1,
-                ..Faults::default()
-            },
-        )
-    })
-    .unwrap();
+    wire.with_chain(|c| c.set_faults(2, Faults::corrupting_next(1)))
+        .unwrap();
     assert_eq!(cycle(&wire, &mut m)[1], Err(ReplyFault::Crc));
 }
 
