@@ -11,6 +11,7 @@ use protocol::{SteerCommand, SteerError, SteerFamily};
 use super::switch::{BOUND_TICKS, tripod, variant};
 use super::*;
 use crate::safety::{Event, Refused};
+use crate::testkit::gait::{stored_angle, stored_torque};
 
 const FAMILY: SteerFamily = SteerFamily {
     straight: 0,
@@ -43,25 +44,15 @@ fn family_rig(config: Config, left: (f64, f64), right: (f64, f64)) -> Rig {
 /// as stored (1e-4 rad, 1 mN m), blended per slice, then interpolated between slices.
 fn blend_goal(g: &SyntheticGait, side: (f64, f64), w: f64, pos: f64, j: usize) -> f64 {
     let extra = |s: usize| side.0 * (2.0 * PI * s as f64 / 100.0).sin() + side.1;
-    let q = |x: f64, scale: f64| (x * scale).round() / scale;
     let angle = |s: usize| {
-        let a = q(g.angle(s, j), 1e4);
-        a + w * (q(g.angle(s, j) + extra(s), 1e4) - a)
+        let a = stored_angle(g.angle(s, j));
+        a + w * (stored_angle(g.angle(s, j) + extra(s)) - a)
     };
     let torque = |s: usize| {
-        let t = q(g.torque(s, j), 1e3);
-        t + w * (q(g.torque(s, j) + extra(s) / 2.0, 1e3) - t)
+        let t = stored_torque(g.torque(s, j));
+        t + w * (stored_torque(g.torque(s, j) + extra(s) / 2.0) - t)
     };
-    let i = pos.floor() as usize % 100;
-    let next = (i + 1) % 100;
-    let f = pos - pos.floor();
-    let a = angle(i) * (1.0 - f) + angle(next) * f;
-    let t = torque(i) * (1.0 - f) + torque(next) * f;
-    let sign = match g.joints[j].sign {
-        protocol::Sign::Positive => 1.0,
-        protocol::Sign::Negative => -1.0,
-    };
-    g.joints[j].zero_offset as f64 + sign * (a + t / STIFFNESS) * 4096.0 / (2.0 * PI)
+    g.goal_of(pos, j, STIFFNESS, angle, torque)
 }
 
 /// The slice position the goals of the last cycle came from (100 slices over 1 s).

@@ -8,6 +8,7 @@ use protocol::SwitchError;
 use protocol::gait::GaitTableBuilder;
 
 use super::*;
+use crate::testkit::gait::{stored_angle, stored_torque};
 
 /// The synthetic gait plus `extra(s)` rad on every angle and `extra(s) / 2` N m on every torque,
 /// `extra(s) = amp sin(2 pi s / slices) + offset`, with stance `stance(s)`: with `offset` 0 it
@@ -40,19 +41,13 @@ pub(super) fn tripod(s: usize) -> u8 {
 /// rounded samples (the testkit's formula, the variant's extra added before rounding).
 fn turn_goal(g: &SyntheticGait, pos: f64, j: usize) -> f64 {
     let extra = |s: usize| 0.05 * (2.0 * PI * s as f64 / 100.0).sin();
-    let i = pos.floor() as usize % 100;
-    let next = (i + 1) % 100;
-    let f = pos - pos.floor();
-    let q = |x: f64, scale: f64| (x * scale).round() / scale;
-    let a = |s| q(g.angle(s, j) + extra(s), 1e4);
-    let t = |s| q(g.torque(s, j) + extra(s) / 2.0, 1e3);
-    let angle = a(i) * (1.0 - f) + a(next) * f;
-    let torque = t(i) * (1.0 - f) + t(next) * f;
-    let sign = match g.joints[j].sign {
-        protocol::Sign::Positive => 1.0,
-        protocol::Sign::Negative => -1.0,
-    };
-    g.joints[j].zero_offset as f64 + sign * (angle + torque / STIFFNESS) * 4096.0 / (2.0 * PI)
+    g.goal_of(
+        pos,
+        j,
+        STIFFNESS,
+        |s| stored_angle(g.angle(s, j) + extra(s)),
+        |s| stored_torque(g.torque(s, j) + extra(s) / 2.0),
+    )
 }
 
 /// One bus cycle at 100 Hz is 0.01 s: an MX-28 at no load (55 rev/min = 5.7596 rad/s) turns
