@@ -9,8 +9,8 @@ use firmware::controller::Config;
 use firmware::safety::{SafeReason, State};
 use firmware::store::nor_double::NorDouble;
 use firmware::testkit::rig::{
-    self, SECTORS, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state,
-    status, telemetry, upload, upload_requests, wire,
+    self, JointTrace, SECTORS, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until,
+    slots, state, status, telemetry, upload, upload_requests, wire,
 };
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
@@ -201,15 +201,10 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
     // The case the stuck rule must not mistake for a jam: the goals carry the torque bias and every
     // servo carries the planned torque of the slice being played as its load (as on a robot whose
     // legs meet the planned forces), so the servos sit near the planned angle, off their goals.
-    let (mut board, wire) = rig(1_000_000, 100);
-    let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     let gait = SyntheticGait::new(100, 1.0);
-    upload(&mut board, &mut client, 0, &gait.build());
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Count(10));
-    let mut present: Vec<Vec<i32>> = vec![vec![]; JOINTS];
-    let mut goals: Vec<Vec<i32>> = vec![vec![]; JOINTS];
+    let (mut board, wire, _client) =
+        rig::playing(1_000_000, 100, &gait.build(), protocol::Steps::Count(10));
+    let mut trace = JointTrace::default();
     let mut walked = 0;
     while state(&board) != State::Standing || walked == 0 {
         let slice = board
@@ -232,13 +227,7 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
         );
         if st == State::Walking {
             walked += 1;
-            let g = board.controller.borrow().goals().to_vec();
-            wire.with_chain(|c| {
-                for (j, s) in c.servos().iter().enumerate() {
-                    present[j].push(s.position_ticks());
-                    goals[j].push(g[j]);
-                }
-            });
+            trace.record(&board, &wire);
         }
         assert!(walked < 1100, "the walk did not end");
     }
@@ -249,7 +238,7 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
     let range = |v: &[i32]| v.iter().max().unwrap() - v.iter().min().unwrap();
     let least = (0..JOINTS)
         .flat_map(|j| {
-            let (p, g) = (&present[j], &goals[j]);
+            let (p, g) = (&trace.present[j], &trace.goal[j]);
             (0..p.len() - w)
                 .filter(move |&k| range(&g[k..k + w]) > 40)
                 .map(move |k| range(&p[k..k + w]))
