@@ -13,6 +13,7 @@ pub mod link;
 pub mod paths;
 pub mod pty;
 pub mod servo_bus;
+pub mod state_log;
 pub mod target;
 
 pub use emulator::{BusBurst, Echo, Emulator, LogLine, Options, TracedBurst, UsbOut};

@@ -4,11 +4,11 @@
 //! reset during an upload: tests/link.rs; the soak: tests/soak.rs.)
 
 use anyhow::{Result, ensure};
-use hil_tests::drive::{T, start_playing, start_with_servos};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::drive::{T, start_playing, start_with_servos, upload_sine_gait};
+use hil_tests::gait::{JOINTS, crc32};
 use hil_tests::link::Link;
 use protocol::message::{Direction, RunState, Status, Steps};
-use protocol::{MAX_CHUNK_LEN, Request, Response};
+use protocol::{Request, Response};
 use std::time::Duration;
 
 const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
@@ -17,11 +17,7 @@ fn walking(test: &str) -> Result<Option<(hil_tests::Target, Link, u32)>> {
     let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, 1_000_000)? else {
         return Ok(None);
     };
-    let (builder, table) = sine_gait("faults", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    let Response::Committed { crc, .. } = r else {
-        anyhow::bail!("upload: {r:?}");
-    };
+    let crc = crc32(&upload_sine_gait(&mut link, "faults", None)?);
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
     Ok(Some((board, link, crc)))
 }

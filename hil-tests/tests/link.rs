@@ -4,6 +4,7 @@
 //! answered with errors while the board keeps serving requests.
 
 use anyhow::{Context, Result, ensure};
+use hil_tests::drive::{self, T};
 use hil_tests::gait::{crc32, sine_gait, upload};
 use hil_tests::link::Link;
 use hil_tests::{Options, Target};
@@ -11,22 +12,16 @@ use protocol::message::{DeviceInfo, SlotInfo, Status};
 use protocol::{DeviceMessage, FrameError, MAX_CHUNK_LEN, Request, Response};
 use std::time::Duration;
 
-/// Wall-clock bound per request (the emulator answers in well under a second).
-const T: Duration = Duration::from_secs(10);
 const FLASH_SIZE: usize = 2 * 1024 * 1024;
 const GAIT_STORE: usize = 0x8_0000;
 
+/// The board on `flash_file` (a fresh flash when `None`), connected and past boot.
 fn start(test: &str, flash_file: Option<std::path::PathBuf>) -> Result<Option<(Target, Link)>> {
     let opts = Options {
         flash_file,
         ..Options::default()
     };
-    let Some(board) = Target::start(test, opts)? else {
-        return Ok(None);
-    };
-    board.wait_for_log("host connected", Duration::from_secs(5))?;
-    let link = Link::open(board.port())?;
-    Ok(Some((board, link)))
+    drive::start(test, opts)
 }
 
 fn slots(link: &mut Link) -> Result<heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }>> {

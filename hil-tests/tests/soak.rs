@@ -17,13 +17,13 @@
 
 use anyhow::{Context, Result, bail, ensure};
 use fastrand::Rng;
-use hil_tests::drive::{T, start_playing, telemetry};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::drive::{T, servo_bus, start, start_playing, telemetry, upload_sine_gait};
+use hil_tests::gait::JOINTS;
 use hil_tests::link::Link;
-use hil_tests::{Emulator, Options, Target};
+use hil_tests::{Emulator, Options};
 use protocol::client::Client;
 use protocol::message::{Direction, FaultKind, RunState, ServoSelect, Status, Steps};
-use protocol::{DeviceMessage, MAX_CHUNK_LEN, Request, Response};
+use protocol::{DeviceMessage, Request, Response};
 use serde_json::json;
 use std::time::{Duration, Instant};
 
@@ -102,27 +102,17 @@ fn soak(test: &str, sim_s: u64, seed: u64, fault_every: Option<(u64, u64)>) -> R
     let dir = tempfile::tempdir()?;
     let flash_file = dir.path().join("flash.bin");
     let opts = Options {
-        bus: Some(vec![
-            HIL_BUS.into(),
-            "--servos".into(),
-            JOINTS.to_string(),
-            "--baud".into(),
-            "1000000".into(),
-        ]),
+        bus: Some(servo_bus(HIL_BUS, JOINTS, 1_000_000)),
         flash_file: Some(flash_file.clone()),
         ..Options::default()
     };
-    let Some(board) = Target::start(test, opts)? else {
+    let Some((board, mut link)) = start(test, opts)? else {
         return Ok(());
     };
     let Some(emu) = board.emulator() else {
         return hil_tests::target::skip(test, "injecting faults needs the emulator");
     };
-    board.wait_for_log("host connected", Duration::from_secs(5))?;
-    let mut link = Link::open(board.port())?;
-    let (builder, table) = sine_gait("soak", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    ensure!(matches!(r, Response::Committed { .. }), "upload: {r:?}");
+    let table = upload_sine_gait(&mut link, "soak", None)?;
     let listed = slot0(&mut link)?;
     emu.save_flash()?;
     let store_before = std::fs::read(&flash_file)?[GAIT_STORE].to_vec();
