@@ -5,6 +5,7 @@
 //! then talk to `board.port()` like to `/dev/ttyACM0` and read `board.wait_for_log(..)`; emulator-only
 //! controls (reset, flash file, fault injection, bus trace) are on `board.emulator()`.
 
+pub mod bus_trace;
 pub mod drive;
 pub mod emulator;
 pub mod gait;

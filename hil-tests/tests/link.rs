@@ -8,6 +8,7 @@ use hil_tests::drive::{self, T};
 use hil_tests::gait::{crc32, sine_gait, upload};
 use hil_tests::link::Link;
 use hil_tests::{Options, Target};
+use protocol::gait::GaitTableBuilder;
 use protocol::message::{DeviceInfo, SlotInfo, Status};
 use protocol::{DeviceMessage, FrameError, MAX_CHUNK_LEN, Request, Response};
 use std::time::Duration;
@@ -67,24 +68,8 @@ fn uploaded_gait_is_listed_and_stored_byte_for_byte_in_flash() -> Result<()> {
     let Some((board, mut link)) = start("upload", Some(flash_file.clone()))? else {
         return Ok(());
     };
-    let (builder, table) = sine_gait("hil-upload", 40, 0.3)?;
-    let r = upload(&mut link, 1, &builder, &table, MAX_CHUNK_LEN, T)?;
-    assert_eq!(
-        r,
-        Response::Committed {
-            slot: 1,
-            crc: crc32(&table)
-        }
-    );
-    let listed = slots(&mut link)?;
-    let slot1 = listed
-        .iter()
-        .find(|s| s.slot == 1)
-        .context("slot 1 listed")?;
-    let summary = slot1.gait.context("slot 1 holds a gait")?;
-    // The slot reports the table's own stored CRC: CRC-32 of everything before its last 4 bytes.
-    assert_eq!(summary.crc, crc32(&table[..table.len() - 4]));
-    assert_eq!(summary.header, builder.header()?);
+    let (builder, table) = upload_committed(&mut link, 1, "hil-upload", 40, 0.3)?;
+    ensure_slot_holds(&mut link, 1, &builder, &table)?;
     if let Some(emu) = board.emulator() {
         emu.save_flash()?;
         let flash = std::fs::read(&flash_file)?;
@@ -109,16 +94,8 @@ fn reset_during_upload(test: &str, nth: u32, torn: Option<u32>) -> Result<()> {
     let Some(emu) = board.emulator() else {
         return hil_tests::target::skip(test, "resetting mid-write needs the emulator");
     };
-    let (a_builder, a) = sine_gait("gait-a", 40, 0.3)?;
+    let (a_builder, a) = upload_committed(&mut link, 0, "gait-a", 40, 0.3)?;
     let (b_builder, b) = sine_gait("gait-b", 60, 0.2)?;
-    let r = upload(&mut link, 0, &a_builder, &a, MAX_CHUNK_LEN, T)?;
-    assert_eq!(
-        r,
-        Response::Committed {
-            slot: 0,
-            crc: crc32(&a)
-        }
-    );
     let programs_before = emu.stats()?["flash"]["programs"].as_u64().unwrap_or(0);
     emu.reset_on_flash_program(nth, torn)?;
     // The reset cuts the upload: requests after it go unanswered until the board is back.
@@ -140,18 +117,53 @@ fn reset_during_upload(test: &str, nth: u32, torn: Option<u32>) -> Result<()> {
     emu.wait_event_n("usb_configured", 2, Duration::from_secs(30))?;
     emu.run_for(Duration::from_millis(50))?;
     let mut link = Link::open(board.port())?;
-    let listed = slots(&mut link)?;
-    let slot0 = listed
-        .iter()
-        .find(|s| s.slot == 0)
-        .context("slot 0 listed")?;
-    let summary = slot0.gait.context("slot 0 lost its gait")?;
-    assert_eq!(
-        summary.crc,
-        crc32(&a[..a.len() - 4]),
-        "slot 0 holds gait A after the reset"
+    // Slot 0 holds gait A after the reset.
+    ensure_slot_holds(&mut link, 0, &a_builder, &a)
+}
+
+/// Uploads the sine gait `name` ([`sine_gait`]) into `slot`; the commit must name the slot and
+/// the table's CRC-32.
+fn upload_committed(
+    link: &mut Link,
+    slot: u8,
+    name: &str,
+    slices: usize,
+    amp_rad: f64,
+) -> Result<(GaitTableBuilder, Vec<u8>)> {
+    let (builder, table) = sine_gait(name, slices, amp_rad)?;
+    let r = upload(link, slot, &builder, &table, MAX_CHUNK_LEN, T)?;
+    let crc = crc32(&table);
+    ensure!(
+        r == Response::Committed { slot, crc },
+        "upload of {name}: {r:?}"
     );
-    assert_eq!(summary.header, a_builder.header()?);
+    Ok((builder, table))
+}
+
+/// The board lists `slot` holding `table` of `builder`: its header, and the table's own stored
+/// CRC (CRC-32 of everything before the table's last 4 bytes).
+fn ensure_slot_holds(
+    link: &mut Link,
+    slot: u8,
+    builder: &GaitTableBuilder,
+    table: &[u8],
+) -> Result<()> {
+    let listed = slots(link)?;
+    let info = listed
+        .iter()
+        .find(|s| s.slot == slot)
+        .with_context(|| format!("slot {slot} listed"))?;
+    let summary = info
+        .gait
+        .with_context(|| format!("slot {slot} holds no gait"))?;
+    ensure!(
+        summary.crc == crc32(&table[..table.len() - 4]),
+        "slot {slot}: {summary:?}"
+    );
+    ensure!(
+        summary.header == builder.header()?,
+        "slot {slot}: {summary:?}"
+    );
     Ok(())
 }
 
