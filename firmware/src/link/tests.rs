@@ -90,10 +90,8 @@ impl Host {
 
 fn decode_all(bytes: &[u8]) -> Vec<DeviceMessage> {
     let mut acc = FrameAccumulator::new();
-    bytes
-        .iter()
-        .filter_map(|&b| acc.push_message::<DeviceMessage>(b))
-        .map(|m| m.unwrap())
+    acc.messages::<DeviceMessage>(bytes)
+        .map(|m| m.expect("the board sends valid frames"))
         .collect()
 }
 
@@ -274,30 +272,17 @@ struct Pipe {
     reads_left: usize,
 }
 
-#[derive(Debug)]
-struct Gone;
-impl core::fmt::Display for Gone {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str("gone")
-    }
-}
-impl core::error::Error for Gone {}
-impl embedded_io_async::Error for Gone {
-    fn kind(&self) -> embedded_io_async::ErrorKind {
-        embedded_io_async::ErrorKind::NotConnected
-    }
-}
 impl embedded_io_async::ErrorType for Pipe {
-    type Error = Gone;
+    type Error = LinkDown;
 }
 impl embedded_io_async::Read for Pipe {
-    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, Gone> {
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, LinkDown> {
         match self.input.pop_front() {
             Some(chunk) => {
                 buf[..chunk.len()].copy_from_slice(&chunk);
                 Ok(chunk.len())
             }
-            None if self.drop_when_empty || self.reads_left == 0 => Err(Gone),
+            None if self.drop_when_empty || self.reads_left == 0 => Err(LinkDown),
             None => {
                 self.reads_left -= 1;
                 core::future::pending().await
@@ -306,11 +291,11 @@ impl embedded_io_async::Read for Pipe {
     }
 }
 impl embedded_io_async::Write for Pipe {
-    async fn write(&mut self, buf: &[u8]) -> Result<usize, Gone> {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, LinkDown> {
         self.output.extend_from_slice(buf);
         Ok(buf.len())
     }
-    async fn flush(&mut self) -> Result<(), Gone> {
+    async fn flush(&mut self) -> Result<(), LinkDown> {
         Ok(())
     }
 }
