@@ -177,6 +177,18 @@ fn reset_mid_write_of_an_upload_keeps_the_old_gait() -> Result<()> {
     reset_during_upload("reset_torn_write", 3, Some(100))
 }
 
+/// A fresh board that was sent a garbage frame and an oversized one: its link, the status before,
+/// the status after and the rejections the board sent (`None`: the test is skipped).
+fn bad_frames_on_a_fresh_board(test: &str) -> Result<Option<BadFrames>> {
+    let Some((board, mut link)) = start(test, None)? else {
+        return Ok(None);
+    };
+    let (before, after, rejected) = send_bad_frames(&mut link)?;
+    Ok(Some((board, link, before, after, rejected)))
+}
+
+type BadFrames = (Target, Link, Status, Status, Vec<FrameError>);
+
 /// Sends a garbage frame and an oversized one; returns the status before, the status after and the
 /// rejections the board sent.
 fn send_bad_frames(link: &mut Link) -> Result<(Status, Status, Vec<FrameError>)> {
@@ -201,10 +213,10 @@ fn send_bad_frames(link: &mut Link) -> Result<(Status, Status, Vec<FrameError>)>
 
 #[test]
 fn garbage_and_oversized_frames_are_rejected_and_the_board_keeps_serving() -> Result<()> {
-    let Some((_board, mut link)) = start("garbage", None)? else {
+    let Some((_board, mut link, before, after, rejected)) = bad_frames_on_a_fresh_board("garbage")?
+    else {
         return Ok(());
     };
-    let (before, after, rejected) = send_bad_frames(&mut link)?;
     assert_eq!(
         rejected.len(),
         2,
@@ -223,10 +235,10 @@ fn garbage_and_oversized_frames_are_rejected_and_the_board_keeps_serving() -> Re
 
 #[test]
 fn status_counts_rejected_frames() -> Result<()> {
-    let Some((_board, mut link)) = start("rejected_counter", None)? else {
+    let Some((_board, _, before, after, _)) = bad_frames_on_a_fresh_board("rejected_counter")?
+    else {
         return Ok(());
     };
-    let (before, after, _) = send_bad_frames(&mut link)?;
     assert_eq!(
         after.counters.rejected_frames,
         before.counters.rejected_frames + 2
