@@ -8,7 +8,7 @@
 use dynamixel::master::{
     AutoDirection, BusMaster, CycleStats, Goal, MasterConfig, Reply, ReplyFault,
 };
-use dynamixel::sim::{Faults, SimIoError, SimWire, VirtualChain, WireConfig};
+use dynamixel::sim::{Faults, SimIoError, SimWire};
 use embedded_io_async::{ErrorType, Read, ReadReady, Write};
 
 /// The slack the firmware's simulated board uses (Return Delay Time 0): one reply's budget is
@@ -63,15 +63,7 @@ type Master = BusMaster<NoisyWire, AutoDirection, SimWire>;
 /// `n` servos at 1 Mbit/s, Return Delay Time 0, echo on; `noise` goes on the wire at the start of
 /// the first reply window.
 fn bus(n: u8, noise: Vec<u8>) -> (SimWire, Master) {
-    let mut chain = VirtualChain::drosophibot(n, 1_000_000).unwrap();
-    chain.set_return_delay_all(0);
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
+    let wire = SimWire::drosophibot(n, 1_000_000, 0).unwrap();
     let io = NoisyWire {
         wire: wire.clone(),
         noise,
@@ -92,6 +84,14 @@ fn cycle(wire: &SimWire, m: &mut Master, n: u8) -> (Vec<Reply>, CycleStats) {
     let mut replies = vec![Ok(Default::default()); goals.len()];
     let stats = wire.block_on(m.cycle(&goals, &mut replies)).unwrap();
     (replies, stats)
+}
+
+/// One cycle of 22 servos on a clean wire where servo `id` never answers.
+fn cycle_with_silent(id: u8) -> (Vec<Reply>, CycleStats) {
+    let (wire, mut m) = bus(22, Vec::new());
+    wire.with_chain(|c| c.set_faults(id, Faults::SILENT))
+        .unwrap();
+    cycle(&wire, &mut m, 22)
 }
 
 fn lost(stats: &CycleStats) -> u8 {
@@ -120,13 +120,7 @@ fn noise_at_the_start_of_the_reply_window_costs_only_the_first_reply() {
 
 #[test]
 fn a_silent_servo_in_the_middle_costs_only_itself() {
-    let (wire, mut m) = bus(22, Vec::new());
-    let silent = Faults {
-        no_reply: true,
-        ..Default::default()
-    };
-    wire.with_chain(|c| c.set_faults(11, silent)).unwrap();
-    let (replies, stats) = cycle(&wire, &mut m, 22);
+    let (replies, stats) = cycle_with_silent(11);
     assert_eq!(replies[10], Err(ReplyFault::Timeout));
     assert_eq!((stats.ok, stats.timeouts), (21, 1));
     // Servo 12 follows servo 10 directly (a silent servo takes no time on the simulated wire),
@@ -136,13 +130,7 @@ fn a_silent_servo_in_the_middle_costs_only_itself() {
 
 #[test]
 fn a_silent_last_servo_costs_one_reply_budget_as_before() {
-    let (wire, mut m) = bus(22, Vec::new());
-    let silent = Faults {
-        no_reply: true,
-        ..Default::default()
-    };
-    wire.with_chain(|c| c.set_faults(22, silent)).unwrap();
-    let (_, stats) = cycle(&wire, &mut m, 22);
+    let (_, stats) = cycle_with_silent(22);
     assert_eq!((stats.ok, stats.timeouts), (21, 1));
     // After servo 21 the line stays quiet for one budget (its wire time plus the slack).
     assert_eq!(stats.end_us - stats.tx_end_us, 21 * REPLY_US + BUDGET_US);
@@ -163,10 +151,7 @@ fn when_every_reply_is_garbled_the_read_ends_at_the_schedules_deadline() {
 #[test]
 fn when_every_servo_sends_a_bad_crc_each_is_counted_and_the_read_ends_with_the_last() {
     let (wire, mut m) = bus(22, Vec::new());
-    let corrupt = Faults {
-        corrupt_crc: true,
-        ..Default::default()
-    };
+    let corrupt = Faults::BAD_CRC;
     wire.with_chain(|c| (1..=22).try_for_each(|id| c.set_faults(id, corrupt)))
         .unwrap();
     let (replies, stats) = cycle(&wire, &mut m, 22);

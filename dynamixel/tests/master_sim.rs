@@ -4,30 +4,21 @@
 
 use dynamixel::control_table as ct;
 use dynamixel::instruction::StatusError;
-use dynamixel::master::{
-    AutoDirection, BusError, BusMaster, Goal, MasterConfig, Reply, ReplyFault,
-};
-use dynamixel::sim::{Faults, SimWire, VirtualChain, WireConfig};
+use dynamixel::master::{BusError, Goal, MasterConfig, Reply, ReplyFault};
+use dynamixel::sim::{Faults, SimMaster, SimWire, VirtualChain, WireConfig};
 
-type Master = BusMaster<SimWire, AutoDirection, SimWire>;
-
-fn bus(return_delay_code: u8) -> (SimWire, Master) {
-    let mut chain = VirtualChain::drosophibot(22, 1_000_000).unwrap();
-    chain.set_return_delay_all(return_delay_code);
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
-    let master = BusMaster::new(
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        MasterConfig::new(1_000_000),
-    );
+fn bus(return_delay_code: u8) -> (SimWire, SimMaster) {
+    let wire = SimWire::drosophibot(22, 1_000_000, return_delay_code).unwrap();
+    let master = wire.master(MasterConfig::new(1_000_000));
     (wire, master)
+}
+
+/// Servo 2's answer to a write it refuses with `status`.
+fn servo_2_refuses(status: StatusError) -> BusError {
+    BusError::Reply {
+        id: 2,
+        fault: ReplyFault::Status(status),
+    }
 }
 
 fn goals(pos: i32) -> Vec<Goal> {
@@ -36,7 +27,7 @@ fn goals(pos: i32) -> Vec<Goal> {
 
 fn run_cycle(
     wire: &SimWire,
-    m: &mut Master,
+    m: &mut SimMaster,
     g: &[Goal],
 ) -> (Vec<Reply>, dynamixel::master::CycleStats) {
     let mut replies = vec![Err(ReplyFault::Timeout); g.len()];
@@ -74,30 +65,9 @@ fn default_return_delay_adds_500_us_per_servo() {
 fn faulty_servos_are_reported_and_the_others_still_arrive() {
     let (wire, mut m) = bus(0);
     wire.with_chain(|c| {
-        c.set_faults(
-            5,
-            Faults {
-                no_reply: true,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        c.set_faults(
-            7,
-            Faults {
-                corrupt_crc: true,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        c.set_faults(
-            12,
-            Faults {
-                late_reply_us: 300,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        c.set_faults(5, Faults::SILENT).unwrap();
+        c.set_faults(7, Faults::BAD_CRC).unwrap();
+        c.set_faults(12, Faults::late_by_us(300)).unwrap();
         c.trigger_overload(9).unwrap();
     });
     let (replies, stats) = run_cycle(&wire, &mut m, &goals(2048));
@@ -130,16 +100,7 @@ fn faulty_servos_are_reported_and_the_others_still_arrive() {
 #[test]
 fn a_reply_later_than_the_slack_times_out_alone() {
     let (wire, mut m) = bus(0);
-    wire.with_chain(|c| {
-        c.set_faults(
-            22,
-            Faults {
-                late_reply_us: 5_000,
-                ..Default::default()
-            },
-        )
-        .unwrap()
-    });
+    wire.with_chain(|c| c.set_faults(22, Faults::late_by_us(5_000)).unwrap());
     let (replies, stats) = run_cycle(&wire, &mut m, &goals(2048));
     assert_eq!(replies[21], Err(ReplyFault::Timeout));
     assert_eq!(stats.ok, 21);
@@ -217,32 +178,14 @@ fn ping_read_write_and_their_errors() {
     let e = wire
         .block_on(m.write(2, ct::GOAL_POSITION.addr, &5000u32.to_le_bytes()))
         .unwrap_err();
-    assert!(
-        matches!(
-            e,
-            BusError::Reply {
-                id: 2,
-                fault: ReplyFault::Status(StatusError(6))
-            }
-        ),
-        "{e:?}"
-    );
+    assert_eq!(e, servo_2_refuses(StatusError(6)));
     // EEPROM with torque on: Access error.
     wire.block_on(m.write(2, ct::TORQUE_ENABLE.addr, &[1]))
         .unwrap();
     let e = wire
         .block_on(m.write(2, ct::RETURN_DELAY_TIME.addr, &[0]))
         .unwrap_err();
-    assert!(
-        matches!(
-            e,
-            BusError::Reply {
-                id: 2,
-                fault: ReplyFault::Status(StatusError(7))
-            }
-        ),
-        "{e:?}"
-    );
+    assert_eq!(e, servo_2_refuses(StatusError(7)));
 }
 
 #[test]
@@ -283,7 +226,7 @@ fn sync_and_bulk_helpers() {
 }
 
 /// Runs cycles at a 10 ms period for `ms` milliseconds of simulated time.
-fn run_for(wire: &SimWire, m: &mut Master, g: &[Goal], ms: u64) -> Vec<Reply> {
+fn run_for(wire: &SimWire, m: &mut SimMaster, g: &[Goal], ms: u64) -> Vec<Reply> {
     let mut last = Vec::new();
     for _ in 0..ms / 10 {
         let t0 = wire.now_us();
@@ -293,7 +236,7 @@ fn run_for(wire: &SimWire, m: &mut Master, g: &[Goal], ms: u64) -> Vec<Reply> {
     last
 }
 
-fn torque_on(wire: &SimWire, m: &mut Master) {
+fn torque_on(wire: &SimWire, m: &mut SimMaster) {
     let on = [1u8];
     wire.block_on(m.sync_write(ct::TORQUE_ENABLE.addr, 1, (1..=22).map(|id| (id, &on[..]))))
         .unwrap();
@@ -326,37 +269,26 @@ fn external_torque_deflects_like_the_documented_spring_and_shows_as_load() {
     let r = run_for(&wire, &mut m, &goals(2048), 1_000);
     // Hand calculation, P = 850: Kp = 850/128 = 6.64 PWM/tick; 885 PWM = stall torque.
     // MX-28: 6.64/885 * 2.5 N m = 0.01876 N m/tick -> 1 N m deflects 53.3 ticks; load = 1/2.5 = 40.0 %.
-    let f = r[0].unwrap();
-    assert!(
-        (f.position - (2048 + 53)).abs() <= 1,
-        "MX-28 deflection {}",
-        f.position - 2048
-    );
-    assert!((f.load + 400).abs() <= 2, "MX-28 load {}", f.load);
     // MX-64: 6.64/885 * 6.0 = 0.04502 N m/tick -> 22.2 ticks; current 1/6.0 * 4.1 A = 683 mA = 203 units.
-    let f = r[2].unwrap();
-    assert!(
-        (f.position - (2048 + 22)).abs() <= 1,
-        "MX-64 deflection {}",
-        f.position - 2048
-    );
-    assert!((f.load + 203).abs() <= 2, "MX-64 current {}", f.load);
+    for (servo, model, deflection, unit, load) in [
+        (1, "MX-28", 53, "load", -400),
+        (3, "MX-64", 22, "current", -203),
+    ] {
+        let f = r[servo - 1].unwrap();
+        assert!(
+            (f.position - (2048 + deflection)).abs() <= 1,
+            "{model} deflection {}",
+            f.position - 2048
+        );
+        assert!((f.load - load).abs() <= 2, "{model} {unit} {}", f.load);
+    }
 }
 
 #[test]
 fn a_stuck_servo_stays_and_strains() {
     let (wire, mut m) = bus(0);
     torque_on(&wire, &mut m);
-    wire.with_chain(|c| {
-        c.set_faults(
-            2,
-            Faults {
-                stuck: true,
-                ..Default::default()
-            },
-        )
-        .unwrap()
-    });
+    wire.with_chain(|c| c.set_faults(2, Faults::JAMMED).unwrap());
     let mut g = goals(2048);
     g[1].position = 2148;
     let r = run_for(&wire, &mut m, &g, 200);
@@ -389,12 +321,7 @@ fn without_echo_no_instruction_frames_are_seen() {
             echo: false,
         },
     );
-    let mut m = BusMaster::new(
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        MasterConfig::new(1_000_000),
-    );
+    let mut m = wire.master(MasterConfig::new(1_000_000));
     let (replies, stats) = run_cycle(&wire, &mut m, &goals(2048));
     assert!(replies.iter().all(|r| r.is_ok()));
     assert_eq!((stats.echo_frames, stats.duration_us()), (0, 6_220));

@@ -64,31 +64,35 @@ fn status_with_current_minus_one_then_fd() {
 fn twice_in_a_row_and_already_fd_fd() {
     // Data FF FF FD FF FF FD FD: each FF FF FD gets an FD, including when an FD already follows:
     // FF FF FD [FD] FF FF FD [FD] FD.
-    let data = [0xFF, 0xFF, 0xFD, 0xFF, 0xFF, 0xFD, 0xFD];
-    let stuffed = [0xFF, 0xFF, 0xFD, 0xFD, 0xFF, 0xFF, 0xFD, 0xFD, 0xFD];
-    let mut body = vec![0xFF, 0xFF, 0xFD, 0x00, 0x03, 0x0E, 0x00, 0x03, 0x00, 0x02];
-    body.extend_from_slice(&stuffed);
     // LEN = INST + 2 addr + 9 stuffed + 2 CRC = 14.
-    let want = with_crc(body);
-    let mut buf = [0u8; 64];
-    let n = encode::write(&mut buf, 3, 512, &data).unwrap();
-    assert_eq!(&buf[..n], &want[..]);
-    let (_, _, params) = parse_one(&want);
-    assert_eq!(&params[2..], &data);
+    assert_write_is_stuffed(
+        (3, 512, &[0xFF, 0xFF, 0xFD, 0xFF, 0xFF, 0xFD, 0xFD]),
+        &[0xFF, 0xFF, 0xFD, 0x00, 0x03, 0x0E, 0x00, 0x03, 0x00, 0x02],
+        &[0xFF, 0xFF, 0xFD, 0xFD, 0xFF, 0xFF, 0xFD, 0xFD, 0xFD],
+    );
 }
 
 #[test]
 fn triple_ff_and_lone_ff_fd_are_not_stuffed_wrongly() {
     // FF FF FF FD: the last three are FF FF FD -> one FD inserted. FF FD alone: nothing.
-    let data = [0xFF, 0xFF, 0xFF, 0xFD, 0x10, 0xFF, 0xFD];
-    let stuffed = [0xFF, 0xFF, 0xFF, 0xFD, 0xFD, 0x10, 0xFF, 0xFD];
-    let mut body = vec![0xFF, 0xFF, 0xFD, 0x00, 0x02, 0x0D, 0x00, 0x03, 0x40, 0x00];
-    body.extend_from_slice(&stuffed);
-    let want = with_crc(body);
+    assert_write_is_stuffed(
+        (2, 64, &[0xFF, 0xFF, 0xFF, 0xFD, 0x10, 0xFF, 0xFD]),
+        &[0xFF, 0xFF, 0xFD, 0x00, 0x02, 0x0D, 0x00, 0x03, 0x40, 0x00],
+        &[0xFF, 0xFF, 0xFF, 0xFD, 0xFD, 0x10, 0xFF, 0xFD],
+    );
+}
+
+/// A Write of `data` to servo `id` at `addr` is the hand-built `head` (header, ID, LEN, INST and
+/// the address) followed by the hand-stuffed `stuffed` data and the CRC, and parses back to the
+/// address and `data`.
+fn assert_write_is_stuffed((id, addr, data): (u8, u16, &[u8]), head: &[u8], stuffed: &[u8]) {
+    let want = with_crc([head, stuffed].concat());
     let mut buf = [0u8; 64];
-    let n = encode::write(&mut buf, 2, 64, &data).unwrap();
+    let n = encode::write(&mut buf, id, addr, data).unwrap();
     assert_eq!(&buf[..n], &want[..]);
-    assert_eq!(&parse_one(&want).2[2..], &data);
+    let (_, _, params) = parse_one(&want);
+    assert_eq!(&params[..2], &addr.to_le_bytes());
+    assert_eq!(&params[2..], data);
 }
 
 #[test]

@@ -278,7 +278,6 @@ where
 
 #[cfg(test)]
 mod tests {
-    use std::cell::Cell;
 
     use dynamixel::master::{AutoDirection, MasterConfig};
     use embassy_futures::block_on;
@@ -288,17 +287,7 @@ mod tests {
     use crate::store::nor_double::NorDouble;
     use crate::store::record::CRC32;
     use crate::testkit::SyntheticGait;
-
-    /// A clock whose waits end at once by moving time to the deadline.
-    struct JumpClock(Cell<u64>);
-    impl Clock for JumpClock {
-        fn now_us(&self) -> u64 {
-            self.0.get()
-        }
-        async fn wait_until(&self, deadline_us: u64) {
-            self.0.set(self.0.get().max(deadline_us));
-        }
-    }
+    use crate::testkit::clock::JumpClock;
 
     /// A bus on which nobody answers.
     struct Silent;
@@ -337,7 +326,7 @@ mod tests {
             baud: 1_000_000,
             reply_slack_us: 25_000,
         };
-        let mut bus = BusMaster::new(Silent, AutoDirection, JumpClock(Cell::new(0)), config);
+        let mut bus = BusMaster::new(Silent, AutoDirection, JumpClock::default(), config);
         let mut l = BusLoop::new();
         let mut starts = vec![];
         let mut overruns = vec![];

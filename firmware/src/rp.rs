@@ -33,7 +33,7 @@ use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
 use firmware::bus_loop::{BusLoop, Shared};
 use firmware::controller::{Config, Controller};
-use firmware::link::{Link, serve};
+use firmware::link::{Link, LinkDown, serve};
 use firmware::memory_map::{FLASH_BASE, FLASH_SIZE, GAIT_STORE_OFFSET, GAIT_STORE_SIZE};
 use firmware::store::{BOARD_SLOTS, FlashWindow};
 use panic_probe as _;
@@ -178,23 +178,6 @@ struct CdcStream {
     rx_pos: usize,
     /// The last packet written was full-size: the host needs a zero-length packet to see the end.
     zlp_due: bool,
-}
-
-#[derive(Debug)]
-struct LinkDown;
-
-impl core::fmt::Display for LinkDown {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str("USB link down")
-    }
-}
-
-impl core::error::Error for LinkDown {}
-
-impl embedded_io_async::Error for LinkDown {
-    fn kind(&self) -> embedded_io_async::ErrorKind {
-        embedded_io_async::ErrorKind::NotConnected
-    }
 }
 
 impl embedded_io_async::ErrorType for CdcStream {

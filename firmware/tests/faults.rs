@@ -9,8 +9,8 @@ use firmware::controller::Config;
 use firmware::safety::{SafeReason, State};
 use firmware::store::nor_double::NorDouble;
 use firmware::testkit::rig::{
-    self, SECTORS, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until, slots, state,
-    status, telemetry, upload, upload_requests, wire,
+    self, JointTrace, SECTORS, SimBoard, ask, board_on, cycle, exchange, play, rig, run_until,
+    slots, state, status, telemetry, upload, upload_requests, wire,
 };
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
@@ -67,14 +67,7 @@ fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
     let (mut board, wire, mut client, _) = walking();
     let before = board.controller.borrow().counters().timeouts;
     // Servo 7 (joint 6) executes goals but stops answering.
-    set_faults(
-        &wire,
-        7,
-        Faults {
-            no_reply: true,
-            ..Faults::default()
-        },
-    );
+    set_faults(&wire, 7, Faults::SILENT);
     let limit = Config::default().miss_limit;
     // Walking goes on through limit - 1 missed cycles, and stops at the limit-th.
     for _ in 0..limit - 1 {
@@ -107,10 +100,7 @@ fn a_silent_servo_stops_the_walk_after_the_miss_limit_naming_its_joint() {
 fn corrupt_replies_are_counted_and_only_a_run_of_them_is_a_fault() {
     let (mut board, wire, mut client, _) = walking();
     let limit = Config::default().miss_limit;
-    let corrupt = Faults {
-        corrupt_crc: true,
-        ..Faults::default()
-    };
+    let corrupt = Faults::BAD_CRC;
     let crc0 = status(&mut board, &mut client).counters.crc_errors;
     // Corrupt CRCs for limit - 1 cycles in a row, then good ones: a glitch, not a fault.
     for round in 0..5 {
@@ -154,14 +144,7 @@ fn a_stuck_servo_stops_the_walk_naming_its_joint_and_shows_in_telemetry() {
     for _ in 0..50 {
         cycle(&mut board, &wire);
     }
-    set_faults(
-        &wire,
-        3,
-        Faults {
-            stuck: true,
-            ..Faults::default()
-        },
-    );
+    set_faults(&wire, 3, Faults::JAMMED);
     let window = usize::from(Config::default().stuck.window);
     let mut records = Vec::new();
     let mut cycles = 0;
@@ -218,15 +201,10 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
     // The case the stuck rule must not mistake for a jam: the goals carry the torque bias and every
     // servo carries the planned torque of the slice being played as its load (as on a robot whose
     // legs meet the planned forces), so the servos sit near the planned angle, off their goals.
-    let (mut board, wire) = rig(1_000_000, 100);
-    let mut client = Client::new();
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
     let gait = SyntheticGait::new(100, 1.0);
-    upload(&mut board, &mut client, 0, &gait.build());
-    run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    play(&mut board, &mut client, protocol::Steps::Count(10));
-    let mut present: Vec<Vec<i32>> = vec![vec![]; JOINTS];
-    let mut goals: Vec<Vec<i32>> = vec![vec![]; JOINTS];
+    let (mut board, wire, _client) =
+        rig::playing(1_000_000, 100, &gait.build(), protocol::Steps::Count(10));
+    let mut trace = JointTrace::default();
     let mut walked = 0;
     while state(&board) != State::Standing || walked == 0 {
         let slice = board
@@ -249,13 +227,7 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
         );
         if st == State::Walking {
             walked += 1;
-            let g = board.controller.borrow().goals().to_vec();
-            wire.with_chain(|c| {
-                for (j, s) in c.servos().iter().enumerate() {
-                    present[j].push(s.position_ticks());
-                    goals[j].push(g[j]);
-                }
-            });
+            trace.record(&board, &wire);
         }
         assert!(walked < 1100, "the walk did not end");
     }
@@ -266,7 +238,7 @@ fn a_loaded_ten_step_walk_never_reports_a_stuck_servo() {
     let range = |v: &[i32]| v.iter().max().unwrap() - v.iter().min().unwrap();
     let least = (0..JOINTS)
         .flat_map(|j| {
-            let (p, g) = (&present[j], &goals[j]);
+            let (p, g) = (&trace.present[j], &trace.goal[j]);
             (0..p.len() - w)
                 .filter(move |&k| range(&g[k..k + w]) > 40)
                 .map(move |k| range(&p[k..k + w]))
@@ -667,14 +639,7 @@ fn soak(secs: u64) -> SoakFigures {
             }
             if k >= glitch_until && rnd(500) == 0 {
                 let id = rnd(JOINTS as u64) as u8 + 1;
-                set_faults(
-                    &wire,
-                    id,
-                    Faults {
-                        corrupt_crc: true,
-                        ..Faults::default()
-                    },
-                );
+                set_faults(&wire, id, Faults::BAD_CRC);
                 // Below the miss limit, and no other glitch until this one has been healed
                 // for a few cycles.
                 for _ in 0..1 + rnd(u64::from(limit) - 1) {
@@ -686,14 +651,7 @@ fn soak(secs: u64) -> SoakFigures {
             }
             if rnd(3000) == 0 {
                 let id = rnd(JOINTS as u64) as u8 + 1;
-                set_faults(
-                    &wire,
-                    id,
-                    Faults {
-                        no_reply: true,
-                        ..Faults::default()
-                    },
-                );
+                set_faults(&wire, id, Faults::SILENT);
                 run_until(&mut board, &wire, usize::from(limit) + 1, |s| {
                     matches!(s, State::Safe(_))
                 });

@@ -3,7 +3,7 @@
 //! 22 servos following, and the bus cycle rate and start jitter at 1 and 4 Mbit/s.
 
 use firmware::safety::State;
-use firmware::testkit::rig::{ask, play, rig, run_until, upload, walking};
+use firmware::testkit::rig::{JointTrace, ask, play, rig, run_until, upload, walking};
 use firmware::testkit::{JOINTS, STIFFNESS, SyntheticGait};
 use protocol::{Client, Request, Response};
 
@@ -23,22 +23,16 @@ fn ten_steps_with_all_22_virtual_servos_following() {
     wire.with_chain(|c| assert!(c.servos().iter().all(|s| s.torque_enabled())));
 
     // Walk: after each cycle, record every servo's position and the goal it was sent that cycle.
-    let mut pos: Vec<Vec<i32>> = vec![vec![]; JOINTS];
-    let mut goal: Vec<Vec<i32>> = vec![vec![]; JOINTS];
+    let mut trace = JointTrace::default();
     let mut cycles = 0;
     while board.controller.borrow().state() == State::Walking {
         wire.block_on(board.run_cycle());
         board.drain_telemetry(|_| {});
         cycles += 1;
-        let goals = board.controller.borrow().goals().to_vec();
-        wire.with_chain(|c| {
-            for (j, s) in c.servos().iter().enumerate() {
-                pos[j].push(s.position_ticks());
-                goal[j].push(goals[j]);
-            }
-        });
+        trace.record(&board, &wire);
         assert!(cycles < 2000);
     }
+    let (pos, goal) = (&trace.present, &trace.goal);
     let c = board.controller.borrow();
     assert_eq!(c.state(), State::Standing);
     assert_eq!(c.playback().unwrap().0, 10, "steps played");

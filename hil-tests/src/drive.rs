@@ -1,15 +1,38 @@
 //! Driving the board like `dbot` does, for the walking tests: start it with the virtual servo chain,
 //! upload and select a gait, play a number of steps and collect telemetry until it stands again.
 
+use crate::gait::{crc32, sine_gait, upload};
 use crate::link::Link;
 use crate::{Options, Target};
 use anyhow::{Result, bail, ensure};
 use protocol::message::{Direction, PlayCommand, RunState, Status, Steps};
-use protocol::{DeviceMessage, Request, Response, Telemetry};
+use protocol::{DeviceMessage, MAX_CHUNK_LEN, Request, Response, Telemetry};
 use std::time::Duration;
 
 /// Wall-clock bound per request.
 pub const T: Duration = Duration::from_secs(10);
+
+/// The bus of [`Options`]: the servo chain program `hil_bus` with `servos` virtual servos (IDs
+/// 1..=servos) at `baud`.
+pub fn servo_bus(hil_bus: &str, servos: usize, baud: u32) -> Vec<String> {
+    vec![
+        hil_bus.into(),
+        "--servos".into(),
+        servos.to_string(),
+        "--baud".into(),
+        baud.to_string(),
+    ]
+}
+
+/// The board started with `opts`, connected and past boot (`None`: the test is skipped).
+pub fn start(test: &str, opts: Options) -> Result<Option<(Target, Link)>> {
+    let Some(board) = Target::start(test, opts)? else {
+        return Ok(None);
+    };
+    board.wait_for_log("host connected", Duration::from_secs(5))?;
+    let link = Link::open(board.port())?;
+    Ok(Some((board, link)))
+}
 
 /// The board with `servos` virtual servos (IDs 1..=servos) on its bus at `baud`, connected and
 /// past boot; `hil_bus` is the servo chain program, `env!("CARGO_BIN_EXE_hil-bus")` in a test.
@@ -21,21 +44,33 @@ pub fn start_with_servos(
     baud: u32,
 ) -> Result<Option<(Target, Link)>> {
     let opts = Options {
-        bus: Some(vec![
-            hil_bus.into(),
-            "--servos".into(),
-            servos.to_string(),
-            "--baud".into(),
-            baud.to_string(),
-        ]),
+        bus: Some(servo_bus(hil_bus, servos, baud)),
         ..Options::default()
     };
-    let Some(board) = Target::start(test, opts)? else {
-        return Ok(None);
-    };
-    board.wait_for_log("host connected", Duration::from_secs(5))?;
-    let link = Link::open(board.port())?;
-    Ok(Some((board, link)))
+    start(test, opts)
+}
+
+/// Uploads the sine gait `name` (40 slices, 0.2 rad, [`sine_gait`]) into slot 0 and, with
+/// `telemetry_every`, sets telemetry to every that many cycles (0: off). The table's bytes.
+pub fn upload_sine_gait(
+    link: &mut Link,
+    name: &str,
+    telemetry_every: Option<u16>,
+) -> Result<Vec<u8>> {
+    let (builder, table) = sine_gait(name, 40, 0.2)?;
+    let r = upload(link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
+    ensure!(
+        r == Response::Committed {
+            slot: 0,
+            crc: crc32(&table)
+        },
+        "upload of {name}: {r:?}"
+    );
+    if let Some(every) = telemetry_every {
+        let r: Response = link.request(&Request::SetTelemetry { every }, T)?;
+        ensure!(r == Response::Ack, "SetTelemetry answered {r:?}");
+    }
+    Ok(table)
 }
 
 /// The telemetry records among `msgs`.
@@ -75,6 +110,16 @@ pub fn start_playing(link: &mut Link, slot: u8, direction: Direction, steps: Ste
     bail!("the board refused Play for 5 s (wall) with WrongState; its status then: {status}")
 }
 
+/// Collects telemetry into `out` for 100 ms (wall), then asks for the status, keeping the telemetry
+/// that arrived before its reply too; a fault is an error. The status.
+pub fn poll_walking(link: &mut Link, out: &mut Vec<Telemetry>) -> Result<Status> {
+    out.extend(telemetry(&link.collect(Duration::from_millis(100))?));
+    let s: Status = link.request(&Request::GetStatus, T)?;
+    out.extend(telemetry(&link.unsolicited.drain(..).collect::<Vec<_>>()));
+    ensure!(s.fault.is_none(), "fault while walking: {s:?}");
+    Ok(s)
+}
+
 /// Plays `steps` steps and collects telemetry until the board stands again.
 pub fn play_steps(
     link: &mut Link,
@@ -86,10 +131,7 @@ pub fn play_steps(
     let mut out = Vec::new();
     let mut walked = false;
     for _ in 0..600 {
-        out.extend(telemetry(&link.collect(Duration::from_millis(100))?));
-        let s: Status = link.request(&Request::GetStatus, T)?;
-        out.extend(telemetry(&link.unsolicited.drain(..).collect::<Vec<_>>()));
-        ensure!(s.fault.is_none(), "fault while walking: {s:?}");
+        let s = poll_walking(link, &mut out)?;
         walked |= matches!(s.state, RunState::Walking | RunState::Stopping);
         if walked && s.state == RunState::Standing {
             // The last cycles' records may still be on their way.

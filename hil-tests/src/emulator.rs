@@ -354,6 +354,15 @@ impl Emulator {
         self.command(json!({"cmd": "save_flash"})).map(drop)
     }
 
+    /// Stops the runner's recording `cmd` and returns its entries, the array `field` of the answer.
+    fn stop_trace(&self, cmd: &str, field: &str) -> Result<Vec<Value>> {
+        let mut r = self.command(json!({"cmd": cmd, "on": false}))?;
+        Ok(match r.get_mut(field).map(Value::take) {
+            Some(Value::Array(entries)) => entries,
+            _ => Vec::new(),
+        })
+    }
+
     /// Starts recording the start times of bus bursts (board transmissions).
     pub fn bus_trace_start(&self) -> Result<()> {
         self.command(json!({"cmd": "bus_trace", "on": true}))
@@ -362,17 +371,17 @@ impl Emulator {
 
     /// Stops recording and returns every burst the board transmitted since the start.
     pub fn bus_trace_stop(&self) -> Result<Vec<BusBurst>> {
-        let r = self.command(json!({"cmd": "bus_trace", "on": false}))?;
-        let bursts = r["bursts"].as_array().cloned().unwrap_or_default();
-        Ok(bursts.iter().map(burst).collect())
+        Ok(self
+            .stop_trace("bus_trace", "bursts")?
+            .iter()
+            .map(burst)
+            .collect())
     }
 
     /// Like [`Self::bus_trace_stop`], with the bytes of every burst (the recording must have been
     /// started with [`Self::bus_trace_start`]).
     pub fn bus_trace_stop_bytes(&self) -> Result<Vec<TracedBurst>> {
-        let r = self.command(json!({"cmd": "bus_trace", "on": false}))?;
-        let bursts = r["bursts"].as_array().cloned().unwrap_or_default();
-        bursts
+        self.stop_trace("bus_trace", "bursts")?
             .iter()
             .map(|b| {
                 Ok(TracedBurst {
@@ -399,9 +408,7 @@ impl Emulator {
 
     /// Stops recording and returns what the USB OUT path saw since the start, oldest first.
     pub fn usb_trace_stop(&self) -> Result<Vec<UsbOut>> {
-        let r = self.command(json!({"cmd": "usb_trace", "on": false}))?;
-        let entries = r["packets"].as_array().cloned().unwrap_or_default();
-        entries
+        self.stop_trace("usb_trace", "packets")?
             .iter()
             .map(|e| {
                 let at = nanos(&e["sim_ns"]);

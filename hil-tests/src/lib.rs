@@ -5,6 +5,7 @@
 //! then talk to `board.port()` like to `/dev/ttyACM0` and read `board.wait_for_log(..)`; emulator-only
 //! controls (reset, flash file, fault injection, bus trace) are on `board.emulator()`.
 
+pub mod bus_trace;
 pub mod drive;
 pub mod emulator;
 pub mod gait;
@@ -13,6 +14,7 @@ pub mod link;
 pub mod paths;
 pub mod pty;
 pub mod servo_bus;
+pub mod state_log;
 pub mod target;
 
 pub use emulator::{BusBurst, Echo, Emulator, LogLine, Options, TracedBurst, UsbOut};

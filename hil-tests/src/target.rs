@@ -57,6 +57,18 @@ impl Target {
         }
     }
 
+    /// Lets `d` pass on the board: simulated time on the emulator (it runs that long), wall time
+    /// on a real board.
+    pub fn run_for(&self, d: Duration) -> Result<()> {
+        match self {
+            Self::Emulator(e) => e.run_for(d).map(drop),
+            Self::Real(_) => {
+                std::thread::sleep(d);
+                Ok(())
+            }
+        }
+    }
+
     /// Waits for a log line containing `needle`: `timeout` is simulated time on the emulator and
     /// wall time on a real board.
     pub fn wait_for_log(&self, needle: &str, timeout: Duration) -> Result<String> {

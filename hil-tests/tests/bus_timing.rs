@@ -4,10 +4,10 @@
 //! cycle must shrink with the baud rate.
 
 use anyhow::{Result, ensure};
-use hil_tests::drive::{T, start_playing, start_with_servos};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::drive::{T, start_playing, start_with_servos, upload_sine_gait};
+use hil_tests::gait::JOINTS;
 use protocol::message::{Direction, Status, Steps};
-use protocol::{MAX_CHUNK_LEN, Request, Response};
+use protocol::{Request, Response};
 use std::time::Duration;
 
 const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
@@ -32,13 +32,9 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
         hil_tests::target::skip(test, "the wire trace needs the emulator")?;
         return Ok(None);
     };
-    let (builder, table) = sine_gait("timing", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
     // Telemetry off: the link task's work every cycle delays the bus task's direction-pin release
     // (see safety.rs, a_busy_host_link_does_not_cost_servo_replies); this test measures the bus.
-    let r: Response = link.request(&Request::SetTelemetry { every: 0 }, T)?;
-    ensure!(r == Response::Ack, "SetTelemetry answered {r:?}");
+    upload_sine_gait(&mut link, "timing", Some(0))?;
     let r: Response = link.request(&Request::SetBus { baud, cycle_hz }, T)?;
     ensure!(r == Response::Ack, "SetBus answered {r:?}");
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;

@@ -3,11 +3,11 @@
 //! lines must name each move through the state diagram of firmware/src/safety/mod.rs, in order,
 //! with the faulted joint, its servo ID and the overload bit read back from the servo.
 
-use anyhow::{Result, ensure};
-use hil_tests::drive::{T, start_playing, start_with_servos};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use anyhow::Result;
+use hil_tests::drive::{start_playing, start_with_servos, upload_sine_gait};
+use hil_tests::gait::JOINTS;
+use hil_tests::state_log::{UPLOAD_AND_WALK, ensure_state_changes, state_lines};
 use protocol::message::{Direction, Steps};
-use protocol::{MAX_CHUNK_LEN, Response};
 use serde_json::json;
 use std::time::Duration;
 
@@ -25,9 +25,7 @@ fn state_changes_and_a_servo_fault_are_logged_over_defmt() -> Result<()> {
             "injecting an overload needs the emulator's servo model",
         );
     };
-    let (builder, table) = sine_gait("device-log", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
+    upload_sine_gait(&mut link, "device-log", None)?;
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
     let s = Duration::from_secs(5);
     board.wait_for_log("state Ramping -> Walking on Event(RampDone)", s)?;
@@ -38,34 +36,18 @@ fn state_changes_and_a_servo_fault_are_logged_over_defmt() -> Result<()> {
     board.wait_for_log(bits, s)?;
     emu.run_for(Duration::from_millis(200))?;
 
-    // The empty store has no joint map, so the first boot ends at once; the upload brings one and
-    // the board looks for its servos; Play ramps, then walks; the overload stops it.
+    // The board walks from an empty store (see UPLOAD_AND_WALK); the overload stops it.
     let want = [
-        "state Boot -> Idle on Event(BootDone)",
-        "state Idle -> Boot on NewJointMap",
-        "state Boot -> Idle on Event(BootDone)",
-        "state Idle -> Ramping on Event(Start)",
-        "state Ramping -> Walking on Event(RampDone)",
-        "state Walking -> Safe(ServoError { joint: 2, id: 3, error: 0 }) on \
-         Event(Fault(ServoError { joint: 2, id: 3, error: 0 }))",
-        bits,
-    ];
-    let lines: Vec<String> = emu
-        .logs()
-        .into_iter()
-        .map(|l| l.text)
-        .filter(|t| t.contains("state ") || t.contains("fault "))
-        .collect();
+        &UPLOAD_AND_WALK[..],
+        &[
+            "state Walking -> Safe(ServoError { joint: 2, id: 3, error: 0 }) on \
+             Event(Fault(ServoError { joint: 2, id: 3, error: 0 }))",
+            bits,
+        ],
+    ]
+    .concat();
+    let lines = state_lines(emu);
     println!("{}", lines.join("\n"));
-    let got: Vec<&str> = lines
-        .iter()
-        .map(|t| t.find("state ").map_or(t.as_str(), |i| &t[i..]))
-        .collect();
-    ensure!(
-        got == want,
-        "logged state changes:\n{}\nexpected:\n{}",
-        got.join("\n"),
-        want.join("\n")
-    );
+    ensure_state_changes(&lines, &want)?;
     Ok(())
 }

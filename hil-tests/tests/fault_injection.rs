@@ -8,13 +8,13 @@
 use anyhow::{Context, Result, bail, ensure};
 use dynamixel::parser::Parser;
 use dynamixel::sim::VirtualChain;
-use hil_tests::drive::{T, start_playing, start_with_servos, telemetry};
+use hil_tests::drive::{T, start_playing, start_with_servos, telemetry, upload_sine_gait};
 use hil_tests::emulator::Emulator;
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::gait::JOINTS;
 use hil_tests::link::Link;
 use hil_tests::servo_bus::ServoBus;
 use protocol::message::{Direction, FaultKind, RunState, Status, Steps};
-use protocol::{MAX_CHUNK_LEN, Request, Response, Telemetry, feedback_flags};
+use protocol::{Request, Response, Telemetry, feedback_flags};
 use serde_json::json;
 use std::time::{Duration, Instant};
 
@@ -143,11 +143,7 @@ fn walking(test: &str) -> Result<Option<(hil_tests::Target, Link)>> {
         )?;
         return Ok(None);
     }
-    let (builder, table) = sine_gait("faults", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
-    let r: Response = link.request(&Request::SetTelemetry { every: 1 }, T)?;
-    ensure!(r == Response::Ack, "{r:?}");
+    upload_sine_gait(&mut link, "faults", Some(1))?;
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
     let emu = board.emulator().context("emulator")?;
     wait_state(emu, &mut link, RunState::Walking)?;

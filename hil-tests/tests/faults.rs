@@ -3,45 +3,55 @@
 //! walking, and a chip reset while walking. (Overload, a silent host, bad frames: tests/safety.rs;
 //! reset during an upload: tests/link.rs; the soak: tests/soak.rs.)
 
-use anyhow::{Result, ensure};
-use hil_tests::drive::{T, start_playing, start_with_servos};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use anyhow::{Context, Result, ensure};
+use hil_tests::drive::{T, start_playing, start_with_servos, upload_sine_gait};
+use hil_tests::gait::{JOINTS, crc32};
 use hil_tests::link::Link;
+use hil_tests::{Emulator, Target};
 use protocol::message::{Direction, RunState, Status, Steps};
-use protocol::{MAX_CHUNK_LEN, Request, Response};
+use protocol::{Request, Response};
 use std::time::Duration;
 
 const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
 
-fn walking(test: &str) -> Result<Option<(hil_tests::Target, Link, u32)>> {
+/// The emulated board walking the sine gait continuously, and the upload's CRC; `None` when the
+/// test is skipped (on a real board: `needs` says why it needs the emulator).
+fn walking(test: &str, needs: &str) -> Result<Option<(Target, Link, u32)>> {
     let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, 1_000_000)? else {
         return Ok(None);
     };
-    let (builder, table) = sine_gait("faults", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    let Response::Committed { crc, .. } = r else {
-        anyhow::bail!("upload: {r:?}");
-    };
+    if board.emulator().is_none() {
+        hil_tests::target::skip(test, needs)?;
+        return Ok(None);
+    }
+    let crc = crc32(&upload_sine_gait(&mut link, "faults", None)?);
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
     Ok(Some((board, link, crc)))
 }
 
-#[test]
-fn usb_unplugged_and_back_while_walking_the_gait_goes_on() -> Result<()> {
-    let Some((board, link, _)) = walking("usb_replug_walking")? else {
-        return Ok(());
-    };
-    let Some(emu) = board.emulator() else {
-        return hil_tests::target::skip("usb_replug_walking", "re-plugging USB needs the emulator");
-    };
-    emu.run_for(Duration::from_millis(500))?;
+/// Drops `link`, cuts the board's USB with `cut` (a re-plug, a chip reset), waits until the host
+/// has it configured again and opens a new link.
+fn reconnect(board: &Target, link: Link, cut: impl Fn(&Emulator) -> Result<()>) -> Result<Link> {
+    let emu = board.emulator().context("emulator")?;
     let before = emu.events("usb_configured").len();
     drop(link);
-    emu.usb_replug()?;
+    cut(emu)?;
     emu.wait_event_n("usb_configured", before + 1, Duration::from_secs(30))?;
+    Link::open(board.port())
+}
+
+#[test]
+fn usb_unplugged_and_back_while_walking_the_gait_goes_on() -> Result<()> {
+    let Some((board, link, _)) =
+        walking("usb_replug_walking", "re-plugging USB needs the emulator")?
+    else {
+        return Ok(());
+    };
+    let emu = board.emulator().context("emulator")?;
+    emu.run_for(Duration::from_millis(500))?;
+    let mut link = reconnect(&board, link, Emulator::usb_replug)?;
     let t0 = emu.sim_time()?;
     emu.run_for(Duration::from_secs(1))?;
-    let mut link = Link::open(board.port())?;
     let s: Status = link.request(&Request::GetStatus, T)?;
     ensure!(
         s.state == RunState::Walking && s.fault.is_none(),
@@ -55,12 +65,12 @@ fn usb_unplugged_and_back_while_walking_the_gait_goes_on() -> Result<()> {
 
 #[test]
 fn a_reset_while_walking_comes_up_idle_with_the_gait_kept() -> Result<()> {
-    let Some((board, link, crc)) = walking("reset_walking")? else {
+    let Some((board, link, crc)) =
+        walking("reset_walking", "resetting the chip needs the emulator")?
+    else {
         return Ok(());
     };
-    let Some(emu) = board.emulator() else {
-        return hil_tests::target::skip("reset_walking", "resetting the chip needs the emulator");
-    };
+    let emu = board.emulator().context("emulator")?;
     emu.run_for(Duration::from_millis(700))?;
     let mut link = link;
     let stored = slot0(&mut link)?;
@@ -68,11 +78,7 @@ fn a_reset_while_walking_comes_up_idle_with_the_gait_kept() -> Result<()> {
         stored.is_some(),
         "slot 0 holds the upload (Committed CRC {crc:#x})"
     );
-    let before = emu.events("usb_configured").len();
-    drop(link);
-    emu.reset()?;
-    emu.wait_event_n("usb_configured", before + 1, Duration::from_secs(30))?;
-    let mut link = Link::open(board.port())?;
+    let mut link = reconnect(&board, link, Emulator::reset)?;
     // Nothing moves on its own after a reset.
     emu.run_for(Duration::from_millis(500))?;
     let s: Status = link.request(&Request::GetStatus, T)?;

@@ -4,29 +4,25 @@
 //! answered with errors while the board keeps serving requests.
 
 use anyhow::{Context, Result, ensure};
+use hil_tests::drive::{self, T};
 use hil_tests::gait::{crc32, sine_gait, upload};
 use hil_tests::link::Link;
 use hil_tests::{Options, Target};
+use protocol::gait::GaitTableBuilder;
 use protocol::message::{DeviceInfo, SlotInfo, Status};
 use protocol::{DeviceMessage, FrameError, MAX_CHUNK_LEN, Request, Response};
 use std::time::Duration;
 
-/// Wall-clock bound per request (the emulator answers in well under a second).
-const T: Duration = Duration::from_secs(10);
 const FLASH_SIZE: usize = 2 * 1024 * 1024;
 const GAIT_STORE: usize = 0x8_0000;
 
+/// The board on `flash_file` (a fresh flash when `None`), connected and past boot.
 fn start(test: &str, flash_file: Option<std::path::PathBuf>) -> Result<Option<(Target, Link)>> {
     let opts = Options {
         flash_file,
         ..Options::default()
     };
-    let Some(board) = Target::start(test, opts)? else {
-        return Ok(None);
-    };
-    board.wait_for_log("host connected", Duration::from_secs(5))?;
-    let link = Link::open(board.port())?;
-    Ok(Some((board, link)))
+    drive::start(test, opts)
 }
 
 fn slots(link: &mut Link) -> Result<heapless::Vec<SlotInfo, { protocol::MAX_SLOTS }>> {
@@ -72,24 +68,8 @@ fn uploaded_gait_is_listed_and_stored_byte_for_byte_in_flash() -> Result<()> {
     let Some((board, mut link)) = start("upload", Some(flash_file.clone()))? else {
         return Ok(());
     };
-    let (builder, table) = sine_gait("hil-upload", 40, 0.3)?;
-    let r = upload(&mut link, 1, &builder, &table, MAX_CHUNK_LEN, T)?;
-    assert_eq!(
-        r,
-        Response::Committed {
-            slot: 1,
-            crc: crc32(&table)
-        }
-    );
-    let listed = slots(&mut link)?;
-    let slot1 = listed
-        .iter()
-        .find(|s| s.slot == 1)
-        .context("slot 1 listed")?;
-    let summary = slot1.gait.context("slot 1 holds a gait")?;
-    // The slot reports the table's own stored CRC: CRC-32 of everything before its last 4 bytes.
-    assert_eq!(summary.crc, crc32(&table[..table.len() - 4]));
-    assert_eq!(summary.header, builder.header()?);
+    let (builder, table) = upload_committed(&mut link, 1, "hil-upload", 40, 0.3)?;
+    ensure_slot_holds(&mut link, 1, &builder, &table)?;
     if let Some(emu) = board.emulator() {
         emu.save_flash()?;
         let flash = std::fs::read(&flash_file)?;
@@ -114,16 +94,8 @@ fn reset_during_upload(test: &str, nth: u32, torn: Option<u32>) -> Result<()> {
     let Some(emu) = board.emulator() else {
         return hil_tests::target::skip(test, "resetting mid-write needs the emulator");
     };
-    let (a_builder, a) = sine_gait("gait-a", 40, 0.3)?;
+    let (a_builder, a) = upload_committed(&mut link, 0, "gait-a", 40, 0.3)?;
     let (b_builder, b) = sine_gait("gait-b", 60, 0.2)?;
-    let r = upload(&mut link, 0, &a_builder, &a, MAX_CHUNK_LEN, T)?;
-    assert_eq!(
-        r,
-        Response::Committed {
-            slot: 0,
-            crc: crc32(&a)
-        }
-    );
     let programs_before = emu.stats()?["flash"]["programs"].as_u64().unwrap_or(0);
     emu.reset_on_flash_program(nth, torn)?;
     // The reset cuts the upload: requests after it go unanswered until the board is back.
@@ -145,18 +117,53 @@ fn reset_during_upload(test: &str, nth: u32, torn: Option<u32>) -> Result<()> {
     emu.wait_event_n("usb_configured", 2, Duration::from_secs(30))?;
     emu.run_for(Duration::from_millis(50))?;
     let mut link = Link::open(board.port())?;
-    let listed = slots(&mut link)?;
-    let slot0 = listed
-        .iter()
-        .find(|s| s.slot == 0)
-        .context("slot 0 listed")?;
-    let summary = slot0.gait.context("slot 0 lost its gait")?;
-    assert_eq!(
-        summary.crc,
-        crc32(&a[..a.len() - 4]),
-        "slot 0 holds gait A after the reset"
+    // Slot 0 holds gait A after the reset.
+    ensure_slot_holds(&mut link, 0, &a_builder, &a)
+}
+
+/// Uploads the sine gait `name` ([`sine_gait`]) into `slot`; the commit must name the slot and
+/// the table's CRC-32.
+fn upload_committed(
+    link: &mut Link,
+    slot: u8,
+    name: &str,
+    slices: usize,
+    amp_rad: f64,
+) -> Result<(GaitTableBuilder, Vec<u8>)> {
+    let (builder, table) = sine_gait(name, slices, amp_rad)?;
+    let r = upload(link, slot, &builder, &table, MAX_CHUNK_LEN, T)?;
+    let crc = crc32(&table);
+    ensure!(
+        r == Response::Committed { slot, crc },
+        "upload of {name}: {r:?}"
     );
-    assert_eq!(summary.header, a_builder.header()?);
+    Ok((builder, table))
+}
+
+/// The board lists `slot` holding `table` of `builder`: its header, and the table's own stored
+/// CRC (CRC-32 of everything before the table's last 4 bytes).
+fn ensure_slot_holds(
+    link: &mut Link,
+    slot: u8,
+    builder: &GaitTableBuilder,
+    table: &[u8],
+) -> Result<()> {
+    let listed = slots(link)?;
+    let info = listed
+        .iter()
+        .find(|s| s.slot == slot)
+        .with_context(|| format!("slot {slot} listed"))?;
+    let summary = info
+        .gait
+        .with_context(|| format!("slot {slot} holds no gait"))?;
+    ensure!(
+        summary.crc == crc32(&table[..table.len() - 4]),
+        "slot {slot}: {summary:?}"
+    );
+    ensure!(
+        summary.header == builder.header()?,
+        "slot {slot}: {summary:?}"
+    );
     Ok(())
 }
 
@@ -169,6 +176,18 @@ fn reset_at_the_first_flash_write_of_an_upload_keeps_the_old_gait() -> Result<()
 fn reset_mid_write_of_an_upload_keeps_the_old_gait() -> Result<()> {
     reset_during_upload("reset_torn_write", 3, Some(100))
 }
+
+/// A fresh board that was sent a garbage frame and an oversized one: its link, the status before,
+/// the status after and the rejections the board sent (`None`: the test is skipped).
+fn bad_frames_on_a_fresh_board(test: &str) -> Result<Option<BadFrames>> {
+    let Some((board, mut link)) = start(test, None)? else {
+        return Ok(None);
+    };
+    let (before, after, rejected) = send_bad_frames(&mut link)?;
+    Ok(Some((board, link, before, after, rejected)))
+}
+
+type BadFrames = (Target, Link, Status, Status, Vec<FrameError>);
 
 /// Sends a garbage frame and an oversized one; returns the status before, the status after and the
 /// rejections the board sent.
@@ -194,10 +213,10 @@ fn send_bad_frames(link: &mut Link) -> Result<(Status, Status, Vec<FrameError>)>
 
 #[test]
 fn garbage_and_oversized_frames_are_rejected_and_the_board_keeps_serving() -> Result<()> {
-    let Some((_board, mut link)) = start("garbage", None)? else {
+    let Some((_board, mut link, before, after, rejected)) = bad_frames_on_a_fresh_board("garbage")?
+    else {
         return Ok(());
     };
-    let (before, after, rejected) = send_bad_frames(&mut link)?;
     assert_eq!(
         rejected.len(),
         2,
@@ -216,10 +235,10 @@ fn garbage_and_oversized_frames_are_rejected_and_the_board_keeps_serving() -> Re
 
 #[test]
 fn status_counts_rejected_frames() -> Result<()> {
-    let Some((_board, mut link)) = start("rejected_counter", None)? else {
+    let Some((_board, _, before, after, _)) = bad_frames_on_a_fresh_board("rejected_counter")?
+    else {
         return Ok(());
     };
-    let (before, after, _) = send_bad_frames(&mut link)?;
     assert_eq!(
         after.counters.rejected_frames,
         before.counters.rejected_frames + 2

@@ -12,9 +12,7 @@
 //! write (the test raced the emulator).
 
 use anyhow::{Context, Result, bail, ensure};
-use dynamixel::control_table::GOAL_POSITION;
-use dynamixel::parser::Parser;
-use hil_tests::TracedBurst;
+use hil_tests::bus_trace::goal_writes;
 use hil_tests::drive::{T, play_steps, start_with_servos};
 use hil_tests::gait::{JOINTS, sine_gait, upload};
 use hil_tests::link::Link;
@@ -26,8 +24,6 @@ use protocol::{
 use std::time::Duration;
 
 const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
-/// Sync Write instruction (e-manual).
-const SYNC_WRITE: u8 = 0x83;
 const PLATFORM_ID: u8 = 23;
 
 fn setup(step: u32) -> PlatformSetup {
@@ -54,41 +50,6 @@ fn prepare(link: &mut Link, step: u32) -> Result<PlatformStatus> {
         std::thread::sleep(Duration::from_millis(100));
     }
     bail!("the board did not check the platform servo within 5 s (wall)")
-}
-
-/// A Goal Position Sync Write: its burst's start (simulated time) and each servo's goal, ticks,
-/// by ID.
-type GoalWrite = (Duration, Vec<(u8, i32)>);
-
-/// Every Goal Position Sync Write on the wire.
-fn goal_writes(bursts: &[TracedBurst]) -> Result<Vec<GoalWrite>> {
-    let mut out = Vec::new();
-    for b in bursts {
-        let mut parser = Parser::<1024>::new();
-        ensure!(parser.feed(&b.bytes) == b.bytes.len(), "burst too long");
-        while let Some(frame) = parser.next_frame() {
-            let f = frame.map_err(|e| anyhow::anyhow!("corrupt packet on the bus: {e:?}"))?;
-            if f.instruction != SYNC_WRITE {
-                continue;
-            }
-            // Sync Write parameters (e-manual): address (2, LE), length (2, LE), then per servo
-            // its ID and `length` data bytes.
-            let p = f.params;
-            ensure!(p.len() >= 4, "short Sync Write");
-            let addr = u16::from_le_bytes([p[0], p[1]]);
-            let len = usize::from(u16::from_le_bytes([p[2], p[3]]));
-            if addr != GOAL_POSITION.addr || len != 4 {
-                continue;
-            }
-            let mut goals: Vec<(u8, i32)> = p[4..]
-                .chunks_exact(5)
-                .map(|c| (c[0], i32::from_le_bytes([c[1], c[2], c[3], c[4]])))
-                .collect();
-            goals.sort_by_key(|g| g.0);
-            out.push((b.burst.start, goals));
-        }
-    }
-    Ok(out)
 }
 
 #[test]

@@ -3,10 +3,10 @@
 //! host that stops reading must not stop the gait; its telemetry resumes when it reads again.
 
 use anyhow::{Context, Result, ensure};
-use hil_tests::drive::{T, start_playing, start_with_servos, telemetry};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use hil_tests::drive::{T, start_playing, start_with_servos, telemetry, upload_sine_gait};
+use hil_tests::gait::JOINTS;
+use protocol::Request;
 use protocol::message::{Direction, FaultKind, RunState, Status, Steps};
-use protocol::{MAX_CHUNK_LEN, Request, Response};
 use serde_json::json;
 use std::time::{Duration, Instant};
 
@@ -18,11 +18,7 @@ fn walking(test: &str) -> Result<Option<(hil_tests::Target, hil_tests::link::Lin
     let Some((board, mut link)) = start_with_servos(test, HIL_BUS, JOINTS, 1_000_000)? else {
         return Ok(None);
     };
-    let (builder, table) = sine_gait("safety", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    ensure!(matches!(r, Response::Committed { .. }), "{r:?}");
-    let r: Response = link.request(&Request::SetTelemetry { every: 1 }, T)?;
-    ensure!(r == Response::Ack, "{r:?}");
+    upload_sine_gait(&mut link, "safety", Some(1))?;
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
     Ok(Some((board, link)))
 }
@@ -158,9 +154,7 @@ fn bad_frames_while_walking_are_rejected_and_the_gait_goes_on() -> Result<()> {
     let Some((board, mut link)) = walking("bad_frames_walking")? else {
         return Ok(());
     };
-    if let Some(emu) = board.emulator() {
-        emu.run_for(Duration::from_millis(700))?;
-    }
+    board.run_for(Duration::from_millis(700))?;
     let before: Status = link.request(&Request::GetStatus, T)?;
     ensure!(before.state == RunState::Walking, "{before:?}");
     link.unsolicited.clear();
@@ -168,11 +162,7 @@ fn bad_frames_while_walking_are_rejected_and_the_gait_goes_on() -> Result<()> {
     link.send_raw(&[0x05, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x00])?;
     link.send_raw(&vec![0x42u8; protocol::MAX_FRAME_LEN * 3])?;
     link.send_raw(&[0x00])?;
-    if let Some(emu) = board.emulator() {
-        emu.run_for(Duration::from_millis(700))?;
-    } else {
-        std::thread::sleep(Duration::from_millis(700));
-    }
+    board.run_for(Duration::from_millis(700))?;
     let after: Status = link.request(&Request::GetStatus, T)?;
     let rejected = link
         .unsolicited
@@ -203,9 +193,7 @@ fn a_busy_host_link_does_not_cost_servo_replies() -> Result<()> {
     let Some((board, mut link)) = walking("busy_link")? else {
         return Ok(());
     };
-    if let Some(emu) = board.emulator() {
-        emu.run_for(Duration::from_millis(500))?;
-    }
+    board.run_for(Duration::from_millis(500))?;
     let before: Status = link.request(&Request::GetStatus, T)?;
     // As fast as the host can ask: 400 status and device-info round trips while walking.
     for _ in 0..400 {

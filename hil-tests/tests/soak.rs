@@ -16,13 +16,14 @@
 //! seed (default 9); the short run in the normal suite is 24 s with one overload.
 
 use anyhow::{Context, Result, bail, ensure};
-use hil_tests::drive::{T, start_playing, telemetry};
-use hil_tests::gait::{JOINTS, sine_gait, upload};
+use fastrand::Rng;
+use hil_tests::drive::{T, servo_bus, start, start_playing, telemetry, upload_sine_gait};
+use hil_tests::gait::JOINTS;
 use hil_tests::link::Link;
-use hil_tests::{Emulator, Options, Target};
+use hil_tests::{Emulator, Options};
 use protocol::client::Client;
 use protocol::message::{Direction, FaultKind, RunState, ServoSelect, Status, Steps};
-use protocol::{DeviceMessage, MAX_CHUNK_LEN, Request, Response};
+use protocol::{DeviceMessage, Request, Response};
 use serde_json::json;
 use std::time::{Duration, Instant};
 
@@ -53,23 +54,6 @@ fn soak_long_walk_with_link_noise_and_servo_overloads() -> Result<()> {
         env("DBOT_SOAK_SEED", 9)?,
         Some((120, 240)),
     )
-}
-
-/// A small fixed-seed generator (xorshift64*): the run is repeatable from its seed.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
-    /// Uniform in `lo..hi`.
-    fn range(&mut self, lo: u64, hi: u64) -> u64 {
-        lo + self.next() % (hi - lo)
-    }
 }
 
 /// What the soak injected and saw.
@@ -118,27 +102,17 @@ fn soak(test: &str, sim_s: u64, seed: u64, fault_every: Option<(u64, u64)>) -> R
     let dir = tempfile::tempdir()?;
     let flash_file = dir.path().join("flash.bin");
     let opts = Options {
-        bus: Some(vec![
-            HIL_BUS.into(),
-            "--servos".into(),
-            JOINTS.to_string(),
-            "--baud".into(),
-            "1000000".into(),
-        ]),
+        bus: Some(servo_bus(HIL_BUS, JOINTS, 1_000_000)),
         flash_file: Some(flash_file.clone()),
         ..Options::default()
     };
-    let Some(board) = Target::start(test, opts)? else {
+    let Some((board, mut link)) = start(test, opts)? else {
         return Ok(());
     };
     let Some(emu) = board.emulator() else {
         return hil_tests::target::skip(test, "injecting faults needs the emulator");
     };
-    board.wait_for_log("host connected", Duration::from_secs(5))?;
-    let mut link = Link::open(board.port())?;
-    let (builder, table) = sine_gait("soak", 40, 0.2)?;
-    let r = upload(&mut link, 0, &builder, &table, MAX_CHUNK_LEN, T)?;
-    ensure!(matches!(r, Response::Committed { .. }), "upload: {r:?}");
+    let table = upload_sine_gait(&mut link, "soak", None)?;
     let listed = slot0(&mut link)?;
     emu.save_flash()?;
     let store_before = std::fs::read(&flash_file)?[GAIT_STORE].to_vec();
@@ -148,14 +122,15 @@ fn soak(test: &str, sim_s: u64, seed: u64, fault_every: Option<(u64, u64)>) -> R
     );
     start_playing(&mut link, 0, Direction::Forward, Steps::Continuous)?;
 
-    let mut rng = Rng(seed.max(1));
+    // Seeded: the run is repeatable from its seed.
+    let mut rng = Rng::with_seed(seed);
     let mut client = Client::new();
     let mut tally = Tally::default();
     let s0: Status = link.request(&Request::GetStatus, T)?;
     tally.first_cycle = s0.counters.cycles;
     let (t0, wall0) = (emu.sim_time()?, Instant::now());
     let mut next_fault = match fault_every {
-        Some((lo, hi)) => Duration::from_secs(rng.range(lo, hi)),
+        Some((lo, hi)) => Duration::from_secs(rng.u64(lo..hi)),
         None => Duration::from_secs(sim_s / 2),
     };
     let mut next_report = Duration::from_secs(60);
@@ -177,7 +152,7 @@ fn soak(test: &str, sim_s: u64, seed: u64, fault_every: Option<(u64, u64)>) -> R
         if elapsed >= next_fault {
             overload_and_recover(emu, &mut link, &mut rng, &mut tally)?;
             next_fault = match fault_every {
-                Some((lo, hi)) => elapsed + Duration::from_secs(rng.range(lo, hi)),
+                Some((lo, hi)) => elapsed + Duration::from_secs(rng.u64(lo..hi)),
                 None => Duration::MAX,
             };
         }
@@ -232,27 +207,26 @@ fn send_bad_frame(
     rng: &mut Rng,
     t: &mut Tally,
 ) -> Result<()> {
-    let frame = match rng.range(0, 3) {
+    let frame = match rng.u8(..3) {
         0 => {
             t.garbage += 1;
-            let len = rng.range(1, 40) as usize;
-            let mut f: Vec<u8> = (0..len).map(|_| rng.range(1, 256) as u8).collect();
+            let len = rng.usize(1..40);
+            let mut f: Vec<u8> = (0..len).map(|_| rng.u8(1..)).collect();
             f.push(0);
             f
         }
         kind => {
-            let request =
-                [Request::GetStatus, Request::ListGaits][rng.range(0, 2) as usize].clone();
+            let request = [Request::GetStatus, Request::ListGaits][rng.usize(..2)].clone();
             let (_, mut f) = client
                 .request_frame(&request)
                 .map_err(|e| anyhow::anyhow!("cannot encode {request:?}: {e:?}"))?;
             ensure!(f.last() == Some(&0) && f.len() > 2, "frame {f:02x?}");
-            let i = rng.range(0, f.len() as u64 - 1) as usize;
+            let i = rng.usize(..f.len() - 1);
             if kind == 1 {
                 t.flipped += 1;
                 let old = f[i];
                 let new = loop {
-                    let b = old ^ rng.range(1, 256) as u8;
+                    let b = old ^ rng.u8(1..);
                     if b != 0 {
                         break b;
                     }
@@ -277,7 +251,7 @@ fn overload_and_recover(
     rng: &mut Rng,
     t: &mut Tally,
 ) -> Result<()> {
-    let id = rng.range(1, JOINTS as u64 + 1) as u8;
+    let id = rng.u8(1..=JOINTS as u8);
     let joint = id - 1; // sine_gait maps joint j to servo ID j + 1
     emu.bus_control(json!({ "overload": id }))?;
     t.overloads += 1;

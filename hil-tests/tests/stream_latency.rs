@@ -19,8 +19,7 @@
 //! last Sync Write before it) and must cover every tenth of the cycle.
 
 use anyhow::{Context, Result, bail, ensure};
-use dynamixel::control_table::GOAL_POSITION;
-use dynamixel::parser::Parser;
+use hil_tests::bus_trace::goal_writes_of_whole_bursts;
 use hil_tests::drive::{T, start_playing, start_with_servos};
 use hil_tests::gait::{JOINTS, sine_gait, upload};
 use hil_tests::link::Link;
@@ -33,8 +32,6 @@ use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 const HIL_BUS: &str = env!("CARGO_BIN_EXE_hil-bus");
-/// Sync Write instruction (e-manual).
-const SYNC_WRITE: u8 = 0x83;
 /// Setpoints measured per rate.
 const SAMPLES: u32 = 100;
 /// Sequence number of the first measured setpoint.
@@ -359,58 +356,19 @@ fn arrivals(trace: &[UsbOut]) -> Result<HashMap<u32, (Duration, Duration)>> {
     Ok(out)
 }
 
-/// Every Sync Write of Goal Position on the wire: start of its burst and the goal of each servo,
-/// in ticks, in ID order.
+/// Every Sync Write of Goal Position on the wire, in whole bursts ([`goal_writes_of_whole_bursts`]),
+/// each for all the joints: start
+/// of its burst and the goal of each servo, in ticks, in ID order.
 fn sync_writes(bursts: &[TracedBurst]) -> Result<Vec<(Duration, Vec<i32>)>> {
-    let mut out = Vec::new();
-    for b in bursts {
-        let mut parser = Parser::<1024>::new();
-        ensure!(
-            parser.feed(&b.bytes) == b.bytes.len(),
-            "burst at {:?} ({} bytes) longer than the parser holds",
-            b.burst.start,
-            b.bytes.len()
-        );
-        while let Some(frame) = parser.next_frame() {
-            // A corrupt packet from the board means bytes were lost on the wire (e.g. the
-            // direction pin low too early): its goals never reached the servos.
-            let f = frame.map_err(|e| {
-                anyhow::anyhow!("corrupt packet in the burst at {:?}: {e:?}", b.burst.start)
-            })?;
-            if f.instruction != SYNC_WRITE {
-                continue;
-            }
-            // Sync Write parameters (e-manual): address (2, LE), length (2, LE), then per servo
-            // its ID and `length` data bytes.
-            let p = f.params;
-            ensure!(p.len() >= 4, "short Sync Write: {p:?}");
-            let addr = u16::from_le_bytes([p[0], p[1]]);
-            let len = usize::from(u16::from_le_bytes([p[2], p[3]]));
-            if addr != GOAL_POSITION.addr || len != 4 {
-                continue;
-            }
-            let per_servo = p[4..].chunks_exact(1 + len);
-            ensure!(
-                per_servo.remainder().is_empty(),
-                "Sync Write parameters are not whole (ID + 4 bytes) entries: {p:?}"
-            );
-            let mut goals: Vec<(u8, i32)> = per_servo
-                .map(|c| (c[0], i32::from_le_bytes([c[1], c[2], c[3], c[4]])))
-                .collect();
+    goal_writes_of_whole_bursts(bursts)?
+        .into_iter()
+        .map(|(start, goals)| {
             ensure!(
                 goals.len() == JOINTS,
                 "Sync Write for {} servos, expected {JOINTS}",
                 goals.len()
             );
-            goals.sort_by_key(|g| g.0);
-            out.push((b.burst.start, goals.into_iter().map(|g| g.1).collect()));
-        }
-        ensure!(
-            parser.skipped_bytes() == 0 && parser.buffered() == 0,
-            "burst at {:?}: {} bytes outside whole packets (lost on the wire?)",
-            b.burst.start,
-            parser.skipped_bytes() as usize + parser.buffered()
-        );
-    }
-    Ok(out)
+            Ok((start, goals.into_iter().map(|g| g.1).collect()))
+        })
+        .collect()
 }

@@ -72,55 +72,22 @@ fn every_kind_of_bad_table_has_its_error() {
                 computed: 68,
             },
         ),
-        (
-            tampered(|t| t[36] = 253),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::ServoId,
-            },
-        ),
-        (
-            tampered(|t| t[37] = 2),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::Model,
-            },
-        ),
-        (
-            tampered(|t| t[38] = 0),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::Sign,
-            },
-        ),
-        (
-            tampered(|t| t[39] = 1),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::Reserved,
-            },
-        ),
+        (tampered(|t| t[36] = 253), joint_0(JointField::ServoId)),
+        (tampered(|t| t[37] = 2), joint_0(JointField::Model)),
+        (tampered(|t| t[38] = 0), joint_0(JointField::Sign)),
+        (tampered(|t| t[39] = 1), joint_0(JointField::Reserved)),
         (
             tampered(|t| t[40..42].copy_from_slice(&4096u16.to_le_bytes())),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::ZeroOffset,
-            },
+            joint_0(JointField::ZeroOffset),
         ),
         // min 1.5 rad > max 1.5 rad - 1 unit
         (
             tampered(|t| t[42..44].copy_from_slice(&15001i16.to_le_bytes())),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::Limits,
-            },
+            joint_0(JointField::Limits),
         ),
         (
             tampered(|t| t[48..52].fill(0)),
-            TableError::BadJoint {
-                joint: 0,
-                field: JointField::Stiffness,
-            },
+            joint_0(JointField::Stiffness),
         ),
         (
             tampered(|t| t[52] = 0x40),
@@ -154,6 +121,11 @@ fn every_kind_of_bad_table_has_its_error() {
             ..
         })
     ));
+}
+
+/// The first joint's entry is refused for its `field`.
+fn joint_0(field: JointField) -> TableError {
+    TableError::BadJoint { joint: 0, field }
 }
 
 fn joint(name: &str, id: u8) -> JointSpec {

@@ -6,7 +6,6 @@ mod common;
 
 use proptest::collection::vec;
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use protocol::gait::{GaitTable, HEADER_LEN, MAGIC, TableError};
 use protocol::*;
 
@@ -23,12 +22,7 @@ fn reencoded<T: serde::Serialize + serde::de::DeserializeOwned>(m: &T) -> T {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 1000,
-        // Regressions are kept beside this file, where proptest reads them back.
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(common::config(1000))]
 
     #[test]
     fn arbitrary_bytes_never_panic_the_frame_decoder(bytes in vec(any::<u8>(), 0..2000)) {

@@ -5,7 +5,6 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use protocol::units::{
     ANGLE_PER_RAD, STIFFNESS_PER_NM_RAD, TORQUE_PER_NM, angle_to_rad, torque_to_nm,
 };
@@ -38,12 +37,7 @@ where
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 512,
-        // Regressions are kept beside this file, where proptest reads them back.
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(common::config(512))]
 
     #[test]
     fn host_messages_round_trip(msg in host_message(), cuts in proptest::collection::vec(any::<usize>(), 0..8)) {

@@ -48,9 +48,19 @@ fn begin(tracker: &mut UploadTracker, t: &[u8]) {
 }
 
 fn send_all(tracker: &mut UploadTracker, t: &[u8]) {
-    for (i, chunk) in t.chunks(MAX_CHUNK_LEN).enumerate() {
-        tracker.chunk((i * MAX_CHUNK_LEN) as u32, chunk).unwrap();
+    send(tracker, t, 0..t.len());
+}
+
+/// Sends `t[range]` at its offsets in chunks of `MAX_CHUNK_LEN`, each accepted; the bytes
+/// received after the last.
+fn send(tracker: &mut UploadTracker, t: &[u8], range: std::ops::Range<usize>) -> u32 {
+    let mut received = 0;
+    for (i, chunk) in t[range.clone()].chunks(MAX_CHUNK_LEN).enumerate() {
+        received = tracker
+            .chunk((range.start + i * MAX_CHUNK_LEN) as u32, chunk)
+            .unwrap();
     }
+    received
 }
 
 #[test]
@@ -58,11 +68,7 @@ fn an_upload_in_order_commits_and_verifies() {
     let t = table(0.0);
     let mut tr = UploadTracker::new();
     begin(&mut tr, &t);
-    let mut received = 0;
-    for (i, chunk) in t.chunks(MAX_CHUNK_LEN).enumerate() {
-        received = tr.chunk((i * MAX_CHUNK_LEN) as u32, chunk).unwrap();
-    }
-    assert_eq!(received, 3092);
+    assert_eq!(send(&mut tr, &t, 0..t.len()), 3092);
     let crc = protocol::crc32::checksum(&t);
     let done = tr.commit(crc).unwrap();
     assert_eq!((done.slot, done.total_len, done.crc), (1, 3092, crc));
@@ -93,9 +99,7 @@ fn a_truncated_upload_cannot_commit_and_stays_open() {
             total_len: 3092
         })
     );
-    for (i, chunk) in t[512..].chunks(MAX_CHUNK_LEN).enumerate() {
-        tr.chunk((512 + i * MAX_CHUNK_LEN) as u32, chunk).unwrap();
-    }
+    send(&mut tr, &t, 512..t.len());
     assert!(tr.commit(crc).is_ok());
 }
 
@@ -132,9 +136,7 @@ fn reordered_and_duplicated_chunks_are_refused_without_effect() {
     );
     assert_eq!(tr.progress().unwrap().received, 512);
     // The rest in order still gives the right CRC: the refused chunks left no trace.
-    for (i, chunk) in t[512..].chunks(MAX_CHUNK_LEN).enumerate() {
-        tr.chunk((512 + i * MAX_CHUNK_LEN) as u32, chunk).unwrap();
-    }
+    send(&mut tr, &t, 512..t.len());
     assert!(tr.commit(protocol::crc32::checksum(&t)).is_ok());
 }
 
@@ -152,9 +154,7 @@ fn oversized_chunks_and_tables_are_refused() {
         })
     );
     assert_eq!(tr.chunk(0, &[]), Err(UploadError::EmptyChunk { offset: 0 }));
-    for (i, chunk) in t[..3072].chunks(MAX_CHUNK_LEN).enumerate() {
-        tr.chunk((i * MAX_CHUNK_LEN) as u32, chunk).unwrap();
-    }
+    send(&mut tr, &t, 0..3072);
     // 21 bytes at 3072 reach one byte past the 3092-byte table.
     assert_eq!(
         tr.chunk(3072, &[0; 21]),

@@ -76,13 +76,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         goals: &[Goal],
         replies: &mut [Reply],
     ) -> Result<CycleStats, BusError> {
-        check_count(goals.len())?;
-        if replies.len() < goals.len() {
-            return Err(BusError::ResultsTooShort {
-                servos: goals.len(),
-                results: replies.len(),
-            });
-        }
+        check_replies(goals.len(), replies.len())?;
         let mut ids = [0u8; MAX_SERVOS];
         for (slot, g) in ids.iter_mut().zip(goals) {
             *slot = g.id;
@@ -116,13 +110,7 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
         ids: &[u8],
         replies: &mut [Reply],
     ) -> Result<CycleStats, BusError> {
-        check_count(ids.len())?;
-        if replies.len() < ids.len() {
-            return Err(BusError::ResultsTooShort {
-                servos: ids.len(),
-                results: replies.len(),
-            });
-        }
+        check_replies(ids.len(), replies.len())?;
         let n = encode::sync_read(&mut self.tx, FEEDBACK_ADDR, FEEDBACK_LEN, ids)?;
         let mut stats = CycleStats {
             start_us: self.clock.now_us(),
@@ -265,6 +253,15 @@ impl<IO: Read + ReadReady + Write, D: DirectionPin, C: Clock> BusMaster<IO, D, C
 }
 
 /// Requests for more than [`MAX_SERVOS`] servos are refused (fixed-size bookkeeping, no alloc).
+/// [`check_count`], and room for each servo's reply among `results`.
+fn check_replies(servos: usize, results: usize) -> Result<(), BusError> {
+    check_count(servos)?;
+    if results < servos {
+        return Err(BusError::ResultsTooShort { servos, results });
+    }
+    Ok(())
+}
+
 pub(crate) fn check_count(servos: usize) -> Result<(), BusError> {
     if servos > MAX_SERVOS {
         return Err(BusError::TooManyServos {

@@ -169,13 +169,13 @@ impl VirtualChain {
                 for id in ids {
                     let s = self.servo(id).unwrap();
                     let data = ping_data(s);
-                    out.push(self.planned(s, 0, &data, true));
+                    out.push(Self::status(s, 0, &data, true));
                 }
             }
             Instruction::Ping => {
                 if let Some(s) = self.listening(baud).find(|s| s.id() == req.id) {
                     let data = ping_data(s);
-                    out.push(self.planned(s, 0, &data, false));
+                    out.push(Self::status(s, 0, &data, false));
                 }
             }
             Instruction::Read if p.len() != 4 => {
@@ -185,8 +185,8 @@ impl VirtualChain {
                 let (addr, len) = (u16le(&p[0..2]), u16le(&p[2..4]));
                 if let Some(s) = self.listening(baud).find(|s| s.id() == req.id) {
                     let r = match s.read(addr, len) {
-                        Ok(d) => self.planned_if(s, 1, 0, d, false),
-                        Err(e) => self.planned_if(s, 1, e, &[], false),
+                        Ok(d) => Self::planned_if(s, 1, 0, d, false),
+                        Err(e) => Self::planned_if(s, 1, e, &[], false),
                     };
                     out.extend(r);
                 }
@@ -207,7 +207,7 @@ impl VirtualChain {
             Instruction::Reboot => {
                 for s in self.listening_mut(baud, req.id) {
                     if req.id != BROADCAST_ID {
-                        out.extend(Self::planned_static(s, 2, 0, &[], false));
+                        out.extend(Self::planned_if(s, 2, 0, &[], false));
                     }
                     s.reboot();
                 }
@@ -263,8 +263,8 @@ impl VirtualChain {
     fn read_reply(&self, id: u8, baud: u32, addr: u16, len: u16, out: &mut Vec<PlannedReply>) {
         if let Some(s) = self.listening(baud).find(|s| s.id() == id) {
             let r = match s.read(addr, len) {
-                Ok(d) => self.planned_if(s, 1, 0, d, true),
-                Err(e) => self.planned_if(s, 1, e, &[], true),
+                Ok(d) => Self::planned_if(s, 1, 0, d, true),
+                Err(e) => Self::planned_if(s, 1, e, &[], true),
             };
             out.extend(r);
         }
@@ -290,24 +290,13 @@ impl VirtualChain {
         out: &mut Vec<PlannedReply>,
     ) {
         if let Some(s) = self.listening(baud).find(|s| s.id() == id) {
-            out.extend(self.planned_if(s, level, error, data, false));
+            out.extend(Self::planned_if(s, level, error, data, false));
         }
     }
 
     /// A reply if the servo's Status Return Level allows one for an instruction of `level`
     /// (0: only Ping, 1: also reads, 2: everything).
     fn planned_if(
-        &self,
-        s: &VirtualServo,
-        level: u32,
-        error: u8,
-        data: &[u8],
-        chained: bool,
-    ) -> Option<PlannedReply> {
-        Self::planned_static(s, level, error, data, chained)
-    }
-
-    fn planned_static(
         s: &VirtualServo,
         level: u32,
         error: u8,
@@ -318,10 +307,6 @@ impl VirtualChain {
             return None;
         }
         Some(Self::status(s, error, data, chained))
-    }
-
-    fn planned(&self, s: &VirtualServo, error: u8, data: &[u8], chained: bool) -> PlannedReply {
-        Self::status(s, error, data, chained)
     }
 
     fn status(s: &VirtualServo, error: u8, data: &[u8], chained: bool) -> PlannedReply {

@@ -13,6 +13,36 @@ pub const TABLE_SIZE: usize = 147;
 /// Start of the RAM area; below it is EEPROM, writable only with torque off.
 const RAM_START: u16 = 64;
 
+/// Power-on values of the control table (e-manual) that both models share, EEPROM (factory
+/// defaults; the firmware version an arbitrary one for the simulation) and RAM (torque off, default
+/// gains, 12.0 V and 36 degC present). Not here: Model Number and Current Limit, which depend on the
+/// model, and Goal Position, which starts at the present position.
+const DEFAULTS: [(Field, u32); 23] = [
+    (ct::FIRMWARE_VERSION, 41),
+    (ct::ID, 1),
+    (ct::BAUD_RATE, 1),
+    (ct::RETURN_DELAY_TIME, 250),
+    (ct::OPERATING_MODE, 3),
+    (ct::PROTOCOL_TYPE, 2),
+    (ct::MOVING_THRESHOLD, 10),
+    (ct::TEMPERATURE_LIMIT, 80),
+    (ct::MAX_VOLTAGE_LIMIT, 160),
+    (ct::MIN_VOLTAGE_LIMIT, 95),
+    (ct::PWM_LIMIT, 885),
+    (ct::ACCELERATION_LIMIT, 32767),
+    (ct::VELOCITY_LIMIT, 1023),
+    (ct::MAX_POSITION_LIMIT, 4095),
+    (ct::MIN_POSITION_LIMIT, 0),
+    (ct::SHUTDOWN, 0x34),
+    (ct::STATUS_RETURN_LEVEL, 2),
+    (ct::VELOCITY_I_GAIN, 1920),
+    (ct::VELOCITY_P_GAIN, 100),
+    (ct::POSITION_P_GAIN, 850),
+    (ct::GOAL_PWM, 885),
+    (ct::PRESENT_INPUT_VOLTAGE, 120),
+    (ct::PRESENT_TEMPERATURE, 36),
+];
+
 /// Faults a test can inject into one servo.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Faults {
@@ -27,6 +57,48 @@ pub struct Faults {
     pub late_reply_us: u32,
     /// The output does not move (jammed gear): position stays, the motor stalls.
     pub stuck: bool,
+}
+
+impl Faults {
+    /// No fault: the servo behaves.
+    pub const NONE: Self = Self {
+        no_reply: false,
+        corrupt_crc: false,
+        corrupt_next: 0,
+        late_reply_us: 0,
+        stuck: false,
+    };
+    /// A servo that executes instructions but never replies.
+    pub const SILENT: Self = Self {
+        no_reply: true,
+        ..Self::NONE
+    };
+    /// A servo whose every reply has a bad CRC.
+    pub const BAD_CRC: Self = Self {
+        corrupt_crc: true,
+        ..Self::NONE
+    };
+    /// A servo with a jammed gear: it answers, but its output does not move.
+    pub const JAMMED: Self = Self {
+        stuck: true,
+        ..Self::NONE
+    };
+
+    /// A glitch: the next `n` replies have a bad CRC, then the servo is well again.
+    pub const fn corrupting_next(n: u32) -> Self {
+        Self {
+            corrupt_next: n,
+            ..Self::NONE
+        }
+    }
+
+    /// A servo that replies `us` microseconds after its Return Delay Time.
+    pub const fn late_by_us(us: u32) -> Self {
+        Self {
+            late_reply_us: us,
+            ..Self::NONE
+        }
+    }
 }
 
 /// A virtual servo.
@@ -69,40 +141,22 @@ impl VirtualServo {
     fn factory_defaults(&mut self) {
         self.mem = [0; TABLE_SIZE];
         self.put(ct::MODEL_NUMBER, self.model.number() as u32);
-        // An arbitrary firmware version for the simulation.
-        self.put(ct::FIRMWARE_VERSION, 41);
-        self.put(ct::ID, 1);
-        self.put(ct::BAUD_RATE, 1);
-        self.put(ct::RETURN_DELAY_TIME, 250);
-        self.put(ct::OPERATING_MODE, 3);
-        self.put(ct::PROTOCOL_TYPE, 2);
-        self.put(ct::MOVING_THRESHOLD, 10);
-        self.put(ct::TEMPERATURE_LIMIT, 80);
-        self.put(ct::MAX_VOLTAGE_LIMIT, 160);
-        self.put(ct::MIN_VOLTAGE_LIMIT, 95);
-        self.put(ct::PWM_LIMIT, 885);
+        for (f, v) in DEFAULTS.into_iter().filter(|d| d.0.addr < RAM_START) {
+            self.put(f, v);
+        }
         // Current Limit exists only where register 126 is a current (MX-64).
         if self.model.reports_current() {
             self.put(ct::CURRENT_LIMIT, 1941);
         }
-        self.put(ct::ACCELERATION_LIMIT, 32767);
-        self.put(ct::VELOCITY_LIMIT, 1023);
-        self.put(ct::MAX_POSITION_LIMIT, 4095);
-        self.put(ct::MIN_POSITION_LIMIT, 0);
-        self.put(ct::SHUTDOWN, 0x34);
     }
 
     /// RAM at power-on / after Reboot: torque off, gains default, goal = present position.
     fn reset_ram(&mut self) {
         self.mem[RAM_START as usize..].fill(0);
-        self.put(ct::STATUS_RETURN_LEVEL, 2);
-        self.put(ct::VELOCITY_I_GAIN, 1920);
-        self.put(ct::VELOCITY_P_GAIN, 100);
-        self.put(ct::POSITION_P_GAIN, 850);
-        self.put(ct::GOAL_PWM, 885);
+        for (f, v) in DEFAULTS.into_iter().filter(|d| d.0.addr >= RAM_START) {
+            self.put(f, v);
+        }
         self.put(ct::GOAL_POSITION, self.position_ticks() as u32);
-        self.put(ct::PRESENT_INPUT_VOLTAGE, 120);
-        self.put(ct::PRESENT_TEMPERATURE, 36);
     }
 
     pub fn model(&self) -> ServoModel {

@@ -1,30 +1,15 @@
 //! The fault knobs of the virtual servos as the bus master sees them on the simulated wire.
 
-use super::{Faults, SimWire, VirtualChain, WireConfig};
-use crate::master::{AutoDirection, BusMaster, Goal, MasterConfig, Reply, ReplyFault};
+use super::{Faults, SimMaster, SimWire};
+use crate::master::{Goal, MasterConfig, Reply, ReplyFault};
 
-type Master = BusMaster<SimWire, AutoDirection, SimWire>;
-
-fn bus() -> (SimWire, Master) {
-    let mut chain = VirtualChain::drosophibot(6, 1_000_000).unwrap();
-    chain.set_return_delay_all(0);
-    let wire = SimWire::new(
-        chain,
-        WireConfig {
-            baud: 1_000_000,
-            echo: true,
-        },
-    );
-    let m = BusMaster::new(
-        wire.clone(),
-        AutoDirection,
-        wire.clone(),
-        MasterConfig::new(1_000_000),
-    );
+fn bus() -> (SimWire, SimMaster) {
+    let wire = SimWire::drosophibot(6, 1_000_000, 0).unwrap();
+    let m = wire.master(MasterConfig::new(1_000_000));
     (wire, m)
 }
 
-fn cycle(wire: &SimWire, m: &mut Master) -> Vec<Reply> {
+fn cycle(wire: &SimWire, m: &mut SimMaster) -> Vec<Reply> {
     let goals: Vec<Goal> = (1..=6).map(|id| Goal { id, position: 2048 }).collect();
     let mut replies = vec![Err(ReplyFault::Timeout); 6];
     wire.block_on(m.cycle(&goals, &mut replies)).unwrap();
@@ -34,16 +19,8 @@ fn cycle(wire: &SimWire, m: &mut Master) -> Vec<Reply> {
 #[test]
 fn corrupt_next_spoils_exactly_that_many_replies_of_that_servo() {
     let (wire, mut m) = bus();
-    wire.with_chain(|c| {
-        c.set_faults(
-            5,
-            Faults {
-                corrupt_next: 2,
-                ..Faults::default()
-            },
-        )
-    })
-    .unwrap();
+    wire.with_chain(|c| c.set_faults(5, Faults::corrupting_next(2)))
+        .unwrap();
     for k in 0..4 {
         let replies = cycle(&wire, &mut m);
         for (i, r) in replies.iter().enumerate() {
@@ -69,20 +46,12 @@ fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
         c.set_faults(
             2,
             Faults {
-                no_reply: true,
                 corrupt_next: 1,
-                ..Faults::default()
+                ..Faults::SILENT
             },
         )
         .unwrap();
-        c.set_faults(
-            3,
-            Faults {
-                stuck: true,
-                ..Faults::default()
-            },
-        )
-        .unwrap();
+        c.set_faults(3, Faults::JAMMED).unwrap();
     });
     // Torque on, then goals 300 ticks away for 0.5 s: the others get there, servo 3 does not.
     wire.with_chain(|c| {
@@ -110,16 +79,8 @@ fn a_silent_servo_uses_up_no_corruption_and_a_stuck_one_answers_but_stays() {
         );
     }
     // Back on the bus, servo 2's one corrupt reply is still to come.
-    wire.with_chain(|c| {
-        c.set_faults(
-            2,
-            Faults {
-                corrupt_next: 1,
-                ..Faults::default()
-            },
-        )
-    })
-    .unwrap();
+    wire.with_chain(|c| c.set_faults(2, Faults::corrupting_next(1)))
+        .unwrap();
     assert_eq!(cycle(&wire, &mut m)[1], Err(ReplyFault::Crc));
 }
 

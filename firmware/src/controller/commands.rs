@@ -420,11 +420,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
 
     /// Commits the upload once its CRC-32 verifies; the slot's old table is replaced only then.
     pub fn upload_commit(&mut self, crc: u32) -> Result<SlotInfo, CommandError> {
-        self.upload_commit_verified(crc, |_| Ok::<(), core::convert::Infallible>(()))
-            .map_err(|e| match e {
-                CommitError::Store(e) => e.into(),
-                CommitError::Rejected(never) => match never {},
-            })
+        self.upload_commit_verified(crc, crate::store::accept_any)
+            .map_err(|e| e.into_store().into())
     }
 
     /// As [`Controller::upload_commit`], with `verify` checking the table bytes in flash first.

@@ -164,6 +164,21 @@ impl IdealServos {
     }
 }
 
+/// Uploads `table` into `slot` in one chunk; every step must be accepted.
+fn upload(c: &mut Controller<Flash>, slot: u8, table: &[u8]) {
+    c.upload_begin(slot, table.len() as u32).unwrap();
+    c.upload_chunk(0, table).unwrap();
+    c.upload_commit(CRC32.checksum(table)).unwrap();
+}
+
+/// The default configuration with an endless run stopped after `cycles` cycles without the host.
+fn host_timeout(cycles: u32) -> Config {
+    Config {
+        host_timeout_cycles: cycles,
+        ..Config::default()
+    }
+}
+
 struct Rig {
     c: Controller<Flash>,
     servos: IdealServos,
@@ -181,9 +196,7 @@ impl Rig {
         let gait = SyntheticGait::new(100, 1.0);
         let table = gait.build();
         let mut c = Controller::new(Flash::new(64), 4, config);
-        c.upload_begin(0, table.len() as u32).unwrap();
-        c.upload_chunk(0, &table).unwrap();
-        c.upload_commit(CRC32.checksum(&table)).unwrap();
+        upload(&mut c, 0, &table);
         // Power cycle: the joint map comes from the stored table.
         let c = Controller::new(c.into_flash(), 4, config);
         assert_eq!(c.joints().len(), JOINTS);
@@ -195,14 +208,68 @@ impl Rig {
         }
     }
 
+    /// The board booted: the first cycle reads every servo and the board is Idle.
+    fn idle() -> Self {
+        Self::idle_with(Config::default())
+    }
+
+    fn idle_with(config: Config) -> Self {
+        let mut r = Self::with_config(config);
+        assert_eq!(r.cycle(), BusAction::ReadOnly);
+        assert_eq!(r.c.state(), State::Idle);
+        r
+    }
+
+    /// Idle, after the one Torque Off of a fresh boot (torque state unknown after a reset).
+    fn idle_torque_off() -> Self {
+        let mut r = Self::idle();
+        assert_eq!(r.cycle(), BusAction::TorqueOff);
+        r
+    }
+
+    /// Idle, then slot 0 played without end and walked past its ramp.
+    fn walking() -> Self {
+        Self::walking_with(Config::default())
+    }
+
+    fn walking_with(config: Config) -> Self {
+        let mut r = Self::idle_with(config);
+        r.play(None);
+        r.until(2000, State::Walking);
+        r
+    }
+
     fn cycle(&mut self) -> BusAction {
+        self.cycle_with(|_, _, _| {})
+    }
+
+    /// One cycle in which `between` runs after the servos have answered and before the
+    /// controller takes their replies: a command or flash work of the link task arriving while
+    /// the bus task awaits the Sync Read.
+    fn cycle_with(
+        &mut self,
+        between: impl FnOnce(&mut Controller<Flash>, &CyclePlan, &[Reply]),
+    ) -> BusAction {
         let plan = self.c.plan(self.now);
         let mut replies = [Err(ReplyFault::Timeout); 32];
         let outcome = self.servos.serve(&plan, &mut replies);
+        between(&mut self.c, &plan, &replies);
         self.c
             .complete(&plan, outcome, &replies[..plan.reply_count()], 0);
         self.now += u64::from(self.c.period_us());
         plan.action
+    }
+
+    /// The next cycle planned, and completed as a Sync Read whose replies are `replies` instead
+    /// of the servos' own.
+    fn complete_with(&mut self, replies: &[Reply]) {
+        let plan = self.c.plan(self.now);
+        self.c.complete(
+            &plan,
+            Outcome::Feedback(Ok(CycleStats::default())),
+            replies,
+            0,
+        );
     }
 
     fn cycles_until(&mut self, max: usize, done: impl Fn(&Self) -> bool) -> usize {
@@ -215,16 +282,80 @@ impl Rig {
         panic!("not done after {max} cycles, state {:?}", self.c.state());
     }
 
-    fn play(&mut self, steps: Option<u32>) {
-        self.c
-            .play(PlayParams {
-                slot: 0,
-                direction: Direction::Forward,
-                period_scale: 1000,
-                steps,
-            })
-            .unwrap();
+    /// Cycles until the board is in `state`; the cycles run (panics after `max`).
+    fn until(&mut self, max: usize, state: State) -> usize {
+        self.cycles_until(max, |r| r.c.state() == state)
     }
+
+    fn try_play(&mut self, steps: Option<u32>) -> Result<(), CommandError> {
+        self.c.play(forward(0, steps))
+    }
+
+    fn play(&mut self, steps: Option<u32>) {
+        self.try_play(steps).unwrap();
+    }
+
+    /// Cycles while the board walks; after every cycle that leaves it walking, each joint must be
+    /// within a tick of `gait`'s goal (testkit formula) at the play clock, which advanced one
+    /// 10 ms cycle. Returns the cycles run, the one that ended the walk included.
+    fn walk_checking_goals(&mut self, gait: &SyntheticGait) -> usize {
+        let period_us = (gait.period_s * 1e6).round() as u32;
+        let mut cycles = 0;
+        while self.c.state() == State::Walking {
+            let t_before = self.c.play_clock().unwrap().phase_us();
+            self.cycle();
+            cycles += 1;
+            if self.c.state() != State::Walking {
+                break;
+            }
+            let (_, slice) = self.c.playback().unwrap();
+            assert!(
+                usize::from(slice) < gait.slices,
+                "cycle {cycles}: slice {slice} of a {}-slice table",
+                gait.slices
+            );
+            let t = (t_before + 10_000) % period_us;
+            let pos = t as f64 / period_us as f64 * gait.slices as f64;
+            for j in 0..JOINTS {
+                let want = gait.goal(pos, j, STIFFNESS);
+                assert!(
+                    (self.servos.pos[j] as f64 - want).abs() <= 1.0,
+                    "cycle {cycles} joint {j}: {} vs {want:.2}",
+                    self.servos.pos[j]
+                );
+            }
+        }
+        cycles
+    }
+}
+
+/// Slot `slot` played forward at its table's own period.
+fn forward(slot: u8, steps: Option<u32>) -> PlayParams {
+    PlayParams {
+        slot,
+        direction: Direction::Forward,
+        period_scale: 1000,
+        steps,
+    }
+}
+
+/// Safe because `joint`'s servo (ID `joint + 1`, testkit) reported the hardware error `error`.
+fn servo_error(joint: u8, error: u8) -> State {
+    State::Safe(SafeReason::ServoError {
+        joint,
+        id: joint + 1,
+        error,
+    })
+}
+
+/// Safe because `joint`'s servo (ID `joint + 1`, testkit) missed three replies in a row, the
+/// default miss limit.
+fn servo_missing(joint: u8) -> State {
+    State::Safe(SafeReason::ServoMissing {
+        joint,
+        id: joint + 1,
+        cycles: 3,
+    })
 }
 
 #[test]
@@ -244,7 +375,7 @@ fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
     let longest = (0..JOINTS)
         .map(|j| (target[j] - start[j] as f64).abs())
         .fold(0.0, f64::max);
-    let ramp_cycles = r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let ramp_cycles = r.until(2000, State::Walking);
     let expected = (longest / 400.0 / 0.01).max(50.0);
     assert!(
         (ramp_cycles as f64 - expected).abs() <= 2.0,
@@ -257,25 +388,8 @@ fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
         );
     }
     // Walking: every cycle's goals are the table interpolated at the gait clock, biased.
-    let mut cycles = 0;
-    while r.c.state() == State::Walking {
-        let t_before = r.c.play_clock().unwrap().phase_us();
-        r.cycle();
-        cycles += 1;
-        if r.c.state() != State::Walking {
-            break;
-        }
-        let t = (t_before + 10_000) % 1_000_000;
-        let pos = t as f64 / 1e6 * 100.0;
-        for j in 0..JOINTS {
-            let want = r.gait.goal(pos, j, STIFFNESS);
-            assert!(
-                (r.servos.pos[j] as f64 - want).abs() <= 1.0,
-                "cycle {cycles} joint {j}: {} vs {want:.2}",
-                r.servos.pos[j]
-            );
-        }
-    }
+    let gait = r.gait.clone();
+    let cycles = r.walk_checking_goals(&gait);
     // Two steps of 1 s at 100 Hz: the 200th cycle of the walk ends the second step.
     assert_eq!(cycles, 200);
     assert_eq!(r.c.state(), State::Standing);
@@ -294,16 +408,13 @@ fn boot_ramp_walk_and_stop_exactly_at_the_end_of_the_last_step() {
 
 #[test]
 fn stop_mid_step_finishes_the_step_first() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     for _ in 0..30 {
         r.cycle();
     }
     r.c.stop().unwrap();
     assert_eq!(r.c.state(), State::Stopping);
-    let n = r.cycles_until(200, |r| r.c.state() == State::Standing);
+    let n = r.until(200, State::Standing);
     // 30 cycles were played, so the step ends 70 cycles later.
     assert_eq!(n, 70);
     assert_eq!(r.c.play_clock().unwrap().phase_us(), 0);
@@ -311,16 +422,14 @@ fn stop_mid_step_finishes_the_step_first() {
 
 #[test]
 fn backward_play_runs_the_slices_in_reverse() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.c.play(PlayParams {
-        slot: 0,
         direction: Direction::Backward,
         period_scale: 2000,
-        steps: Some(1),
+        ..forward(0, Some(1))
     })
     .unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     r.cycle();
     // One cycle of 10 ms at half speed is 5 ms of the table backward: slice position 99.5.
     for j in 0..JOINTS {
@@ -328,16 +437,13 @@ fn backward_play_runs_the_slices_in_reverse() {
         assert!((r.servos.pos[j] as f64 - want).abs() <= 1.0, "joint {j}");
     }
     // A whole step at half speed takes 200 cycles.
-    let n = r.cycles_until(400, |r| r.c.state() == State::Standing);
+    let n = r.until(400, State::Standing);
     assert_eq!(n + 1, 200);
 }
 
 #[test]
 fn stiffness_changed_while_walking_applies_from_the_next_cycle() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     r.c.set_stiffness(4, 0).unwrap();
     let t = r.c.play_clock().unwrap().phase_us() + 10_000;
     r.cycle();
@@ -355,24 +461,13 @@ fn stiffness_changed_while_walking_applies_from_the_next_cycle() {
 
 #[test]
 fn emergency_stop_turns_torque_off_and_needs_a_clear() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     r.c.emergency_stop();
     assert_eq!(r.c.state(), State::EStop);
     assert_eq!(r.cycle(), BusAction::TorqueOff);
     assert!(!r.servos.torque);
     assert_eq!(r.cycle(), BusAction::ReadOnly);
-    assert!(matches!(
-        r.c.play(PlayParams {
-            slot: 0,
-            direction: Direction::Forward,
-            period_scale: 1000,
-            steps: None
-        }),
-        Err(CommandError::WrongState(_))
-    ));
+    assert!(matches!(r.try_play(None), Err(CommandError::WrongState(_))));
     r.c.clear_fault().unwrap();
     assert_eq!(r.c.state(), State::Idle);
     assert_eq!(r.servos.torque_writes, [true, false]);
@@ -380,23 +475,13 @@ fn emergency_stop_turns_torque_off_and_needs_a_clear() {
 
 #[test]
 fn a_silent_servo_puts_the_robot_in_the_safe_state_naming_it() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     r.servos.silent = vec![7];
     r.cycle();
     r.cycle();
     assert_eq!(r.c.state(), State::Walking, "two misses are tolerated");
     r.cycle();
-    assert_eq!(
-        r.c.state(),
-        State::Safe(SafeReason::ServoMissing {
-            joint: 7,
-            id: 8,
-            cycles: 3
-        })
-    );
+    assert_eq!(r.c.state(), servo_missing(7));
     // No more goals: only reads.
     while r.c.pop_telemetry().is_some() {}
     assert_eq!(r.cycle(), BusAction::ReadOnly);
@@ -412,10 +497,7 @@ fn a_silent_servo_puts_the_robot_in_the_safe_state_naming_it() {
 
 #[test]
 fn after_clear_fault_a_missing_servo_gets_the_whole_miss_limit_again() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     r.servos.silent = vec![7];
     r.cycles_until(10, |r| matches!(r.c.state(), State::Safe(_)));
     // Still silent while the fault stands: its misses run on.
@@ -423,12 +505,7 @@ fn after_clear_fault_a_missing_servo_gets_the_whole_miss_limit_again() {
     r.cycle();
     // The host clears the fault while a Sync Read is in flight whose reply of servo 8 is lost
     // (the servo came back a moment later than the command).
-    let plan = r.c.plan(r.now);
-    let mut replies = [Err(ReplyFault::Timeout); 32];
-    let outcome = r.servos.serve(&plan, &mut replies);
-    r.c.clear_fault().unwrap();
-    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
-    r.now += u64::from(r.c.period_us());
+    r.cycle_with(|c, _, _| c.clear_fault().unwrap());
     assert_eq!(r.c.state(), State::Idle, "one lost reply after ClearFault");
     // The servo stays silent: the fault comes back at the third read cycle (not counting the
     // Torque Off that Idle sends first), as for a servo that was never cleared.
@@ -452,10 +529,7 @@ fn after_clear_fault_a_missing_servo_gets_the_whole_miss_limit_again() {
 
 #[test]
 fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     r.servos.alert = Some(3);
     r.cycle();
     assert!(matches!(
@@ -467,14 +541,7 @@ fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
         })
     ));
     assert_eq!(r.cycle(), BusAction::ReadHardwareError { joint: 3 });
-    assert_eq!(
-        r.c.state(),
-        State::Safe(SafeReason::ServoError {
-            joint: 3,
-            id: 4,
-            error: 0x20
-        })
-    );
+    assert_eq!(r.c.state(), servo_error(3, 0x20));
     assert!(matches!(
         r.c.reboot_servos(Some(22)),
         Err(CommandError::NoSuchJoint { joint: 22, .. })
@@ -493,22 +560,16 @@ fn a_hardware_error_is_named_with_its_bits_and_a_reboot_recovers() {
 /// `Play` was refused for good) before the Reboot was even sent.
 #[test]
 fn replies_read_before_a_pending_reboot_do_not_fault_the_boot_waiting_for_it() {
-    let mut r = Rig::new();
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking();
     r.servos.alert = Some(3);
     r.cycle();
     assert_eq!(r.cycle(), BusAction::ReadHardwareError { joint: 3 });
     // A Sync Read goes out in Safe; the reboot command arrives before its replies are taken.
-    let plan = r.c.plan(r.now);
-    assert_eq!(plan.action, BusAction::ReadOnly);
-    r.c.reboot_servos(Some(3)).unwrap();
-    let mut replies = [Err(ReplyFault::Timeout); 32];
-    let outcome = r.servos.serve(&plan, &mut replies);
-    assert!(matches!(replies[3], Ok(Feedback { alert: true, .. })));
-    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
-    r.now += u64::from(r.c.period_us());
+    let action = r.cycle_with(|c, _, replies| {
+        assert!(matches!(replies[3], Ok(Feedback { alert: true, .. })));
+        c.reboot_servos(Some(3)).unwrap();
+    });
+    assert_eq!(action, BusAction::ReadOnly);
     assert_eq!(r.c.state(), State::Boot, "the stale Alert faulted the Boot");
     assert_eq!(r.cycle(), BusAction::Reboot { joints: 1 << 3 });
     assert_eq!(
@@ -524,79 +585,38 @@ fn replies_read_before_a_pending_reboot_do_not_fault_the_boot_waiting_for_it() {
 
 #[test]
 fn a_status_error_number_is_a_servo_error() {
-    let mut r = Rig::new();
-    // Boot -> Idle, then the one Torque Off of a fresh boot (torque state unknown after a reset).
-    r.cycle();
-    assert_eq!(r.cycle(), BusAction::TorqueOff);
-    let plan = r.c.plan(r.now);
+    let mut r = Rig::idle_torque_off();
     let mut replies = [Ok(Feedback::default()); 22];
     replies[5] = Err(ReplyFault::Status(StatusError(0x04)));
-    r.c.complete(
-        &plan,
-        Outcome::Feedback(Ok(CycleStats::default())),
-        &replies,
-        0,
-    );
-    assert_eq!(
-        r.c.state(),
-        State::Safe(SafeReason::ServoError {
-            joint: 5,
-            id: 6,
-            error: 0x04
-        })
-    );
+    r.complete_with(&replies);
+    assert_eq!(r.c.state(), servo_error(5, 0x04));
 }
 
 #[test]
 fn every_unusable_reply_is_counted_crc_and_malformed_with_the_crc_errors() {
-    let mut r = Rig::new();
-    r.cycle();
-    assert_eq!(r.cycle(), BusAction::TorqueOff);
-    let plan = r.c.plan(r.now);
+    let mut r = Rig::idle_torque_off();
     let mut replies = [Ok(Feedback::default()); 22];
     replies[2] = Err(ReplyFault::Crc);
     replies[7] = Err(ReplyFault::Malformed);
     replies[9] = Err(ReplyFault::Timeout);
     let before = r.c.counters();
-    r.c.complete(
-        &plan,
-        Outcome::Feedback(Ok(CycleStats::default())),
-        &replies,
-        0,
-    );
+    r.complete_with(&replies);
     let after = r.c.counters();
     // Three replies lost: two came but were unusable, one never came.
     assert_eq!(after.crc_errors - before.crc_errors, 2);
     assert_eq!(after.timeouts - before.timeouts, 1);
 }
 
-/// One cycle in which `flash` runs between the plan and the replies, as when the link task
-/// writes an upload chunk while the bus task awaits the Sync Read (the chip stalls for the erase).
-fn cycle_with_flash_op(r: &mut Rig, flash: impl FnOnce(&mut Controller<Flash>)) -> BusAction {
-    let plan = r.c.plan(r.now);
-    let mut replies = [Err(ReplyFault::Timeout); 32];
-    let outcome = r.servos.serve(&plan, &mut replies);
-    flash(&mut r.c);
-    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
-    r.now += u64::from(r.c.period_us());
-    plan.action
-}
-
 #[test]
 fn replies_lost_to_an_upload_stalling_the_chip_are_no_servo_fault_but_real_misses_still_are() {
-    let mut r = Rig::new();
-    r.cycle();
-    assert_eq!(r.cycle(), BusAction::TorqueOff);
-    assert_eq!(r.c.state(), State::Idle);
+    let mut r = Rig::idle_torque_off();
     let table = r.gait.build();
     r.c.upload_begin(1, table.len() as u32).unwrap();
     // Servo 5 (joint 4) loses its reply in five cycles in a row, each with a flash write in it.
     r.servos.silent = vec![4];
     let chunk = 64;
     for (i, part) in table.chunks(chunk).take(5).enumerate() {
-        cycle_with_flash_op(&mut r, |c| {
-            c.upload_chunk((i * chunk) as u32, part).unwrap()
-        });
+        r.cycle_with(|c, _, _| c.upload_chunk((i * chunk) as u32, part).unwrap());
         assert_eq!(r.c.state(), State::Idle, "cycle {i} with a flash write");
     }
     assert_eq!(
@@ -609,20 +629,12 @@ fn replies_lost_to_an_upload_stalling_the_chip_are_no_servo_fault_but_real_misse
     r.cycle();
     assert_eq!(r.c.state(), State::Idle);
     r.cycle();
-    assert_eq!(
-        r.c.state(),
-        State::Safe(SafeReason::ServoMissing {
-            joint: 4,
-            id: 5,
-            cycles: 3
-        })
-    );
+    assert_eq!(r.c.state(), servo_missing(4));
 }
 
 #[test]
 fn uploads_are_refused_while_walking_and_the_table_stays() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.play(None);
     r.cycle();
     assert_eq!(r.c.state(), State::Ramping);
@@ -667,23 +679,14 @@ fn a_watchdog_reset_stays_safe_until_cleared() {
     assert_eq!(r.c.state(), State::Safe(SafeReason::Watchdog));
     r.cycle();
     assert_eq!(r.c.state(), State::Safe(SafeReason::Watchdog));
-    assert!(
-        r.c.play(PlayParams {
-            slot: 0,
-            direction: Direction::Forward,
-            period_scale: 1000,
-            steps: None
-        })
-        .is_err()
-    );
+    assert!(r.try_play(None).is_err());
     r.c.clear_fault().unwrap();
     assert_eq!(r.c.state(), State::Idle);
 }
 
 #[test]
 fn streaming_follows_setpoints_and_faults_when_they_stop() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.c.set_torque(true).unwrap();
     assert_eq!(r.cycle(), BusAction::TorqueOn);
     assert_eq!(r.c.state(), State::Standing);
@@ -708,12 +711,11 @@ fn streaming_follows_setpoints_and_faults_when_they_stop() {
 
 #[test]
 fn run_time_stiffness_survives_playing_the_same_gait_again() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.c.set_stiffness(2, 1234).unwrap();
     r.play(Some(1));
     assert_eq!(r.c.stiffness()[2], 1234);
-    r.cycles_until(3000, |r| r.c.state() == State::Standing);
+    r.until(3000, State::Standing);
     r.play(Some(1));
     assert_eq!(r.c.stiffness()[2], 1234);
     // The table's own value for the joints not overridden.
@@ -722,8 +724,7 @@ fn run_time_stiffness_survives_playing_the_same_gait_again() {
 
 #[test]
 fn a_jammed_servo_is_reported_at_the_end_of_the_first_whole_window_after_the_jam() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.play(None);
     assert_eq!(r.cycle(), BusAction::TorqueOn);
     let window = usize::from(Config::default().stuck.window);
@@ -773,9 +774,9 @@ fn a_jammed_servo_is_reported_at_the_end_of_the_first_whole_window_after_the_jam
     assert_eq!(r.cycle(), BusAction::ReadOnly);
     r.servos.stuck.clear();
     r.c.clear_fault().unwrap();
-    r.cycles_until(5, |r| r.c.state() == State::Idle);
+    r.until(5, State::Idle);
     r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     for _ in 0..4 * window {
         r.cycle();
         assert_eq!(r.c.state(), State::Walking);
@@ -785,13 +786,7 @@ fn a_jammed_servo_is_reported_at_the_end_of_the_first_whole_window_after_the_jam
 #[test]
 fn an_endless_run_without_its_host_stops_at_the_end_of_the_step() {
     // 50 silent cycles (0.5 s at 100 Hz) allowed; the step is 100 cycles (1 s).
-    let mut r = Rig::with_config(Config {
-        host_timeout_cycles: 50,
-        ..Config::default()
-    });
-    r.cycle();
-    r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    let mut r = Rig::walking_with(host_timeout(50));
     // A host that keeps talking keeps the robot walking: 3 steps with contact every 40 cycles.
     for i in 0..300 {
         if i % 40 == 0 {
@@ -802,23 +797,19 @@ fn an_endless_run_without_its_host_stops_at_the_end_of_the_step() {
     }
     // The host falls silent: the 51st silent cycle asks for a stop, which ends the step.
     r.c.host_contact();
-    let n = r.cycles_until(60, |r| r.c.state() == State::Stopping);
+    let n = r.until(60, State::Stopping);
     assert_eq!(n, 51);
     assert_eq!(r.c.counters().host_lost, 1);
-    r.cycles_until(200, |r| r.c.state() == State::Standing);
+    r.until(200, State::Standing);
     assert_eq!(r.c.play_clock().unwrap().phase_us(), 0, "never mid-step");
 }
 
 #[test]
 fn a_finite_run_finishes_its_steps_without_a_host() {
-    let mut r = Rig::with_config(Config {
-        host_timeout_cycles: 50,
-        ..Config::default()
-    });
-    r.cycle();
+    let mut r = Rig::idle_with(host_timeout(50));
     r.play(Some(3));
     // Ramp plus 3 steps of 100 cycles, no host contact at all: all three steps are walked.
-    r.cycles_until(2000, |r| r.c.state() == State::Standing);
+    r.until(2000, State::Standing);
     assert_eq!(r.c.play_clock().unwrap().steps_done(), 3);
     assert_eq!(r.c.counters().host_lost, 0);
 }
@@ -836,8 +827,7 @@ fn table_gain(id: u8) -> u16 {
 
 #[test]
 fn torque_on_writes_each_joints_p_gain_and_a_stiffness_change_writes_them_once() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     // Torque off: the servos keep their own gain.
     r.c.set_stiffness(0, 4200).unwrap();
     assert_ne!(r.cycle(), BusAction::WriteGains);
@@ -868,8 +858,7 @@ fn torque_on_writes_each_joints_p_gain_and_a_stiffness_change_writes_them_once()
 
 #[test]
 fn stiffness_0_leaves_the_servos_gain_as_it_is() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.c.set_stiffness(2, 0).unwrap();
     r.c.set_torque(true).unwrap();
     assert_eq!(r.cycle(), BusAction::TorqueOn);
@@ -892,8 +881,7 @@ fn stiffness_0_leaves_the_servos_gain_as_it_is() {
 
 #[test]
 fn a_failed_gain_write_is_retried_on_the_next_cycle() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.c.set_torque(true).unwrap();
     assert_eq!(r.cycle(), BusAction::TorqueOn);
     r.c.set_stiffness(0, 4200).unwrap();
@@ -909,19 +897,13 @@ fn a_failed_gain_write_is_retried_on_the_next_cycle() {
 
 #[test]
 fn a_stiffness_change_during_the_gain_write_is_written_on_the_next_cycle() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.c.set_torque(true).unwrap();
     r.cycle();
     r.c.set_stiffness(0, 4200).unwrap();
     // The command comes while the bus task performs the write planned before it.
-    let plan = r.c.plan(r.now);
-    assert_eq!(plan.action, BusAction::WriteGains);
-    r.c.set_stiffness(0, 2100).unwrap();
-    let mut replies = [Err(ReplyFault::Timeout); 32];
-    let outcome = r.servos.serve(&plan, &mut replies);
-    r.c.complete(&plan, outcome, &replies[..plan.n], 0);
-    r.now += u64::from(r.c.period_us());
+    let action = r.cycle_with(|c, _, _| c.set_stiffness(0, 2100).unwrap());
+    assert_eq!(action, BusAction::WriteGains);
     assert_eq!(r.servos.p_gain[0], 292);
     assert_eq!(r.cycle(), BusAction::WriteGains);
     // 2.1 / 0.014387 = 145.97 -> 146.

@@ -6,6 +6,7 @@
 
 pub(crate) mod convert;
 mod dispatch;
+mod down;
 #[cfg(test)]
 mod store_tests;
 #[cfg(test)]
@@ -19,6 +20,8 @@ use protocol::{DeviceMessage, FrameAccumulator, HostMessage, MAX_FRAME_LEN, Uplo
 use crate::bus_loop::Shared;
 use crate::controller::Controller;
 use crate::store::FlashWindow;
+
+pub use down::LinkDown;
 
 /// How long [`serve`] waits for host bytes before it looks for telemetry to send, microseconds.
 pub const POLL_US: u64 = 2_000;

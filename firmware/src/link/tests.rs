@@ -3,10 +3,8 @@
 //! garbage, telemetry, and a link that drops mid-frame and comes back.
 
 use core::cell::RefCell;
-use std::cell::Cell;
 use std::collections::VecDeque;
 
-use dynamixel::master::Clock;
 use embassy_futures::block_on;
 use protocol::{
     Client, DeviceMessage, FrameAccumulator, ProtocolError, Request, Response, UploadError,
@@ -16,6 +14,7 @@ use super::*;
 use crate::controller::Config;
 use crate::store::nor_double::NorDouble;
 use crate::testkit::SyntheticGait;
+use crate::testkit::clock::JumpClock;
 
 type Ctl = Controller<NorDouble<4>>;
 
@@ -23,82 +22,83 @@ fn board() -> RefCell<Ctl> {
     RefCell::new(Controller::new(NorDouble::new(128), 4, Config::default()))
 }
 
-/// Sends `request` through a fresh frame and returns the device's answers, decoded.
-fn ask(link: &mut Link, c: &RefCell<Ctl>, client: &mut Client, request: Request) -> Response {
-    let (seq, frame) = client.request_frame(&request).unwrap();
-    let answers = feed(link, c, &frame);
-    assert_eq!(answers.len(), 1);
-    match &answers[0] {
-        DeviceMessage::Reply { seq: s, response } => {
-            assert_eq!(*s, seq);
-            response.clone()
-        }
-        other => panic!("not a reply: {other:?}"),
-    }
+/// The controller behind a link, and the host's client talking to it through frames.
+struct Host {
+    c: RefCell<Ctl>,
+    link: Link,
+    client: Client,
 }
 
-fn feed(link: &mut Link, c: &RefCell<Ctl>, bytes: &[u8]) -> Vec<DeviceMessage> {
-    let mut out = Vec::new();
-    link.receive(c, bytes, &mut |f| out.extend_from_slice(f));
-    decode_all(&out)
+impl Host {
+    fn new() -> Self {
+        Self {
+            c: board(),
+            link: Link::new(),
+            client: Client::new(),
+        }
+    }
+
+    /// Sends `request` through a fresh frame and returns the device's one answer, a reply to it.
+    fn ask(&mut self, request: Request) -> Response {
+        let (seq, frame) = self.client.request_frame(&request).unwrap();
+        let answers = self.feed(&frame);
+        assert_eq!(answers.len(), 1);
+        match &answers[0] {
+            DeviceMessage::Reply { seq: s, response } => {
+                assert_eq!(*s, seq);
+                response.clone()
+            }
+            other => panic!("not a reply: {other:?}"),
+        }
+    }
+
+    fn feed(&mut self, bytes: &[u8]) -> Vec<DeviceMessage> {
+        let mut out = Vec::new();
+        self.link
+            .receive(&self.c, bytes, &mut |f| out.extend_from_slice(f));
+        decode_all(&out)
+    }
+
+    fn status(&mut self) -> protocol::Status {
+        match self.ask(Request::GetStatus) {
+            Response::Status(s) => s,
+            other => panic!("GetStatus answered {other:?}"),
+        }
+    }
+
+    /// Uploads `table` into `slot` (begin and every chunk must be accepted); the commit's answer.
+    fn upload(&mut self, slot: u8, table: &[u8]) -> Response {
+        let header = protocol::GaitTable::parse(table).unwrap().header();
+        let r = self.ask(Request::UploadBegin {
+            slot,
+            header,
+            total_len: table.len() as u32,
+        });
+        assert_eq!(r, Response::Ack);
+        for (i, chunk) in table.chunks(protocol::MAX_CHUNK_LEN).enumerate() {
+            let r = self.ask(Request::UploadChunk {
+                offset: (i * protocol::MAX_CHUNK_LEN) as u32,
+                data: heapless::Vec::from_slice(chunk).unwrap(),
+            });
+            assert!(matches!(r, Response::ChunkAccepted { .. }), "{r:?}");
+        }
+        self.ask(Request::UploadCommit {
+            crc: protocol::crc32::checksum(table),
+        })
+    }
 }
 
 fn decode_all(bytes: &[u8]) -> Vec<DeviceMessage> {
     let mut acc = FrameAccumulator::new();
-    bytes
-        .iter()
-        .filter_map(|&b| acc.push_message::<DeviceMessage>(b))
-        .map(|m| m.unwrap())
+    acc.messages::<DeviceMessage>(bytes)
+        .map(|m| m.expect("the board sends valid frames"))
         .collect()
-}
-
-fn upload(
-    link: &mut Link,
-    c: &RefCell<Ctl>,
-    client: &mut Client,
-    slot: u8,
-    table: &[u8],
-) -> Response {
-    let header = protocol::GaitTable::parse(table).unwrap().header();
-    let r = ask(
-        link,
-        c,
-        client,
-        Request::UploadBegin {
-            slot,
-            header,
-            total_len: table.len() as u32,
-        },
-    );
-    assert_eq!(r, Response::Ack);
-    for (i, chunk) in table.chunks(protocol::MAX_CHUNK_LEN).enumerate() {
-        let r = ask(
-            link,
-            c,
-            client,
-            Request::UploadChunk {
-                offset: (i * protocol::MAX_CHUNK_LEN) as u32,
-                data: heapless::Vec::from_slice(chunk).unwrap(),
-            },
-        );
-        assert!(matches!(r, Response::ChunkAccepted { .. }), "{r:?}");
-    }
-    ask(
-        link,
-        c,
-        client,
-        Request::UploadCommit {
-            crc: protocol::crc32::checksum(table),
-        },
-    )
 }
 
 #[test]
 fn device_info_upload_and_list() {
-    let c = board();
-    let mut link = Link::new();
-    let mut client = Client::new();
-    let Response::DeviceInfo(info) = ask(&mut link, &c, &mut client, Request::GetDeviceInfo) else {
+    let mut h = Host::new();
+    let Response::DeviceInfo(info) = h.ask(Request::GetDeviceInfo) else {
         panic!()
     };
     assert_eq!(info.protocol_version, protocol::PROTOCOL_VERSION);
@@ -106,25 +106,20 @@ fn device_info_upload_and_list() {
     assert!(info.slots.iter().all(|s| s.gait.is_none()));
     let table = SyntheticGait::new(50, 1.0).build();
     let crc = protocol::crc32::checksum(&table);
-    assert_eq!(
-        upload(&mut link, &c, &mut client, 2, &table),
-        Response::Committed { slot: 2, crc }
-    );
-    let Response::Slots(slots) = ask(&mut link, &c, &mut client, Request::ListGaits) else {
+    assert_eq!(h.upload(2, &table), Response::Committed { slot: 2, crc });
+    let Response::Slots(slots) = h.ask(Request::ListGaits) else {
         panic!()
     };
     assert_eq!(slots[2].gait.unwrap().header.slice_count, 50);
     assert!(slots[0].gait.is_none());
-    assert_eq!(c.borrow().store().table(2), Some(&table[..]));
+    assert_eq!(h.c.borrow().store().table(2), Some(&table[..]));
 }
 
 #[test]
 fn every_bad_upload_is_refused_with_its_own_error_and_the_old_table_stays() {
-    let c = board();
-    let mut link = Link::new();
-    let mut client = Client::new();
+    let mut h = Host::new();
     let old = SyntheticGait::new(40, 1.0).build();
-    upload(&mut link, &c, &mut client, 1, &old);
+    h.upload(1, &old);
     let new = SyntheticGait::new(60, 2.0).build();
     let header = protocol::GaitTable::parse(&new).unwrap().header();
     let total_len = new.len() as u32;
@@ -146,21 +141,18 @@ fn every_bad_upload_is_refused_with_its_own_error_and_the_old_table_stays() {
     };
 
     // Reordered: the second chunk first.
+    assert_eq!(h.ask(begin.clone()), Response::Ack);
     assert_eq!(
-        ask(&mut link, &c, &mut client, begin.clone()),
-        Response::Ack
-    );
-    assert_eq!(
-        err(ask(&mut link, &c, &mut client, chunk(512, 512))),
+        err(h.ask(chunk(512, 512))),
         UploadError::OutOfOrder {
             offset: 512,
             expected: 0
         }
     );
     // Duplicated: the first chunk twice.
-    ask(&mut link, &c, &mut client, chunk(0, 512));
+    h.ask(chunk(0, 512));
     assert_eq!(
-        err(ask(&mut link, &c, &mut client, chunk(0, 512))),
+        err(h.ask(chunk(0, 512))),
         UploadError::Duplicate {
             offset: 0,
             received: 512
@@ -170,18 +162,13 @@ fn every_bad_upload_is_refused_with_its_own_error_and_the_old_table_stays() {
     // reaching past the announced end:
     let mut past = 512;
     while past + 512 < new.len() {
-        ask(&mut link, &c, &mut client, chunk(past, 512));
+        h.ask(chunk(past, 512));
         past += 512;
     }
-    let r = ask(
-        &mut link,
-        &c,
-        &mut client,
-        Request::UploadChunk {
-            offset: past as u32,
-            data: heapless::Vec::from_slice(&[0u8; 512]).unwrap(),
-        },
-    );
+    let r = h.ask(Request::UploadChunk {
+        offset: past as u32,
+        data: heapless::Vec::from_slice(&[0u8; 512]).unwrap(),
+    });
     assert_eq!(
         err(r),
         UploadError::PastEnd {
@@ -192,81 +179,60 @@ fn every_bad_upload_is_refused_with_its_own_error_and_the_old_table_stays() {
     );
     // Truncated: commit before the last chunk.
     assert_eq!(
-        err(ask(
-            &mut link,
-            &c,
-            &mut client,
-            Request::UploadCommit {
-                crc: protocol::crc32::checksum(&new)
-            }
-        )),
+        err(h.ask(Request::UploadCommit {
+            crc: protocol::crc32::checksum(&new)
+        })),
         UploadError::Truncated {
             received: past as u32,
             total_len
         }
     );
-    check_old(&c);
+    check_old(&h.c);
     // Wrong checksum: all bytes, a CRC that is not theirs.
-    ask(&mut link, &c, &mut client, chunk(past, new.len() - past));
+    h.ask(chunk(past, new.len() - past));
     let good = protocol::crc32::checksum(&new);
     assert_eq!(
-        err(ask(
-            &mut link,
-            &c,
-            &mut client,
-            Request::UploadCommit { crc: good ^ 0x10 }
-        )),
+        err(h.ask(Request::UploadCommit { crc: good ^ 0x10 })),
         UploadError::ChecksumMismatch {
             expected: good ^ 0x10,
             computed: good
         }
     );
-    check_old(&c);
+    check_old(&h.c);
     // Too large for a slot.
     let mut big = header;
     big.slice_count = 10_000;
-    let r = ask(
-        &mut link,
-        &c,
-        &mut client,
-        Request::UploadBegin {
-            slot: 1,
-            header: big,
-            total_len: big.table_len(),
-        },
-    );
+    let r = h.ask(Request::UploadBegin {
+        slot: 1,
+        header: big,
+        total_len: big.table_len(),
+    });
     assert!(matches!(err(r), UploadError::TooLarge { .. }));
-    check_old(&c);
+    check_old(&h.c);
     // And a good upload still goes through afterwards.
     assert_eq!(
-        upload(&mut link, &c, &mut client, 1, &new),
+        h.upload(1, &new),
         Response::Committed { slot: 1, crc: good }
     );
-    assert_eq!(c.borrow().store().table(1), Some(&new[..]));
+    assert_eq!(h.c.borrow().store().table(1), Some(&new[..]));
 }
 
 #[test]
 fn garbage_is_rejected_and_the_next_request_answered() {
-    let c = board();
-    let mut link = Link::new();
-    let mut client = Client::new();
-    let answers = feed(&mut link, &c, &[1, 2, 3, 0xFF, 7, 0]);
+    let mut h = Host::new();
+    let answers = h.feed(&[1, 2, 3, 0xFF, 7, 0]);
     assert!(matches!(answers[..], [DeviceMessage::Rejected(_)]));
-    assert_eq!(link.rejected, 1);
-    let Response::Status(s) = ask(&mut link, &c, &mut client, Request::GetStatus) else {
-        panic!()
-    };
+    assert_eq!(h.link.rejected, 1);
+    let s = h.status();
     assert_eq!(s.counters.rejected_frames, 1);
 }
 
 #[test]
 fn commands_reach_the_controller_and_errors_come_back_as_data() {
-    let c = board();
-    let mut link = Link::new();
-    let mut client = Client::new();
+    let mut h = Host::new();
     // One bus cycle: no servos known, so Boot is over at once.
     {
-        let mut ctl = c.borrow_mut();
+        let mut ctl = h.c.borrow_mut();
         let plan = ctl.plan(0);
         ctl.complete(&plan, crate::controller::Outcome::Done(Ok(())), &[], 0);
     }
@@ -278,48 +244,24 @@ fn commands_reach_the_controller_and_errors_come_back_as_data() {
         steps: protocol::Steps::Count(1),
     });
     assert_eq!(
-        ask(&mut link, &c, &mut client, play),
+        h.ask(play),
         Response::Error(ProtocolError::SlotEmpty { slot: 0 })
     );
-    assert_eq!(
-        ask(&mut link, &c, &mut client, Request::EmergencyStop),
-        Response::Ack
-    );
-    let Response::Status(s) = ask(&mut link, &c, &mut client, Request::GetStatus) else {
-        panic!()
-    };
+    assert_eq!(h.ask(Request::EmergencyStop), Response::Ack);
+    let s = h.status();
     assert_eq!(s.state, protocol::RunState::Fault);
     assert_eq!(s.fault.unwrap().kind, protocol::FaultKind::EmergencyStop);
+    assert_eq!(h.ask(Request::ClearFault), Response::Ack);
     assert_eq!(
-        ask(&mut link, &c, &mut client, Request::ClearFault),
-        Response::Ack
-    );
-    assert_eq!(
-        ask(
-            &mut link,
-            &c,
-            &mut client,
-            Request::SetBus {
-                baud: 1_000_000,
-                cycle_hz: 20
-            }
-        ),
+        h.ask(Request::SetBus {
+            baud: 1_000_000,
+            cycle_hz: 20
+        }),
         Response::Error(ProtocolError::InvalidSetting {
             setting: protocol::Setting::CycleRate,
             value: 20
         })
     );
-}
-
-/// A clock whose waits end at once (the link tests need no wall time).
-struct InstantClock(Cell<u64>);
-impl Clock for InstantClock {
-    fn now_us(&self) -> u64 {
-        self.0.get()
-    }
-    async fn wait_until(&self, deadline_us: u64) {
-        self.0.set(self.0.get().max(deadline_us));
-    }
 }
 
 /// Host side of an in-memory link: chunks to deliver, then either silence or a drop.
@@ -330,30 +272,17 @@ struct Pipe {
     reads_left: usize,
 }
 
-#[derive(Debug)]
-struct Gone;
-impl core::fmt::Display for Gone {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str("gone")
-    }
-}
-impl core::error::Error for Gone {}
-impl embedded_io_async::Error for Gone {
-    fn kind(&self) -> embedded_io_async::ErrorKind {
-        embedded_io_async::ErrorKind::NotConnected
-    }
-}
 impl embedded_io_async::ErrorType for Pipe {
-    type Error = Gone;
+    type Error = LinkDown;
 }
 impl embedded_io_async::Read for Pipe {
-    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, Gone> {
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, LinkDown> {
         match self.input.pop_front() {
             Some(chunk) => {
                 buf[..chunk.len()].copy_from_slice(&chunk);
                 Ok(chunk.len())
             }
-            None if self.drop_when_empty || self.reads_left == 0 => Err(Gone),
+            None if self.drop_when_empty || self.reads_left == 0 => Err(LinkDown),
             None => {
                 self.reads_left -= 1;
                 core::future::pending().await
@@ -362,23 +291,21 @@ impl embedded_io_async::Read for Pipe {
     }
 }
 impl embedded_io_async::Write for Pipe {
-    async fn write(&mut self, buf: &[u8]) -> Result<usize, Gone> {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, LinkDown> {
         self.output.extend_from_slice(buf);
         Ok(buf.len())
     }
-    async fn flush(&mut self) -> Result<(), Gone> {
+    async fn flush(&mut self) -> Result<(), LinkDown> {
         Ok(())
     }
 }
 
 #[test]
 fn a_link_that_drops_mid_frame_comes_back_and_telemetry_flows() {
-    let c = board();
-    c.borrow_mut().set_telemetry(1);
-    let mut link = Link::new();
-    let mut client = Client::new();
-    let clock = InstantClock(Cell::new(0));
-    let (_, frame) = client.request_frame(&Request::GetStatus).unwrap();
+    let mut h = Host::new();
+    h.c.borrow_mut().set_telemetry(1);
+    let clock = JumpClock::default();
+    let (_, frame) = h.client.request_frame(&Request::GetStatus).unwrap();
     // First connection: half a frame, then the cable is pulled.
     let mut pipe = Pipe {
         input: VecDeque::from([frame[..frame.len() / 2].to_vec()]),
@@ -387,18 +314,18 @@ fn a_link_that_drops_mid_frame_comes_back_and_telemetry_flows() {
         reads_left: 0,
     };
     assert_eq!(
-        block_on(serve(&mut link, &c, &mut pipe, &clock)),
+        block_on(serve(&mut h.link, &h.c, &mut pipe, &clock)),
         LinkEnd::Dropped
     );
     assert!(pipe.output.is_empty());
     // The robot carries on meanwhile: a few bus cycles queue telemetry.
     for t in 0..3 {
-        let mut ctl = c.borrow_mut();
+        let mut ctl = h.c.borrow_mut();
         let plan = ctl.plan(t * 10_000);
         ctl.complete(&plan, crate::controller::Outcome::Done(Ok(())), &[], 0);
     }
     // Second connection: a whole frame is answered (the stale half was forgotten), telemetry follows.
-    let (seq, frame) = client.request_frame(&Request::GetStatus).unwrap();
+    let (seq, frame) = h.client.request_frame(&Request::GetStatus).unwrap();
     let mut pipe = Pipe {
         input: VecDeque::from([frame]),
         output: vec![],
@@ -406,7 +333,7 @@ fn a_link_that_drops_mid_frame_comes_back_and_telemetry_flows() {
         reads_left: 2,
     };
     assert_eq!(
-        block_on(serve(&mut link, &c, &mut pipe, &clock)),
+        block_on(serve(&mut h.link, &h.c, &mut pipe, &clock)),
         LinkEnd::Dropped
     );
     let got = decode_all(&pipe.output);

@@ -3,31 +3,54 @@
 
 use super::*;
 
-/// Joint 0's angle at slice i is i x 1000 urad, its torque i x 10 mN m; 10 slices over 1 s.
-struct Line;
-impl Gait for Line {
+/// A gait given by its samples: `angle_urad[slice][joint]`, `torque_mnm[slice][joint]`.
+struct Samples<const JOINTS: usize, const SLICES: usize> {
+    period_us: u32,
+    angle_urad: [[i32; JOINTS]; SLICES],
+    torque_mnm: [[i32; JOINTS]; SLICES],
+}
+
+impl<const JOINTS: usize, const SLICES: usize> Gait for Samples<JOINTS, SLICES> {
     fn joints(&self) -> usize {
-        1
+        JOINTS
     }
     fn slices(&self) -> usize {
-        10
+        SLICES
     }
     fn period_us(&self) -> u32 {
-        1_000_000
+        self.period_us
     }
-    fn angle_urad(&self, slice: usize, _: usize) -> i32 {
-        slice as i32 * 1000
+    fn angle_urad(&self, slice: usize, joint: usize) -> i32 {
+        self.angle_urad[slice][joint]
     }
-    fn torque_mnm(&self, slice: usize, _: usize) -> i32 {
-        slice as i32 * 10
+    fn torque_mnm(&self, slice: usize, joint: usize) -> i32 {
+        self.torque_mnm[slice][joint]
     }
 }
+
+/// `per_slice` x i at slice i of 10, for one joint.
+const fn ten_slices(per_slice: i32) -> [[i32; 1]; 10] {
+    let mut v = [[0]; 10];
+    let mut i = 0;
+    while i < 10 {
+        v[i][0] = i as i32 * per_slice;
+        i += 1;
+    }
+    v
+}
+
+/// Joint 0's angle at slice i is i x 1000 urad, its torque i x 10 mN m; 10 slices over 1 s.
+const LINE: Samples<1, 10> = Samples {
+    period_us: 1_000_000,
+    angle_urad: ten_slices(1000),
+    torque_mnm: ten_slices(10),
+};
 
 fn angle_at(clock: &PlayClock) -> i32 {
     let s = clock.sample(10);
     lerp(
-        Line.angle_urad(s.slice, 0),
-        Line.angle_urad(s.next, 0),
+        LINE.angle_urad(s.slice, 0),
+        LINE.angle_urad(s.next, 0),
         s.frac,
     )
 }
@@ -138,25 +161,13 @@ fn a_number_of_steps_ends_exactly_at_the_step_boundary() {
 
 #[test]
 fn goals_bias_and_clamp_every_joint() {
-    struct Two;
-    impl Gait for Two {
-        fn joints(&self) -> usize {
-            2
-        }
-        fn slices(&self) -> usize {
-            2
-        }
-        fn period_us(&self) -> u32 {
-            1000
-        }
-        fn angle_urad(&self, slice: usize, joint: usize) -> i32 {
-            // Joint 0: 0 then pi/2; joint 1: 3 rad at both slices (past its limit).
-            [[0, 3_000_000], [1_570_796, 3_000_000]][slice][joint]
-        }
-        fn torque_mnm(&self, slice: usize, _: usize) -> i32 {
-            [0, 1680][slice]
-        }
-    }
+    // Two slices over 1 ms. Joint 0: 0 then pi/2; joint 1: 3 rad at both slices (past its
+    // limit); both joints' torque 0 then 1.68 N m.
+    let two = Samples {
+        period_us: 1000,
+        angle_urad: [[0, 3_000_000], [1_570_796, 3_000_000]],
+        torque_mnm: [[0, 0], [1680, 1680]],
+    };
     let cal = |joint: usize| JointCal {
         id: joint as u8 + 1,
         model: protocol::ServoModel::Mx28,
@@ -180,7 +191,7 @@ fn goals_bias_and_clamp_every_joint() {
         next: 1,
         frac: 32768,
     };
-    let clamped = goals(&Two, s, &cals, &[8400, 8400], &mut out, &mut cut);
+    let clamped = goals(&two, s, &cals, &[8400, 8400], &mut out, &mut cut);
     // Joint 0 halfway: pi/4 + 0.84 N m / 8.4 N m/rad = 0.785398 + 0.1 rad = 0.885398 rad
     // x 4096 / 2 pi = 577.19 ticks -> 577.
     assert_eq!(out[0], 2048 + 577);
@@ -189,7 +200,7 @@ fn goals_bias_and_clamp_every_joint() {
     assert_eq!(clamped, 1);
     assert_eq!(cut, [false, true]);
     // Stiffness set to 0 at run time switches the bias off: pi/4 = 512 ticks.
-    goals(&Two, s, &cals, &[0, 0], &mut out, &mut cut);
+    goals(&two, s, &cals, &[0, 0], &mut out, &mut cut);
     assert_eq!(out[0], 2048 + 512);
 }
 

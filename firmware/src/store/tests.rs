@@ -28,6 +28,20 @@ fn upload<F: NorFlash + FlashWindow>(
     store.commit(CRC32.checksum(data))
 }
 
+/// `flash` with slot 0 uploaded twice in `chunk`-byte chunks: an older table (seed 1) in one bank,
+/// then the current one (seed 2), `len` bytes each, in the other. Returns the flash and both.
+fn older_and_current<F: NorFlash + FlashWindow>(
+    flash: F,
+    len: usize,
+    chunk: usize,
+) -> (F, Vec<u8>, Vec<u8>) {
+    let mut store = GaitStore::mount(flash, 4);
+    let (older, cur) = (table(len, 1), table(len, 2));
+    upload(&mut store, 0, &older, chunk).unwrap();
+    upload(&mut store, 0, &cur, chunk).unwrap();
+    (store.into_flash(), older, cur)
+}
+
 #[test]
 fn upload_reads_back_in_place_and_survives_a_remount() {
     let mut store = GaitStore::mount(NorDouble::<4>::new(SECTORS), 4);
@@ -132,12 +146,7 @@ fn power_loss_at_every_tick_of_an_upload_over_an_older_valid_bank() {
 
 #[test]
 fn power_loss_at_every_tick_of_a_delete_leaves_the_table_or_nothing() {
-    let mut store = GaitStore::mount(NorDouble::<4>::new(SECTORS), 4);
-    let older = table(3000, 1);
-    let cur = table(3000, 2);
-    upload(&mut store, 0, &older, 500).unwrap();
-    upload(&mut store, 0, &cur, 500).unwrap();
-    let flash = store.into_flash();
+    let (flash, _, cur) = older_and_current(NorDouble::<4>::new(SECTORS), 3000, 500);
     for k in 0..=2 {
         let mut f = flash.clone();
         f.lose_power_after(k);
@@ -169,98 +178,112 @@ fn bad_chunk_sequences_are_refused_and_the_old_table_stays() {
         assert_eq!(s.table(0), Some(&old[..]));
     };
 
-    // Truncated: commit before the last chunk.
-    let mut s = fresh();
-    s.begin(0, 2000).unwrap();
-    s.write(0, &new[..1900]).unwrap();
-    assert_eq!(
-        s.commit(CRC32.checksum(&new)),
-        Err(StoreError::Incomplete {
-            received: 1900,
-            total: 2000
-        })
-    );
-    check_old(s);
-
-    // Reordered: the second chunk first.
-    let mut s = fresh();
-    s.begin(0, 2000).unwrap();
-    assert_eq!(
-        s.write(1000, &new[1000..]),
-        Err(StoreError::OutOfOrder {
-            expected: 0,
-            got: 1000
-        })
-    );
-    check_old(s);
-
-    // Duplicated: the first chunk twice.
-    let mut s = fresh();
-    s.begin(0, 2000).unwrap();
-    s.write(0, &new[..1000]).unwrap();
-    assert_eq!(
-        s.write(0, &new[..1000]),
-        Err(StoreError::OutOfOrder {
-            expected: 1000,
-            got: 0
-        })
-    );
-    check_old(s);
-
-    // Oversized: a chunk past the announced size, and a table larger than a bank.
-    let mut s = fresh();
-    s.begin(0, 2000).unwrap();
-    s.write(0, &new[..1500]).unwrap();
-    assert_eq!(
-        s.write(1500, &[0; 501]),
-        Err(StoreError::Overflow {
-            offset: 1500,
-            len: 501,
-            total: 2000
-        })
-    );
-    assert_eq!(
-        s.begin(0, 4 * 4096 - 255),
-        Err(StoreError::BadSize {
-            len: 4 * 4096 - 255,
-            max: 4 * 4096 - 256
-        })
-    );
-    check_old(s);
-
-    // Wrong checksum: every byte arrived, the announced CRC is not theirs.
-    let mut s = fresh();
-    s.begin(0, 2000).unwrap();
-    s.write(0, &new).unwrap();
+    // Each sequence on a store holding `old`, and the refusals its last steps end with (the
+    // steps before them accepted).
     let good = CRC32.checksum(&new);
-    assert_eq!(
-        s.commit(good ^ 1),
-        Err(StoreError::ChecksumMismatch {
-            expected: good ^ 1,
-            actual: good
-        })
-    );
-    // The failed commit ended the upload.
-    assert_eq!(s.commit(good), Err(StoreError::NoUpload));
-    check_old(s);
+    let cases: [(&str, &[Op], &[StoreError]); 7] = [
+        (
+            "truncated: commit before the last chunk",
+            &[Op::Begin(0, 2000), Op::Write(0..1900), Op::Commit(good)],
+            &[StoreError::Incomplete {
+                received: 1900,
+                total: 2000,
+            }],
+        ),
+        (
+            "reordered: the second chunk first",
+            &[Op::Begin(0, 2000), Op::Write(1000..2000)],
+            &[StoreError::OutOfOrder {
+                expected: 0,
+                got: 1000,
+            }],
+        ),
+        (
+            "duplicated: the first chunk twice",
+            &[Op::Begin(0, 2000), Op::Write(0..1000), Op::Write(0..1000)],
+            &[StoreError::OutOfOrder {
+                expected: 1000,
+                got: 0,
+            }],
+        ),
+        (
+            "oversized: a chunk past the announced size",
+            &[Op::Begin(0, 2000), Op::Write(0..1500), Op::Zeros(1500, 501)],
+            &[StoreError::Overflow {
+                offset: 1500,
+                len: 501,
+                total: 2000,
+            }],
+        ),
+        (
+            "oversized: a table larger than a bank",
+            &[Op::Begin(0, 4 * 4096 - 255)],
+            &[StoreError::BadSize {
+                len: 4 * 4096 - 255,
+                max: 4 * 4096 - 256,
+            }],
+        ),
+        (
+            "wrong checksum: every byte arrived, the announced CRC is not theirs; the failed \
+             commit ended the upload",
+            &[
+                Op::Begin(0, 2000),
+                Op::Write(0..2000),
+                Op::Commit(good ^ 1),
+                Op::Commit(good),
+            ],
+            &[
+                StoreError::ChecksumMismatch {
+                    expected: good ^ 1,
+                    actual: good,
+                },
+                StoreError::NoUpload,
+            ],
+        ),
+        (
+            "no such slot",
+            &[Op::Begin(4, 10)],
+            &[StoreError::NoSuchSlot { slot: 4, slots: 4 }],
+        ),
+    ];
+    for (what, ops, refusals) in cases {
+        let mut s = fresh();
+        let results: Vec<_> = ops.iter().map(|op| op.apply(&mut s, &new)).collect();
+        let (accepted, refused) = results.split_at(ops.len() - refusals.len());
+        assert!(accepted.iter().all(Result::is_ok), "{what}: {results:?}");
+        let want: Vec<_> = refusals.iter().map(|&e| Err(e)).collect();
+        assert_eq!(refused, &want[..], "{what}");
+        check_old(s);
+    }
+}
 
-    // No such slot.
-    let mut s = fresh();
-    assert_eq!(
-        s.begin(4, 10),
-        Err(StoreError::NoSuchSlot { slot: 4, slots: 4 })
-    );
-    check_old(s);
+/// One step of an upload of `new`.
+#[derive(Debug)]
+enum Op {
+    /// `begin(slot, total)`.
+    Begin(u8, u32),
+    /// The bytes of `new` in the range, written at its start.
+    Write(core::ops::Range<usize>),
+    /// `len` zero bytes at `offset`.
+    Zeros(u32, usize),
+    /// `commit(crc)`.
+    Commit(u32),
+}
+
+impl Op {
+    fn apply(&self, s: &mut GaitStore<NorDouble<4>>, new: &[u8]) -> Result<(), StoreError> {
+        match self {
+            Op::Begin(slot, total) => s.begin(*slot, *total),
+            Op::Write(r) => s.write(r.start as u32, &new[r.clone()]),
+            Op::Zeros(offset, len) => s.write(*offset, &std::vec![0; *len]),
+            Op::Commit(crc) => s.commit(*crc).map(drop),
+        }
+    }
 }
 
 #[test]
 fn a_byte_rotting_in_flash_invalidates_only_that_bank() {
-    let mut store = GaitStore::mount(NorDouble::<1>::new(SECTORS), 4);
-    let older = table(1000, 1);
-    let cur = table(1000, 2);
-    upload(&mut store, 0, &older, 1000).unwrap();
-    upload(&mut store, 0, &cur, 1000).unwrap();
-    let mut f = store.into_flash();
+    let (mut f, older, _) = older_and_current(NorDouble::<1>::new(SECTORS), 1000, 1000);
     // Clear one bit of the current table (bank B of slot 0): the CRC check at mount rejects the bank
     // and the older table comes back rather than a corrupt one.
     let at = 4 * 4096 + 256 + 10;

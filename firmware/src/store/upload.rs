@@ -135,11 +135,8 @@ impl<F: NorFlash + FlashWindow> GaitStore<F> {
     /// commit record: from then on the new table is current. On any error the old table stays current
     /// and the upload is over.
     pub fn commit(&mut self, crc: u32) -> Result<SlotInfo, StoreError> {
-        self.commit_verified(crc, |_| Ok::<(), core::convert::Infallible>(()))
-            .map_err(|e| match e {
-                CommitError::Store(e) => e,
-                CommitError::Rejected(never) => match never {},
-            })
+        self.commit_verified(crc, super::accept_any)
+            .map_err(CommitError::into_store)
     }
 
     /// As [`GaitStore::commit`], and `verify` must also accept the table's bytes as they sit in flash

@@ -86,12 +86,30 @@ impl SyntheticGait {
     /// rounding: zero + sign (angle + torque / k) 4096 / 2 pi, angle and torque linearly interpolated
     /// between the table's values, which are rounded to 1e-4 rad and 1 mN m.
     pub fn goal(&self, pos: f64, joint: usize, stiffness: f64) -> f64 {
+        self.goal_of(
+            pos,
+            joint,
+            stiffness,
+            |s| stored_angle(self.angle(s, joint)),
+            |s| stored_torque(self.torque(s, joint)),
+        )
+    }
+
+    /// The same for a table of this gait's joints, slices and period whose stored samples of
+    /// `joint` are `angle(slice)` rad and `torque(slice)` N m (a variant of the synthetic gait).
+    pub fn goal_of(
+        &self,
+        pos: f64,
+        joint: usize,
+        stiffness: f64,
+        angle: impl Fn(usize) -> f64,
+        torque: impl Fn(usize) -> f64,
+    ) -> f64 {
         let i = pos.floor() as usize % self.slices;
         let next = (i + 1) % self.slices;
         let f = pos - pos.floor();
-        let q = |x: f64, scale: f64| (x * scale).round() / scale;
-        let a = q(self.angle(i, joint), 1e4) * (1.0 - f) + q(self.angle(next, joint), 1e4) * f;
-        let t = q(self.torque(i, joint), 1e3) * (1.0 - f) + q(self.torque(next, joint), 1e3) * f;
+        let a = angle(i) * (1.0 - f) + angle(next) * f;
+        let t = torque(i) * (1.0 - f) + torque(next) * f;
         let spec = &self.joints[joint];
         let sign = match spec.sign {
             Sign::Positive => 1.0,
@@ -100,4 +118,14 @@ impl SyntheticGait {
         let bias = if stiffness > 0.0 { t / stiffness } else { 0.0 };
         spec.zero_offset as f64 + sign * (a + bias) * 4096.0 / (2.0 * PI)
     }
+}
+
+/// An angle as a table stores it: rounded to 1e-4 rad.
+pub fn stored_angle(rad: f64) -> f64 {
+    (rad * 1e4).round() / 1e4
+}
+
+/// A torque as a table stores it: rounded to 1 mN m.
+pub fn stored_torque(nm: f64) -> f64 {
+    (nm * 1e3).round() / 1e3
 }

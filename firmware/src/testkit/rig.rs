@@ -6,7 +6,7 @@ use std::vec;
 use std::vec::Vec;
 
 use dynamixel::master::AutoDirection;
-use dynamixel::sim::{SimWire, VirtualChain, WireConfig};
+use dynamixel::sim::SimWire;
 use embedded_io_async::{Read, ReadReady, Write};
 use protocol::{
     Client, DeviceMessage, FrameAccumulator, PlayCommand, Request, Response, Status, Steps,
@@ -34,10 +34,7 @@ const REPLY_SLACK_US: u32 = 100;
 /// 22 virtual servos (the robot's chain) on a simulated wire with echo at `baud`, Return Delay
 /// Time 0.
 pub fn wire(baud: u32) -> SimWire {
-    let chain = VirtualChain::drosophibot(JOINTS as u8, baud).expect("the robot's chain");
-    let wire = SimWire::new(chain, WireConfig { baud, echo: true });
-    wire.with_chain(|c| c.set_return_delay_all(0));
-    wire
+    SimWire::drosophibot(JOINTS as u8, baud, 0).expect("the robot's chain")
 }
 
 /// A board on `flash` with `config`, its bus reached through `io` and clocked by `wire`.
@@ -200,17 +197,59 @@ pub fn telemetry<IO: Read + ReadReady + Write>(board: &mut SimBoardOn<IO>) -> Ve
         .collect()
 }
 
-/// A board at `baud` and `cycle_hz` walking continuously with `table` in slot 0: booted, the
-/// table uploaded, the servos found, played, and past its start ramp.
-pub fn walking(baud: u32, cycle_hz: u16, table: &[u8]) -> (SimBoard, SimWire, Client) {
+/// A board at `baud` and `cycle_hz` with `table` in slot 0, just told to play it for `steps`:
+/// booted, the table uploaded, the servos found, and the play accepted.
+pub fn playing(
+    baud: u32,
+    cycle_hz: u16,
+    table: &[u8],
+    steps: Steps,
+) -> (SimBoard, SimWire, Client) {
     let (mut board, wire) = rig(baud, cycle_hz);
     let mut client = Client::new();
     run_until(&mut board, &wire, 5, |s| s == State::Idle);
     upload(&mut board, &mut client, 0, table);
     run_until(&mut board, &wire, 5, |s| s == State::Idle);
-    play(&mut board, &mut client, Steps::Continuous);
+    play(&mut board, &mut client, steps);
+    (board, wire, client)
+}
+
+/// A board at `baud` and `cycle_hz` walking continuously with `table` in slot 0: booted, the
+/// table uploaded, the servos found, played, and past its start ramp.
+pub fn walking(baud: u32, cycle_hz: u16, table: &[u8]) -> (SimBoard, SimWire, Client) {
+    let (mut board, wire, client) = playing(baud, cycle_hz, table, Steps::Continuous);
     run_until(&mut board, &wire, 5000, |s| s == State::Walking);
     (board, wire, client)
+}
+
+/// Each joint's servo position on the wire and the goal the board sent it, one entry a recorded
+/// cycle: `present[j][k]` and `goal[j][k]`.
+#[derive(Debug, Clone)]
+pub struct JointTrace {
+    pub present: Vec<Vec<i32>>,
+    pub goal: Vec<Vec<i32>>,
+}
+
+impl Default for JointTrace {
+    fn default() -> Self {
+        Self {
+            present: vec![vec![]; JOINTS],
+            goal: vec![vec![]; JOINTS],
+        }
+    }
+}
+
+impl JointTrace {
+    /// Appends every servo's present position and the board's last goal for it.
+    pub fn record<IO>(&mut self, board: &SimBoardOn<IO>, wire: &SimWire) {
+        let goals = board.controller.borrow().goals().to_vec();
+        wire.with_chain(|c| {
+            for (j, s) in c.servos().iter().enumerate() {
+                self.present[j].push(s.position_ticks());
+                self.goal[j].push(goals[j]);
+            }
+        });
+    }
 }
 
 /// The controller's safety state.

@@ -87,13 +87,11 @@ fn options(args: &Args) -> Result<Options> {
     let opts = Options {
         elf: args.elf.clone(),
         flash_file: args.flash.clone(),
-        bus: Some(vec![
-            hil_bus.to_string_lossy().into_owned(),
-            "--servos".into(),
-            args.servos.to_string(),
-            "--baud".into(),
-            args.baud.to_string(),
-        ]),
+        bus: Some(hil_tests::drive::servo_bus(
+            &hil_bus.to_string_lossy(),
+            usize::from(args.servos),
+            args.baud,
+        )),
         realtime: args.realtime,
         echo: if args.log { Echo::Stderr } else { Echo::Off },
     };

@@ -5,6 +5,7 @@ pub mod golden_table;
 
 use proptest::collection::vec;
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use protocol::gait::{JointField, MAX_SLICES, NAME_LEN, TableError};
 use protocol::*;
 
@@ -160,6 +161,18 @@ pub fn setpoint() -> impl Strategy<Value = Setpoint> {
     let joint = (any::<i16>(), any::<Option<i16>>())
         .prop_map(|(angle, torque)| JointSetpoint { angle, torque });
     (any::<u32>(), hvec(joint, MAX_JOINTS)).prop_map(|(seq, joints)| Setpoint { seq, joints })
+}
+
+/// `cases` cases a property, failures kept beside the test file in `proptest-regressions`, where
+/// proptest reads them back.
+pub fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource(
+            "proptest-regressions",
+        ))),
+        ..ProptestConfig::default()
+    }
 }
 
 pub fn host_message() -> impl Strategy<Value = HostMessage> {

@@ -19,9 +19,7 @@ fn setup(step: u32) -> PlatformSetup {
 
 /// A booted rig (Idle) with the platform set up and checked.
 fn rig_with_platform(step: u32) -> Rig {
-    let mut r = Rig::new();
-    r.cycle();
-    assert_eq!(r.c.state(), State::Idle);
+    let mut r = Rig::idle();
     r.c.set_platform(setup(step)).unwrap();
     assert!(matches!(r.cycle(), BusAction::PlatformCheck { id: 23, .. }));
     r
@@ -110,8 +108,7 @@ fn the_platform_servo_switches_torque_with_the_joints() {
 
 #[test]
 fn a_platform_on_a_joints_id_or_with_nonsense_is_refused() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     // The lab's ID 22 is joint 21's in the synthetic gait.
     let lab = PlatformSetup::lab(PlatformMove::Rise, 0);
     let e = r.c.set_platform(lab).unwrap_err();
@@ -141,14 +138,7 @@ fn a_platform_on_a_joints_id_or_with_nonsense_is_refused() {
 #[test]
 fn a_step_beyond_the_run_is_refused_when_it_starts() {
     let mut r = rig_with_platform(2);
-    let e =
-        r.c.play(PlayParams {
-            slot: 0,
-            direction: Direction::Forward,
-            period_scale: 1000,
-            steps: Some(2),
-        })
-        .unwrap_err();
+    let e = r.try_play(Some(2)).unwrap_err();
     assert_eq!(
         command_error(e).to_string(),
         "perturbation platform: perturbation step 2 is beyond the run's 2 steps (steps count \
@@ -167,17 +157,11 @@ fn a_step_beyond_the_run_is_refused_when_it_starts() {
 
 #[test]
 fn a_platform_servo_that_does_not_answer_is_named_before_anything_moves() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     r.servos.platform_answers = false;
     r.c.set_platform(setup(0)).unwrap();
     // Before the check: the board says it is checking.
-    let early = r.c.play(PlayParams {
-        slot: 0,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps: Some(1),
-    });
+    let early = r.try_play(Some(1));
     assert_eq!(
         early,
         Err(CommandError::Platform(PlatformError::Checking {
@@ -186,14 +170,7 @@ fn a_platform_servo_that_does_not_answer_is_named_before_anything_moves() {
     );
     r.cycle();
     assert_eq!(r.c.platform().unwrap().state, PlatformState::NotAnswering);
-    let e =
-        r.c.play(PlayParams {
-            slot: 0,
-            direction: Direction::Forward,
-            period_scale: 1000,
-            steps: Some(1),
-        })
-        .unwrap_err();
+    let e = r.try_play(Some(1)).unwrap_err();
     assert_eq!(
         command_error(e).to_string(),
         "perturbation platform: platform servo ID 23 does not answer (ping, profile velocity or \

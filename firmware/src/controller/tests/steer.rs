@@ -8,9 +8,10 @@ use std::f64::consts::PI;
 use protocol::gait::GaitTableBuilder;
 use protocol::{SteerCommand, SteerError, SteerFamily};
 
-use super::switch::{BOUND_TICKS, tripod, upload, variant};
+use super::switch::{BOUND_TICKS, tripod, variant};
 use super::*;
 use crate::safety::{Event, Refused};
+use crate::testkit::gait::{stored_angle, stored_torque};
 
 const FAMILY: SteerFamily = SteerFamily {
     straight: 0,
@@ -29,8 +30,7 @@ fn cmd(heading_mrad: i16) -> SteerCommand {
 /// A rig with the synthetic gait in slot 0 and side gaits `extra(s) = amp sin(2 pi s / 100) +
 /// offset` in slots 1 (left) and 2 (right), the family set.
 fn family_rig(config: Config, left: (f64, f64), right: (f64, f64)) -> Rig {
-    let mut r = Rig::with_config(config);
-    r.cycle();
+    let mut r = Rig::idle_with(config);
     let l = variant(&r.gait, "left", left.0, left.1, tripod);
     let rt = variant(&r.gait, "right", right.0, right.1, tripod);
     upload(&mut r.c, 1, &l);
@@ -44,25 +44,15 @@ fn family_rig(config: Config, left: (f64, f64), right: (f64, f64)) -> Rig {
 /// as stored (1e-4 rad, 1 mN m), blended per slice, then interpolated between slices.
 fn blend_goal(g: &SyntheticGait, side: (f64, f64), w: f64, pos: f64, j: usize) -> f64 {
     let extra = |s: usize| side.0 * (2.0 * PI * s as f64 / 100.0).sin() + side.1;
-    let q = |x: f64, scale: f64| (x * scale).round() / scale;
     let angle = |s: usize| {
-        let a = q(g.angle(s, j), 1e4);
-        a + w * (q(g.angle(s, j) + extra(s), 1e4) - a)
+        let a = stored_angle(g.angle(s, j));
+        a + w * (stored_angle(g.angle(s, j) + extra(s)) - a)
     };
     let torque = |s: usize| {
-        let t = q(g.torque(s, j), 1e3);
-        t + w * (q(g.torque(s, j) + extra(s) / 2.0, 1e3) - t)
+        let t = stored_torque(g.torque(s, j));
+        t + w * (stored_torque(g.torque(s, j) + extra(s) / 2.0) - t)
     };
-    let i = pos.floor() as usize % 100;
-    let next = (i + 1) % 100;
-    let f = pos - pos.floor();
-    let a = angle(i) * (1.0 - f) + angle(next) * f;
-    let t = torque(i) * (1.0 - f) + torque(next) * f;
-    let sign = match g.joints[j].sign {
-        protocol::Sign::Positive => 1.0,
-        protocol::Sign::Negative => -1.0,
-    };
-    g.joints[j].zero_offset as f64 + sign * (a + t / STIFFNESS) * 4096.0 / (2.0 * PI)
+    g.goal_of(pos, j, STIFFNESS, angle, torque)
 }
 
 /// The slice position the goals of the last cycle came from (100 slices over 1 s).
@@ -89,7 +79,7 @@ fn a_heading_plays_its_share_of_the_side_gait_and_a_new_one_waits_for_the_bounda
     // -100 of 300 mrad: a third of the right gait, -100 x 65536 / 300 = -21845 (truncated).
     r.c.steer(cmd(-100)).unwrap();
     assert_eq!(r.c.steer_blend(), Some((-21_845, -21_845)));
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     let w_right = 21_845.0 / 65_536.0;
     for _ in 0..30 {
         r.cycle();
@@ -127,7 +117,7 @@ fn full_left_to_full_right_goes_through_straight_and_no_goal_jumps_beyond_the_sw
     let (left, right) = ((0.0, 0.04), (0.0, -0.04));
     let mut r = family_rig(Config::default(), left, right);
     r.c.steer(cmd(300)).unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     for _ in 0..40 {
         r.cycle();
     }
@@ -160,15 +150,11 @@ fn full_left_to_full_right_goes_through_straight_and_no_goal_jumps_beyond_the_sw
 
 #[test]
 fn a_steered_walk_without_its_host_stops_at_the_end_of_the_step() {
-    let config = Config {
-        host_timeout_cycles: 50,
-        ..Config::default()
-    };
-    let mut r = family_rig(config, (0.05, 0.0), (0.05, 0.0));
+    let mut r = family_rig(host_timeout(50), (0.05, 0.0), (0.05, 0.0));
     r.c.steer(cmd(200)).unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     r.c.host_contact();
-    let n = r.cycles_until(60, |r| r.c.state() == State::Stopping);
+    let n = r.until(60, State::Stopping);
     assert_eq!(n, 51);
     // A command after the stop was promised is refused; the step ends on the blend, at slice 0.
     assert!(matches!(
@@ -178,7 +164,7 @@ fn a_steered_walk_without_its_host_stops_at_the_end_of_the_step() {
             event: Event::Steer
         }))
     ));
-    r.cycles_until(200, |r| r.c.state() == State::Standing);
+    r.until(200, State::Standing);
     assert_eq!(r.c.play_clock().unwrap().phase_us(), 0, "never mid-step");
     assert_eq!(r.c.steer_blend(), None);
     assert_eq!(r.c.counters().host_lost, 1);
@@ -186,8 +172,7 @@ fn a_steered_walk_without_its_host_stops_at_the_end_of_the_step() {
 
 #[test]
 fn gaits_that_cannot_be_blended_and_commands_out_of_range_are_refused_with_the_reason() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     assert_eq!(
         r.c.steer(cmd(0)),
         Err(CommandError::Steer(SteerError::NoFamily))
@@ -296,12 +281,7 @@ fn gaits_that_cannot_be_blended_and_commands_out_of_range_are_refused_with_the_r
     // While steering: no queued gaits, no new family; a plain walk takes no steer command.
     r.c.steer(cmd(0)).unwrap();
     assert_eq!(
-        r.c.queue_gait(PlayParams {
-            slot: 1,
-            direction: Direction::Forward,
-            period_scale: 1000,
-            steps: None
-        }),
+        r.c.queue_gait(forward(1, None)),
         Err(CommandError::Steer(SteerError::Steering))
     );
     assert_eq!(
@@ -309,7 +289,7 @@ fn gaits_that_cannot_be_blended_and_commands_out_of_range_are_refused_with_the_r
         Err(CommandError::Steer(SteerError::Steering))
     );
     r.c.stop().unwrap();
-    r.cycles_until(3000, |r| r.c.state() == State::Standing);
+    r.until(3000, State::Standing);
     r.play(None);
     assert!(matches!(
         r.c.steer(cmd(0)),
@@ -328,7 +308,7 @@ fn speed_scales_the_period_from_the_next_boundary() {
         speed_permille: 2000,
     })
     .unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     // Twice the planned speed: a 1 s step in 50 cycles of 10 ms.
     let start = r.c.playback().unwrap().0;
     let n = r.cycles_until(200, |r| r.c.playback().unwrap().0 == start + 1);

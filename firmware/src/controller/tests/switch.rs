@@ -8,6 +8,7 @@ use protocol::SwitchError;
 use protocol::gait::GaitTableBuilder;
 
 use super::*;
+use crate::testkit::gait::{stored_angle, stored_torque};
 
 /// The synthetic gait plus `extra(s)` rad on every angle and `extra(s) / 2` N m on every torque,
 /// `extra(s) = amp sin(2 pi s / slices) + offset`, with stance `stance(s)`: with `offset` 0 it
@@ -36,38 +37,17 @@ pub(super) fn tripod(s: usize) -> u8 {
     if s < 50 { 0b010_101 } else { 0b101_010 }
 }
 
-pub(super) fn upload(c: &mut Controller<Flash>, slot: u8, table: &[u8]) {
-    c.upload_begin(slot, table.len() as u32).unwrap();
-    c.upload_chunk(0, table).unwrap();
-    c.upload_commit(CRC32.checksum(table)).unwrap();
-}
-
-fn params(slot: u8, steps: Option<u32>) -> PlayParams {
-    PlayParams {
-        slot,
-        direction: Direction::Forward,
-        period_scale: 1000,
-        steps,
-    }
-}
-
 /// Expected goal of the variant (amp 0.05, offset 0) at slice position `pos`, f64, from its own
 /// rounded samples (the testkit's formula, the variant's extra added before rounding).
 fn turn_goal(g: &SyntheticGait, pos: f64, j: usize) -> f64 {
     let extra = |s: usize| 0.05 * (2.0 * PI * s as f64 / 100.0).sin();
-    let i = pos.floor() as usize % 100;
-    let next = (i + 1) % 100;
-    let f = pos - pos.floor();
-    let q = |x: f64, scale: f64| (x * scale).round() / scale;
-    let a = |s| q(g.angle(s, j) + extra(s), 1e4);
-    let t = |s| q(g.torque(s, j) + extra(s) / 2.0, 1e3);
-    let angle = a(i) * (1.0 - f) + a(next) * f;
-    let torque = t(i) * (1.0 - f) + t(next) * f;
-    let sign = match g.joints[j].sign {
-        protocol::Sign::Positive => 1.0,
-        protocol::Sign::Negative => -1.0,
-    };
-    g.joints[j].zero_offset as f64 + sign * (angle + torque / STIFFNESS) * 4096.0 / (2.0 * PI)
+    g.goal_of(
+        pos,
+        j,
+        STIFFNESS,
+        |s| stored_angle(g.angle(s, j) + extra(s)),
+        |s| stored_torque(g.torque(s, j) + extra(s) / 2.0),
+    )
 }
 
 /// One bus cycle at 100 Hz is 0.01 s: an MX-28 at no load (55 rev/min = 5.7596 rad/s) turns
@@ -76,17 +56,16 @@ pub(super) const BOUND_TICKS: f64 = 0.0575 * 4096.0 / (2.0 * PI);
 
 #[test]
 fn a_gait_queued_mid_step_takes_over_at_the_boundary_with_continuous_goals() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     let turn = variant(&r.gait, "turn", 0.05, 0.0, tripod);
     upload(&mut r.c, 1, &turn);
     r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     for _ in 0..30 {
         r.cycle();
     }
     // Mid-swing (slice 30 of 100): the command waits for the boundary.
-    r.c.queue_gait(params(1, Some(1))).unwrap();
+    r.c.queue_gait(forward(1, Some(1))).unwrap();
     assert_eq!(r.c.queued_slots().collect::<Vec<_>>(), [1]);
     let mut last: Vec<i32> = r.servos.pos[..JOINTS].to_vec();
     let mut n = 0;
@@ -134,24 +113,23 @@ fn a_gait_queued_mid_step_takes_over_at_the_boundary_with_continuous_goals() {
         }
     }
     // One step of the turn, then standing at its boundary; the step count ran on: 1 + 1.
-    r.cycles_until(10, |r| r.c.state() == State::Standing);
+    r.until(10, State::Standing);
     assert_eq!(r.c.playback().unwrap().0, 2);
 }
 
 #[test]
 fn a_counted_gait_plays_its_steps_before_the_queued_one_and_the_queue_plays_in_order() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     let turn = variant(&r.gait, "turn", 0.05, 0.0, tripod);
     upload(&mut r.c, 1, &turn);
     r.play(Some(2));
-    r.c.queue_gait(params(1, Some(1))).unwrap();
+    r.c.queue_gait(forward(1, Some(1))).unwrap();
     r.c.queue_gait(PlayParams {
         direction: Direction::Backward,
-        ..params(0, Some(1))
+        ..forward(0, Some(1))
     })
     .unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     let mut slots = vec![];
     let mut cycles = 0;
     while r.c.state() == State::Walking {
@@ -172,8 +150,7 @@ fn a_counted_gait_plays_its_steps_before_the_queued_one_and_the_queue_plays_in_o
 
 #[test]
 fn a_gait_that_cannot_follow_is_refused_when_queued_with_its_reason() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     // 0.1 rad and 0.05 N m more everywhere. Joint 0 (an MX-28) at slice 0: angle 0 -> 1000e-4 rad,
     // torque 300 -> 350 mN m, bias 300 x 1e4 / 8400 = 357 -> 350 x 1e4 / 8400 = 416 (1e-4 rad,
     // truncated): a jump of 1000 + 59 = 1059e-4 rad, over the bound 575e-4 at 100 Hz.
@@ -190,12 +167,12 @@ fn a_gait_that_cannot_follow_is_refused_when_queued_with_its_reason() {
     upload(&mut r.c, 2, &variant(&r.gait, "odd", 0.0, 0.0, odd));
     // Not walking: nothing to follow.
     assert!(matches!(
-        r.c.queue_gait(params(0, None)),
+        r.c.queue_gait(forward(0, None)),
         Err(CommandError::WrongState(_))
     ));
     r.play(None);
     assert_eq!(
-        r.c.queue_gait(params(1, None)),
+        r.c.queue_gait(forward(1, None)),
         Err(CommandError::Switch(SwitchError::JointJump {
             joint: 0,
             jump: 1059,
@@ -203,21 +180,21 @@ fn a_gait_that_cannot_follow_is_refused_when_queued_with_its_reason() {
         }))
     );
     assert_eq!(
-        r.c.queue_gait(params(2, None)),
+        r.c.queue_gait(forward(2, None)),
         Err(CommandError::Switch(SwitchError::Stance {
             playing: 0b111_111,
             queued: 0b010_101
         }))
     );
     assert_eq!(
-        r.c.queue_gait(params(3, None)),
+        r.c.queue_gait(forward(3, None)),
         Err(CommandError::SlotEmpty { slot: 3 })
     );
     for _ in 0..QUEUE_LEN {
-        r.c.queue_gait(params(0, None)).unwrap();
+        r.c.queue_gait(forward(0, None)).unwrap();
     }
     assert_eq!(
-        r.c.queue_gait(params(0, None)),
+        r.c.queue_gait(forward(0, None)),
         Err(CommandError::Switch(SwitchError::QueueFull {
             capacity: QUEUE_LEN as u8
         }))
@@ -228,48 +205,40 @@ fn a_gait_that_cannot_follow_is_refused_when_queued_with_its_reason() {
 
 #[test]
 fn stop_and_a_lost_host_drop_the_queue_and_end_the_step() {
-    let mut r = Rig::with_config(Config {
-        host_timeout_cycles: 50,
-        ..Config::default()
-    });
-    r.cycle();
+    let mut r = Rig::idle_with(host_timeout(50));
     // A counted run with an endless gait queued is a commanded walk the host-loss rule covers.
     r.play(Some(5));
-    r.c.queue_gait(params(0, None)).unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.c.queue_gait(forward(0, None)).unwrap();
+    r.until(2000, State::Walking);
     r.c.host_contact();
-    let n = r.cycles_until(60, |r| r.c.state() == State::Stopping);
+    let n = r.until(60, State::Stopping);
     assert_eq!(n, 51);
     assert_eq!(r.c.queued_slots().count(), 0);
     assert!(matches!(
-        r.c.queue_gait(params(0, None)),
+        r.c.queue_gait(forward(0, None)),
         Err(CommandError::WrongState(_))
     ));
-    r.cycles_until(200, |r| r.c.state() == State::Standing);
+    r.until(200, State::Standing);
     assert_eq!(r.c.play_clock().unwrap().phase_us(), 0, "never mid-step");
     assert_eq!(r.c.playback().unwrap().0, 1);
     // Stop while a gait waits: the step ends, the queued gait never plays.
     r.play(None);
-    r.c.queue_gait(params(0, Some(3))).unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.c.queue_gait(forward(0, Some(3))).unwrap();
+    r.until(2000, State::Walking);
     r.c.host_contact();
     r.c.stop().unwrap();
     assert_eq!(r.c.queued_slots().count(), 0);
-    r.cycles_until(200, |r| r.c.state() == State::Standing);
+    r.until(200, State::Standing);
     assert_eq!(r.c.playback().unwrap().0, 1);
 }
 
 #[test]
 fn a_lost_host_after_the_switch_stops_the_queued_gait_at_the_end_of_its_step() {
-    let mut r = Rig::with_config(Config {
-        host_timeout_cycles: 150,
-        ..Config::default()
-    });
-    r.cycle();
+    let mut r = Rig::idle_with(host_timeout(150));
     upload(&mut r.c, 1, &variant(&r.gait, "turn", 0.05, 0.0, tripod));
     // One counted step, then the turn without end: once it plays, only the host keeps it going.
     r.play(Some(1));
-    r.c.queue_gait(params(1, None)).unwrap();
+    r.c.queue_gait(forward(1, None)).unwrap();
     while r.c.selected_slot() != Some(1) {
         r.c.host_contact();
         r.cycle();
@@ -284,10 +253,10 @@ fn a_lost_host_after_the_switch_stops_the_queued_gait_at_the_end_of_its_step() {
     // The last contact came before the last cycle above, so that cycle was the first silent one;
     // the 151st is over the limit of 150, 150 cycles on: slice 30 + 150 = 180, slice 80 of the
     // turn's second step. It ends that step (20 more cycles) and stands, on the turn's slot.
-    let n = r.cycles_until(200, |r| r.c.state() == State::Stopping);
+    let n = r.until(200, State::Stopping);
     assert_eq!(n, 150);
     assert_eq!(r.c.playback(), Some((2, 80)));
-    let n = r.cycles_until(100, |r| r.c.state() == State::Standing);
+    let n = r.until(100, State::Standing);
     assert_eq!(n, 20);
     assert_eq!(r.c.play_clock().unwrap().phase_us(), 0, "never mid-step");
     assert_eq!(r.c.playback().unwrap().0, 3);
@@ -297,13 +266,12 @@ fn a_lost_host_after_the_switch_stops_the_queued_gait_at_the_end_of_its_step() {
 
 #[test]
 fn a_gait_queued_during_the_ramp_takes_over_after_the_first_step() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     upload(&mut r.c, 1, &variant(&r.gait, "turn", 0.05, 0.0, tripod));
     r.play(None);
     assert_eq!(r.c.state(), State::Ramping);
-    r.c.queue_gait(params(1, Some(1))).unwrap();
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.c.queue_gait(forward(1, Some(1))).unwrap();
+    r.until(2000, State::Walking);
     // The ramp ends on slice 0; a whole step of the first gait (100 cycles of 10 ms) plays before
     // the queued one takes over at its boundary.
     let n = r.cycles_until(200, |r| r.c.selected_slot() == Some(1));
@@ -314,15 +282,14 @@ fn a_gait_queued_during_the_ramp_takes_over_after_the_first_step() {
 
 #[test]
 fn clearing_the_queue_mid_swing_keeps_the_gait_playing() {
-    let mut r = Rig::new();
-    r.cycle();
+    let mut r = Rig::idle();
     upload(&mut r.c, 1, &variant(&r.gait, "turn", 0.05, 0.0, tripod));
     r.play(None);
-    r.cycles_until(2000, |r| r.c.state() == State::Walking);
+    r.until(2000, State::Walking);
     for _ in 0..30 {
         r.cycle();
     }
-    r.c.queue_gait(params(1, None)).unwrap();
+    r.c.queue_gait(forward(1, None)).unwrap();
     r.c.clear_queue().unwrap();
     // Three boundaries later slot 0 still plays, never standing.
     for _ in 0..300 {
