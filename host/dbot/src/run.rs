@@ -12,7 +12,7 @@ use crate::args::board::BoardArgs;
 use crate::common::interrupt;
 use crate::common::playback::stop_walk;
 use crate::common::session::Session;
-use crate::common::words::{WalkReport, direction_name, state_name};
+use crate::common::words::{WalkReport, state_name};
 use lab::trial_record::playback::{announce, play_command, upload_table};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
@@ -234,7 +234,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
                         "step {}: slot {} {} follows without a stop",
                         p.step,
                         p.slot,
-                        direction_name(p.direction)
+                        p.direction.name()
                     )
                 });
             }

@@ -2,7 +2,7 @@
 //! progress and counters.
 
 use crate::args::board::BoardArgs;
-use crate::common::words::{direction_name, state_name};
+use crate::common::words::state_name;
 use board::slot_health;
 
 /// Runs the command on the board `board` names.
@@ -35,7 +35,7 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
         println!(
             "playback  slot {} {}, step {} slice {}, period x{:.3}",
             p.slot,
-            direction_name(p.direction),
+            p.direction.name(),
             p.step,
             p.slice,
             f64::from(p.period_scale) / 1000.0

@@ -168,6 +168,14 @@ impl Direction {
             Self::Forward
         }
     }
+
+    /// `forward` or `backward`: the word every door prints (status lines, trial READMEs).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Forward => "forward",
+            Self::Backward => "backward",
+        }
+    }
 }
 
 /// Parameters of [`Request::QueueGait`]: a [`PlayCommand`] that waits for its step boundary. On

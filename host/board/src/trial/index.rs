@@ -10,7 +10,6 @@ use serde::{Deserialize, Serialize};
 
 use super::error::TrialError;
 use super::meta::{Outcome, TrialMeta};
-use super::readme::direction_word;
 
 /// The human index file.
 pub const INDEX_TXT: &str = "TRIAL INDEX.txt";
@@ -33,7 +32,7 @@ fn line(meta: &TrialMeta) -> String {
         format!("gait {} (CRC {:08x})", g.name, g.crc)
     });
     let walk = match (meta.direction, meta.period_scale) {
-        (Some(d), Some(s)) => format!("{}, period x{s:.3}", direction_word(d)),
+        (Some(d), Some(s)) => format!("{}, period x{s:.3}", d.name()),
         _ => "walk not started by dbot record".to_owned(),
     };
     let perturbation = meta.perturbation.as_ref().map_or("none".to_owned(), |p| {

@@ -24,4 +24,3 @@ pub use meta::{
     Substrate, TRIAL_FORMAT, TrialMeta,
 };
 pub use read::{Trial, read_trial};
-pub use readme::direction_word;

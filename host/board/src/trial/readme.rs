@@ -9,14 +9,6 @@ use protocol::Direction;
 use super::meta::TrialMeta;
 use crate::record::TELEMETRY_README;
 
-/// `forward` or `backward`.
-pub fn direction_word(d: Direction) -> &'static str {
-    match d {
-        Direction::Forward => "forward",
-        Direction::Backward => "backward",
-    }
-}
-
 /// The README of the trial `meta` describes.
 pub(super) fn readme(m: &TrialMeta) -> String {
     let mut s = String::new();
@@ -28,7 +20,7 @@ pub(super) fn readme(m: &TrialMeta) -> String {
         s,
         "- direction: {}",
         m.direction
-            .map_or("not started by this command", direction_word)
+            .map_or("not started by this command", Direction::name)
     );
     let _ = writeln!(s, "- substrate: {}", m.substrate.name());
     match (&m.gait, m.period_scale) {

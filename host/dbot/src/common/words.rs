@@ -1,20 +1,12 @@
-//! The words `dbot` prints for the board's states and directions (never Rust debug text), and the
-//! line `dbot run` ends with.
+//! The words `dbot` prints for the board's states (never Rust debug text; a direction's word is
+//! `protocol::Direction::name`), and the line `dbot run` ends with.
 
-use protocol::{Direction, RunState};
+use protocol::RunState;
 
 /// A run state as the user reads it: the firmware's state name, with what it means for the robot
 /// where that is not obvious.
 pub fn state_name(s: RunState) -> &'static str {
     s.name()
-}
-
-/// Forward or backward.
-pub fn direction_name(d: Direction) -> &'static str {
-    match d {
-        Direction::Forward => "forward",
-        Direction::Backward => "backward",
-    }
 }
 
 /// What a finished walk did, from the board's counters before and after it.
@@ -46,6 +38,8 @@ impl WalkReport {
 
 #[cfg(test)]
 mod tests {
+    use protocol::Direction;
+
     use super::*;
 
     #[test]
@@ -86,6 +80,7 @@ mod tests {
         for (s, name) in want {
             assert_eq!(state_name(s), name);
         }
-        assert_eq!(direction_name(Direction::Backward), "backward");
+        assert_eq!(Direction::Backward.name(), "backward");
+        assert_eq!(Direction::Forward.name(), "forward");
     }
 }

@@ -5,7 +5,6 @@ use std::path::Path;
 
 use board::link::{Board, LinkError, Transport};
 use board::slot_health::{self, describe};
-use board::trial::direction_word;
 use protocol::{Direction, GaitSummary, PlayCommand, SlotInfo, Steps};
 
 use crate::error::{Context, LabError, Result};
@@ -32,7 +31,7 @@ pub fn announce(slot: u8, stored: &Stored, command: &PlayCommand) -> String {
     let line = format!(
         "slot {slot}: {}; playing {steps} {} at {period:.3} s per step",
         describe(gait),
-        direction_word(command.direction),
+        command.direction.name(),
     );
     match slot_health::loss(&stored.info) {
         Some(loss) => format!("{line}\nWARNING slot {slot}: {loss}"),
