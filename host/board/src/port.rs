@@ -167,10 +167,10 @@ pub fn platform_port_problem(port: &str, leg: Leg) -> Option<String> {
     let want = format!("{plain}+platform:{}", leg.name());
     match platform {
         None => Some(format!(
-            "port `{port}` has no perturbation platform: use --port {want}"
+            "port `{port}` has no perturbation platform: open `{want}` instead"
         )),
         Some(l) if l != leg => Some(format!(
-            "port `{port}` has its platform under {}, not {}: use --port {want}",
+            "port `{port}` has its platform under {}, not {}: open `{want}` instead",
             l.name(),
             leg.name()
         )),
@@ -182,7 +182,7 @@ pub fn platform_port_problem(port: &str, leg: Leg) -> Option<String> {
 /// it (the flag, if given, must agree); another port's is the flag's, or unspecified.
 pub fn trial_substrate(port: &str, flag: Option<&str>) -> Result<Substrate, SubstrateError> {
     let flag = flag
-        .map(|name| Substrate::parse(name, "--substrate"))
+        .map(|name| Substrate::parse(name, "substrate"))
         .transpose()?;
     // A port whose scene cannot be parsed is refused when it is opened, naming it.
     let scene = match PortSpec::parse(port) {
@@ -225,7 +225,7 @@ mod tests {
         let e = trial_substrate("physics:flat+floor", Some("wire-mesh")).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "--substrate wire-mesh disagrees with port `physics:flat+floor`, whose scene walks on floor: give one of them"
+            "substrate wire-mesh disagrees with port `physics:flat+floor`, whose scene walks on floor: give one of them"
         );
     }
 
@@ -235,14 +235,14 @@ mod tests {
         assert_eq!(
             platform_port_problem("physics", Leg::RM).as_deref(),
             Some(
-                "port `physics` has no perturbation platform: use --port physics:flat+platform:RM"
+                "port `physics` has no perturbation platform: open `physics:flat+platform:RM` instead"
             )
         );
         assert_eq!(
             platform_port_problem("physics:flat+platform:LF", Leg::RM).as_deref(),
             Some(
-                "port `physics:flat+platform:LF` has its platform under LF, not RM: use --port \
-                 physics:flat+platform:RM"
+                "port `physics:flat+platform:LF` has its platform under LF, not RM: open \
+                 `physics:flat+platform:RM` instead"
             )
         );
         assert_eq!(

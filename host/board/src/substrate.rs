@@ -35,7 +35,7 @@ pub enum SubstrateError {
     #[error("{place}: unknown substrate `{name}` (known: {})", known_names())]
     Unknown { place: String, name: String },
     #[error(
-        "--substrate {flag} disagrees with port `{port}`, whose scene walks on {scene}: give one of them"
+        "substrate {flag} disagrees with port `{port}`, whose scene walks on {scene}: give one of them"
     )]
     Disagrees {
         flag: &'static str,

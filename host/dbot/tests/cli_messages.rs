@@ -149,7 +149,7 @@ fn dxl_scan_at_the_wrong_baud_hints_and_baud_auto_finds_the_servos() {
     assert!(
         text(&o).contains("no servo answers on")
             && text(&o)
-                .contains("at 57600 bit/s: try another rate (--baud 1000000) or --baud auto"),
+                .contains("at 57600 bit/s: try another rate (baud 1000000) or baud auto (dbot dxl --baud, Bench.open(baud=))"),
         "{}",
         text(&o)
     );

@@ -85,8 +85,8 @@ fn a_physics_port_without_a_platform_names_the_spec_to_use() {
         &d,
         "physics without a platform",
         &[
-            "perturb: port `physics:flat` has no perturbation platform: use --port \
-           physics:flat+platform:RM",
+            "perturb: port `physics:flat` has no perturbation platform: open \
+           `physics:flat+platform:RM` instead",
         ],
     );
 }

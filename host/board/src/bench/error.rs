@@ -24,7 +24,7 @@ pub enum BenchError {
     )]
     NoneAtAnyRate { port: String, rates: String },
     #[error(
-        "no servo answers on {port} at {rates} bit/s: try another rate (--baud {next}) or --baud auto, and check power and wiring"
+        "no servo answers on {port} at {rates} bit/s: try another rate (baud {next}) or baud auto (dbot dxl --baud, Bench.open(baud=)), and check power and wiring"
     )]
     NoneAtRate {
         port: String,

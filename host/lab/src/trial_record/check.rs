@@ -52,7 +52,7 @@ impl TrialRequest {
                 .map_err(library)?,
             None => {
                 if let Some(name) = &self.substrate {
-                    board::substrate::Substrate::parse(name, "--substrate").map_err(library)?;
+                    board::substrate::Substrate::parse(name, "substrate").map_err(library)?;
                 }
             }
         }
