@@ -93,6 +93,22 @@ impl Bench {
         self.inner.baud()
     }
 
+    /// Closes the port (it is opened exclusively), so `dbot dxl` or another `Bench` can use it;
+    /// a later call opens it again.
+    fn close(&mut self) {
+        self.inner.close();
+    }
+
+    fn __enter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    #[pyo3(signature = (*_args))]
+    fn __exit__(&mut self, _args: &Bound<'_, pyo3::types::PyTuple>) -> bool {
+        self.close();
+        false
+    }
+
     /// Pings IDs 0..=max_id; one dict per servo that answers
     /// (`id`, `model_number`, `model`, `firmware`, `alert`, `baud`).
     #[pyo3(signature = (max_id = 252))]

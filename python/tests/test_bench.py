@@ -49,8 +49,9 @@ def dxl(link: str, *args: str) -> str:
 def test_scan_read_write_match_the_cli(link: str) -> None:
     bench = dbot.Bench.open(link, baud=1000000, reply_slack_us=SLACK_US)
     found = bench.scan(max_id=4)
-    # The port is opened exclusively: the bench closes it when it goes.
-    del bench
+    # The port is opened exclusively: closed, the CLI can open it (and the bench no longer has a rate).
+    bench.close()
+    assert bench.baud is None
     # The CLI's lines, parsed: "ID   1: model 30 (MX-28(2.0)), firmware 52".
     cli = [
         (int(m[1]), int(m[2]), int(m[3]))
@@ -63,11 +64,10 @@ def test_scan_read_write_match_the_cli(link: str) -> None:
     assert all(f["model_number"] in (30, 311) for f in found)
     assert all(f["baud"] == 1000000 for f in found)
 
-    bench = dbot.Bench.open(link, baud=1000000, reply_slack_us=SLACK_US)
-    bench.write(2, 1234, field="Goal Position")
-    r = bench.read(2, field="goal_position")
-    assert (r["value"], r["addr"], r["length"]) == (1234, 116, 4)
-    del bench
+    with dbot.Bench.open(link, baud=1000000, reply_slack_us=SLACK_US) as bench:
+        bench.write(2, 1234, field="Goal Position")
+        r = bench.read(2, field="goal_position")
+        assert (r["value"], r["addr"], r["length"]) == (1234, 116, 4)
     assert "= 1234 " in dxl(link, "read", "--id", "2", "--field", "Goal Position")
     # Written by the CLI, read by Python.
     dxl(link, "write", "--id", "2", "--field", "Homing Offset", "--value", "-5")

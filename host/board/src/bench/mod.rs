@@ -58,6 +58,11 @@ impl Bench {
         self.open.as_ref().map(|(b, _)| *b)
     }
 
+    /// Closes the port if it is open (a later call opens it again, at the rate chosen).
+    pub fn close(&mut self) {
+        self.open = None;
+    }
+
     /// Opens the bus for servo `id`: at the chosen rate, or with `auto` at the first MX rate at
     /// which `id` answers a ping. Returns the rate.
     pub fn connect(&mut self, id: u8) -> Result<u32, BenchError> {
