@@ -506,6 +506,7 @@ class Board:
         steps: int | None = None,
         backward: bool = False,
         period: float | None = None,
+        allow_infeasible: bool = False,
         seconds: float | None = None,
         notes: str = "",
         trial: str | None = None,
@@ -517,8 +518,10 @@ class Board:
     ) -> str:
         """Records a trial folder in ``out`` as ``dbot record --out`` does (the same library call;
         the keywords are its flags): returns the published folder. ``ValueError`` with the CLI's
-        words before anything moves for a refusal, ``dbot.BoardError`` for a failed link;
-        Ctrl-C stops the walk, keeps the trial and raises ``KeyboardInterrupt`` naming it."""
+        words before anything moves for a refusal (a ``period`` shorter than planned is checked
+        against the servos as ``play(period_scale=)`` checks it; ``allow_infeasible=True`` plays
+        it with a ``UserWarning``), ``dbot.BoardError`` for a failed link; Ctrl-C stops the walk,
+        keeps the trial and raises ``KeyboardInterrupt`` naming it."""
         ...
     def record(
         self,

@@ -606,8 +606,9 @@ impl Board {
     /// files; the keywords are its flags): returns the published folder. See
     /// `crate::trial_record`.
     #[pyo3(signature = (out, *, table = None, plan = None, play = None, steps = None,
-        backward = false, period = None, seconds = None, notes = String::new(), trial = None,
-        substrate = None, strain = None, perturb = None, platform_id = None, every = 1))]
+        backward = false, period = None, allow_infeasible = false, seconds = None,
+        notes = String::new(), trial = None, substrate = None, strain = None, perturb = None,
+        platform_id = None, every = 1))]
     #[allow(clippy::too_many_arguments)]
     fn record_trial(
         &self,
@@ -619,6 +620,7 @@ impl Board {
         steps: Option<u32>,
         backward: bool,
         period: Option<f64>,
+        allow_infeasible: bool,
         seconds: Option<f64>,
         notes: String,
         trial: Option<String>,
@@ -636,6 +638,7 @@ impl Board {
             steps,
             backward,
             period,
+            allow_infeasible,
             seconds,
             notes,
             trial,
@@ -645,12 +648,21 @@ impl Board {
             platform_id,
             every,
         };
-        let model = self.naming().uploaded_table(0).1.clone();
+        // A table this `Board` uploaded into the played slot is what a faster period is checked
+        // against (as `play` checks it).
+        let (held, model) = {
+            let naming = self.naming();
+            let (table, model) = naming.uploaded_table(play.unwrap_or(0));
+            (
+                table.filter(|_| play.is_some()).map(<[u8]>::to_vec),
+                model.clone(),
+            )
+        };
         let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
         let link = guard
             .as_mut()
             .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
-        let path = crate::trial_record::record(py, link, &args, model)?;
+        let path = crate::trial_record::record(py, link, &args, model, held)?;
         if let (Some(slot), Some(bytes)) = (
             play,
             args.table.as_ref().and_then(|p| std::fs::read(p).ok()),

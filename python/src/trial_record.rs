@@ -28,6 +28,10 @@ fn call_line(args: &TrialArgs) -> Vec<String> {
     kw("steps", args.steps.map(|v| v.to_string()));
     kw("backward", args.backward.then(|| "True".to_owned()));
     kw("period", args.period.map(|v| v.to_string()));
+    kw(
+        "allow_infeasible",
+        args.allow_infeasible.then(|| "True".to_owned()),
+    );
     kw("seconds", args.seconds.map(|v| v.to_string()));
     kw(
         "notes",
@@ -50,10 +54,16 @@ struct PythonDoor<'py> {
     py: Python<'py>,
     /// The signal's exception, raised once the trial is kept.
     signal: Option<PyErr>,
+    /// The override's warning, raised by a filter that makes warnings errors: raised instead of
+    /// the refusal it caused (the walk is not started).
+    warning_raised: Option<PyErr>,
 }
 
 impl TrialHooks for PythonDoor<'_> {
     fn should_stop(&mut self) -> bool {
+        if self.warning_raised.is_some() {
+            return true;
+        }
         if self.signal.is_none()
             && let Err(e) = self.py.check_signals()
         {
@@ -65,6 +75,14 @@ impl TrialHooks for PythonDoor<'_> {
     fn say(&mut self, line: &str) {
         println!("{line}");
     }
+
+    fn warn(&mut self, what: &::board::rules::Overridden) {
+        // A UserWarning, as `Board.play(allow_infeasible=True)` warns. A filter that turns it
+        // into an error (`-W error`) stops the walk before it starts, as a Ctrl-C would.
+        if let Err(e) = crate::errors::warn_overridden(self.py, Some(what)) {
+            self.warning_raised = Some(e);
+        }
+    }
 }
 
 /// Records the trial `args` asks for on `link`, naming joints from `model`; returns the published
@@ -75,12 +93,22 @@ pub fn record(
     link: &mut physics::Robot,
     args: &TrialArgs,
     model: planner::model::Model,
+    held_table: Option<Vec<u8>>,
 ) -> PyResult<PathBuf> {
-    let request = args
+    let mut request = args
         .request(call_line(args), model)
         .map_err(|e| value_error(e.chain_text()))?;
-    let mut door = PythonDoor { py, signal: None };
-    match record_trial(link, &request, &mut door) {
+    request.held_table = held_table;
+    let mut door = PythonDoor {
+        py,
+        signal: None,
+        warning_raised: None,
+    };
+    let result = record_trial(link, &request, &mut door);
+    if let (Err(_), Some(e)) = (&result, door.warning_raised) {
+        return Err(e);
+    }
+    match result {
         Ok(summary) => {
             println!("{summary}");
             Ok(summary.path)

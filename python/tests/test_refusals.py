@@ -5,8 +5,8 @@ The same infeasible plan (the paper's 0.5 s swing, ``--preset table1``, too fast
 servos) is refused by ``PlanDir.step_table()``, ``Plan.step_table()`` and ``Board.upload_plan()``
 with the text ``dbot table`` prints; ``allow_infeasible=True`` builds the bytes
 ``dbot table --allow-infeasible`` writes, with the CLI's warning. ``Board.play(period_scale=)``
-refuses a scale at which a servo could not follow the table as ``dbot run --period`` does, with the
-speed computed here by hand (planned peak speed / scale against the MX-28's 55 rev/min no-load
+refuses a scale at which a servo could not follow the table as ``dbot run --period`` does (and
+``Board.record_trial(period=)`` as ``dbot record --period``), with the speed computed here by hand (planned peak speed / scale against the MX-28's 55 rev/min no-load
 speed from its e-manual). ``Board.steer(speed=)`` refuses a speed at which a servo could not follow
 the family's tables as ``dbot steer --speed`` does, with the same words.
 
@@ -163,6 +163,28 @@ def test_a_period_scale_the_servos_cannot_follow_is_refused_as_run_period(
             warnings.simplefilter("error")
             board.play(1, steps=1, period_scale=1.2)
         board.stop()
+
+
+def test_a_trial_played_faster_than_the_servos_follow_is_refused_as_run_period(
+    plans: pathlib.Path, tmp_path: pathlib.Path
+) -> None:
+    ok("upload", "--plan", "safe", "--slot", "1", "--port", "virtual:trial.flash", "--create",
+       cwd=plans)
+    by_run = refusal("run", "--slot", "1", "--steps", "1", "--period", "1.0",
+                     "--port", "virtual:trial.flash", cwd=plans)
+    by_record = refusal("record", "--out", "trials", "--play", "1", "--steps", "1",
+                        "--period", "1.0", "--port", "virtual:trial.flash", cwd=plans)
+    assert by_record == by_run
+    out = tmp_path / "trials"
+    with dbot.Board.open("virtual") as board:
+        board.upload_plan(1, read_relative(plans, "safe"))
+        with pytest.raises(ValueError) as e:
+            board.record_trial(out, play=1, steps=1, period=1.0)
+        assert str(e.value) == by_run
+        assert [p.name for p in out.glob("*") if p.is_dir()] == []
+        with pytest.warns(UserWarning, match="the servos cannot follow this plan"):
+            folder = board.record_trial(out, play=1, steps=1, period=1.0, allow_infeasible=True)
+        assert (pathlib.Path(folder) / "trial.json").is_file()
 
 
 def test_a_table_the_cli_uploaded_is_checked_from_the_image(plans: pathlib.Path) -> None:

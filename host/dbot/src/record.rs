@@ -92,6 +92,12 @@ impl TrialHooks for Terminal {
         self.bar.suspend(|| println!("{line}"));
     }
 
+    fn warn(&mut self, what: &board::rules::Overridden) {
+        // On stderr, as `dbot run --allow-infeasible` warns.
+        self.bar
+            .suspend(|| crate::feasibility_args::warn(Some(what)));
+    }
+
     fn stopping(&mut self) {
         self.say(&format!(
             "{} (Ctrl-C again to exit at once)",

@@ -2,7 +2,7 @@
 //! alike: the same infeasible plan is refused by `dbot table` and `dbot upload --plan` with the same
 //! words, `--allow-infeasible` builds the same bytes through both; `dbot run --period` refuses a
 //! period at which a servo could not follow the table, naming the joint, the speed and the limit,
-//! and `dbot steer --speed` refuses the speed that asks for that period with the same words;
+//! `dbot record --play --period` refuses it with the same words, and `dbot steer --speed` refuses the speed that asks for that period with the same words;
 //! `dbot set --stiffness` refuses what the servos' P gain register cannot hold. The Python doors
 //! are python/tests/test_refusals.py.
 //!
@@ -56,6 +56,16 @@ fn refusal(o: &Output) -> String {
         .unwrap_or_else(|| panic!("no error line: {e}"))
         .trim_end()
         .to_owned()
+}
+
+/// The folders in `out`, trials and partial ones (beside the index files).
+fn trial_folders(out: &Path) -> Vec<String> {
+    std::fs::read_dir(out)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_dir())
+        .map(|e| e.file_name().into_string().unwrap())
+        .collect()
 }
 
 /// No-load speeds at 12 V, rad/s, from the e-manuals' rev/min.
@@ -208,11 +218,29 @@ fn a_period_the_servos_cannot_follow_is_refused_naming_joint_speed_and_limit() {
         )),
         "{refused}"
     );
+    // `dbot record --play` starts its walk through the same rule: the same words, and no trial.
+    let record = |extra: &[&str]| {
+        let mut args = vec![
+            "record", "--out", "trials", "--play", "1", "--steps", "1", "--period", "1.0",
+        ];
+        args.extend(extra);
+        on_robot(d, &args)
+    };
+    assert_eq!(refusal(&record(&[])), refused);
+    assert!(!d.join("trials").exists() || trial_folders(&d.join("trials")).is_empty());
     // Nothing was played: the board never left standing still.
     assert!(
         !ok(on_robot(d, &["status"])).contains("Walking"),
         "walked after a refusal"
     );
+    let o = record(&["--allow-infeasible"]);
+    let warned = stderr(&o);
+    ok(o);
+    assert!(
+        warned.starts_with("warning: slot 1 (\"p\"): the servos cannot follow this plan"),
+        "{warned}"
+    );
+    assert_eq!(trial_folders(&d.join("trials")).len(), 1);
     // Slower than planned needs no check; the override plays the fast one with a warning.
     ok(on_robot(
         d,

@@ -1,6 +1,8 @@
 //! `lab::trial_record::record_trial` refuses, in the CLI's words, before anything moves: a trial
-//! folder that exists, a perturbation step beyond the steps played, a leg that is not a leg. The
-//! virtual robot is still where it was (its state, its counters) and no trial folder appears.
+//! folder that exists, a perturbation step beyond the steps played, a leg that is not a leg, a
+//! period shorter than planned at which the servos cannot follow the table (the words of `dbot run
+//! --period`, `board::rules::period`). The virtual robot is still where it was (its state, its
+//! counters) and no trial folder appears.
 
 use lab::trial_record::{TrialHooks, TrialPlay, TrialRequest, record_trial};
 
@@ -33,11 +35,13 @@ fn request(out: &std::path::Path) -> TrialRequest {
             steps: Some(2),
             backward: false,
             period: None,
+            allow_infeasible: false,
         }),
         strain: None,
         perturb: None,
         platform_id: None,
         every: 1,
+        held_table: None,
         command_line: vec!["test".to_owned()],
         model: planner::model::builtin("drosophibot2").unwrap(),
     }
@@ -91,4 +95,109 @@ fn refusals_come_before_anything_moves() {
         .filter(|n| n != "TRIAL INDEX.txt")
         .collect();
     assert_eq!(names, ["mine"]);
+}
+
+/// The folders in `out`, trials and partial ones (none if `out` was never made).
+fn trials_in(out: &std::path::Path) -> Vec<String> {
+    match std::fs::read_dir(out) {
+        Ok(entries) => entries
+            .map(|e| e.unwrap())
+            .filter(|e| e.file_type().unwrap().is_dir())
+            .map(|e| e.file_name().into_string().unwrap())
+            .collect(),
+        Err(_) => Vec::new(),
+    }
+}
+
+#[test]
+fn a_period_the_servos_cannot_follow_is_refused_in_the_words_of_run() {
+    // The paper's table 1 (0.5 s swing, 1.25 s per step): its front FTi servos already turn
+    // faster than the MX-28's no-load speed as planned, so faster still is refused.
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let plan =
+        planner::plan::plan(&model, &planner::gait::StepParams::table1(&model.name)).unwrap();
+    // LF_FTi's peak speed by central differences (the paper's equation 1) against the MX-28's
+    // 55 rev/min no-load speed (e-manual) at 0.9 times the period.
+    let j = plan
+        .model
+        .joints
+        .iter()
+        .position(|j| j.name == "LF_FTi")
+        .unwrap();
+    let n = plan.q.len();
+    let peak = (0..n)
+        .map(|s| (plan.q[(s + 1) % n][j] - plan.q[(s + n - 1) % n][j]).abs() / (2.0 * plan.dt))
+        .fold(0.0, f64::max);
+    let no_load = 55.0 * std::f64::consts::TAU / 60.0;
+    assert!(peak / 0.9 > no_load, "{peak} rad/s");
+    let bytes = planner::plan::table::step_table(&plan, None, "fast").unwrap();
+    let planned = f64::from(
+        protocol::GaitTable::parse(&bytes)
+            .unwrap()
+            .header()
+            .step_period_us,
+    ) * 1e-6;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("trials");
+    let mut board = physics::open("virtual").unwrap();
+    board.upload(0, &bytes, |_, _| {}).unwrap();
+    let fast = |allow_infeasible: bool, held: bool| TrialRequest {
+        play: Some(TrialPlay {
+            slot: 0,
+            steps: Some(1),
+            backward: false,
+            period: Some(0.9 * planned),
+            allow_infeasible,
+        }),
+        held_table: held.then(|| bytes.clone()),
+        ..request(&out)
+    };
+    // What `dbot run --period` and `Board.play` are refused with: the rule on the same command.
+    let by_run = board::rules::period::check_play(
+        &mut board,
+        &protocol::PlayCommand::new(
+            0,
+            protocol::Direction::Forward,
+            900,
+            protocol::Steps::Count(1),
+        ),
+        Some(&bytes),
+        &model,
+        board::rules::Overrides::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    let before = board.status().unwrap();
+
+    let mut hooks = Quiet::default();
+    let e = record_trial(&mut board, &fast(false, true), &mut hooks).unwrap_err();
+    assert_eq!(e.chain_text(), by_run);
+    assert!(
+        by_run.starts_with(&format!(
+            "slot 0 (\"fast\"): at {:.3} s per step (0.900 times the planned {planned:.3} s) the servos cannot follow it:\n",
+            0.9 * planned
+        )),
+        "{by_run}"
+    );
+    // A table the door does not hold (a board's, not uploaded by this host) cannot be checked.
+    let e = record_trial(&mut board, &fast(false, false), &mut hooks).unwrap_err();
+    assert!(
+        e.chain_text().contains("this host does not hold its table"),
+        "{}",
+        e.chain_text()
+    );
+    assert!(hooks.said.is_empty(), "{:?}", hooks.said);
+    let after = board.status().unwrap();
+    assert_eq!(after.state, before.state);
+    assert_eq!(after.counters, before.counters);
+    assert!(trials_in(&out).is_empty(), "{:?}", trials_in(&out));
+
+    // The override plays it, warning in the rule's words first.
+    let summary = record_trial(&mut board, &fast(true, true), &mut hooks).unwrap();
+    assert!(
+        hooks.said[0].starts_with("warning: slot 0 (\"fast\"): the servos cannot follow this plan"),
+        "{:?}",
+        hooks.said
+    );
+    assert_eq!(trials_in(&out).len(), 1, "{summary}: {:?}", trials_in(&out));
 }

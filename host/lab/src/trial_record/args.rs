@@ -55,6 +55,10 @@ pub struct TrialArgs {
     /// With --play: step period, s (default: the planned one).
     #[cfg_attr(feature = "clap", arg(long, requires = "play"))]
     pub period: Option<f64>,
+    /// With --play: play at a --period shorter than planned even when a servo cannot follow the
+    /// table there (as `dbot run --allow-infeasible`); a warning names what it let through.
+    #[cfg_attr(feature = "clap", arg(long, requires = "play"))]
+    pub allow_infeasible: bool,
     /// Record the lab's strain board on this port beside the servos (a serial path, or `virtual`
     /// for a board in this process: fed by the body's simulated gauges on `--port physics`, at
     /// zero strain otherwise); it calibrates before the robot moves.
@@ -85,8 +89,8 @@ pub struct TrialArgs {
 impl TrialArgs {
     /// The request the recording runs from: the table read from its file, `command_line` (the
     /// door's own words for the call, program first) and `model` (whose joint names the
-    /// recorded joints get) kept in the trial. Refused: `steps`, `backward`, `period` or
-    /// `perturb` without `play`, a table that cannot be read.
+    /// recorded joints get) kept in the trial. Refused: `steps`, `backward`, `period`,
+    /// `allow_infeasible` or `perturb` without `play`, a table that cannot be read.
     pub fn request(&self, command_line: Vec<String>, model: Model) -> Result<TrialRequest> {
         let table = match &self.table {
             Some(p) => Some(TrialTable {
@@ -100,6 +104,7 @@ impl TrialArgs {
                 ("steps", self.steps.is_some()),
                 ("backward", self.backward),
                 ("period", self.period.is_some()),
+                ("allow_infeasible", self.allow_infeasible),
                 ("perturb", self.perturb.is_some()),
             ];
             if let Some((name, _)) = needs_play.iter().find(|(_, given)| *given) {
@@ -119,11 +124,13 @@ impl TrialArgs {
                 steps: self.steps,
                 backward: self.backward,
                 period: self.period,
+                allow_infeasible: self.allow_infeasible,
             }),
             strain: self.strain.clone(),
             perturb: self.perturb.clone(),
             platform_id: self.platform_id,
             every: self.every,
+            held_table: None,
             command_line,
             model,
         })

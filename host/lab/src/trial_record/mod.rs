@@ -55,8 +55,11 @@ pub struct TrialPlay {
     /// Whole steps to play; `None`: until stopped.
     pub steps: Option<u32>,
     pub backward: bool,
-    /// Step period, s; `None`: the planned one.
+    /// Step period, s; `None`: the planned one. Shorter than planned only where the servos can
+    /// follow the table (`board::rules::period`, the rule of `dbot run --period`).
     pub period: Option<f64>,
+    /// Play at `period` even when a servo cannot follow the table there (warned).
+    pub allow_infeasible: bool,
 }
 
 /// Everything a trial is recorded from. Its errors name a field by the word both doors use
@@ -90,6 +93,10 @@ pub struct TrialRequest {
     pub platform_id: Option<u8>,
     /// Telemetry every this many bus cycles.
     pub every: u16,
+    /// The step table the door knows to be in the played slot when `table` is not given (Python:
+    /// one this `Board` uploaded there): what a period shorter than planned is checked against.
+    /// Without either, a `virtual:PATH` robot's image is read; a board's table is unknown.
+    pub held_table: Option<Vec<u8>>,
     /// The command line kept in the trial (program name first).
     pub command_line: Vec<String>,
     /// The model whose joint names the recording's joints get.
@@ -120,6 +127,11 @@ pub trait TrialHooks {
     /// A line for the user (the upload, the playback's announcement, the strain board's
     /// calibration, the stop).
     fn say(&mut self, line: &str);
+    /// What an override let through (`allow_infeasible`), in the library's words: by default
+    /// said as `warning: ...`.
+    fn warn(&mut self, what: &board::rules::Overridden) {
+        self.say(&format!("warning: {what}"));
+    }
     /// The walk is about to be stopped (after [`TrialHooks::should_stop`]): by default says
     /// [`STOPPING`].
     fn stopping(&mut self) {

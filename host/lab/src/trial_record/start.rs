@@ -45,6 +45,37 @@ pub(super) fn start(
     {
         hooks.say(&line);
     }
+    // The walk to start, checked before anything moves: a period shorter than planned must be
+    // one the servos can follow (the rule of `dbot run --period` and `Board.play`).
+    let walk = match play {
+        Some(p) => {
+            let (command, gait) =
+                playback::play_command(board, p.slot, p.steps, p.period, p.backward)?;
+            let known = match (&request.table, &request.held_table) {
+                (Some(t), _) => Some(t.bytes.clone()),
+                (None, Some(held)) => Some(held.clone()),
+                (None, None) => {
+                    board::rules::period::table_of_port(board.port(), p.slot).map_err(library)?
+                }
+            };
+            let overrides = board::rules::Overrides {
+                allow_infeasible: p.allow_infeasible,
+            };
+            let warning = board::rules::period::check_play(
+                board,
+                &command,
+                known.as_deref(),
+                &request.model,
+                overrides,
+            )
+            .map_err(library)?;
+            if let Some(w) = warning {
+                hooks.warn(&w);
+            }
+            Some((p, command, gait))
+        }
+        None => None,
+    };
     // A physics robot without the platform under that leg cannot move it: said before anything
     // moves, naming the port spec to use.
     if let Some(m) = checked
@@ -116,8 +147,7 @@ pub(super) fn start(
         duration_s: 0.0,
         missing_records: 0,
     };
-    if let Some(p) = play {
-        let (cmd, gait) = playback::play_command(board, p.slot, p.steps, p.period, p.backward)?;
+    if let Some((p, cmd, gait)) = walk {
         if hooks.should_stop() {
             crate::bail!("interrupted before the walk started: nothing was played or recorded");
         }
