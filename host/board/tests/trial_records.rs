@@ -86,6 +86,7 @@ fn meta(joints: Vec<String>) -> TrialMeta {
         cycles: 0,
         duration_s: 0.0,
         missing_records: 0,
+        lost_records: Some(0),
     }
 }
 

@@ -15,7 +15,7 @@ pub use capture::{
     check_telemetry_rate, set_recording_rate,
 };
 pub use csv_out::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Recorder, Row, TELEMETRY_README};
-pub use gaps::missing_cycles;
+pub use gaps::{missing_cycles, missing_words};
 pub use joints::{JointMeta, joints_of_table};
 pub use names::{joint_names, joint_names_by_ids};
 pub use stats::{JointTracking, PhaseStats, per_slice, phase_stats, tracking};

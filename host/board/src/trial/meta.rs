@@ -50,8 +50,13 @@ pub struct TrialMeta {
     /// Bus cycles recorded and their span, s of board time.
     pub cycles: usize,
     pub duration_s: f64,
-    /// Telemetry records missing (skipped cycle numbers).
+    /// Telemetry records missing (skipped cycle numbers): lost ones, and the cycles that make
+    /// none (torque switched, servos rebooted, an error read, the platform checked).
     pub missing_records: u64,
+    /// Records dropped on the board or the host during the recording (`board::record::gaps`);
+    /// `None`: not known (the link failed first, or a trial written before this field).
+    #[serde(default)]
+    pub lost_records: Option<u64>,
 }
 
 impl TrialMeta {

@@ -92,8 +92,10 @@ pub(super) fn readme(m: &TrialMeta) -> String {
     );
     let _ = writeln!(
         s,
-        "- recorded {} bus cycles ({:.2} s of board time), {} telemetry records missing",
-        m.cycles, m.duration_s, m.missing_records
+        "- recorded {} bus cycles ({:.2} s of board time); {}",
+        m.cycles,
+        m.duration_s,
+        crate::record::missing_words(m.missing_records, m.lost_records)
     );
     let _ = writeln!(
         s,

@@ -12,7 +12,7 @@ use board::trial::{Outcome, TELEMETRY_CSV, TrialFolder};
 use physics::Robot;
 use report::recording::{plot_angles, plot_torques};
 
-use super::start::Started;
+use super::start::{Dropped, Started};
 use super::summary::{TrialSummary, strain_summary};
 use super::{TrialHooks, library};
 use crate::error::{Context, LabError, Result};
@@ -33,6 +33,7 @@ pub(super) fn record(
         mut meta,
         strain,
         slices,
+        dropped_before,
     } = started;
     let dir = folder.work_dir().to_owned();
     let csv = dir.join(TELEMETRY_CSV);
@@ -92,6 +93,13 @@ pub(super) fn record(
     meta.cycles = rec.cycles();
     meta.duration_s = rec.duration_s();
     meta.missing_records = missing_cycles(rec.rows());
+    // Unknown when the link failed: the board's counter cannot be read.
+    meta.lost_records = match &result {
+        Ok(_) => Dropped::now(board)
+            .ok()
+            .map(|after| dropped_before.since(after)),
+        Err(_) => None,
+    };
     let plots = draw(&dir, &rec, slices);
     let path = folder.publish(&mut meta).map_err(library)?;
     let shown = path.display().to_string();
@@ -124,6 +132,7 @@ pub(super) fn record(
         duration_s: rec.duration_s(),
         joints: rec.joints().len(),
         missing_records: meta.missing_records,
+        lost_records: meta.lost_records,
         strain,
     })
 }

@@ -19,6 +19,32 @@ pub(super) struct Started {
     pub strain: Option<StrainBeside>,
     /// Slices per step of the table (0 without one): the torque plot's phase axis.
     pub slices: usize,
+    /// Telemetry records dropped so far on the board and on the host: what the recording's lost
+    /// records are counted from.
+    pub dropped_before: Dropped,
+}
+
+/// Telemetry records dropped since boot on the board (its queue full) and since the link opened
+/// on the host (its backlog full).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Dropped {
+    pub board: u32,
+    pub host: u64,
+}
+
+impl Dropped {
+    /// The counts now (asks the board).
+    pub fn now(board: &mut Robot) -> std::result::Result<Self, board::link::LinkError> {
+        Ok(Self {
+            board: board.status()?.counters.telemetry_dropped,
+            host: board.telemetry_dropped(),
+        })
+    }
+
+    /// Records dropped between `self` and `later`.
+    pub fn since(self, later: Self) -> u64 {
+        u64::from(later.board.wrapping_sub(self.board)) + later.host.saturating_sub(self.host)
+    }
 }
 
 /// Sets the telemetry rate, uploads the table (with `play`) and starts the walk.
@@ -146,7 +172,9 @@ pub(super) fn start(
         cycles: 0,
         duration_s: 0.0,
         missing_records: 0,
+        lost_records: None,
     };
+    let dropped_before = Dropped::now(board)?;
     if let Some((p, cmd, gait)) = walk {
         if hooks.should_stop() {
             crate::bail!("interrupted before the walk started: nothing was played or recorded");
@@ -174,5 +202,6 @@ pub(super) fn start(
         meta,
         strain,
         slices: checked.table.as_ref().map_or(0, |t| t.slice_count()),
+        dropped_before,
     })
 }

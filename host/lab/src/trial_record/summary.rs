@@ -20,6 +20,8 @@ pub struct TrialSummary {
     pub joints: usize,
     /// Telemetry records missing (skipped cycle numbers).
     pub missing_records: u64,
+    /// Of those, records dropped on the board or the host (`None`: not known).
+    pub lost_records: Option<u64>,
     /// The strain board's recording and its clock, when one recorded beside the servos.
     pub strain: Option<String>,
 }
@@ -34,10 +36,10 @@ impl fmt::Display for TrialSummary {
             self.joints,
             self.path.display()
         )?;
-        match self.missing_records {
-            0 => write!(f, "no telemetry record missing")?,
-            n => write!(f, "{n} telemetry records missing (skipped cycle numbers)")?,
-        }
+        f.write_str(&board::record::missing_words(
+            self.missing_records,
+            self.lost_records,
+        ))?;
         match &self.strain {
             Some(line) => write!(f, "\n{line}"),
             None => Ok(()),
