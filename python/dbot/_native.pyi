@@ -234,7 +234,7 @@ class Trial(TypedDict):
     meta: dict[str, Any]
     """trial.json: format_version, folder, outcome, started, host_version, command_line, port,
     firmware, settings, gait, plan, direction, period_scale, steps, substrate, strain,
-    perturbation, notes, joints, cycles, duration_s, missing_records (skipped cycle numbers),
+    perturbation (leg, step, rest, moved_to, platform_id), notes, joints, cycles, duration_s, missing_records (skipped cycle numbers),
     lost_records (of those, dropped on the board or the host; None if not known)."""
     path: str
 

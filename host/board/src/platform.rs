@@ -125,6 +125,7 @@ impl Perturb {
             step: self.setup.step,
             rest: self.setup.rest,
             moved_to: self.setup.moved_to(),
+            platform_id: Some(self.setup.servo_id),
         }
     }
 }
@@ -157,7 +158,8 @@ mod tests {
                 leg: "RM".into(),
                 step: 3,
                 rest: 2020,
-                moved_to: 2330
+                moved_to: 2330,
+                platform_id: Some(23),
             }
         );
         assert_eq!(

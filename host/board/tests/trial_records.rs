@@ -80,6 +80,7 @@ fn meta(joints: Vec<String>) -> TrialMeta {
             step: 2,
             rest: 2020,
             moved_to: 2330,
+            platform_id: Some(23),
         }),
         notes: "sand paper, second try".into(),
         joints,
@@ -171,7 +172,7 @@ fn a_trial_is_read_back_with_every_field_and_every_row() {
         "substrate: wire-mesh",
         "step period: 0.900 s",
         "strain recorded: yes",
-        "perturbation: leg RM at step 2",
+        "perturbation: leg RM at step 2, platform servo ID 23, 2020 -> 2330 ticks",
         "notes: sand paper, second try",
         "| `present_rad` |",
     ] {
@@ -197,6 +198,30 @@ fn publish(trials: &Path, name: Option<&str>, outcome: Outcome) -> std::path::Pa
     let mut m = meta(Vec::new());
     m.outcome = outcome;
     folder.publish(&mut m).unwrap()
+}
+
+#[test]
+fn a_trial_written_before_lost_records_and_the_platform_id_still_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = publish(dir.path(), None, Outcome::Complete);
+    // The trial.json of a writer that had neither field: the same object without their keys.
+    let json = path.join("trial.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let lost = v.as_object_mut().unwrap().remove("lost_records");
+    let id = v["perturbation"]
+        .as_object_mut()
+        .unwrap()
+        .remove("platform_id");
+    assert_eq!((lost, id), (Some(0.into()), Some(23.into())));
+    std::fs::write(&json, v.to_string()).unwrap();
+    let t = read_trial(&path).unwrap();
+    assert_eq!(t.meta.lost_records, None);
+    let p = t.meta.perturbation.unwrap();
+    assert_eq!(
+        (p.leg.as_str(), p.moved_to, p.platform_id),
+        ("RM", 2330, None)
+    );
 }
 
 #[test]

@@ -44,8 +44,8 @@ fn a_physics_port_with_a_platform_records_the_perturbed_step() {
     assert_eq!(tr.meta.port, "physics:flat+platform:RM");
     let p = tr.meta.perturbation.as_ref().unwrap();
     assert_eq!(
-        (p.leg.as_str(), p.step, p.rest, p.moved_to),
-        ("RM", 3, 2020, 2330)
+        (p.leg.as_str(), p.step, p.rest, p.moved_to, p.platform_id),
+        ("RM", 3, 2020, 2330, Some(23))
     );
     // The perturbed leg's servo loads against the same walk without the platform (the
     // physics robot is deterministic): per step, the largest change over the step's first 15

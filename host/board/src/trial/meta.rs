@@ -173,4 +173,7 @@ pub struct Perturbation {
     /// Platform servo goals, ticks.
     pub rest: u16,
     pub moved_to: u16,
+    /// The platform servo's Dynamixel ID; `None` in a trial written before this field.
+    #[serde(default)]
+    pub platform_id: Option<u8>,
 }

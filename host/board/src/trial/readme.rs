@@ -46,8 +46,13 @@ pub(super) fn readme(m: &TrialMeta) -> String {
         m.perturbation
             .as_ref()
             .map_or("none".to_owned(), |p| format!(
-                "leg {} at step {}, platform {} -> {} ticks",
-                p.leg, p.step, p.rest, p.moved_to
+                "leg {} at step {}, platform{} {} -> {} ticks",
+                p.leg,
+                p.step,
+                p.platform_id
+                    .map_or(String::new(), |id| format!(" servo ID {id},")),
+                p.rest,
+                p.moved_to
             ))
     );
     let _ = writeln!(
