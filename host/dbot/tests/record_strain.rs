@@ -128,7 +128,7 @@ fn the_servo_boards_port_is_refused_as_the_strain_port() {
     let d = run(dir.path(), &record_args(&out, &t, p, &["--strain", p]));
     assert!(!d.status.success());
     assert!(
-        d.stderr.contains(&format!("--strain {p}"))
+        d.stderr.contains(&format!("strain board {p}\n"))
             && d.stderr.contains(&format!(
                 "{p} is the servo board's port; the strain board has a port of its own"
             )),

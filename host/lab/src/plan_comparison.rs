@@ -115,7 +115,7 @@ pub fn sweep(
     let mut points = Vec::new();
     for &sw in swings {
         if !(sw > 0.0 && sw.is_finite()) {
-            bail!("--swing {sw}: swing durations must be positive seconds");
+            bail!("swing {sw}: swing durations must be positive seconds");
         }
         let mut p = planner::gait::StepParams::table1(&model.name);
         p.swing_s = sw;

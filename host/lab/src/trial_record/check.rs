@@ -58,7 +58,7 @@ impl TrialRequest {
         }
         if let (Some(strain), Some(servo)) = (&self.strain, servo_port) {
             board::strain::port::check_not_servo_port(strain, servo)
-                .with_context(|| format!("--strain {strain}"))?;
+                .with_context(|| format!("strain board {strain}"))?;
         }
         Ok(Checked {
             table,

@@ -141,7 +141,7 @@ pub(super) fn start(
             let port = board.port().to_owned();
             Some(
                 StrainBeside::start_fed(p, &port, folder.work_dir(), feed)
-                    .with_context(|| format!("--strain {p}"))?,
+                    .with_context(|| format!("strain board {p}"))?,
             )
         }
         None => None,
