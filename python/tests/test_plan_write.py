@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import json
 import pathlib
+import subprocess
 
 import pytest
 
 import dbot
-from dbot_cli import run
+from dbot_cli import dbot_cli, run
 
 SAME_BYTES = ["joints.csv", "feet.csv", "model.urdf", "joint_forces.csv", "strain.csv", "feasibility.md"]
 
@@ -68,6 +69,18 @@ def test_without_dynamics_there_are_no_torque_files(tmp_path: pathlib.Path) -> N
     files = plan.write(tmp_path / "kin", dynamics=False)
     assert "joint_forces.csv" not in files and "strain.csv" not in files
     assert dbot.read_plan_dir(tmp_path / "kin").torques is None
+    # A step table needs the torques: Python and `dbot table` refuse the directory in the same
+    # words, which name how it came to lack them in either door.
+    words = "written without dynamics, by --no-dynamics or Plan.write(dynamics=False)?"
+    with pytest.raises(ValueError) as e:
+        dbot.read_plan_dir(tmp_path / "kin").step_table()
+    assert words in str(e.value) and "torque_nm" in str(e.value)
+    cli = subprocess.run(
+        [str(dbot_cli()), "table", "--plan", "kin", "--out", "kin.dbgt"],
+        cwd=tmp_path, capture_output=True, text=True, timeout=600,
+    )
+    assert cli.returncode != 0 and words in cli.stderr, cli.stderr
+    assert not (tmp_path / "kin.dbgt").exists()
 
 
 def test_a_name_over_16_bytes_is_refused_with_the_clis_words(tmp_path: pathlib.Path) -> None:

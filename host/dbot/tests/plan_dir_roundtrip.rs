@@ -120,7 +120,12 @@ fn old_or_foreign_plan_directories_are_refused_naming_the_file_and_version() {
     );
     // Without dynamics the directory reads, but a table needs the torques.
     let e = fails(dir, &["table", "--plan", "kin", "--out", "kin.dbgt"]);
-    assert!(e.contains("joints.csv") && e.contains("torque_nm"), "{e}");
+    assert!(
+        e.contains("joints.csv")
+            && e.contains("torque_nm")
+            && e.contains("by --no-dynamics or Plan.write(dynamics=False)?"),
+        "{e}"
+    );
 
     ok(dir, &["plan", "--slices", "20", "--out", "good"]);
     let json = std::fs::read_to_string(dir.join("good/plan.json")).unwrap();

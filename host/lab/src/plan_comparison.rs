@@ -23,7 +23,7 @@ pub fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
     let plan = plan_dir::read(dir)?;
     let torque = plan.torque.as_ref().with_context(|| {
         format!(
-            "{}: no `{}` column (planned with --no-dynamics?)",
+            "{}: no `{}` column (written without dynamics, by --no-dynamics or Plan.write(dynamics=False)?)",
             dir.join(columns::JOINTS_CSV).display(),
             columns::TORQUE_NM
         )

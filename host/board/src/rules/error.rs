@@ -24,7 +24,7 @@ impl std::fmt::Display for Violations {
 pub enum RuleError {
     /// A servo cannot follow the plan or table (at its planned period).
     #[error(
-        "{what}: the servos cannot follow this plan:\n{violations}\nplan a slower step (--swing), or pass --allow-infeasible (Python: allow_infeasible=True) to build it anyway"
+        "{what}: the servos cannot follow this plan:\n{violations}\nplan a slower step (a longer swing: --swing, Python: swing_s=), or pass --allow-infeasible (Python: allow_infeasible=True) to build it anyway"
     )]
     Infeasible {
         what: String,

@@ -102,7 +102,7 @@ pub(super) fn diagnose(
                 .join(", "),
         );
         advice.push(
-            "stronger actuators or less load: a lower body height, a slower step (--swing) or no torque limits",
+            "stronger actuators or less load: a lower body height, a slower step (a longer swing: --swing, Python: swing_s=) or no torque limits",
         );
     }
     if need.is_empty() {

@@ -32,7 +32,7 @@ impl PlanDir {
         let torque = self.torque.as_ref().ok_or_else(|| PlanDirError::NoColumn {
             file: file.clone(),
             column: columns::TORQUE_NM,
-            hint: " (planned with --no-dynamics? the step table needs the torques)",
+            hint: " (written without dynamics, by --no-dynamics or Plan.write(dynamics=False)? the step table needs the torques)",
         })?;
         let stance: Vec<u8> = self
             .stance
