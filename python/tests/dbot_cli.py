@@ -31,6 +31,15 @@ def run(*args: str, cwd: pathlib.Path) -> str:
     return out.stdout
 
 
+def refused(*args: str, cwd: pathlib.Path) -> str:
+    """Runs `dbot ARGS` in `cwd`; it must fail. Its standard error."""
+    out = subprocess.run(
+        [str(dbot_cli()), *args], cwd=cwd, capture_output=True, text=True, timeout=600
+    )
+    assert out.returncode != 0, out.stdout
+    return out.stderr
+
+
 def record_trial(cwd: pathlib.Path, trial: str, port: str, steps: int, *extra: str) -> None:
     """Plans 40 slices into `p`, tables them as `p/g.dbgt` and records `steps` steps of that table
     played in slot 0 on `port` as `trials/TRIAL` (`extra`: more `dbot record` arguments)."""

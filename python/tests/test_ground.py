@@ -6,13 +6,11 @@ uneven ground it cannot plan for, naming the scene to walk the plan on instead.
 
 from __future__ import annotations
 
-import subprocess
-
 import pytest
 
 import dbot
 from dbot.env import DbotEnv
-from dbot_cli import dbot_cli
+from dbot_cli import refused
 
 REFUSAL = (
     "terrain `blocks:4:0.01:0.05:0`: the planner plans for flat, incline and the held ball only; "
@@ -22,19 +20,13 @@ REFUSAL = (
 UNKNOWN = "terrain `lava`: unknown terrain `lava` (expected flat, incline:DEG,"
 
 
-def cli_error(*args: str) -> str:
-    out = subprocess.run([str(dbot_cli()), *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode != 0
-    return out.stderr
-
-
 def assert_plan_refuses(terrain: str, words: str, tmp_path) -> None:
     """`dbot.plan` and `dbot plan` both refuse `terrain`, in words that hold `words`."""
     model = dbot.Model.builtin("drosophibot2")
     with pytest.raises(ValueError) as e:
         dbot.plan(model, terrain=terrain)
     assert words in str(e.value)
-    assert words in cli_error("plan", "--terrain", terrain, "--out", str(tmp_path / "p"))
+    assert words in refused("plan", "--terrain", terrain, "--out", "p", cwd=tmp_path)
 
 
 def test_the_planner_refuses_blocks_in_the_same_words_from_the_cli_and_python(tmp_path) -> None:

@@ -12,7 +12,7 @@ use planner::analysis::{
     ComparisonRow, DofTrace, SweepPoint, SweepRegime, classify_sweep, compare,
 };
 use planner::model::{JointKind, Leg, Model};
-use planner::plan_dir::{self, columns};
+use planner::plan_dir;
 
 use crate::bail;
 use crate::error::{Context, Result};
@@ -21,13 +21,7 @@ use crate::overlay::{folder_name, overlay};
 /// DoF traces of a plan directory (torques required): one per model joint, keyed by leg and kind.
 pub fn read_traces(dir: &Path) -> Result<Vec<DofTrace>> {
     let plan = plan_dir::read(dir)?;
-    let torque = plan.torque.as_ref().with_context(|| {
-        format!(
-            "{}: no `{}` column (written without dynamics, by --no-dynamics or Plan.write(dynamics=False)?)",
-            dir.join(columns::JOINTS_CSV).display(),
-            columns::TORQUE_NM
-        )
-    })?;
+    let torque = plan.torques("the comparison")?;
     let mut map: BTreeMap<(Leg, JointKind), (Vec<f64>, Vec<f64>)> = BTreeMap::new();
     for (angles, torques) in plan.angle.iter().zip(torque) {
         for (joint, (a, t)) in plan.model.joints.iter().zip(angles.iter().zip(torques)) {

@@ -40,6 +40,15 @@ pub enum PlanDirError {
         column: &'static str,
         hint: &'static str,
     },
+    /// The planned torques are not in the directory, and `needed_by` needs them.
+    #[error(
+        "{file}: no `{}` column (written without dynamics, by --no-dynamics or Plan.write(dynamics=False)? {needed_by} needs the torques)",
+        super::columns::TORQUE_NM
+    )]
+    NoTorques {
+        file: PathBuf,
+        needed_by: &'static str,
+    },
     #[error("{file} line {line}: {problem}")]
     Row {
         file: PathBuf,

@@ -27,6 +27,19 @@ pub struct PlanDir {
     pub stance: Vec<Vec<bool>>,
 }
 
+impl PlanDir {
+    /// The planned torques, `[slice][joint]`, or the error naming joints.csv and how a directory
+    /// comes to lack them (`needed_by`: what asked, e.g. "the step table").
+    pub fn torques(&self, needed_by: &'static str) -> Result<&[Vec<f64>], PlanDirError> {
+        self.torque
+            .as_deref()
+            .ok_or_else(|| PlanDirError::NoTorques {
+                file: self.path.join(JOINTS_CSV),
+                needed_by,
+            })
+    }
+}
+
 /// Reads the plan directory `dir`.
 pub fn read(dir: &Path) -> Result<PlanDir, PlanDirError> {
     let json = read_json(&dir.join(PLAN_JSON))?;

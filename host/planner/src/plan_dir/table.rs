@@ -2,7 +2,7 @@
 //! bytes (`dbot table --plan`, `dbot upload --plan`, `dbot demo`, Python all come through here), so
 //! the same directory always gives the same gait name and CRC.
 
-use super::{PlanDir, PlanDirError, columns};
+use super::{PlanDir, PlanDirError};
 use crate::plan::gait_table::{gait_table, stance_bits};
 
 impl PlanDir {
@@ -28,12 +28,7 @@ impl PlanDir {
     /// The step table bytes: the planned angles and modelled torques of every servo per slice,
     /// stance bits, period and duty, named `name` or else [`Self::table_name`].
     pub fn step_table(&self, name: Option<&str>) -> Result<Vec<u8>, PlanDirError> {
-        let file = self.path.join(columns::JOINTS_CSV);
-        let torque = self.torque.as_ref().ok_or_else(|| PlanDirError::NoColumn {
-            file: file.clone(),
-            column: columns::TORQUE_NM,
-            hint: " (written without dynamics, by --no-dynamics or Plan.write(dynamics=False)? the step table needs the torques)",
-        })?;
+        let torque = self.torques("the step table")?;
         let stance: Vec<u8> = self
             .stance
             .iter()
