@@ -1,13 +1,43 @@
 #!/usr/bin/env bash
 # The one test command: installs what a fresh machine lacks, then checks formatting and lints, builds
-# the firmware image and prints its budget, and runs every test. `.ci/run` calls exactly this.
+# the firmware image and prints its budget, and runs every test. `.ci/run` calls exactly this. At the
+# end (also after a failure) it prints each step's wall time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 # The emulator tests (hil-tests, pytest) must run here: a missing prerequisite fails them.
 unset DBOT_HIL_OPTIONAL
 
-step() { printf '\n==> %s\n' "$*"; }
+# Each step's wall time, printed as a table when the script ends, also when a step fails (EXIT trap):
+# the failing step is the last row, marked FAILED.
+step_names=()
+step_secs=()
+step_start=$SECONDS
+finish_step() {
+    if [ "${#step_names[@]}" -gt 0 ]; then
+        step_secs+=($((SECONDS - step_start)))
+    fi
+}
+step() {
+    finish_step
+    step_names+=("$*")
+    step_start=$SECONDS
+    printf '\n==> %s\n' "$*"
+}
+print_times() {
+    local status=$?
+    finish_step
+    local n=${#step_names[@]} i mark
+    printf '\n==> wall time per step\n'
+    printf '%8s  %s\n' "seconds" "step"
+    for ((i = 0; i < n; i++)); do
+        mark=""
+        if [ "$status" -ne 0 ] && [ "$i" -eq $((n - 1)) ]; then mark="   FAILED (exit $status)"; fi
+        printf '%8d  %s%s\n' "${step_secs[i]}" "${step_names[i]}" "$mark"
+    done
+    printf '%8d  %s\n' "$SECONDS" "total"
+}
+trap print_times EXIT
 
 step "toolchain: thumbv6m-none-eabi target, rustfmt, clippy"
 rustup target add thumbv6m-none-eabi >/dev/null
