@@ -10,7 +10,7 @@
 # in fuzz/dicts/ run with it. DBOT_FUZZ_CMIN=1 minimises the corpus after the run (cargo fuzz cmin).
 # Needs the nightly toolchain and cargo-fuzz (installed here from crates.io when missing). Not part
 # of scripts/test.sh: the bounded proptest versions of the same checks run there
-# (protocol/tests/robustness.rs, host/planner/tests/reliability_inputs.rs). Figures: docs/reliability.md.
+# (protocol/tests/integration/robustness.rs, host/planner/tests/integration/reliability_inputs.rs). Figures: docs/reliability.md.
 set -euo pipefail
 cd "$(dirname "$0")"
 secs="${1:-60}"

@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds="${1:-20}"
-filter='binary(roundtrip) | binary(robustness) | binary(reliability_inputs)'
+filter='(package(protocol) & test(/^(roundtrip|robustness)::/)) | (package(planner) & test(/^reliability_inputs::/))'
 for round in $(seq 1 "$rounds"); do
     seed="$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')"
     echo "==> round $round/$rounds: PROPTEST_RNG_SEED=$seed"

@@ -2,7 +2,7 @@
 """Makes the model_toml fuzz seeds (fuzz/seeds/model_toml/) from the built-in models: the same
 bodies, joints and feet without comments, the `notes` text and the `source` lines, and numbers
 with more than 6 decimals rounded to 6 significant digits, so each mutation parses less text.
-host/planner/tests/reliability_inputs.rs (valid_inputs_pass_the_checks) checks that they load.
+host/planner/tests/integration/reliability_inputs.rs (valid_inputs_pass_the_checks) checks that they load.
 
 Usage (from the repository root): python3 fuzz/seeds/strip_model_toml.py
 """

@@ -94,7 +94,7 @@
 //! # Versioning
 //!
 //! [`PROTOCOL_VERSION`] changes with any change of the encoded bytes of a message (the golden-byte tests
-//! in `tests/golden.rs` fail first, on purpose); [`gait::FORMAT_VERSION`] changes with the table layout.
+//! in `tests/integration/golden.rs` fail first, on purpose); [`gait::FORMAT_VERSION`] changes with the table layout.
 //! New message variants are appended at the end of their enum so older variants keep their index;
 //! such an addition still bumps the version when the board can send the new variant (an older host
 //! cannot decode it and would fail only when it arrives: version 2 added `FaultKind::ServoStuck`,

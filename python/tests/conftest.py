@@ -20,6 +20,7 @@ clock only bounds how long a test may hang (generously).
 
 from __future__ import annotations
 
+import importlib
 import os
 import pathlib
 import select
@@ -36,6 +37,19 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 HIL_EMULATOR_MISSING = 3
 #: Wall-clock bound for anything on a port (a wedged emulator fails a test instead of hanging CI).
 PORT_WALL_S = 180.0
+
+def need_module(name: str):
+    """Imports `name` for a test that needs it; missing, fails saying what installs it (a test that
+    cannot run must not pass by skipping)."""
+    try:
+        return importlib.import_module(name)
+    except ModuleNotFoundError:
+        pytest.fail(
+            f"the Python package `{name}` is missing: `pip install './python[test]'` installs "
+            "what the tests need (scripts/setup.d/40-python.sh does in the repository's .venv)",
+            pytrace=False,
+        )
+
 
 @pytest.fixture(scope="session")
 def model() -> dbot.Model:

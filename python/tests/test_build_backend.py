@@ -8,12 +8,14 @@ from __future__ import annotations
 import importlib
 import pathlib
 import pytest
+from conftest import need_module
 
 BACKEND = pathlib.Path(__file__).resolve().parents[1] / "build_backend"
 
 
 @pytest.fixture
 def backend(monkeypatch, tmp_path):
+    need_module("maturin")  # the backend wraps maturin's hooks
     monkeypatch.syspath_prepend(str(BACKEND))
     mod = importlib.import_module("dbot_build")
     script = tmp_path / "scripts" / "setup.d" / "20-mujoco.sh"

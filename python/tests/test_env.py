@@ -138,7 +138,7 @@ def test_standing_with_the_bias_the_observed_strain_is_what_the_planner_predicts
     # prediction, worst gauge 15 microstrain of 470): here the bias comes on after reset's settle
     # rather than as gravity ramps in, so the feet took their load unbiased first; measured
     # 1.36 % RMS, worst gauge 8.4 microstrain of 470.6 (-s prints it). Bound: 5 % RMS and 30
-    # microstrain, host/physics/tests/strain_standing.rs's bounds.
+    # microstrain, host/physics/tests/integration/strain_standing.rs's bounds.
     model = dbot.Model.builtin("drosophibot2")
     standing = dbot.plan_standing(model)
     env = DbotEnv("physics", model=model, max_episode_steps=300, torques=True)

@@ -23,6 +23,7 @@ import pytest
 from dbot.env import DbotEnv
 import dbot
 from dbot.sweep import gait_rollout, grid, mechanical_energy_j, pareto, sweep, table
+from conftest import need_module
 
 POINTS = grid(translation_m=[0.04, 0.085], cycles=[1.5])
 
@@ -97,7 +98,7 @@ def test_pareto_front_of_hand_made_rows() -> None:
 
 
 def test_processes_and_ray_give_the_serial_rows(serial_rows) -> None:
-    import ray  # pinned in scripts/setup.d/40-python.sh: missing, the test fails
+    ray = need_module("ray")  # the `test` extra and scripts/setup.d/40-python.sh install it
     assert sweep(gait_rollout, POINTS, backend="processes", processes=2) == serial_rows
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:

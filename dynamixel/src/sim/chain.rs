@@ -46,7 +46,7 @@ pub struct VirtualChain {
 /// rest. The robot's model file (`drosophibot2.toml`, read by `planner::model`) owns this map;
 /// this crate sits below the planner and cannot read it, so this is its one copy for the crates
 /// that cannot either (this crate's chains, the firmware's testkit and tests), checked equal to
-/// the model file's map by host/board/tests/servo_map.rs. Host code reads the model
+/// the model file's map by host/board/tests/integration/servo_map.rs. Host code reads the model
 /// (`board::robot::robot_servos`).
 pub const DROSOPHIBOT_CTR_IDS: [u8; 6] = [3, 6, 9, 14, 17, 20];
 

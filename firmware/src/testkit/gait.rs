@@ -28,7 +28,7 @@ impl SyntheticGait {
                 name: std::format!("J{j}"),
                 servo_id: j as u8 + 1,
                 // The chain's layout (dynamixel's one copy of the robot's map, tested against
-                // drosophibot2.toml in host/board/tests/servo_map.rs): MX-64 on the CTr joints.
+                // drosophibot2.toml in host/board/tests/integration/servo_map.rs): MX-64 on the CTr joints.
                 model: if dynamixel::sim::DROSOPHIBOT_CTR_IDS.contains(&(j as u8 + 1)) {
                     ServoModel::Mx64
                 } else {

@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
+use lab::validation::blocks::Part;
 
 /// Regenerate (or check) the run results and plots of docs/validation.md.
 ///
@@ -16,6 +17,7 @@ use anyhow::{Result, bail};
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot validate --check docs/validation.md     # fails naming every block or plot that drifted
+  dbot validate --check docs/validation.md --part paper   # one part only (quicker)
   cargo run --release --bin dbot -- validate --write docs/validation.md   # timings from a release build")]
 pub struct Args {
     /// Fill the generated blocks of this file in place and write its plots.
@@ -27,6 +29,17 @@ pub struct Args {
     /// Keep the comparison's plots (`dbot compare --paper` layout) in this directory.
     #[arg(long)]
     plots: Option<PathBuf>,
+    /// Only this part's blocks and plots (the others are left as they are): plans, paper, sweep,
+    /// strain, steering, timing or trials.
+    #[arg(long, value_parser = part_name)]
+    part: Option<Part>,
+}
+
+fn part_name(name: &str) -> Result<Part, String> {
+    Part::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = Part::ALL.iter().map(|p| p.name()).collect();
+        format!("no part `{name}`: one of {}", names.join(", "))
+    })
 }
 
 impl Args {
@@ -36,7 +49,7 @@ impl Args {
             (None, Some(p)) => (p, false),
             _ => bail!("give --write FILE or --check FILE"),
         };
-        let done = lab::validation::update(path, write, self.plots.as_deref())?;
+        let done = lab::validation::update(path, write, self.plots.as_deref(), self.part)?;
         let what = format!("{} generated blocks and {} plots", done.blocks, done.plots);
         if write {
             println!("{}: {what} ({} changed)", path.display(), done.stale.len());

@@ -29,7 +29,7 @@ use crate::walk_log::{WalkLog, WalkSample};
 
 /// The physics robot's MuJoCo timestep, s: 1 ms, twice the MJCF export's default, for speed (the
 /// contact's 2 ms time constant is still two steps). Halving it changes the walk's figures by
-/// less than the bounds of tests/walk_figures.rs.
+/// less than the bounds of tests/integration/walk_figures.rs.
 pub const TIMESTEP_S: f64 = 0.001;
 
 /// The board's virtual robot with a MuJoCo body moving its servos.

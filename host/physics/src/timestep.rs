@@ -16,7 +16,7 @@ use crate::error::PhysicsError;
 /// so a spring on a tiny inertia is unstable past omega dt = 2 (semi-implicit Euler) and rings
 /// long before: the scale fly's MJCF at 1 ms (omega dt 2.7) throws its thorax from 1.3 mm to
 /// 20 mm within a second, at 0.5 ms (1.4) its joints still swing at 22 rad/s, at 0.1 ms (0.27) it
-/// stands still (tests/fly_timestep.rs). Drosophibot II's stiffest joint: 63 rad/s, 0.06 at 1 ms.
+/// stands still (tests/integration/fly_timestep.rs). Drosophibot II's stiffest joint: 63 rad/s, 0.06 at 1 ms.
 pub const MAX_OMEGA_DT: f64 = 0.3;
 
 /// The actuated joint with the highest natural frequency.

@@ -191,7 +191,7 @@ impl<'a> GaitTable<'a> {
 
     /// Joint `j`'s record (`j` below the joint count). `None` only for a servo model code that
     /// [`ServoModel::from_table_code`] does not know, which `parse` refuses before any table
-    /// exists (`TableError::BadJoint`, field `servo model`; protocol/tests/gait_table.rs): no
+    /// exists (`TableError::BadJoint`, field `servo model`; protocol/tests/integration/gait_table.rs): no
     /// table stands in another servo's limits for an unknown one.
     fn joint_record(&self, j: usize) -> Option<JointMap> {
         let r = &self.bytes[HEADER_LEN + j * JOINT_RECORD_LEN..][..JOINT_RECORD_LEN];

@@ -21,9 +21,151 @@ pub struct Generated {
     pub plots: Vec<(&'static str, Vec<u8>)>,
 }
 
-/// Every generated block by name.
+/// The parts of the run results. Each part's blocks and plots need nothing from another part, so
+/// a check can run the parts side by side (`dbot validate --check FILE --part NAME`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Part {
+    /// The built-in models at table 1: weight, peak torques, feasibility, the swing's choice, the
+    /// IK's continuity, the incline, the resting posture; their plots.
+    Plans,
+    /// The paper's comparison and the parallel springs; their plots.
+    Paper,
+    /// The speed sweep.
+    Sweep,
+    /// Strain standing and walking; its plot.
+    Strain,
+    /// Turning and the steering blend.
+    Steering,
+    /// The timings.
+    Timing,
+    /// Substrates and the perturbation; its plot.
+    Trials,
+}
+
+impl Part {
+    pub const ALL: [Part; 7] = [
+        Part::Plans,
+        Part::Paper,
+        Part::Sweep,
+        Part::Strain,
+        Part::Steering,
+        Part::Timing,
+        Part::Trials,
+    ];
+
+    /// The part's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Part::Plans => "plans",
+            Part::Paper => "paper",
+            Part::Sweep => "sweep",
+            Part::Strain => "strain",
+            Part::Steering => "steering",
+            Part::Timing => "timing",
+            Part::Trials => "trials",
+        }
+    }
+
+    /// The part of this name.
+    pub fn from_name(name: &str) -> Option<Part> {
+        Part::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// The names of the part's blocks (what [`generate_part`] fills, checked there).
+    pub fn blocks(self) -> &'static [&'static str] {
+        match self {
+            Part::Plans => &[
+                "weight",
+                "robot-peaks",
+                "feasibility",
+                "swing-choice",
+                "ik-continuity",
+                "incline",
+                "posture",
+            ],
+            Part::Paper => &[
+                "paper",
+                "spring-stiffness",
+                "spring-stiffness-ball",
+                "dead-fly",
+            ],
+            Part::Sweep => &["sweep"],
+            Part::Strain => &["strain", "strain_walking"],
+            Part::Steering => &["turning", "steer-blend"],
+            Part::Timing => &["performance"],
+            Part::Trials => &["substrates", "perturbation"],
+        }
+    }
+
+    /// The part that generates the block of this name.
+    pub fn of_block(name: &str) -> Option<Part> {
+        Part::ALL.into_iter().find(|p| p.blocks().contains(&name))
+    }
+}
+
+/// Every generated block by name, and every plot.
 pub fn generate(plots_dir: &Path) -> Result<Generated> {
+    let mut all = Generated {
+        blocks: BTreeMap::new(),
+        plots: Vec::new(),
+    };
+    for part in Part::ALL {
+        let g = generate_part(part, plots_dir)?;
+        all.blocks.extend(g.blocks);
+        all.plots.extend(g.plots);
+    }
+    Ok(all)
+}
+
+/// The blocks and plots of one part.
+pub fn generate_part(part: Part, plots_dir: &Path) -> Result<Generated> {
+    std::fs::create_dir_all(plots_dir)
+        .with_context(|| format!("creating {}", plots_dir.display()))?;
     let mut b = BTreeMap::new();
+    let mut plots = Vec::new();
+    match part {
+        Part::Plans => plans(&mut b, &mut plots, plots_dir)?,
+        Part::Paper => paper(&mut b, &mut plots, plots_dir)?,
+        Part::Sweep => {
+            b.insert("sweep", sweep()?);
+        }
+        Part::Strain => {
+            b.insert("strain", super::strain::block()?);
+            let (walks, png) = super::strain_walking::walks(plots_dir)?;
+            b.insert("strain_walking", super::strain_walking::block(&walks)?);
+            plots.push(("strain_walking.png", png));
+        }
+        Part::Steering => {
+            b.insert("turning", super::turning::turning()?);
+            b.insert("steer-blend", crate::steer_blend::block()?);
+        }
+        Part::Timing => {
+            b.insert("performance", super::timing::performance()?);
+        }
+        Part::Trials => {
+            b.insert("substrates", super::trials::substrates()?);
+            let (perturbation, png) = super::trials::perturbation(plots_dir)?;
+            b.insert("perturbation", perturbation);
+            plots.push(("perturbation_load.png", png));
+        }
+    }
+    let made: Vec<&str> = b.keys().copied().collect();
+    let mut listed = part.blocks().to_vec();
+    listed.sort_unstable();
+    if made != listed {
+        crate::bail!(
+            "validation part `{}` generated blocks {made:?} but lists {listed:?}",
+            part.name()
+        );
+    }
+    Ok(Generated { blocks: b, plots })
+}
+
+type Blocks = BTreeMap<&'static str, String>;
+type Plots = Vec<(&'static str, Vec<u8>)>;
+
+/// [`Part::Plans`].
+fn plans(b: &mut Blocks, plots: &mut Plots, plots_dir: &Path) -> Result<()> {
     let robot = builtin("drosophibot2")?;
     let fly = builtin("scale-drosophila")?;
     let plan_of = |m: &planner::model::Model, f: &dyn Fn(&mut StepParams)| {
@@ -333,27 +475,6 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
     }
     b.insert("posture", s);
 
-    // The paper's comparison.
-    std::fs::create_dir_all(plots_dir)
-        .with_context(|| format!("creating {}", plots_dir.display()))?;
-    let c = crate::paper_comparison::run_paper(plots_dir, 50)?;
-    b.insert("paper", c.markdown);
-    let springs = super::springs::spring_blocks(plots_dir)?;
-    b.insert("spring-stiffness", springs.flat);
-    b.insert("spring-stiffness-ball", springs.ball);
-    b.insert("dead-fly", springs.dead_fly);
-    let mut plots = vec![("spring_stiffness_r2.png", springs.plot)];
-    for (name, from) in [
-        ("fig4b_flat_springs_torques.png", "flat-springs"),
-        ("figS7b_ball_springs_torques.png", "ball-springs"),
-    ] {
-        let f = plots_dir.join(from).join("compare_torques.png");
-        plots.push((
-            name,
-            std::fs::read(&f).with_context(|| f.display().to_string())?,
-        ));
-    }
-
     // Plots of the built-in models at table 1.
     for (name, plan, cycle, what) in [
         ("robot_flat_torques.png", &rp, &rc, "torques"),
@@ -370,20 +491,29 @@ pub fn generate(plots_dir: &Path) -> Result<Generated> {
             std::fs::read(&f).with_context(|| f.display().to_string())?,
         ));
     }
+    Ok(())
+}
 
-    b.insert("sweep", sweep()?);
-    b.insert("strain", super::strain::block()?);
-    let (walks, png) = super::strain_walking::walks(plots_dir)?;
-    b.insert("strain_walking", super::strain_walking::block(&walks)?);
-    plots.push(("strain_walking.png", png));
-    b.insert("turning", super::turning::turning()?);
-    b.insert("steer-blend", crate::steer_blend::block()?);
-    b.insert("performance", super::timing::performance()?);
-    b.insert("substrates", super::trials::substrates()?);
-    let (perturbation, png) = super::trials::perturbation(plots_dir)?;
-    b.insert("perturbation", perturbation);
-    plots.push(("perturbation_load.png", png));
-    Ok(Generated { blocks: b, plots })
+/// [`Part::Paper`]: the paper's comparison and the parallel springs.
+fn paper(b: &mut Blocks, plots: &mut Plots, plots_dir: &Path) -> Result<()> {
+    let c = crate::paper_comparison::run_paper(plots_dir, 50)?;
+    b.insert("paper", c.markdown);
+    let springs = super::springs::spring_blocks(plots_dir)?;
+    b.insert("spring-stiffness", springs.flat);
+    b.insert("spring-stiffness-ball", springs.ball);
+    b.insert("dead-fly", springs.dead_fly);
+    plots.push(("spring_stiffness_r2.png", springs.plot));
+    for (name, from) in [
+        ("fig4b_flat_springs_torques.png", "flat-springs"),
+        ("figS7b_ball_springs_torques.png", "ball-springs"),
+    ] {
+        let f = plots_dir.join(from).join("compare_torques.png");
+        plots.push((
+            name,
+            std::fs::read(&f).with_context(|| f.display().to_string())?,
+        ));
+    }
+    Ok(())
 }
 
 /// The fastest joint's share of its servo's no-load speed, and its name.

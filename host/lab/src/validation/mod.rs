@@ -44,18 +44,32 @@ pub struct Outcome {
     pub stale: Vec<String>,
 }
 
-/// Runs everything the document quotes and compares it with `doc`; with `write`, fills the
-/// document's blocks in place and writes its plots to `validation/` beside it. The comparison's
-/// plots (megabytes) go to `plots`, else to a scratch directory removed afterwards.
-pub fn update(doc: &Path, write: bool, plots: Option<&Path>) -> Result<Outcome> {
+/// Runs everything the document quotes (or only `part` of it: its blocks and plots, the others
+/// left as they are) and compares it with `doc`; with `write`, fills the document's blocks in place
+/// and writes its plots to `validation/` beside it. The comparison's plots (megabytes) go to
+/// `plots`, else to a scratch directory removed afterwards.
+pub fn update(
+    doc: &Path,
+    write: bool,
+    plots: Option<&Path>,
+    part: Option<blocks::Part>,
+) -> Result<Outcome> {
     let text =
         std::fs::read_to_string(doc).with_context(|| format!("reading {}", doc.display()))?;
-    let scratch = std::env::temp_dir().join(format!("dbot-validate-{}", std::process::id()));
-    let generated = blocks::generate(plots.unwrap_or(&scratch));
+    let scratch = std::env::temp_dir().join(format!(
+        "dbot-validate-{}-{}",
+        std::process::id(),
+        part.map_or("all", blocks::Part::name)
+    ));
+    let plots_dir = plots.unwrap_or(&scratch);
+    let generated = match part {
+        Some(part) => blocks::generate_part(part, plots_dir),
+        None => blocks::generate(plots_dir),
+    };
     let _ = std::fs::remove_dir_all(&scratch);
     let generated = generated?;
-    let (new, mut stale) =
-        fill(&text, &generated.blocks).with_context(|| doc.display().to_string())?;
+    let (new, mut stale) = fill_with(&text, &generated.blocks, part.is_some())
+        .with_context(|| doc.display().to_string())?;
     let plot_dir: PathBuf = doc.parent().unwrap_or(Path::new(".")).join("validation");
     for (name, bytes) in &generated.plots {
         let f = plot_dir.join(name);
@@ -81,6 +95,15 @@ pub fn update(doc: &Path, write: bool, plots: Option<&Path>) -> Result<Outcome> 
 /// Replaces every block's body outside the physics part; returns the new text and the names of
 /// blocks whose body changed (a missing physics part counts as `physics markers`).
 pub fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<String>)> {
+    fill_with(text, blocks, false)
+}
+
+/// [`fill`]; with `partial`, a block the map does not hold is kept as it is (a part's check).
+fn fill_with(
+    text: &str,
+    blocks: &BTreeMap<&str, String>,
+    partial: bool,
+) -> Result<(String, Vec<String>)> {
     let mut stale = Vec::new();
     let (outside, physics, after) = match (text.find(PHYSICS_BEGIN), text.find(PHYSICS_END)) {
         (Some(b), Some(e)) if b < e => {
@@ -94,7 +117,7 @@ pub fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<
         _ => bail!("`{PHYSICS_BEGIN}` and `{PHYSICS_END}` must both be there, in that order"),
     };
     let mut seen = Vec::new();
-    let mut out = fill_part(outside, blocks, &mut seen, &mut stale)?;
+    let mut out = fill_part(outside, blocks, partial, &mut seen, &mut stale)?;
     if physics.is_empty() {
         if !out.ends_with('\n') {
             out.push('\n');
@@ -102,7 +125,7 @@ pub fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<
         out += &format!("\n{PHYSICS_BEGIN}\n{PHYSICS_END}\n");
     } else {
         out += physics;
-        out += &fill_part(after, blocks, &mut seen, &mut stale)?;
+        out += &fill_part(after, blocks, partial, &mut seen, &mut stale)?;
     }
     for name in blocks.keys() {
         if !seen.iter().any(|s| s == name) {
@@ -116,6 +139,7 @@ pub fn fill(text: &str, blocks: &BTreeMap<&str, String>) -> Result<(String, Vec<
 fn fill_part(
     text: &str,
     blocks: &BTreeMap<&str, String>,
+    partial: bool,
     seen: &mut Vec<String>,
     stale: &mut Vec<String>,
 ) -> Result<String> {
@@ -132,9 +156,15 @@ fn fill_part(
             .find(CLOSE)
             .with_context(|| format!("block `{name}` has no `{CLOSE}`"))?;
         let old = &rest[body_start..body_start + close];
-        let fresh = blocks
-            .get(name.as_str())
-            .with_context(|| format!("block `{name}` is not one dbot validate generates"))?;
+        let Some(fresh) = blocks.get(name.as_str()) else {
+            if !partial || blocks::Part::of_block(&name).is_none() {
+                bail!("block `{name}` is not one dbot validate generates");
+            }
+            let end = body_start + close + CLOSE.len();
+            out += &rest[..end];
+            rest = &rest[end..];
+            continue;
+        };
         let fresh = format!("\n{}\n", fresh.trim_end());
         let same = if TIMED.contains(&name.as_str()) {
             same_up_to_timing(old, &fresh)

@@ -179,7 +179,7 @@ impl StepParams {
             return Err(bad("duty", self.duty, "duty cycle must lie in (0, 1)"));
         }
         // Positive is not enough either: swing 1e-308 s or duty 1e-300 pass the checks above yet
-        // give a stance that rounds to 0 s (found by host/planner/tests/reliability_inputs.rs). No bus
+        // give a stance that rounds to 0 s (found by host/planner/tests/integration/reliability_inputs.rs). No bus
         // plays a phase shorter than a millisecond (200 Hz is the fastest rate the board runs).
         const MIN_PHASE_S: f64 = 1e-3;
         if self.swing_s < MIN_PHASE_S {
@@ -234,7 +234,7 @@ impl StepParams {
             return Err(bad("ball_offset_m", self.ball_offset_m, "not finite"));
         }
         // Finite is not enough: the footpath quintics raise times to the 5th power and lengths
-        // near f64::MAX overflow to infinity (found by host/planner/tests/reliability_inputs.rs). These
+        // near f64::MAX overflow to infinity (found by host/planner/tests/integration/reliability_inputs.rs). These
         // bounds are far beyond any walking robot and only keep the arithmetic finite.
         const MAX_LENGTH_M: f64 = 100.0;
         const MAX_PERIOD_S: f64 = 3600.0;

@@ -23,7 +23,7 @@ pub const DEFAULT_PRESET: &str = PRESETS[0];
 /// no-load speed leaves out: a loaded servo turns slower (the torque-speed line) and its position
 /// loop lags. The shares are measured by `dbot validate` (docs/validation.md, the generated
 /// `feasibility` and `swing-choice` blocks, regenerated and checked by the `validation_doc` test),
-/// and the default is tested by host/planner/tests/plan_default_feasible.rs.
+/// and the default is tested by host/planner/tests/integration/plan_default_feasible.rs.
 pub const SERVO_SAFE_SWING_S: f64 = 1.0;
 
 impl StepParams {

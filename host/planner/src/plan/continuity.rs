@@ -91,7 +91,7 @@ impl std::fmt::Display for IkGap {
 /// servo; for an actuator without a datasheet (the fly's muscles) one turn per swing, 2 pi / T_sw,
 /// an estimate: 62.8 rad/s at the fly's 0.1 s swing, twice its fastest joint on flat ground (the
 /// front FTi, 31 rad/s); on the ball the continuation spreads the front CTr's change of branch
-/// up to 99 % of it (host/planner/tests/plan_ik_continuity.rs).
+/// up to 99 % of it (host/planner/tests/integration/plan_ik_continuity.rs).
 pub fn speed_limit(model: &Model, joint: usize, swing_s: f64) -> f64 {
     match &model.joints[joint].actuation {
         Actuation::Actuated { actuator, .. } => {

@@ -1,0 +1,12 @@
+//! The integration tests of `lab`, one module per topic, linked into one test binary (one link
+//! instead of one per file; nextest still runs each test in its own process).
+
+mod perturbation;
+mod physics_serve;
+mod plan_dir_consistency;
+mod steer_blend;
+mod strain_walking;
+mod substrates;
+mod trial_record;
+mod walk_sequence;
+mod walk_turn;

@@ -1,0 +1,19 @@
+//! The integration tests of `physics`, one module per topic, linked into one test binary (one link
+//! instead of one per file; nextest still runs each test in its own process).
+
+// Helpers shared by several modules.
+mod support;
+
+mod blocks;
+mod firmware_in_the_loop;
+mod fly_timestep;
+mod mjcf_model_data;
+mod p_gain;
+mod platform_servo;
+mod ports;
+mod set_stiffness;
+mod standing;
+mod strain_standing;
+mod substrate;
+mod walk_figures;
+mod walk_log;
