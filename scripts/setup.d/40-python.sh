@@ -16,6 +16,9 @@ fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
     maturin==1.16.0 numpy==2.4.6 pytest==9.2.0 matplotlib==3.11.2 gymnasium==1.4.0 ray==2.60.0
 
+# The quick-release profile (Cargo.toml): optimised like release without LTO, and shared with
+# scripts/demo.sh's build of dbot. A debug build of the package ran the tests 4.4 times slower
+# (docs/performance.md, "Build and test times").
 VIRTUAL_ENV="$PWD/.venv" PATH="$PWD/.venv/bin:$PATH" \
-    .venv/bin/maturin develop --quiet --release -m python/Cargo.toml
+    .venv/bin/maturin develop --quiet --profile quick-release -m python/Cargo.toml
 .venv/bin/python -c 'import dbot; print("dbot", dbot.__version__, "installed in .venv")'
