@@ -272,4 +272,30 @@ mod tests {
         assert_eq!(stale, vec!["physics markers".to_string()]);
         assert!(out.ends_with(&format!("\n{PHYSICS_BEGIN}\n{PHYSICS_END}\n")));
     }
+
+    #[test]
+    fn a_parts_check_keeps_the_other_parts_blocks_and_refuses_a_block_no_part_lists() {
+        // The sweep part's block against a document that also holds the plans part's `weight`.
+        let blocks: BTreeMap<&str, String> = [("sweep", "new".to_string())].into();
+        let doc = format!(
+            "{OPEN}weight -->\nold weight\n{CLOSE}\n{OPEN}sweep -->\nold\n{CLOSE}\n{PHYSICS_BEGIN}\n{PHYSICS_END}\n"
+        );
+        let (out, stale) = fill_with(&doc, &blocks, true).unwrap();
+        assert_eq!(stale, vec!["sweep".to_string()]);
+        assert!(out.contains(&format!("{OPEN}weight -->\nold weight\n{CLOSE}")));
+        assert!(out.contains(&format!("{OPEN}sweep -->\nnew\n{CLOSE}")));
+        // The whole check refuses the block it does not generate; so does a part's, for a name
+        // no part lists.
+        let e = fill(&doc, &blocks).unwrap_err().to_string();
+        assert!(
+            e.contains("block `weight` is not one dbot validate generates"),
+            "{e}"
+        );
+        let doc = format!("{OPEN}nobodys -->\nx\n{CLOSE}\n{PHYSICS_BEGIN}\n{PHYSICS_END}\n");
+        let e = fill_with(&doc, &blocks, true).unwrap_err().to_string();
+        assert!(
+            e.contains("block `nobodys` is not one dbot validate generates"),
+            "{e}"
+        );
+    }
 }
