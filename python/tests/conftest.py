@@ -140,8 +140,14 @@ _OPEN: list[dbot.Board] = []
 
 
 def open_board(port: str) -> dbot.Board:
-    """Opens `port`; the board is closed after the test (a serial port is exclusive)."""
-    board = dbot.Board.open(port)
+    """Opens `port`; the board is closed after the test (a serial port is exclusive). On a port
+    a reply may take PORT_WALL_S of wall time: the emulator on a loaded machine runs far slower
+    than the library's default of 2 s allows for an upload's commit (flash erase and program),
+    and the wall clock only bounds a hang here."""
+    if port.startswith("virtual"):
+        board = dbot.Board.open(port)
+    else:
+        board = dbot.Board.open(port, reply_timeout_s=PORT_WALL_S)
     _OPEN.append(board)
     return board
 
