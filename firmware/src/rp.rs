@@ -126,7 +126,7 @@ impl DirectionPin for Direction {
         self.0.set_high();
     }
     async fn release_after_tx(&mut self) {
-        // `flush` returned once the bytes were in the FIFO; BUSY stays set until the last stop bit
+        // `write` returned once the bytes were in the FIFO; BUSY stays set until the last stop bit
         // has left the shift register. Spin, never yield: a servo at Return Delay Time 0 answers
         // about 50 us after our last stop bit, and a task holding the executor past that would cost
         // its reply (seen in the emulator with telemetry every cycle). The spin is at most a FIFO of
@@ -139,10 +139,19 @@ impl DirectionPin for Direction {
 }
 
 /// The bus UART as the bus master sees it: reads are async (the receive interrupt fills the ring
-/// buffer), writes and flushes are blocking, so that driving the direction pin, sending a request
-/// and releasing the pin after its last stop bit happen in one run of the bus task that no other
-/// task can interrupt. A request is short (124 bytes of Sync Write = 1.24 ms at 1 Mbaud); the link
-/// task waits that long at most, interrupt handlers (USB) still run.
+/// buffer); writes are blocking and go straight into the TX FIFO from the bus task, so that driving
+/// the direction pin, sending a request and releasing the pin after its last stop bit happen in one
+/// run of the bus task that no other task can interrupt.
+///
+/// A request leaves the pin as one unbroken run of characters: a servo takes a pause inside a
+/// packet for its end, so a gap turns a Sync Write into a corrupt packet that no servo obeys.
+/// BufferedUart's own write refills the FIFO from the UART interrupt, which fires when 4 characters
+/// are left (10 us at 4 Mbaud); any other interrupt handler or critical section running at that
+/// moment emptied the FIFO (seen in the emulator while streaming at 4 Mbaud). Here the bytes are
+/// written with interrupts masked until the last one is in the FIFO: the masked time is the wire
+/// time of all but the FIFO's 32 characters (a 22-servo Sync Write of 124 bytes: 0.92 ms at
+/// 1 Mbaud, 0.23 ms at 4 Mbaud; 16 ms at 57600 baud), in which the link task could not run anyway;
+/// interrupts (USB, timer) are served after it.
 struct BusUart(BufferedUart);
 
 impl embedded_io_async::ErrorType for BusUart {
@@ -163,10 +172,22 @@ impl embedded_io_async::ReadReady for BusUart {
 
 impl embedded_io_async::Write for BusUart {
     async fn write(&mut self, buf: &[u8]) -> Result<usize, uart::Error> {
-        self.0.blocking_write(buf)
+        // Nothing ever goes through the ring buffer of TX (the interrupt handler finds it empty and
+        // leaves the FIFO alone), so the FIFO holds this request's bytes only.
+        let regs = embassy_rp::pac::UART0;
+        cortex_m::interrupt::free(|_| {
+            for &byte in buf {
+                while regs.uartfr().read().txff() {
+                    core::hint::spin_loop();
+                }
+                regs.uartdr().write(|w| w.set_data(byte));
+            }
+        });
+        Ok(buf.len())
     }
     async fn flush(&mut self) -> Result<(), uart::Error> {
-        self.0.blocking_flush()
+        // Every byte is in the FIFO once `write` returns; `release_after_tx` waits for BUSY.
+        Ok(())
     }
 }
 

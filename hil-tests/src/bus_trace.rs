@@ -1,8 +1,9 @@
 //! What the board wrote on the servo bus, read back from the emulator's bus trace: the Goal
-//! Position Sync Writes, parsed with the dynamixel crate's packet parser.
+//! Position Sync Writes, parsed with the dynamixel crate's packet parser, and whether every packet
+//! left the pin as one unbroken run of characters.
 
 use crate::emulator::TracedBurst;
-use anyhow::{Result, anyhow, ensure};
+use anyhow::{Result, anyhow, bail, ensure};
 use dynamixel::control_table::GOAL_POSITION;
 use dynamixel::instruction::Instruction;
 use dynamixel::parser::Parser;
@@ -11,6 +12,58 @@ use std::time::Duration;
 /// A Goal Position Sync Write: its burst's start (simulated time) and each servo's goal, ticks,
 /// by ID.
 pub type GoalWrite = (Duration, Vec<(u8, i32)>);
+
+/// Checks that no packet the board sent has a gap inside it, and returns how many Sync Writes
+/// there were. The runner ends a burst only when the line goes idle (TX FIFO and shift register
+/// empty, runner/src/bus.js), so a packet with a pause inside it is cut across two bursts: the
+/// first ends in a packet's head (bytes the parser still holds), the next starts with its tail
+/// (bytes outside any packet). A servo takes such a pause for the end of the packet (e-manual:
+/// status packets and instructions are continuous byte streams), so the cut packet's goals never
+/// reach it. A corrupt packet is an error too.
+pub fn unbroken_packets(bursts: &[TracedBurst]) -> Result<usize> {
+    let mut sync_writes = 0;
+    for (i, b) in bursts.iter().enumerate() {
+        let mut parser = Parser::<1024>::new();
+        ensure!(
+            parser.feed(&b.bytes) == b.bytes.len(),
+            "burst at {:?} ({} bytes) longer than the parser holds",
+            b.burst.start,
+            b.bytes.len()
+        );
+        while let Some(frame) = parser.next_frame() {
+            let f = frame.map_err(|e| {
+                anyhow!("corrupt packet in the burst at {:?}: {e:?}", b.burst.start)
+            })?;
+            if f.instruction == Instruction::SyncWrite as u8 {
+                sync_writes += 1;
+            }
+        }
+        let head = parser.buffered();
+        let stray = parser.skipped_bytes();
+        if head > 0 || stray > 0 {
+            let gap = |from: &TracedBurst, to: &TracedBurst| {
+                to.burst.start.saturating_sub(from.burst.end)
+            };
+            let (when, idle) = if head > 0 {
+                let next = bursts.get(i + 1);
+                ("ends", next.map(|n| gap(b, n)))
+            } else {
+                let prev = i.checked_sub(1).map(|p| &bursts[p]);
+                ("starts", prev.map(|p| gap(p, b)))
+            };
+            let idle = idle.map_or("no burst beside it".to_string(), |d| {
+                format!("the line idle for {d:?} between the two")
+            });
+            bail!(
+                "a gap inside a packet: the burst at {:?} ({} bytes, instruction {:?}) {when} in                  the middle of a packet ({head} bytes of a packet's head, {stray} bytes outside                  any packet), {idle}",
+                b.burst.start,
+                b.bytes.len(),
+                b.burst.instruction,
+            );
+        }
+    }
+    Ok(sync_writes)
+}
 
 /// Every Goal Position Sync Write in `bursts`. A corrupt packet is an error: bytes were lost on
 /// the wire (e.g. the direction pin low too early), and its goals never reached the servos.
@@ -68,4 +121,64 @@ fn parse(bursts: &[TracedBurst], whole: bool) -> Result<Vec<GoalWrite>> {
         );
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::emulator::BusBurst;
+
+    /// Bursts of `packets` (bytes) sent at 1 Mbit/s: 10 us per character, 100 us apart.
+    fn bursts(packets: &[&[u8]]) -> Vec<TracedBurst> {
+        let mut at = Duration::ZERO;
+        packets
+            .iter()
+            .map(|p| {
+                let end = at + Duration::from_micros(10 * p.len() as u64);
+                let b = TracedBurst {
+                    burst: BusBurst {
+                        start: at,
+                        end,
+                        len: p.len(),
+                        instruction: p.get(7).copied(),
+                        answer_end: None,
+                    },
+                    bytes: p.to_vec(),
+                };
+                at = end + Duration::from_micros(100);
+                b
+            })
+            .collect()
+    }
+
+    fn sync_write() -> Vec<u8> {
+        let mut buf = [0u8; 256];
+        let n = dynamixel::encode::sync_write_u32(
+            &mut buf,
+            GOAL_POSITION.addr,
+            (1..=22).map(|id| (id, 2048 + u32::from(id))),
+        )
+        .unwrap();
+        buf[..n].to_vec()
+    }
+
+    #[test]
+    fn whole_sync_writes_pass_and_are_counted() {
+        let w = sync_write();
+        // 22 servos: 10 header/instruction/CRC bytes + 4 address/length + 22 x 5 = 124 bytes.
+        assert_eq!(w.len(), 124);
+        assert_eq!(unbroken_packets(&bursts(&[&w, &w])).unwrap(), 2);
+    }
+
+    #[test]
+    fn a_sync_write_cut_by_an_idle_line_is_a_gap() {
+        let w = sync_write();
+        let b = bursts(&[&w[..60], &w[60..]]);
+        let e = unbroken_packets(&b).unwrap_err().to_string();
+        assert!(e.contains("a gap inside a packet"), "{e}");
+        // 60 characters of 10 us end at 600 us; the tail starts 100 us later.
+        assert!(e.contains("idle for 100"), "{e}");
+        // The old check of whole bursts sees it too.
+        assert!(goal_writes_of_whole_bursts(&b).is_err());
+    }
 }

@@ -26,6 +26,10 @@ pub struct Options {
     pub bus: Option<Vec<String>>,
     /// Cap simulated time at this multiple of wall time (None: as fast as possible).
     pub realtime: Option<f64>,
+    /// Processes whose threads must all be blocked for simulated time to pass (runner/src/pace.js):
+    /// the host and whatever carries its bytes, so a host slowed by a loaded machine does not
+    /// fall behind the board. Empty: simulated time runs freely.
+    pub paced_by: Vec<u32>,
     /// Where decoded defmt lines and runner notices are echoed (they are collected either way).
     pub echo: Echo,
 }
@@ -65,6 +69,9 @@ pub struct TracedBurst {
 pub struct BusBurst {
     /// Simulated time of the first start bit.
     pub start: Duration,
+    /// Simulated time the last stop bit ended: the line is idle from here until the next burst
+    /// (a burst ends only when the UART's FIFO and shift register are empty).
+    pub end: Duration,
     /// Bytes in the burst.
     pub len: usize,
     /// Instruction byte when the burst starts with a Protocol 2.0 header.
@@ -142,6 +149,10 @@ impl Emulator {
         }
         if let Some(r) = opts.realtime {
             cmd.arg("--realtime").arg(r.to_string());
+        }
+        if !opts.paced_by.is_empty() {
+            let pids: Vec<String> = opts.paced_by.iter().map(u32::to_string).collect();
+            cmd.arg("--paced-by").arg(pids.join(","));
         }
         if let Some(dp) = defmt_print() {
             cmd.arg("--defmt-print").arg(dp);
@@ -457,6 +468,7 @@ fn nanos(v: &Value) -> Duration {
 fn burst(b: &Value) -> BusBurst {
     BusBurst {
         start: nanos(&b["start_ns"]),
+        end: nanos(&b["end_ns"]),
         len: b["len"].as_u64().unwrap_or(0) as usize,
         instruction: b["inst"].as_u64().map(|i| i as u8),
         answer_end: b["rx_end_ns"]

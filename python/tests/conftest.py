@@ -15,7 +15,12 @@ Tests on a real board (``DBOT_TEST_PORT``) are opt-in and say so when skipped.
 Time on a port is not the host's: the emulator runs at roughly 0.15 x real time while the bus
 cycles with 22 servos (faster when idle) and a real board at 1 x. So waits here are counted in the
 board's own bus cycles or driven by its proprioception, never by the host's wall clock; the wall
-clock only bounds how long a test may hang (generously).
+clock only bounds how long a test may hang (generously). The emulator runs freely: a test
+descheduled by a loaded machine for longer than a stream's setpoint timeout (in the board's
+cycles) still trips it. ``hil-emulator --paced-by PID`` would stop the board's clock while the
+host computes, but on a machine loaded to about 20 runnable processes per core it slowed the
+emulator to about 0.014 x real time (every wake-up of the host waits for a CPU), past the wall
+bound below, so it is not used here.
 """
 
 from __future__ import annotations
@@ -146,8 +151,14 @@ _OPEN: list[dbot.Board] = []
 
 
 def open_board(port: str) -> dbot.Board:
-    """Opens `port`; the board is closed after the test (a serial port is exclusive)."""
-    board = dbot.Board.open(port)
+    """Opens `port`; the board is closed after the test (a serial port is exclusive). On a port
+    a reply may take PORT_WALL_S of wall time: the emulator on a loaded machine runs far slower
+    than the library's default of 2 s allows for an upload's commit (flash erase and program),
+    and the wall clock only bounds a hang here."""
+    if port.startswith("virtual"):
+        board = dbot.Board.open(port)
+    else:
+        board = dbot.Board.open(port, reply_timeout_s=PORT_WALL_S)
     _OPEN.append(board)
     return board
 

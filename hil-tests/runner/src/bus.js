@@ -31,7 +31,7 @@ export class BusLink {
     this.pendingReply = null;
     createInterface({ input: this.proc.stdout }).on('line', (line) => this.reply(line));
     this.stats = { bursts: 0, txChars: 0, rxChars: 0, lostTx: 0, lostRx: 0, collisions: 0 };
-    /** Start times (ns of simulated time) of every burst while recording is on. */
+    /** Every burst (start and end of its characters on the wire, ns of simulated time) while recording is on. */
     this.trace = null;
   }
 
@@ -71,7 +71,13 @@ export class BusLink {
     const start = this.board.simNanos(this.burstStart);
     // Instruction byte of a Protocol 2.0 packet at the start of the burst (FF FF FD 00 id len len inst).
     const header = tx.length > 7 && tx[0] === 0xff && tx[1] === 0xff && tx[2] === 0xfd;
-    const entry = { start_ns: start, len: tx.length, inst: header ? tx[7] : null, rx_end_ns: null };
+    const entry = {
+      start_ns: start,
+      end_ns: this.board.simNanos(this.burstEnd),
+      len: tx.length,
+      inst: header ? tx[7] : null,
+      rx_end_ns: null,
+    };
     this.trace?.push(entry);
     this.pendingReply = { end: this.burstEnd, boardEpoch: this.board.epoch, entry };
     this.board.hold = true;

@@ -13,6 +13,8 @@
 //!   flashing with a probe keeps the rest of the flash), written back after flash writes and at exit.
 //! - defmt: the RTT up-buffer bytes go to `defmt-print -e ELF`, whose lines become `log` events.
 //! - --realtime X: keep simulated time at most X times wall time (default: as fast as possible).
+//! - --paced-by PID,...: simulated time passes only while every thread of those processes is
+//!   blocked (the host waits), so a loaded machine's host does not fall behind the board (pace.js).
 
 import { spawn } from 'node:child_process';
 import { existsSync, readFileSync, writeFileSync } from 'node:fs';
@@ -22,6 +24,7 @@ import { parseArgs } from 'node:util';
 import { Board } from './board.js';
 import { BusLink } from './bus.js';
 import { loadFlash, parseElf } from './elf.js';
+import { HostPacer } from './pace.js';
 import { Control } from './protocol.js';
 import { RttReader } from './rtt.js';
 
@@ -36,6 +39,7 @@ const { values: opts } = parseArgs({
     'bus-cmd': { type: 'string' },
     'defmt-print': { type: 'string', default: 'defmt-print' },
     realtime: { type: 'string' },
+    'paced-by': { type: 'string' },
   },
 });
 
@@ -253,6 +257,7 @@ control.handlers = {
     flash: flashStats,
     fast_forward: board.fastForwardStats,
     instructions: board.instructions,
+    pacing: pacer?.stats ?? null,
     halted,
   }),
   quit: () => {
@@ -276,6 +281,14 @@ function quit() {
 // The run loop: slices of simulated time, I/O in between.
 const wallStart = performance.now();
 const realtime = opts.realtime ? Number(opts.realtime) : null;
+let pacer = null;
+if (opts['paced-by']) {
+  const pids = opts['paced-by'].split(',').map(Number);
+  if (pids.some((p) => !Number.isInteger(p) || p <= 0)) {
+    fail(`--paced-by must be process IDs separated by commas, got ${opts['paced-by']}`);
+  }
+  pacer = new HostPacer(pids, { onWarn: warn });
+}
 let lastFlashSave = 0;
 control.event('ready', { rtt: rttAddress ?? null, flash_bytes: FLASH_SIZE });
 while (!quitting) {
@@ -294,6 +307,10 @@ while (!quitting) {
       setTimeout(resolve, board.hold ? 1000 : 20);
     });
     wake = null;
+  } else if (pacer !== null && !pacer.mayRun(performance.now() - wallStart)) {
+    // The host is computing (or waiting for a CPU): the board's clock waits for it.
+    await new Promise((r) => setTimeout(r, 1));
+    continue;
   } else {
     board.runUntil(board.clock.nanos + SLICE_NANOS);
   }

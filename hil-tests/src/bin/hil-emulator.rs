@@ -43,6 +43,12 @@ struct Args {
     /// Keep simulated time at most this multiple of wall time (default: as fast as it runs).
     #[arg(long)]
     realtime: Option<f64>,
+    /// Process ID of the host (e.g. the pytest process): simulated time passes only while every
+    /// thread of it (and of this program, which carries its bytes through the pty) is blocked,
+    /// as on the in-process virtual robot, so a host slowed by a loaded machine never falls
+    /// behind the board's clock (runner/src/pace.js). Default: simulated time runs freely.
+    #[arg(long, value_name = "PID")]
+    paced_by: Option<u32>,
 }
 
 /// Exit status for a missing prerequisite, so a caller can tell "not installed" from a failure.
@@ -93,6 +99,10 @@ fn options(args: &Args) -> Result<Options> {
             args.baud,
         )),
         realtime: args.realtime,
+        paced_by: args
+            .paced_by
+            .map(|host| vec![host, std::process::id()])
+            .unwrap_or_default(),
         echo: if args.log { Echo::Stderr } else { Echo::Off },
     };
     if let Some(why) = hil_tests::target::emulator_missing(&opts) {

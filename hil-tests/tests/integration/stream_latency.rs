@@ -19,7 +19,7 @@
 //! last Sync Write before it) and must cover every tenth of the cycle.
 
 use anyhow::{Context, Result, bail, ensure};
-use hil_tests::bus_trace::goal_writes_of_whole_bursts;
+use hil_tests::bus_trace::{goal_writes_of_whole_bursts, unbroken_packets};
 use hil_tests::drive::{T, start_playing, start_with_servos};
 use hil_tests::gait::{JOINTS, sine_gait, upload};
 use hil_tests::link::Link;
@@ -277,6 +277,13 @@ fn measure(emu: &Emulator, link: &mut Link, cycle_hz: u16) -> Result<(Vec<Sample
     // The last setpoint's Sync Write is on the wire once its record came; stop the traces.
     let usb = emu.usb_trace_stop()?;
     let bursts = emu.bus_trace_stop_bytes()?;
+    // Every request left the pin unbroken: streaming at 4 Mbit/s used to cut a Sync Write when an
+    // interrupt delayed the UART's FIFO refill (firmware/src/rp.rs, BusUart).
+    let unbroken = unbroken_packets(&bursts).context("the board's requests while streaming")?;
+    println!(
+        "  {} bursts traced, {unbroken} Sync Writes, none with a gap inside",
+        bursts.len()
+    );
     let arrivals = arrivals(&usb)?;
     let writes = sync_writes(&bursts)?;
     emu.set_usb_out_delay(Duration::from_micros(10))?;
