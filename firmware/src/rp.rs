@@ -1,6 +1,7 @@
 //! Board bring-up on the RP2040 with embassy, and the seams of the firmware library on real
-//! hardware (pins from `firmware::pins`): the gait store on the QSPI flash (written through embassy-rp's flash driver, read in
-//! place through the XIP window), the half-duplex Dynamixel bus on UART0 with a direction pin, the
+//! hardware: the gait store on the QSPI flash (written through embassy-rp's flash driver, read in
+//! place through the XIP window), the half-duplex Dynamixel bus on UART0 with a direction pin
+//! (pins from `firmware::pins`, the table docs/hardware.md shows), the
 //! embassy-time clock, the USB CDC-ACM link, and the watchdog.
 //!
 //! Tasks: `bus_task` runs the fixed-rate bus loop and feeds the watchdog; `link_task` serves the host;
