@@ -3,7 +3,9 @@
 
 use anyhow::bail;
 
-use crate::args::board::BoardArgs;
+use board::port::PortSpec;
+
+use crate::args::board::{BoardArgs, check_store_exists};
 use crate::common::model_spec::load_model;
 
 /// Check a freshly wired robot: the board, every servo of the model file, the supply, the strain board.
@@ -46,7 +48,17 @@ impl Args {
         // With only a servo bus named, no board is looked for.
         let port = match (&self.board.port, &self.bus) {
             (None, Some(_)) => None,
-            _ => Some(self.board.port(&self.board.setup()?)?),
+            _ => {
+                let setup = self.board.setup()?;
+                let port = self.board.port(&setup)?;
+                // A typed `virtual:PATH` must exist, as for every board command.
+                if let PortSpec::Virtual { image: Some(path) } = PortSpec::parse(&port)?
+                    && (self.board.port.is_some() || setup.port.is_some())
+                {
+                    check_store_exists(&path, self.board.port.is_some(), self.board.create)?;
+                }
+                Some(port)
+            }
         };
         let options = lab::doctor::Options {
             port,
