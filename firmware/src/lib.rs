@@ -15,6 +15,7 @@
 //! - [`playback`], [`bias`], [`gait_view`]: gait clock, interpolation, torque bias in fixed point.
 //! - [`safety`]: the state machine; [`controller`]: what to do each bus cycle and on each command.
 //! - [`bus_loop`]: the fixed-rate loop over the bus master; [`link`]: the protocol dispatcher.
+//! - [`pins`]: the RP2040 pins the firmware drives (`rp.rs` and `docs/hardware.md` follow it).
 //! - [`device_log`]: every state change and fault, logged with defmt in the image.
 //! - [`board`]: all of it over the four seams, for in-process use (host virtual robot, tests).
 //! - [`testkit`] (feature `std`): the synthetic gait and the whole-board rig on the simulated wire,
@@ -34,6 +35,7 @@ pub mod device_log;
 pub mod gait_view;
 pub mod link;
 pub mod memory_map;
+pub mod pins;
 pub mod playback;
 pub mod safety;
 pub mod store;

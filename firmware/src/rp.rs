@@ -1,6 +1,7 @@
 //! Board bring-up on the RP2040 with embassy, and the seams of the firmware library on real
 //! hardware: the gait store on the QSPI flash (written through embassy-rp's flash driver, read in
-//! place through the XIP window), the half-duplex Dynamixel bus on UART0 with a direction pin, the
+//! place through the XIP window), the half-duplex Dynamixel bus on UART0 with a direction pin
+//! (pins from `firmware::pins`, the table docs/hardware.md shows), the
 //! embassy-time clock, the USB CDC-ACM link, and the watchdog.
 //!
 //! Tasks: `bus_task` runs the fixed-rate bus loop and feeds the watchdog; `link_task` serves the host;
@@ -35,6 +36,7 @@ use firmware::bus_loop::{BusLoop, Shared};
 use firmware::controller::{Config, Controller};
 use firmware::link::{Link, LinkDown, serve};
 use firmware::memory_map::{FLASH_BASE, FLASH_SIZE, GAIT_STORE_OFFSET, GAIT_STORE_SIZE};
+use firmware::pins;
 use firmware::store::{BOARD_SLOTS, FlashWindow};
 use panic_probe as _;
 use static_cell::StaticCell;
@@ -303,6 +305,11 @@ async fn main(spawner: Spawner) {
     static RX_BUF: StaticCell<[u8; 1024]> = StaticCell::new();
     let mut uart_config = uart::Config::default();
     uart_config.baudrate = config.baud;
+    // The pins are `firmware::pins` (the hardware page's table): change both together.
+    const _: () = assert!(
+        pins::BUS_UART == 0 && pins::BUS_TX.gpio == 0 && pins::BUS_RX.gpio == 1,
+        "rp.rs takes UART0 on PIN_0/PIN_1: follow firmware::pins"
+    );
     let uart = BufferedUart::new(
         p.UART0,
         p.PIN_0,
@@ -311,6 +318,10 @@ async fn main(spawner: Spawner) {
         TX_BUF.init([0; 256]),
         RX_BUF.init([0; 1024]),
         uart_config,
+    );
+    const _: () = assert!(
+        pins::BUS_DIRECTION.gpio == 2,
+        "rp.rs takes PIN_2 as the direction pin: follow firmware::pins"
     );
     let direction = Direction(Output::new(p.PIN_2, Level::Low));
     info!("bus UART up at {} baud", config.baud);

@@ -257,6 +257,31 @@ def compare(
     compare.csv and the overlay plots into ``out``. A trial's traces are its measured angles and
     estimated torques averaged per slice over steps 1 to the last whole one."""
 
+class DoctorItem(TypedDict):
+    name: str
+    outcome: Literal["pass", "fail", "not checked"]
+    detail: str
+    fix: str | None
+
+class DoctorReport(TypedDict):
+    ok: bool
+    items: list[DoctorItem]
+    text: str
+
+def doctor(
+    port: str | None = None,
+    bus: str | None = None,
+    baud: int | None = None,
+    strain: str | None = None,
+    strain_seconds: float = 2.0,
+    model: Model | None = None,
+    quiet: bool = False,
+) -> DoctorReport:
+    """The bring-up check of ``dbot doctor``, same items and words: the board on ``port``, every
+    servo of ``model`` on the servo bus (``bus``, or the virtual/physics robot's own), the supply
+    voltage from the servos, the strain board on ``strain``. Prints the items unless ``quiet``;
+    ``ok`` is False when any item failed."""
+
 FaultKey = Literal[
     "EmergencyStop", "ServoError", "ServoMissing", "SetpointTimeout", "Watchdog", "ServoStuck"
 ]

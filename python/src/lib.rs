@@ -8,6 +8,7 @@ mod bench;
 mod board;
 mod body;
 mod compare;
+mod doctor;
 mod errors;
 mod lab;
 mod model;
@@ -39,6 +40,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<bench::Bench>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(doctor::doctor, m)?)?;
     lab::register(m)?;
     render::register(m)?;
     standing::register(m)?;

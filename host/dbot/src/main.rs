@@ -10,6 +10,7 @@ mod compare;
 mod config;
 mod demo;
 mod devices;
+mod doctor;
 mod dxl;
 mod estop;
 mod feasibility_args;
@@ -86,6 +87,7 @@ enum Cmd {
     SimStrain(sim_strain::Args),
     Strain(strain::Args),
     Dxl(dxl::Args),
+    Doctor(doctor::Args),
     Validate(validate::Args),
 }
 
@@ -117,6 +119,7 @@ fn main() -> std::process::ExitCode {
         Cmd::SimStrain(a) => a.run(),
         Cmd::Strain(a) => a.run(),
         Cmd::Dxl(a) => a.run(),
+        Cmd::Doctor(a) => a.run(),
         Cmd::Validate(a) => a.run(),
     };
     // Each cause once: many library errors write their source into their own text.

@@ -27,8 +27,10 @@
 //! - [`trial_record`]: recording a trial folder from a board (`dbot record`, `Board.record_trial`).
 //! - [`plan_dir_write`]: the one writer of a plan directory (files, plots, the dynamics, strain).
 //! - [`validation`]: the run results of docs/validation.md.
+//! - [`doctor`]: the bring-up check of a freshly wired robot (`dbot doctor`, `dbot.doctor()`).
 
 pub mod demo;
+pub mod doctor;
 pub mod error;
 pub mod overlay;
 pub mod paper_comparison;

@@ -62,6 +62,16 @@ impl RobotLink {
         }
     }
 
+    /// The in-process robot's simulated servo bus (`None` for a board on a serial port, whose
+    /// bus the host reaches only through a servo adapter).
+    pub fn bus_wire(&self) -> Option<dynamixel::sim::SimWire> {
+        match self {
+            Self::Virtual(t) => Some(t.robot().wire()),
+            Self::Physics(t) => Some(t.robot().wire()),
+            Self::Serial(_) => None,
+        }
+    }
+
     /// The physics robot's body model (`None` for any other kind).
     pub fn physics(&self) -> Option<&PhysicsRobot> {
         match self {

@@ -116,6 +116,12 @@ impl<S: ServoDynamics> VirtualRobot<S> {
         self.wire.with_chain(f)
     }
 
+    /// The simulated bus wire itself, for a second master on it (the bring-up check reads the
+    /// servos' registers through it, as a U2D2 clipped onto the robot's bus would).
+    pub fn wire(&self) -> SimWire {
+        self.wire.clone()
+    }
+
     /// What moves the servos.
     pub fn servos(&self) -> &S {
         &self.servos

@@ -91,7 +91,11 @@ impl BoardArgs {
 
 /// A typed `virtual:PATH` must name an existing store unless `--create` is given, and its folder
 /// must exist even then (`--create` makes a robot, not a folder tree from a typo).
-fn check_store_exists(path: &std::path::Path, from_flag: bool, create: bool) -> anyhow::Result<()> {
+pub(crate) fn check_store_exists(
+    path: &std::path::Path,
+    from_flag: bool,
+    create: bool,
+) -> anyhow::Result<()> {
     if path.exists() {
         return Ok(());
     }

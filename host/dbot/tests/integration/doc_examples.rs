@@ -18,8 +18,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Subcommands that talk to a board (and so take `--port`).
-const BOARD_COMMANDS: [&str; 10] = [
+const BOARD_COMMANDS: [&str; 11] = [
     "devices", "upload", "gaits", "run", "stop", "estop", "status", "servos", "set", "record",
+    "doctor",
 ];
 
 /// One documented command: where it is, its words after `dbot`, whether it needs hardware.

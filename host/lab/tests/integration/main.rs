@@ -1,6 +1,7 @@
 //! The integration tests of `lab`, one module per topic, linked into one test binary (one link
 //! instead of one per file; nextest still runs each test in its own process).
 
+mod doctor;
 mod perturbation;
 mod physics_serve;
 mod plan_dir_consistency;
