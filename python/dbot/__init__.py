@@ -6,6 +6,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
 * :func:`plan_standing` - the robot standing still in its resting posture, solved: the angles,
   the torques of the bias, the foot forces and the gauges' predicted strain.
+* :func:`excitation` - the excitation trials that identify the robot (``"suspended"``: per-joint
+  steps and chirps, feet in the air; ``"standing"``: slow posture changes), each with its step
+  table checked by the rules of any gait, as ``dbot excite`` writes them.
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
@@ -47,6 +50,7 @@ from ._native import (
     camera_half_extent,
     compare,
     compare_strain,
+    excitation,
     physics_walk,
     plan,
     plan_standing,
@@ -72,6 +76,7 @@ __all__ = [
     "camera_half_extent",
     "compare",
     "compare_strain",
+    "excitation",
     "physics_walk",
     "plan",
     "plan_standing",

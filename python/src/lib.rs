@@ -9,6 +9,7 @@ mod board;
 mod body;
 mod compare;
 mod errors;
+mod excitation;
 mod lab;
 mod model;
 mod names;
@@ -42,5 +43,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     lab::register(m)?;
     render::register(m)?;
     standing::register(m)?;
+    excitation::register(m)?;
     Ok(())
 }
