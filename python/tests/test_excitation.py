@@ -26,7 +26,8 @@ def test_suspended_trials_stay_within_limits_and_speed_and_carry_checked_tables(
             assert np.all(q[:, k] >= lo) and np.all(q[:, k] <= hi), name
             rpm = 63.0 if name.endswith("CTr") else 55.0
             speed = np.abs(np.diff(q[:, k])) / t["dt_s"]
-            assert speed.max() <= 0.5 * rpm * 2 * math.pi / 60 + 1e-9, name
+            # Half the no-load speed; the dynamixel crate holds it in f32 (1e-6 relative).
+            assert speed.max() <= 0.5 * rpm * 2 * math.pi / 60 * (1 + 1e-6), name
         # The table bytes: the DBGT magic, and as many slices as goals.
         assert t["table"][:4] == b"DBGT"
         chirps = [s for s in t["segments"] if s["motion"] == "chirp"]
