@@ -10,6 +10,16 @@ use core::f32::consts::TAU;
 pub const TICKS_PER_REV: i32 = 4096;
 /// PWM that equals 100 % duty (PWM Limit default, e-manual).
 pub const PWM_FULL_SCALE: f32 = 885.0;
+/// Divisor of the Position P Gain register: Kp = P / 128 in PWM per tick of error (e-manual;
+/// ESTIMATE for the servo's real behaviour: BAM measured 256 on X-series servos).
+pub const P_GAIN_DIVISOR: f32 = 128.0;
+/// Divisor of the Position I Gain register: Ki = I / 65536 (e-manual).
+pub const I_GAIN_DIVISOR: f32 = 65_536.0;
+/// Divisor of the Position D Gain register: Kd = D / 16 (e-manual).
+pub const D_GAIN_DIVISOR: f32 = 16.0;
+/// Position I Gain and D Gain registers at power-on (e-manual defaults; P is 850).
+pub const I_GAIN_DEFAULT: u16 = 0;
+pub const D_GAIN_DEFAULT: u16 = 0;
 
 /// A Dynamixel servo model (protocol 2.0 firmware).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -133,7 +143,10 @@ impl ServoModel {
     /// (885 = 100 %). Assuming torque proportional to PWM up to the stall torque (no back-EMF, no
     /// friction, i.e. a servo holding still), k = (P/128) / 885 * stall torque * ticks per rad.
     pub fn stiffness_per_p_gain(self) -> f32 {
-        (1.0 / 128.0) / PWM_FULL_SCALE * self.stall_torque_nm() * self.ticks_per_rev() as f32 / TAU
+        (1.0 / P_GAIN_DIVISOR) / PWM_FULL_SCALE
+            * self.stall_torque_nm()
+            * self.ticks_per_rev() as f32
+            / TAU
     }
 }
 

@@ -6,6 +6,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`plan` - one planned step cycle; parameters in, NumPy arrays out (:class:`Plan`).
 * :func:`plan_standing` - the robot standing still in its resting posture, solved: the angles,
   the torques of the bias, the foot forces and the gauges' predicted strain.
+* :func:`excitation` - the excitation trials that identify the robot (``"suspended"``: per-joint
+  steps and chirps, feet in the air; ``"standing"``: slow posture changes), each with its step
+  table checked by the rules of any gait, as ``dbot excite`` writes them.
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
@@ -48,6 +51,7 @@ from ._native import (
     compare,
     compare_strain,
     doctor,
+    excitation,
     physics_walk,
     plan,
     plan_standing,
@@ -74,6 +78,7 @@ __all__ = [
     "compare",
     "compare_strain",
     "doctor",
+    "excitation",
     "physics_walk",
     "plan",
     "plan_standing",

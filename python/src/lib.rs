@@ -10,6 +10,7 @@ mod body;
 mod compare;
 mod doctor;
 mod errors;
+mod excitation;
 mod lab;
 mod model;
 mod names;
@@ -44,5 +45,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     lab::register(m)?;
     render::register(m)?;
     standing::register(m)?;
+    excitation::register(m)?;
     Ok(())
 }

@@ -13,6 +13,7 @@ mod devices;
 mod doctor;
 mod dxl;
 mod estop;
+mod excite;
 mod feasibility_args;
 mod gaits;
 mod model;
@@ -57,6 +58,7 @@ enum Cmd {
     Plan(plan::Args),
     Model(model::Args),
     Table(table::Args),
+    Excite(excite::Args),
     Compare(compare::Args),
     Devices(devices::Args),
     Upload(upload::Args),
@@ -103,6 +105,7 @@ fn main() -> std::process::ExitCode {
         Cmd::Plan(a) => a.run(),
         Cmd::Model(a) => a.run(),
         Cmd::Table(a) => a.run(),
+        Cmd::Excite(a) => a.run(),
         Cmd::Compare(a) => a.run(),
         Cmd::Devices(a) => a.run(),
         Cmd::Upload(a) => a.run(),

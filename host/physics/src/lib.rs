@@ -1,6 +1,7 @@
 //! Drosophibot II in MuJoCo 3.17.0 (through mujoco-rs 7.0.0): the model's MJCF
 //! (`planner::model::to_mjcf`) loaded as a [`Plant`] whose actuators behave like the MX servos'
-//! position controllers ([`servo`]), and the [`PhysicsRobot`]: the firmware library's board over
+//! position controllers ([`servo`], step by step [`drive`]: deadband, PID, torque-speed line,
+//! backlash), and the [`PhysicsRobot`]: the firmware library's board over
 //! the simulated Dynamixel bus driving that plant, time advancing with the bus cycles: the board's
 //! virtual robot with a [`PhysicsRobot`] as its servo dynamics, behind the virtual robot's
 //! transport ([`PhysicsTransport`]). Its [`Body`] (thorax pose and velocity, foot contacts,
@@ -12,6 +13,7 @@
 //! MuJoCo comes from scripts/setup.d/20-mujoco.sh (see build.rs).
 
 mod body;
+pub mod drive;
 mod error;
 mod figures;
 mod gauges;

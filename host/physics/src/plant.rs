@@ -1,5 +1,7 @@
 //! [`Plant`]: a model loaded into MuJoCo with its servos as actuators, stepped at the MJCF's
-//! timestep. Each step sets every actuator's control from its servo's goal ([`crate::servo`]).
+//! timestep. Each step sets every actuator's control from its servo's goal through the servo's
+//! control law ([`crate::drive`]: the model's servo dynamics, [`planner::model::ServoParams`]),
+//! and switches a joint's actuator off while its backlash is open.
 //!
 //! Gravity is ramped in over [`GRAVITY_RAMP_S`] from the moment every servo holds (torque on): a
 //! robot is set down on its feet after its servos are switched on; until then it floats, still.
@@ -7,10 +9,12 @@
 
 use mujoco_rs::prelude::*;
 use mujoco_rs::wrappers::mj_model::{MjtDisableBit, MjtObjBase};
-use planner::model::{Actuation, Leg, MjcfOptions, Model, ServoMap, servo_actuator, to_mjcf};
+use planner::model::{
+    Actuation, Leg, MjcfOptions, Model, ServoMap, ServoParams, joint_actuator, to_mjcf,
+};
 
+use crate::drive::{self, Drive, DriveState, Gains};
 use crate::error::PhysicsError;
-use crate::servo;
 use crate::timestep::check_timestep;
 
 /// Time over which gravity reaches its full value, s.
@@ -29,6 +33,18 @@ pub struct PlantJoint {
     /// Goal angle, rad, and whether the servo holds it.
     pub goal: f64,
     pub torque_on: bool,
+    /// Integral and derivative gains, N m/(rad s) and N m s/rad (from the I and D registers).
+    pub ki: f64,
+    pub kd: f64,
+    /// The servo's dynamics in the model ([`Model::servo_params`]).
+    pub params: ServoParams,
+    /// The torque-speed line's slope in the actuator, N m s/rad.
+    kv: f64,
+    /// The control law's memory, and the last step's command.
+    state: DriveState,
+    last: Option<Drive>,
+    /// Whether the actuator drives the joint (false while the backlash is open).
+    engaged: bool,
     qpos: usize,
     dof: usize,
     actuator: usize,
@@ -104,6 +120,12 @@ impl Plant {
                 model: model.name.clone(),
                 joint: joint.name.clone(),
             })?;
+            let params = model.servo_params(j).ok_or_else(|| PhysicsError::NoServo {
+                model: model.name.clone(),
+                joint: joint.name.clone(),
+            })?;
+            let act = joint_actuator(model, j).expect("an actuated joint has an actuator");
+            debug_assert_eq!(actuator.servo(), Some(map.model));
             let jid = find(MjtObjBase::mjOBJ_JOINT, "joint", &joint.name)?;
             let aid = find(MjtObjBase::mjOBJ_ACTUATOR, "actuator", &joint.name)?;
             joints.push(PlantJoint {
@@ -111,9 +133,16 @@ impl Plant {
                 name: joint.name.clone(),
                 map,
                 kp: stiffness,
-                stall: servo_actuator(actuator, stiffness).stall_nm,
+                stall: act.stall_nm,
                 goal: options.stance_q[j],
                 torque_on: false,
+                ki: 0.0,
+                kd: 0.0,
+                params,
+                kv: act.damping,
+                state: DriveState::default(),
+                last: None,
+                engaged: true,
                 qpos: mj.jnt_qposadr()[jid] as usize,
                 dof: mj.jnt_dofadr()[jid] as usize,
                 actuator: aid,
@@ -163,6 +192,19 @@ impl Plant {
             return;
         }
         self.joints[i].kp = kp;
+        if self.joints[i].engaged {
+            self.write_actuator(i, kp, self.joints[i].kv);
+        }
+    }
+
+    /// Sets joint `i`'s integral and derivative gains (from its servo's I and D registers).
+    pub fn set_ki_kd(&mut self, i: usize, ki: f64, kd: f64) {
+        self.joints[i].ki = ki;
+        self.joints[i].kd = kd;
+    }
+
+    /// The actuator of joint `i` as `kp ctrl - kp q - kv qdot`.
+    fn write_actuator(&mut self, i: usize, kp: f64, kv: f64) {
         let a = self.joints[i].actuator;
         // SAFETY: only the actuator's gain and bias parameters change; every size, index and
         // address stays as it was. A position actuator is kp ctrl - kp q - kv qdot.
@@ -170,7 +212,49 @@ impl Plant {
             let m = self.data.model_mut();
             m.actuator_gainprm_mut()[a][0] = kp;
             m.actuator_biasprm_mut()[a][1] = -kp;
+            m.actuator_biasprm_mut()[a][2] = -kv;
         }
+    }
+
+    /// Engages or parts joint `i`'s gears: apart, its actuator gives no force at all.
+    fn set_engaged(&mut self, i: usize, engaged: bool) {
+        if self.joints[i].engaged == engaged {
+            return;
+        }
+        self.joints[i].engaged = engaged;
+        let (kp, kv) = if engaged {
+            (self.joints[i].kp, self.joints[i].kv)
+        } else {
+            (0.0, 0.0)
+        };
+        self.write_actuator(i, kp, kv);
+    }
+
+    /// Joint `i`'s control law gains now.
+    fn gains(&self, i: usize) -> Gains {
+        let j = &self.joints[i];
+        Gains {
+            kp: j.kp,
+            ki: j.ki,
+            kd: j.kd,
+            stall: j.stall,
+            kv: j.kv,
+            deadband: j.params.deadband_rad,
+            backlash: j.params.backlash_rad,
+        }
+    }
+
+    /// The PWM duty joint `i`'s controller outputs at its present angle: the proportional term
+    /// past the deadband plus the last step's integral and derivative terms.
+    pub fn duty(&self, i: usize) -> f64 {
+        let j = &self.joints[i];
+        if !j.torque_on {
+            return 0.0;
+        }
+        let q = self.data.qpos()[j.qpos];
+        let e = drive::past_deadband(j.goal - q, j.params.deadband_rad);
+        let extra = j.last.map_or(0.0, |d| d.extra);
+        drive::duty_of(j.kp * e + extra, j.stall)
     }
 
     /// Cuts (or raises) joint `i`'s stall torque to `stall` N m: the P controller's saturation and
@@ -223,6 +307,19 @@ impl Plant {
         m.body_pos_mut()[b] = [xy[0], xy[1], z];
     }
 
+    /// Joint `name`'s gear train as MuJoCo holds it: the damping (N m s/rad), frictionloss (N m)
+    /// and armature (kg m^2) of its degree of freedom (the MJCF's, from the model's servo
+    /// dynamics).
+    pub fn joint_gear(&self, name: &str) -> Option<(f64, f64, f64)> {
+        let j = self.joints.iter().find(|j| j.name == name)?;
+        let m = self.data.model();
+        Some((
+            m.dof_damping()[j.dof],
+            m.dof_frictionloss()[j.dof],
+            m.dof_armature()[j.dof],
+        ))
+    }
+
     /// The sliding friction coefficient of foot `leg`'s sphere.
     pub fn foot_friction(&self, leg: Leg) -> Option<f64> {
         let (_, g) = self.feet.iter().find(|&&(l, _)| l == leg)?;
@@ -258,11 +355,26 @@ impl Plant {
         if self.data.model_opt().gravity != gravity {
             self.data.model_opt_mut().gravity = gravity;
         }
-        for j in &self.joints {
-            let q = self.data.qpos()[j.qpos];
-            self.data.ctrl_mut()[j.actuator] = servo::ctrl(q, j.goal, j.torque_on, j.kp, j.stall);
+        let h = self.timestep();
+        let mut speeds = Vec::with_capacity(self.joints.len());
+        for i in 0..self.joints.len() {
+            let g = self.gains(i);
+            let j = &self.joints[i];
+            let (q, qd) = (self.data.qpos()[j.qpos], self.data.qvel()[j.dof]);
+            let d = drive::drive(q, qd, j.goal, j.torque_on, &g, &j.state, h);
+            self.data.ctrl_mut()[j.actuator] = d.ctrl;
+            self.set_engaged(i, d.engaged);
+            self.joints[i].last = Some(d);
+            speeds.push(qd);
         }
         self.data.step();
+        for (i, qd) in speeds.into_iter().enumerate() {
+            let g = self.gains(i);
+            let j = &mut self.joints[i];
+            if let Some(d) = j.last {
+                drive::advance(&mut j.state, &d, j.torque_on, qd, &g, h);
+            }
+        }
     }
 
     /// Steps until simulated time reaches `t_s` (to within half a step).

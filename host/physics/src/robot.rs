@@ -52,7 +52,12 @@ pub struct PhysicsRobot {
     /// The model's gauges, sampled as the strain board samples (`crate::gauges`).
     strain: StrainSampler,
     platform: Option<PlatformRig>,
+    /// The generator of the Present Load noise (fixed seed; drawn only for a servo with noise).
+    load_rng: std::cell::Cell<u64>,
 }
+
+/// Seed of the Present Load noise.
+const LOAD_NOISE_SEED: u64 = 0x10AD_5EED;
 
 /// The perturbation platform in the plant and its servo on the bus.
 #[derive(Debug, Clone)]
@@ -151,6 +156,7 @@ impl PhysicsRobot {
             log: None,
             strain,
             platform: None,
+            load_rng: std::cell::Cell::new(LOAD_NOISE_SEED),
         })
     }
 
@@ -278,13 +284,16 @@ impl PhysicsRobot {
     }
 
     /// Powers `chain`'s servos on as this body's: each holds the Position P Gain nearest to its
-    /// joint's stiffness in the model (from then on the register is the actuator's stiffness,
-    /// read every bus cycle: [`servo::stiffness_of_p_gain`]) and shows the body's state.
+    /// joint's stiffness in the model and the I and D Gains of its servo dynamics (from then on
+    /// the registers are the actuator's gains, read every bus cycle:
+    /// [`servo::gains_of_registers`]) and shows the body's state.
     pub fn power_on(&self, chain: &mut VirtualChain) {
         for j in self.plant.joints() {
             let p = servo::p_gain_for_stiffness(j.map.model, j.kp);
             if let Ok(s) = chain.servo_mut(j.map.id) {
                 s.put(ct::POSITION_P_GAIN, u32::from(p));
+                s.put(ct::POSITION_I_GAIN, u32::from(j.params.i_gain));
+                s.put(ct::POSITION_D_GAIN, u32::from(j.params.d_gain));
             }
         }
         if let Some(id) = self.platform_servo_id()
@@ -413,14 +422,24 @@ impl PhysicsRobot {
         });
     }
 
-    /// Shows the servos of `chain` the body's state (their own motors stay still).
+    /// Shows the servos of `chain` the body's state (their own motors stay still), their Present
+    /// Load as the model's servo dynamics read it ([`servo::present_load`]).
     fn push_state(&self, chain: &mut VirtualChain) {
+        let mut loads = Vec::new();
         let states: Vec<(u8, dynamixel::sim::physics::MotorState)> = (0..self.plant.joints().len())
             .map(|i| {
                 let j = &self.plant.joints()[i];
                 let (q, qd, tau) = self.plant.joint_state(i);
-                let d = servo::duty(q, j.goal, j.torque_on, j.kp, j.stall);
-                (j.map.id, servo::motor_state(&j.map, q, qd, tau, d))
+                let d = self.plant.duty(i);
+                let state = servo::motor_state(&j.map, q, qd, tau, d);
+                let normal = if j.params.load_noise_nm > 0.0 {
+                    standard_normal(&self.load_rng)
+                } else {
+                    0.0
+                };
+                let load = servo::present_load(j.map.model, &j.params, state.torque_nm, normal);
+                loads.push((j.map.id, load));
+                (j.map.id, state)
             })
             .chain(self.platform_motor())
             .collect();
@@ -430,6 +449,11 @@ impl PhysicsRobot {
         for (id, state) in states {
             if let Ok(s) = chain.servo_mut(id) {
                 s.set_motor_state(state);
+            }
+        }
+        for (id, load) in loads {
+            if let Ok(s) = chain.servo_mut(id) {
+                s.put(ct::PRESENT_LOAD_OR_CURRENT, u32::from(load as u16));
             }
         }
     }
@@ -446,22 +470,26 @@ impl ServoDynamics for PhysicsRobot {
     ) {
         for i in 0..self.plant.joints().len() {
             let j = &self.plant.joints()[i];
-            let (goal, on, kp) = match chain.servo(j.map.id) {
+            let (goal, on, gains) = match chain.servo(j.map.id) {
                 Some(s) => (
                     servo::ticks_to_angle(&j.map, s.get(ct::GOAL_POSITION) as i32),
                     s.torque_enabled(),
-                    // The P gain register is the actuator's stiffness (N m/rad).
-                    Some(servo::stiffness_of_p_gain(
+                    // The gain registers are the actuator's gains (the P gain its stiffness).
+                    Some(servo::gains_of_registers(
                         j.map.model,
+                        &j.params,
                         s.get(ct::POSITION_P_GAIN) as u16,
+                        s.get(ct::POSITION_I_GAIN) as u16,
+                        s.get(ct::POSITION_D_GAIN) as u16,
                     )),
                 ),
                 // A servo the bus lacks holds nothing.
                 None => (j.goal, false, None),
             };
             self.plant.set_goal(i, goal, on);
-            if let Some(kp) = kp {
+            if let Some((kp, ki, kd)) = gains {
                 self.plant.set_kp(i, kp);
+                self.plant.set_ki_kd(i, ki, kd);
             }
         }
         let dt_s = now_us as f64 * 1e-6 - self.plant.time();
@@ -476,4 +504,14 @@ impl ServoDynamics for PhysicsRobot {
             last.strain = self.strain.history.back().map(|s| s.microstrain());
         }
     }
+}
+
+/// A standard normal sample (Box-Muller on two uniforms of `planner::terrain::splitmix64`).
+fn standard_normal(state: &std::cell::Cell<u64>) -> f64 {
+    let uniform = || {
+        state.set(planner::terrain::splitmix64(state.get()));
+        ((state.get() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    let (u1, u2) = (uniform(), uniform());
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }

@@ -174,6 +174,7 @@ fn one_leg(model: &Model, leg: Leg) -> Model {
         joints,
         feet: vec![foot],
         gauges: Vec::new(),
+        servo_dynamics: Default::default(),
     }
 }
 
@@ -431,6 +432,7 @@ fn scaling_study(model: &Model, params: &planner::gait::StepParams) -> Result<Va
             joints,
             feet,
             gauges: Vec::new(),
+            servo_dynamics: Default::default(),
         };
         let input = SliceInput::still(&m, q);
         let t = time_per_call(7, 200, || {

@@ -1,5 +1,6 @@
 //! Step tables built under the rules: from a plan directory (`dbot table --plan`, `dbot upload
-//! --plan`, Python `PlanDir.step_table`) or a plan in memory (Python `Plan.step_table`). Each checks
+//! --plan`, Python `PlanDir.step_table`), a plan in memory (Python `Plan.step_table`) or an
+//! excitation trial (`dbot excite`, Python `dbot.excitation`). Each checks
 //! the slot capacity, servo feasibility (unless overridden) and what each servo's P gain can hold
 //! before the bytes exist; a [`CheckedTable`] is only made here, so an upload of one has passed them.
 
@@ -78,6 +79,29 @@ pub fn plan_table(
         }
     })?;
     check_stiffness(&bytes, &plan.model, &what)?;
+    Ok(CheckedTable { bytes, warning })
+}
+
+/// The step table of an excitation trial (`planner::excitation`, `dbot excite`, Python
+/// `dbot.excitation`): the slot capacity, servo feasibility (no override: an excitation is made to
+/// be followed) and the P gain's stiffness, as any gait's.
+pub fn excitation_table(
+    model: &Model,
+    trial: &planner::excitation::ExcitationTrial,
+) -> Result<CheckedTable, RuleError> {
+    let what = format!("excitation {} of {}", trial.name, model.name);
+    check_slices(
+        &format!("{what}: slices"),
+        trial.slices(),
+        table_joints(model),
+    )?;
+    let f = planner::plan::feasibility::check(model, &trial.q, None, trial.dt_s);
+    let warning = enforce(&f, &what, Overrides::default())?;
+    let bytes = trial.step_table(model).map_err(|source| RuleError::Table {
+        what: what.clone(),
+        source,
+    })?;
+    check_stiffness(&bytes, model, &what)?;
     Ok(CheckedTable { bytes, warning })
 }
 

@@ -2,6 +2,7 @@
 //! instead of one per file; nextest still runs each test in its own process).
 
 mod bench_pty;
+mod excitation_rules;
 mod files_rules;
 mod platform_link;
 mod record_duration;

@@ -2,6 +2,7 @@
 //! instead of one per file; nextest still runs each test in its own process).
 
 // Helpers shared by several modules.
+mod servo_dynamics;
 mod support;
 
 mod blocks;

@@ -345,6 +345,7 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         feet,
         // AnimatLab has no strain gauges: add `[[gauge]]` entries to the written model file.
         gauges: Vec::new(),
+        servo_dynamics: Default::default(),
     };
     model.validate(file)?;
     Ok(model)

@@ -24,6 +24,10 @@ pub struct ModelFile {
     /// Strain gauges (docs/strain.md); optional.
     #[serde(default, rename = "gauge", skip_serializing_if = "Vec::is_empty")]
     pub gauges: Vec<super::GaugeEntry>,
+    /// Servo dynamics per servo model (`[servo_dynamics.mx28]`), by the model's `actuation`
+    /// name; each field optional (docs/models.md, "Servo dynamics").
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub servo_dynamics: std::collections::BTreeMap<String, super::ServoParamsEntry>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -65,6 +69,9 @@ pub struct JointEntry {
     pub spring: Option<SpringEntry>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub servo: Option<ServoEntry>,
+    /// This joint's servo dynamics, over its servo model's (`servo_dynamics = { ... }`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub servo_dynamics: Option<super::ServoParamsEntry>,
     #[serde(default)]
     pub source: String,
 }
@@ -154,6 +161,30 @@ fn finite3(v: &[f64; 3]) -> bool {
 }
 
 impl ModelFile {
+    /// The servo dynamics of the file: each `[servo_dynamics.NAME]` of a servo model's name,
+    /// then each joint's own (ranges: [`Model::validate`]).
+    fn servo_dynamics(&self, file: &str) -> Result<ServoDynamics, ModelError> {
+        let mut d = ServoDynamics::default();
+        for (key, entry) in &self.servo_dynamics {
+            let servo = protocol::ServoModel::from_key(key).ok_or_else(|| {
+                let known: Vec<&str> = protocol::ServoModel::ALL.iter().map(|m| m.key()).collect();
+                field(
+                    file,
+                    "servo_dynamics",
+                    key,
+                    format!("unknown servo model (known: {})", known.join(", ")),
+                )
+            })?;
+            d.set_model(servo, *entry);
+        }
+        for j in &self.joints {
+            if let Some(entry) = &j.servo_dynamics {
+                d.set_joint(&format!("{}_{}", j.leg.name(), j.kind.name()), *entry);
+            }
+        }
+        Ok(d)
+    }
+
     /// Converts to a [`Model`], checking every field.
     pub fn to_model(&self, file: &str) -> Result<Model, ModelError> {
         let mut bodies = Vec::with_capacity(self.bodies.len());
@@ -422,6 +453,7 @@ impl ModelFile {
             joints,
             feet,
             gauges: Vec::new(),
+            servo_dynamics: self.servo_dynamics(file)?,
         };
         model.validate(file)?;
         model.gauges = super::gauge_file::gauges_from_entries(&self.gauges, &model, file)?;

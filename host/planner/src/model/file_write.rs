@@ -71,6 +71,7 @@ impl ModelFile {
                         zero_offset_rad: s.zero_offset,
                         sign: s.sign,
                     }),
+                    servo_dynamics: model.servo_dynamics.of_joint(&j.name).copied(),
                     source: source(&j.name),
                 }
             })
@@ -97,6 +98,12 @@ impl ModelFile {
             joints,
             feet,
             gauges,
+            servo_dynamics: model
+                .servo_dynamics
+                .per_model
+                .iter()
+                .map(|(m, e)| (m.key().to_owned(), *e))
+                .collect(),
         }
     }
 }

@@ -2,7 +2,9 @@
 //! model's masses, centres of mass and inertias; a hinge per actuated joint with its axis and limits
 //! (fixed joints become rigid offsets at their angle); a 5 mm contact sphere per foot whose lowest
 //! point is the foot tip in the stance; one position actuator per actuated joint (the servo's P
-//! controller, see [`ServoActuator`]); parallel springs; and the terrain.
+//! controller, see [`ServoActuator`]) and the servo's gear train on its hinge (`damping`,
+//! `frictionloss`, `armature` from the model's servo dynamics, [`joint_actuator`]); parallel
+//! springs; and the terrain.
 //!
 //! Pure text, no MuJoCo needed: the `physics` crate loads it, and its tests check that MuJoCo's own
 //! model data equal the model's. Contact and solver settings are the ones measured to let a standing
@@ -11,7 +13,7 @@
 
 use std::fmt::Write;
 
-use super::{Actuation, ActuatorKind, Model};
+use super::{Actuation, ActuatorKind, Model, ServoParams};
 use crate::kinematics;
 use crate::terrain::{BallMount, Blocks, Ground, Terrain};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
@@ -70,27 +72,58 @@ pub struct ServoActuator {
     pub damping: f64,
     /// Rotor inertia seen at the output (armature), kg m^2. ESTIMATE (see [`servo_actuator`]).
     pub armature: f64,
+    /// Viscous damping of the gear train, N m s/rad: the hinge's `damping`.
+    pub viscous: f64,
+    /// Coulomb friction of the gear train, N m: the hinge's `frictionloss`.
+    pub friction: f64,
 }
 
-/// The servo model of an actuator family. Stall torque, no-load speed and armature (an ESTIMATE)
-/// from the dynamixel crate ([`dynamixel::ServoModel`]). A generic actuator (a fly's muscles)
-/// gets no force limit and a light damping of 1 % of its stiffness per second.
+impl ServoActuator {
+    /// The actuator of a servo with `params`: its torque-speed line (stall torque, and
+    /// stall / no-load speed as the damping), armature, viscous damping and friction.
+    pub fn of_params(params: &ServoParams) -> Self {
+        Self {
+            stall_nm: params.stall_torque_nm,
+            damping: params.back_emf_nm_s_per_rad(),
+            armature: params.armature_kg_m2,
+            viscous: params.damping_nm_s_per_rad,
+            friction: params.friction_nm,
+        }
+    }
+}
+
+/// The default actuator of an actuator family: a servo model's default servo dynamics
+/// ([`ServoParams::defaults`]: stall torque, no-load speed and armature, an ESTIMATE, from the
+/// dynamixel crate's [`dynamixel::ServoModel`]; no gear friction). A generic actuator (a fly's
+/// muscles) gets no force limit and a light damping of 1 % of its stiffness per second.
 pub fn servo_actuator(kind: ActuatorKind, stiffness: f64) -> ServoActuator {
     match kind {
-        ActuatorKind::Servo(m) => {
-            let stall = f64::from(m.stall_torque_nm());
-            ServoActuator {
-                stall_nm: stall,
-                damping: stall / f64::from(m.no_load_speed_rad_s()),
-                armature: m.armature_kg_m2(),
-            }
-        }
+        ActuatorKind::Servo(m) => ServoActuator::of_params(&ServoParams::defaults(m)),
         ActuatorKind::Generic => ServoActuator {
             stall_nm: f64::INFINITY,
             damping: 0.01 * stiffness,
             armature: 0.0,
+            viscous: 0.0,
+            friction: 0.0,
         },
     }
+}
+
+/// The actuator of model joint `j` (`None`: a fixed joint): its servo's resolved dynamics
+/// ([`Model::servo_params`]: the model file's per-model and per-joint fields over the defaults),
+/// or a generic actuator's ([`servo_actuator`]).
+pub fn joint_actuator(model: &Model, j: usize) -> Option<ServoActuator> {
+    let Actuation::Actuated {
+        actuator,
+        stiffness,
+    } = model.joints.get(j)?.actuation
+    else {
+        return None;
+    };
+    Some(match model.servo_params(j) {
+        Some(p) => ServoActuator::of_params(&p),
+        None => servo_actuator(actuator, stiffness),
+    })
 }
 
 /// MuJoCo's smallest mass and principal inertia of a moving body (its mjMINVAL). Smaller values
@@ -307,7 +340,12 @@ fn write_body(s: &mut String, model: &Model, poses: &kinematics::Poses, body: us
             v3(&c)
         );
     }
-    for j in model.joints.iter().filter(|j| j.parent == body) {
+    for (ji, j) in model
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| j.parent == body)
+    {
         match j.actuation {
             Actuation::Fixed { angle } => {
                 let at = j.origin * UnitQuaternion::from_axis_angle(&j.axis, angle);
@@ -318,17 +356,14 @@ fn write_body(s: &mut String, model: &Model, poses: &kinematics::Poses, body: us
                     pose(&at)
                 );
             }
-            Actuation::Actuated {
-                actuator,
-                stiffness,
-            } => {
+            Actuation::Actuated { .. } => {
                 let _ = writeln!(
                     s,
                     r#"{ind}<body name="{}" {}>"#,
                     model.bodies[j.child].name,
                     pose(&j.origin)
                 );
-                let servo = servo_actuator(actuator, stiffness);
+                let servo = joint_actuator(model, ji).expect("an actuated joint has an actuator");
                 let spring = j.spring.map_or(String::new(), |sp| {
                     format!(
                         r#" stiffness="{:e}" springref="{:e}""#,
@@ -337,11 +372,13 @@ fn write_body(s: &mut String, model: &Model, poses: &kinematics::Poses, body: us
                 });
                 let _ = writeln!(
                     s,
-                    r#"{ind}  <joint name="{}" type="hinge" axis="{}" range="{:e} {:e}" armature="{:e}"{spring}/>"#,
+                    r#"{ind}  <joint name="{}" type="hinge" axis="{}" range="{:e} {:e}" damping="{:e}" frictionloss="{:e}" armature="{:e}"{spring}/>"#,
                     j.name,
                     v3(&j.axis),
                     j.limits.0,
                     j.limits.1,
+                    servo.viscous,
+                    servo.friction,
                     servo.armature
                 );
             }
@@ -353,15 +390,13 @@ fn write_body(s: &mut String, model: &Model, poses: &kinematics::Poses, body: us
 
 fn write_actuators(s: &mut String, model: &Model) {
     s.push_str("  <actuator>\n");
-    for j in &model.joints {
-        let Actuation::Actuated {
-            actuator,
-            stiffness,
-        } = j.actuation
+    for (ji, j) in model.joints.iter().enumerate() {
+        let (Actuation::Actuated { stiffness, .. }, Some(servo)) =
+            (&j.actuation, joint_actuator(model, ji))
         else {
             continue;
         };
-        let servo = servo_actuator(actuator, stiffness);
+        let stiffness = *stiffness;
         let limit = if servo.stall_nm.is_finite() {
             format!(
                 r#" forcerange="{:e} {:e}""#,

@@ -22,6 +22,7 @@ mod gauges;
 mod mjcf;
 mod query;
 mod ranges;
+mod servo_params;
 pub mod spring;
 mod urdf;
 mod validate;
@@ -35,8 +36,9 @@ pub use gauge_file::GaugeEntry;
 pub use gauges::{Gauge, GaugeDirection, Material, Section};
 pub use mjcf::{
     BALL_MASS_KG, DEFAULT_TIMESTEP_S, FOOT_RADIUS_M, MUJOCO_FLOOR, MjcfOptions, Scene,
-    ServoActuator, hinge_order, servo_actuator, to_mjcf,
+    ServoActuator, hinge_order, joint_actuator, servo_actuator, to_mjcf,
 };
+pub use servo_params::{FieldRange, SERVO_FIELDS, ServoDynamics, ServoParams, ServoParamsEntry};
 pub use spring::{SpringPreset, SpringSpec};
 pub use urdf::to_urdf;
 

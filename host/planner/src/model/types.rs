@@ -298,4 +298,8 @@ pub struct Model {
     /// Strain gauges on the leg segments ([`super::gauges`]); none unless the model file lists them.
     #[serde(default)]
     pub gauges: Vec<super::Gauge>,
+    /// Servo dynamics the model file gives, per servo model and per joint
+    /// ([`Model::servo_params`] resolves a joint's; docs/models.md, "Servo dynamics").
+    #[serde(default)]
+    pub servo_dynamics: super::ServoDynamics,
 }

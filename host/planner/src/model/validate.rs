@@ -2,8 +2,9 @@
 //! built-in): [`Model::validate`]. A loader checks its own syntax and fields; this checks what
 //! only makes sense of the model as a whole and must hold for every source (issue #30): joint
 //! limits that are an interval, bodies that are physically possible rigid bodies, a foot on every
-//! leg that has joints, leg chains the kinematics can solve ([`Model::check_legs`]) and numbers in
-//! their physical ranges ([`Model::check_ranges`]).
+//! leg that has joints, leg chains the kinematics can solve ([`Model::check_legs`]), numbers in
+//! their physical ranges ([`Model::check_ranges`]) and servo dynamics in theirs
+//! ([`Model::check_servo_dynamics`]).
 
 use super::error::{ModelError, field};
 use super::types::{Actuation, Leg, Model};
@@ -19,6 +20,7 @@ impl Model {
     pub(crate) fn validate(&self, file: &str) -> Result<(), ModelError> {
         self.check_limits(file)?;
         self.check_ranges(file)?;
+        self.check_servo_dynamics(file)?;
         self.check_rigid_bodies(file)?;
         self.check_feet(file)?;
         self.check_legs(file)

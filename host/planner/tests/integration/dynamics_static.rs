@@ -91,6 +91,7 @@ fn pogo(big_m: f64, m1: f64, m2: f64, l1: f64, l2: f64) -> Model {
             point: Vector3::new(0.0, 0.0, -l2),
         }],
         gauges: Vec::new(),
+        servo_dynamics: Default::default(),
     }
 }
 

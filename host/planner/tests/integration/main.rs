@@ -3,6 +3,7 @@
 
 // Helpers shared by several modules.
 mod dynamics_support;
+mod excitation;
 mod model_blocks;
 mod model_support;
 mod reliability_common;
@@ -29,6 +30,7 @@ mod plan_posture_presets;
 mod qp_block;
 mod reliability_inputs;
 mod servo_calibration;
+mod servo_dynamics;
 mod strain_paths;
 mod strain_section;
 mod strain_standing;

@@ -129,6 +129,7 @@ pub fn toy_hexapod() -> Model {
         joints,
         feet,
         gauges: Vec::new(),
+        servo_dynamics: Default::default(),
     }
 }
 
