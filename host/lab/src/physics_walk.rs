@@ -2,12 +2,13 @@
 //! `walk_turn`; a run of queued gaits, `walk_sequence`; the substrates, the walking strain and
 //! the perturbation platform, [`walk_forward`]): the step tables uploaded, the first gait played
 //! from standing and the others queued behind it, the board's status polled until the firmware
-//! stands again, a callback seeing the board at every poll. A fault, or a walk still going well
-//! after it should have ended, is an error that names the walk; the body's figures and log are
-//! what it records.
+//! stands again (or for a fixed span, after which it must stand), a callback seeing the board at
+//! every poll. A fault, or a walk still going well after it should have ended, is an error that
+//! names the walk; the body's figures and log are what it records.
 //!
 //! A status request takes no simulated time, so how often a walk is polled moves nothing in the
-//! body; it decides only how long after the walk's end the robot still stands in the figures.
+//! body; it and [`End`] decide only how long after the walk's end the robot still stands in the
+//! figures.
 
 use std::time::Duration;
 
@@ -42,20 +43,32 @@ pub struct Walk<'a> {
 }
 
 /// How a walk is followed: a look at the board's status every `every` of simulated time, for at
-/// most `limit_s` (then the walk never ended: an error).
+/// most `limit_s`; the walk ends as `end` says (by the limit the robot must stand again).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Follow {
     pub every: Duration,
     pub limit_s: f64,
+    pub end: End,
+}
+
+/// When a followed walk ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    /// At the first look that finds the robot standing again after it was seen playing.
+    Standing,
+    /// At `limit_s`, a fixed span of simulated time (the body's figures cover all of it, the
+    /// robot standing still after its steps included).
+    Limit,
 }
 
 impl Follow {
-    /// A look every `every` for a walk of about `walk_s` simulated seconds, for a generous
-    /// 2 x `walk_s` + 5 s.
+    /// A look every `every` for a walk of about `walk_s` simulated seconds, until the robot
+    /// stands, for at most a generous 2 x `walk_s` + 5 s.
     pub fn generous(every: Duration, walk_s: f64) -> Self {
         Self {
             every,
             limit_s: 2.0 * walk_s + 5.0,
+            end: End::Standing,
         }
     }
 }
@@ -63,8 +76,9 @@ impl Follow {
 /// Uploads `walk`'s tables to a board on `robot` (start its log first if the log is wanted),
 /// runs `before_play` (a platform set up, the bias switched off, the figures started afresh),
 /// plays `walk.play` and queues `walk.queue` behind it, then follows the walk as `follow` says
-/// until the robot stands again after it was seen playing; `each_poll` sees the board and its
-/// status at every look, the last one included. Returns what the body measured.
+/// (the robot standing again after it was seen playing, at the latest by `follow.limit_s`);
+/// `each_poll` sees the board and its status at every look, the last one included. Returns what
+/// the body measured.
 pub fn walk_and_record(
     robot: PhysicsRobot,
     walk: &Walk<'_>,
@@ -94,8 +108,8 @@ pub fn walk_and_record(
         }
         walked |= st.playback.is_some();
         each_poll(&mut b, &st)?;
-        if walked && st.playback.is_none() && st.state == RunState::Standing {
-            stood = true;
+        stood = walked && st.playback.is_none() && st.state == RunState::Standing;
+        if stood && follow.end == End::Standing {
             break;
         }
     }
@@ -124,9 +138,10 @@ pub fn start_figures(board: &mut Board<PhysicsTransport>, pose_every: usize) -> 
 }
 
 /// Walks `table` (slot 0) forward for `steps` steps at its planned period on `robot` (start its
-/// log first if the log is wanted), looking at it every bus cycle for the `steps` periods and a
-/// start ramp: [`walk_and_record`]. `each_cycle` sees the robot after every bus cycle. `what`
-/// names the walk in its errors.
+/// log first if the log is wanted) for a fixed span, the `steps` periods and 3 more (the start
+/// ramp, standing still after), looking at it every bus cycle: [`walk_and_record`] with
+/// [`End::Limit`]. `each_cycle` sees the robot after every bus cycle. `what` names the walk in its
+/// errors.
 pub fn walk_forward(
     robot: PhysicsRobot,
     table: &[u8],
@@ -145,6 +160,7 @@ pub fn walk_forward(
     let follow = Follow {
         every: POLL,
         limit_s: (f64::from(steps) + 3.0) * period_s,
+        end: End::Limit,
     };
     walk_and_record(robot, &walk, follow, before_play, |b, _| {
         each_cycle(b.transport().robot().servos());
