@@ -240,7 +240,6 @@ class DbotEnv(gym.Env):
         self._t0 = float(rec["time_s"][0])
         return self._begin_episode(obs, self._make_info(rec))
 
-
     def _prepare_board(self, options: dict[str, Any] | None, uploads: list) -> Board:
         """A fresh board with each ``(slot, table)`` of ``uploads`` uploaded, the reset
         ``options`` applied (``scene``, ``stiffness_nm_rad``; any other is refused by name),
@@ -267,6 +266,7 @@ class DbotEnv(gym.Env):
         if state != "Standing":
             raise RuntimeError(f"{self.port}: not standing after torque on (state {state})")
         return board
+
     def _begin_episode(
         self, obs: dict[str, np.ndarray], info: dict[str, Any]
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
@@ -392,17 +392,23 @@ class DbotEnv(gym.Env):
                 return None
         assert rec is not None
         self.last_record = rec
-        obs = {
-            "present_rad": np.asarray(rec["present_rad"][0], dtype=np.float64),
-            "velocity_rad_s": np.asarray(rec["velocity_rad_s"][0], dtype=np.float64),
-            "load_raw": np.asarray(rec["load_raw"][0], dtype=np.float64),
-            "setpoint_age": np.asarray(rec["setpoint_age"][:1], dtype=np.float64),
-        }
+        obs = self._joints_observed(rec, np.asarray(rec["setpoint_age"][:1], dtype=np.float64))
         if self.strain_names:
             obs["strain_microstrain"] = np.asarray(rec["strain_microstrain"][0], dtype=np.float64)
             obs["strain_age_s"] = np.asarray(rec["strain_age_s"][:1], dtype=np.float64)
         self._last_obs = obs
         return obs, rec
+
+    @staticmethod
+    def _joints_observed(rec: dict, setpoint_age: np.ndarray) -> dict[str, np.ndarray]:
+        """The observation's joint keys from the one row of a record (proprioception or
+        telemetry), with ``setpoint_age``."""
+        return {
+            "present_rad": np.asarray(rec["present_rad"][0], dtype=np.float64),
+            "velocity_rad_s": np.asarray(rec["velocity_rad_s"][0], dtype=np.float64),
+            "load_raw": np.asarray(rec["load_raw"][0], dtype=np.float64),
+            "setpoint_age": setpoint_age,
+        }
 
     def _make_info(self, rec: dict) -> dict[str, Any]:
         assert self.board is not None

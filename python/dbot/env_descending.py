@@ -44,7 +44,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ._native import Board, Model, plan
-from .env import STRAIN_AGE_BOUND_S, DbotEnv, Reward, forward_progress
+from .env import STRAIN_AGE_BOUND_S, DbotEnv
 
 #: The family's default turn, rad of yaw per stance: about the largest whose first slice the
 #: board's switch rule admits beside the straight gait's at 20 slices (python/tests/test_steer.py:
@@ -72,32 +72,25 @@ class DescendingEnv(DbotEnv):
         range_rad: float = RANGE_RAD,
         slices: int = 20,
         cycles_per_step: int = 10,
-        max_episode_steps: int = 1000,
-        stiffness_nm_rad: float | None = None,
-        settle_s: float = 0.5,
-        reply_timeout_s: float = 20.0,
-        fall_height_fraction: float = 0.5,
-        fall_tilt_rad: float = math.radians(30.0),
-        reward: Reward = forward_progress,
-        render_mode: str | None = None,
+        **options: Any,
     ) -> None:
+        """``options``: DbotEnv's keyword arguments with DbotEnv's defaults
+        (``max_episode_steps``, ``stiffness_nm_rad``, ``settle_s``, ``reply_timeout_s``,
+        ``fall_height_fraction``, ``fall_tilt_rad``, ``reward``, ``render_mode``); not ``gait``
+        (the family's straight gait is the plan), ``torques`` or ``timeout_cycles`` (no
+        setpoints stream here)."""
+        for name in ("gait", "torques", "timeout_cycles"):
+            if name in options:
+                raise TypeError(
+                    f"DescendingEnv takes no {name}=: the board plays the steering family, "
+                    "nothing streams"
+                )
         if not (range_rad > 0.0 and math.isfinite(range_rad)):
             raise ValueError(f"range_rad = {range_rad}: give a positive turn per stance, rad")
         model = model if model is not None else Model.builtin("drosophibot2")
         family = [plan(model, slices=slices, rotation_rad=r) for r in (0.0, range_rad, -range_rad)]
         super().__init__(
-            port,
-            model=model,
-            gait=family[0],
-            cycles_per_step=cycles_per_step,
-            max_episode_steps=max_episode_steps,
-            stiffness_nm_rad=stiffness_nm_rad,
-            settle_s=settle_s,
-            reply_timeout_s=reply_timeout_s,
-            fall_height_fraction=fall_height_fraction,
-            fall_tilt_rad=fall_tilt_rad,
-            reward=reward,
-            render_mode=render_mode,
+            port, model=model, gait=family[0], cycles_per_step=cycles_per_step, **options
         )
         self.range_rad = float(range_rad)
         self._tables = [p.step_table() for p in family]
@@ -222,12 +215,7 @@ class DescendingEnv(DbotEnv):
             raise RuntimeError(f"{self.port}: more than 10000 old telemetry records kept")
         assert rec is not None
         self.last_record = rec
-        obs = {
-            "present_rad": np.asarray(rec["present_rad"][0], dtype=np.float64),
-            "velocity_rad_s": np.asarray(rec["velocity_rad_s"][0], dtype=np.float64),
-            "load_raw": np.asarray(rec["load_raw"][0], dtype=np.float64),
-            "setpoint_age": np.zeros(1, dtype=np.float64),
-        }
+        obs = self._joints_observed(rec, np.zeros(1, dtype=np.float64))
         if self.strain_names:
             obs.update(self._strain_now(float(rec["time_s"][0])))
         self._last_obs = obs

@@ -39,6 +39,9 @@ pub struct Board {
     strain: Mutex<Option<(::board::strain::StrainBeside, f64)>>,
 }
 
+/// A record as a dict, or None (none came).
+type MaybeDict<'py> = PyResult<Option<Bound<'py, PyDict>>>;
+
 fn seconds(s: f64, what: &str) -> PyResult<Duration> {
     Duration::try_from_secs_f64(s)
         .map_err(|_| value_error(format!("{what} = {s} s: give a finite, non-negative time")))
@@ -91,6 +94,19 @@ impl Board {
             .map(f)
             .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?
             .map_err(board_error)
+    }
+
+    /// The next record `take` brings within `timeout_s` of the board's clock, as `dict` makes it;
+    /// None if none came.
+    fn next_record<'py, R>(
+        &self,
+        py: Python<'py>,
+        timeout_s: f64,
+        take: impl FnOnce(&mut Link, Duration) -> Result<Option<R>, ::board::link::LinkError>,
+        dict: impl FnOnce(R) -> PyResult<Bound<'py, PyDict>>,
+    ) -> MaybeDict<'py> {
+        let d = seconds(timeout_s, "timeout_s")?;
+        self.with(py, |l| take(l, d))?.map(dict).transpose()
     }
 
     fn naming(&self) -> std::sync::MutexGuard<'_, JointNaming> {
@@ -680,15 +696,13 @@ impl Board {
     /// `set_telemetry(every)` bus cycles outside streaming, so a host can follow a walk cycle by
     /// cycle (the descending environment, `dbot.env_descending`).
     #[pyo3(signature = (timeout_s = 0.1))]
-    fn next_telemetry<'py>(
-        &self,
-        py: Python<'py>,
-        timeout_s: f64,
-    ) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let d = seconds(timeout_s, "timeout_s")?;
-        let rec = self.with(py, move |l| l.telemetry(d))?;
-        rec.map(|t| records::telemetry_dict(py, &[t], &self.naming()))
-            .transpose()
+    fn next_telemetry<'py>(&self, py: Python<'py>, timeout_s: f64) -> MaybeDict<'py> {
+        self.next_record(
+            py,
+            timeout_s,
+            |l, d| l.telemetry(d),
+            |t| records::telemetry_dict(py, &[t], &self.naming()),
+        )
     }
 
     /// Switches from standing to streaming. After `timeout_cycles` bus cycles without a new
@@ -739,14 +753,13 @@ impl Board {
     /// The next proprioception record (a dict of arrays with one row), waiting up to
     /// `timeout_s` on the board's clock; None if none came.
     #[pyo3(signature = (timeout_s = 0.1))]
-    fn next_proprioception<'py>(
-        &self,
-        py: Python<'py>,
-        timeout_s: f64,
-    ) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let d = seconds(timeout_s, "timeout_s")?;
-        let rec = self.with(py, move |l| l.proprioception(d))?;
-        rec.map(|p| self.proprioception(py, &[p])).transpose()
+    fn next_proprioception<'py>(&self, py: Python<'py>, timeout_s: f64) -> MaybeDict<'py> {
+        self.next_record(
+            py,
+            timeout_s,
+            |l, d| l.proprioception(d),
+            |p| self.proprioception(py, &[p]),
+        )
     }
 
     /// Every proprioception record received so far, without waiting: a dict of arrays.
@@ -825,7 +838,7 @@ impl Board {
     /// simulated time, as the strain board's lines come): `time_s`, `names` (the strain board's
     /// gauge names, e.g. `LF_troch_axial`) and `microstrain` (per gauge). None before the first
     /// bus cycle; BoardError on any other kind of port.
-    fn strain<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+    fn strain<'py>(&self, py: Python<'py>) -> MaybeDict<'py> {
         let physics = self.with(py, |l| Ok(l.transport().physics().is_some()))?;
         if !physics {
             return Err(board_error(format!(

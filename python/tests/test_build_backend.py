@@ -43,12 +43,32 @@ def test_a_missing_library_is_installed_by_the_setup_script(backend) -> None:
     assert lib.is_file()
 
 
-def test_a_failed_install_stops_with_one_line_naming_the_script(backend) -> None:
+@pytest.mark.parametrize(
+    ("script_text", "said"),
+    [
+        # A failed install: the script's own words and its name.
+        (
+            "echo 'pip: no network' >&2; exit 1\n",
+            ["scripts/setup.d/20-mujoco.sh", "pip: no network"],
+        ),
+        # The script succeeds, but the library is still missing.
+        (
+            "exit 0\n",
+            ["scripts/setup.d/20-mujoco.sh", "ended without .mujoco/lib/libmujoco.so.3.17.0"],
+        ),
+        # A silent failure still names the script.
+        ("exit 3\n", ["(no output)", "run `bash scripts/setup.d/20-mujoco.sh`"]),
+    ],
+    ids=["failed_install", "script_installs_nothing", "silent_failure"],
+)
+def test_a_setup_script_without_the_library_stops_with_one_line_naming_it(
+    backend, script_text: str, said: list[str]
+) -> None:
     mod, script, _ = backend
-    script.write_text("echo 'pip: no network' >&2; exit 1\n")
+    script.write_text(script_text)
     text = one_line_stop(mod)
-    assert "scripts/setup.d/20-mujoco.sh" in text
-    assert "pip: no network" in text
+    for words in said:
+        assert words in text
 
 
 def test_an_installed_library_runs_nothing(backend) -> None:
@@ -57,22 +77,6 @@ def test_an_installed_library_runs_nothing(backend) -> None:
     lib.touch()
     script.write_text("exit 1\n")  # would fail if it ran
     mod._ensure_mujoco()
-
-
-def test_a_script_that_installs_nothing_stops_with_one_line(backend) -> None:
-    mod, script, lib = backend
-    script.write_text("exit 0\n")  # succeeds, but the library is still missing
-    text = one_line_stop(mod)
-    assert "scripts/setup.d/20-mujoco.sh" in text
-    assert "ended without .mujoco/lib/libmujoco.so.3.17.0" in text
-
-
-def test_a_silent_failure_still_names_the_script(backend) -> None:
-    mod, script, _ = backend
-    script.write_text("exit 3\n")
-    text = one_line_stop(mod)
-    assert "(no output)" in text
-    assert "run `bash scripts/setup.d/20-mujoco.sh`" in text
 
 
 def test_an_own_mujoco_folder_without_the_library_stops_with_one_line(

@@ -7,6 +7,8 @@
   constant positive heading turns the thorax left of where a heading-0 run of the same length
   ends, a negative one right of it;
 * deterministic: the same seed and actions give bit-identical observations;
+* it takes DbotEnv's options with DbotEnv's defaults, and refuses by name those of streaming
+  (`gait`, `torques`, `timeout_cycles`);
 * the same class runs on the emulated board (the release firmware image in the RP2040 emulator,
   conftest.py's `emulator_port`) with the same spaces: each step is its bus cycles, the board
   ramps then walks, and its goals are the blend the heading asks for (the straight and the left
@@ -18,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from gymnasium.utils.env_checker import check_env
 
 from dbot import plan
@@ -50,6 +53,17 @@ def yaw_after(heading: float, env_steps: int) -> tuple[float, dict]:
         assert not terminated, info["state"]
     env.close()
     return unwrap(info["body"]["thorax_rpy_rad"][2] - yaw0), info
+
+
+def test_dbotenvs_options_pass_through_and_streaming_ones_are_refused_by_name() -> None:
+    env = DescendingEnv("physics", max_episode_steps=7, settle_s=0.25)
+    base = DbotEnv("physics")
+    assert (env.max_episode_steps, env.settle_s) == (7, 0.25)
+    # The rest keep DbotEnv's defaults.
+    assert (env.reply_timeout_s, env.fall_tilt_rad) == (base.reply_timeout_s, base.fall_tilt_rad)
+    for name, value in (("gait", None), ("torques", True), ("timeout_cycles", 5)):
+        with pytest.raises(TypeError, match=f"no {name}="):
+            DescendingEnv("physics", **{name: value})
 
 
 def test_a_positive_heading_turns_left_and_a_negative_one_right() -> None:

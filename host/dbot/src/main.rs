@@ -7,7 +7,6 @@
 mod args;
 mod common;
 mod compare;
-mod config;
 mod demo;
 mod devices;
 mod doctor;

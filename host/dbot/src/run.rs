@@ -26,9 +26,8 @@ use lab::trial_record::playback::{announce, play_command, upload_table};
   dbot run --port physics --table walk.dbgt --steps 2   # upload and walk on a fresh robot
   dbot run --slot 0 --steps 2 --then 1 --then 0:back      # forward, slot 1, backward, stop")]
 pub struct Args {
-    /// Gait slot (default: the setup file's slot, else 0).
-    #[arg(long)]
-    pub slot: Option<u8>,
+    #[command(flatten)]
+    pub slot: crate::args::board::GaitSlotArgs,
     /// Whole steps to play; without it the gait plays until `dbot stop` or Ctrl-C (the board
     /// also stops an endless run 10 s after its host falls silent).
     #[arg(long)]
@@ -65,8 +64,6 @@ pub struct Args {
     pub platform_id: Option<u8>,
     #[command(flatten)]
     pub board: BoardArgs,
-    #[command(flatten)]
-    pub feasibility: crate::feasibility_args::FeasibilityArgs,
 }
 
 impl Args {
@@ -89,7 +86,7 @@ impl Args {
             None => None,
         };
         let mut s = self.board.connect()?;
-        let slot = self.slot.or(s.setup.slot).unwrap_or(0);
+        let slot = self.slot.slot(&s.setup);
         if s.is_virtual() && (self.steps.is_none() || self.detach) {
             bail!(
                 "the virtual robot lives only while dbot runs: give --steps K (and no --detach), \
@@ -136,7 +133,7 @@ impl Args {
             &command,
             known.as_deref(),
             &model,
-            self.feasibility.overrides(),
+            self.slot.feasibility.overrides(),
         )?;
         crate::feasibility_args::warn(warning.as_ref());
         println!("{}", announce(slot, &gait, &command));

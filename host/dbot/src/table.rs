@@ -42,7 +42,7 @@ impl Args {
     pub fn run(self) -> Result<()> {
         let plan = plan_dir::read(&self.plan)?;
         let dir = &self.plan;
-        let (setup, setup_path) = crate::config::RobotConfig::find(self.config.as_deref())?;
+        let (setup, setup_path) = board::setup_file::RobotConfig::find(self.config.as_deref())?;
         if let (Some(want), Some(file)) = (&setup.model, &setup_path)
             && *want != plan.json.model_source
             && *want != plan.model.name

@@ -29,13 +29,10 @@ pub struct Args {
     /// first, as `dbot table --plan` builds it (same bytes, same name and CRC).
     #[arg(long, group = "source")]
     pub plan: Option<PathBuf>,
-    /// Gait slot to fill (default: the setup file's slot, else 0).
-    #[arg(long)]
-    pub slot: Option<u8>,
+    #[command(flatten)]
+    pub slot: crate::args::board::GaitSlotArgs,
     #[command(flatten)]
     pub board: BoardArgs,
-    #[command(flatten)]
-    pub feasibility: crate::feasibility_args::FeasibilityArgs,
 }
 
 impl Args {
@@ -50,8 +47,11 @@ impl Args {
             ),
             (None, Some(dir)) => {
                 let plan = plan_dir::read(dir)?;
-                let t =
-                    board::rules::build::plan_dir_table(&plan, None, self.feasibility.overrides())?;
+                let t = board::rules::build::plan_dir_table(
+                    &plan,
+                    None,
+                    self.slot.feasibility.overrides(),
+                )?;
                 crate::feasibility_args::warn(t.warning());
                 (t.bytes().to_vec(), Some(t))
             }
@@ -66,7 +66,7 @@ impl Args {
         })?;
         interrupt::catch()?;
         let mut s = self.board.connect()?;
-        let slot = self.slot.or(s.setup.slot).unwrap_or(0);
+        let slot = self.slot.slot(&s.setup);
         let bar = ProgressBar::new(table.len() as u64).with_style(
             ProgressStyle::with_template("uploading {bar:40} {bytes}/{total_bytes} {msg}")
                 .expect("template is valid"),

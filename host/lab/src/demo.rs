@@ -164,7 +164,7 @@ pub fn walk_all<S: DemoBody>(
             steps,
             slices: parsed.slice_count(),
         };
-        let walk = walk_and_record(&mut board, &how, &dir, meta, || progress.stop_requested())?
+        let walk = walk_recorded(&mut board, &how, &dir, meta, || progress.stop_requested())?
             .ok_or_else(|| {
                 LabError::Interrupted(format!(
                     "interrupted while recording into {}: the outputs written so far are complete, the others are as before",
@@ -223,7 +223,7 @@ pub fn walk_all<S: DemoBody>(
     })
 }
 
-/// What one walk of [`walk_and_record`] plays.
+/// What one walk of [`walk_recorded`] plays.
 #[derive(Debug, Clone, Copy)]
 pub struct WalkHow {
     pub label: &'static str,
@@ -238,7 +238,7 @@ pub struct WalkHow {
 /// Plays one walk on `board` from standing, logging the body (a pose every
 /// [`POSE_EVERY_CYCLES`] bus cycles), and records it into `dir` ([`record_walk`]): the walk with
 /// what it did to the body. `None` when `stop` ended it early: then the previous recording stays.
-pub fn walk_and_record<S: DemoBody>(
+pub fn walk_recorded<S: DemoBody>(
     board: &mut Board<VirtualTransport<S>>,
     how: &WalkHow,
     dir: &Path,

@@ -12,7 +12,7 @@ use physics::{Figures, PhysicsRobot};
 use planner::plan_dir;
 use protocol::Direction;
 
-use crate::demo::{WalkHow, walk_and_record};
+use crate::demo::{WalkHow, walk_recorded};
 use crate::error::{Context, LabError, Result};
 use crate::walk_body::{Distance, LegTracking, distance, leg_tracking};
 use crate::walk_files::Walk;
@@ -65,7 +65,7 @@ pub fn walk_plan_dir(
         steps,
         slices: parsed.slice_count(),
     };
-    let walk = walk_and_record(&mut board, &how, out, joints, stop)?.ok_or_else(|| {
+    let walk = walk_recorded(&mut board, &how, out, joints, stop)?.ok_or_else(|| {
         LabError::Interrupted(format!(
             "interrupted while recording into {}",
             out.display()

@@ -5,13 +5,13 @@
 
 use std::time::Duration;
 
-use board::link::Board;
 use physics::{Figures, PhysicsRobot};
 use planner::gait::{StepParams, Turn};
 use planner::model::Model;
-use protocol::{Direction, PlayCommand, QueueCommand, RunState, Steps};
+use protocol::{Direction, PlayCommand, RunState, Steps};
 
-use crate::error::{Context, LabError, Result};
+use crate::error::{Context, Result};
+use crate::physics_walk::{BodyWalk, Follow, Walk, start_figures, walk_and_record};
 use crate::walk_turn::{PlannedTurn, boundary_poses, heading_change, walk_table};
 
 /// One part of a run: a plan's gait played `steps` steps in `direction`.
@@ -85,8 +85,12 @@ pub struct SequenceWalk {
     pub figures: Figures,
 }
 
+/// How often the run is looked at, simulated time.
+const POLL: Duration = Duration::from_millis(100);
+
 /// Walks `segments` (at most 1 + the board's queue of 4; one slot per distinct plan) as one run on
-/// a fresh physics robot on flat ground, polling the board's status every 100 ms.
+/// a fresh physics robot on flat ground ([`walk_and_record`]), polling the board's status every
+/// 100 ms.
 pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk> {
     let Some((first, rest)) = segments.split_first() else {
         crate::bail!("no segments: give at least one gait to walk");
@@ -97,10 +101,9 @@ pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk
             s.params.turn_per_step_rad().to_degrees()
         );
     }
-    let robot = PhysicsRobot::new(model, &planner::terrain::Ground::Flat)?;
-    let mut board = Board::connect(robot.into_transport())?;
     // One slot per distinct plan, in order of first use.
     let mut plans: Vec<(StepParams, PlannedTurn)> = Vec::new();
+    let mut tables: Vec<Vec<u8>> = Vec::new();
     let mut slots = Vec::new();
     for s in segments {
         let slot = match plans.iter().position(|(p, _)| *p == s.params) {
@@ -112,73 +115,61 @@ pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk
                 let plan = planner::plan::plan(model, &s.params).with_context(|| {
                     format!("planning segment {} of {}", slots.len() + 1, model.name)
                 })?;
-                let table = walk_table(&plan, &format!("seq{}", plans.len()))?;
-                board.upload(plans.len() as u8, &table, |_, _| {})?;
+                tables.push(walk_table(&plan, &format!("seq{}", plans.len()))?);
                 plans.push((s.params.clone(), PlannedTurn::of(&plan)));
                 plans.len() - 1
             }
         };
         slots.push(slot as u8);
     }
-    let servos = board.transport_mut().robot_mut().servos_mut();
-    servos.reset_figures();
-    servos.start_log(usize::MAX);
-    let period = |s: &Segment| s.params.period_s();
-    board.play(PlayCommand {
-        slot: slots[0],
-        direction: first.direction,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(first.steps),
-    })?;
-    for (i, s) in rest.iter().enumerate() {
-        board
-            .queue_gait(QueueCommand(PlayCommand::new(
-                slots[i + 1],
-                s.direction,
-                protocol::units::PERIOD_SCALE_ONE,
-                Steps::Count(s.steps),
-            )))
-            .with_context(|| format!("queueing segment {} after the one before", i + 2))?;
-    }
+    let command = |s: &Segment, slot: u8| {
+        PlayCommand::new(
+            slot,
+            s.direction,
+            protocol::units::PERIOD_SCALE_ONE,
+            Steps::Count(s.steps),
+        )
+    };
+    let walk = Walk {
+        tables: tables
+            .iter()
+            .enumerate()
+            .map(|(slot, t)| (slot as u8, t.as_slice()))
+            .collect(),
+        play: command(first, slots[0]),
+        queue: rest
+            .iter()
+            .zip(&slots[1..])
+            .map(|(s, &slot)| command(s, slot))
+            .collect(),
+        what: format!("the run of {} segments", segments.len()),
+    };
     let walk_s: f64 = segments
         .iter()
-        .map(|s| f64::from(s.steps) * period(s))
+        .map(|s| f64::from(s.steps) * s.params.period_s())
         .sum();
-    let polls = ((2.0 * walk_s + 5.0) / 0.1).ceil() as u32;
-    let (mut played, mut walked, mut stood_between, mut done) = (Vec::new(), false, false, false);
-    for _ in 0..polls {
-        board.wait(Duration::from_millis(100))?;
-        let st = board.status()?;
-        if let Some(f) = st.fault {
-            return Err(LabError::invalid(format!("the robot faulted: {f}")));
-        }
-        if let Some(p) = st.playback {
-            walked = true;
-            if played.last() != Some(&(p.slot, p.direction)) {
+    let robot = PhysicsRobot::new(model, &planner::terrain::Ground::Flat)?;
+    let (mut played, mut stood_between) = (Vec::new(), false);
+    let BodyWalk { figures, log } = walk_and_record(
+        robot,
+        &walk,
+        Follow::generous(POLL, walk_s),
+        |b| start_figures(b, usize::MAX),
+        |_, st| {
+            if let Some(p) = st.playback
+                && played.last() != Some(&(p.slot, p.direction))
+            {
                 played.push((p.slot, p.direction));
             }
-        }
-        if walked && st.playback.is_none() && st.state == RunState::Standing {
-            done = true;
-            break;
-        }
-        // Between the first step and the last the board only walks (or stops at the end).
-        if walked && matches!(st.state, RunState::Ramping | RunState::Standing) {
-            stood_between = true;
-        }
-    }
-    if !done {
-        crate::bail!(
-            "the robot still walks {:.1} s after the run should have ended",
-            2.0 * walk_s + 5.0
-        );
-    }
-    let servos = board.transport_mut().robot_mut().servos_mut();
-    let figures = servos
-        .figures()
-        .cloned()
-        .context("the physics robot measured nothing")?;
-    let log = servos.take_log().context("the run's log is missing")?;
+            // Between the first step and the last the board only walks (or stops at the end,
+            // standing with no playback).
+            let standing_between = st.state == RunState::Standing && st.playback.is_some();
+            if !played.is_empty() && (st.state == RunState::Ramping || standing_between) {
+                stood_between = true;
+            }
+            Ok(())
+        },
+    )?;
     let total: u32 = segments.iter().map(|s| s.steps).sum();
     let poses = boundary_poses(&log, 0, total)
         .with_context(|| format!("the run's log lacks step boundaries 0 to {total}"))?;

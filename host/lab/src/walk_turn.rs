@@ -11,18 +11,20 @@
 
 use std::time::Duration;
 
-use board::link::{Board, Transport};
 use physics::{Figures, PhysicsRobot, WalkLog};
 use planner::gait::StepParams;
 use planner::model::Model;
 use planner::plan::Plan;
-use protocol::{PlayCommand, RunState, Steps};
+use protocol::{PlayCommand, Steps};
 
-use crate::error::{Context, LabError, Result};
+use crate::error::{Context, Result};
+use crate::physics_walk::{BodyWalk, Follow, Walk, start_figures, walk_and_record};
 
 /// Bus cycles between two logged poses of a measured walk: the measurement needs the thorax of
 /// every cycle, not the joints.
 const POSE_EVERY_CYCLES: usize = 100_000;
+/// How often a measured walk is looked at, simulated time.
+const POLL: Duration = Duration::from_millis(250);
 
 /// The curve a plan walks.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -173,19 +175,20 @@ pub fn walk_turn(model: &Model, params: &StepParams, steps: u32) -> Result<TurnW
         .with_context(|| format!("planning a step of {}", model.name))?;
     let table = walk_table(&plan, "turn")?;
     let robot = PhysicsRobot::new(model, &planner::terrain::Ground::Flat)?;
-    let mut board = Board::connect(robot.into_transport())?;
-    board.upload(0, &table, |_, _| {})?;
-    let servos = board.transport_mut().robot_mut().servos_mut();
-    servos.reset_figures();
-    servos.start_log(POSE_EVERY_CYCLES);
-    board.play(PlayCommand::forward(0, Steps::Count(steps)))?;
-    walk_until_standing(&mut board, f64::from(steps) * plan.period_s)?;
-    let servos = board.transport_mut().robot_mut().servos_mut();
-    let figures = servos
-        .figures()
-        .cloned()
-        .context("the physics robot measured nothing")?;
-    let log = servos.take_log().context("the walk's log is missing")?;
+    let walk = Walk {
+        tables: vec![(0, table.as_slice())],
+        play: PlayCommand::forward(0, Steps::Count(steps)),
+        queue: Vec::new(),
+        what: format!("the curve of {steps} steps"),
+    };
+    let follow = Follow::generous(POLL, f64::from(steps) * plan.period_s);
+    let BodyWalk { figures, log } = walk_and_record(
+        robot,
+        &walk,
+        follow,
+        |b| start_figures(b, POSE_EVERY_CYCLES),
+        |_, _| Ok(()),
+    )?;
     let measured = measure_turn(&log, 1, steps)
         .with_context(|| format!("the walk's log lacks step boundaries 1 to {steps}"))?;
     Ok(TurnWalk {
@@ -193,28 +196,6 @@ pub fn walk_turn(model: &Model, params: &StepParams, steps: u32) -> Result<TurnW
         measured,
         figures,
     })
-}
-
-/// Follows a walk of about `walk_s` simulated seconds until the robot stands again; a fault, or
-/// still walking a generous 2 x `walk_s` + 5 s later, is an error.
-pub fn walk_until_standing<T: Transport>(board: &mut Board<T>, walk_s: f64) -> Result<()> {
-    let polls = ((2.0 * walk_s + 5.0) / 0.25).ceil() as u32;
-    let mut walked = false;
-    for _ in 0..polls {
-        board.wait(Duration::from_millis(250))?;
-        let st = board.status()?;
-        if let Some(f) = st.fault {
-            return Err(LabError::invalid(format!("the robot faulted: {f}")));
-        }
-        walked |= st.playback.is_some();
-        if walked && st.playback.is_none() && st.state == RunState::Standing {
-            return Ok(());
-        }
-    }
-    Err(LabError::invalid(format!(
-        "the robot still walks {:.1} s after a walk of {walk_s:.1} s should have ended",
-        2.0 * walk_s + 5.0
-    )))
 }
 
 #[cfg(test)]

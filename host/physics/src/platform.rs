@@ -22,8 +22,8 @@ use std::fmt::Write;
 /// ticks) lifts the top 9.5 mm.
 pub const HEIGHT_PER_TICK_M: f64 = 0.020 * std::f64::consts::TAU / 4096.0;
 /// The servo position at which the box's top is level with the ground, ticks: the lab's rest
-/// position (`protocol::PlatformSetup::lab`), as the lab mounts its platform. ESTIMATE.
-pub const LEVEL_TICKS: u16 = 2020;
+/// position (`protocol::PlatformSetup::lab`, 2020), as the lab mounts its platform. ESTIMATE.
+pub const LEVEL_TICKS: u16 = protocol::PlatformSetup::lab(protocol::PlatformMove::Rise, 0).rest;
 /// The servo's Profile Velocity unit, rev/min (the MX e-manual's 0.229 rev/min).
 pub const PROFILE_VELOCITY_RPM: f64 = 0.229;
 /// Mass of the moving platform, kg. ESTIMATE: a 40 x 40 x 10 mm plate and its slide.

@@ -1,12 +1,13 @@
-//! The options every board command shares (`--port`, `--config`) and the session they open.
+//! The options every board command shares (`--port`, `--config`) and the session they open, and
+//! the gait slot of the commands that fill or play one (`--slot`, `--allow-infeasible`).
 
 use std::path::PathBuf;
 
 use crate::common::session::Session;
-use crate::config::RobotConfig;
 use anyhow::{Context, bail};
 use board::link::list_boards;
 use board::port::PortSpec;
+use board::setup_file::RobotConfig;
 
 /// Where the default virtual robot keeps its flash between commands.
 pub const DEFAULT_IMAGE: &str = "out/virtual-robot.flash";
@@ -29,6 +30,24 @@ pub struct BoardArgs {
     /// it a missing store is an error, so that a mistyped path is not a silent new robot).
     #[arg(long, global = true)]
     pub create: bool,
+}
+
+/// The gait slot of a command that fills or plays one (`upload`, `run`), and the override of the
+/// servo-feasibility rule for the gait that goes into it or plays from it.
+#[derive(Debug, Clone, clap::Args)]
+pub struct GaitSlotArgs {
+    /// Gait slot (default: the setup file's slot, else 0).
+    #[arg(long)]
+    pub slot: Option<u8>,
+    #[command(flatten)]
+    pub feasibility: crate::feasibility_args::FeasibilityArgs,
+}
+
+impl GaitSlotArgs {
+    /// The flag's slot, else the setup file's, else 0.
+    pub fn slot(&self, setup: &RobotConfig) -> u8 {
+        self.slot.or(setup.slot).unwrap_or(0)
+    }
 }
 
 impl BoardArgs {

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::config::RobotConfig;
+use board::setup_file::RobotConfig;
 
 /// The built-in model used when neither `--model` nor the setup file names one.
 pub const DEFAULT_MODEL: &str = "drosophibot2";

@@ -4,7 +4,7 @@ use anyhow::Context;
 use board::link::Transport;
 use physics::{Robot, RobotLink};
 
-use crate::config::RobotConfig;
+use board::setup_file::RobotConfig;
 
 /// An open board and the setup it was opened with.
 #[derive(Debug)]

@@ -8,7 +8,7 @@ use planner::model::{
 };
 use protocol::ServoModel;
 
-const BUILTIN: &str = include_str!("../models/drosophibot2.toml");
+const BUILTIN: &str = include_str!("../../models/drosophibot2.toml");
 
 /// The built-in model's text without its `[servo_dynamics.*]` sections, with `sections` in their
 /// place and `joint_extra` added to joint LF_CTr (servo ID 3, an MX-64).

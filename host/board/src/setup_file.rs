@@ -1,5 +1,5 @@
 //! The robot setup file (TOML): which port, bus baud and cycle rate, servo stiffness and model, so
-//! that daily use is `dbot run --slot 1`. Flags override the file.
+//! that daily use is `dbot run --slot 1`. `dbot`'s flags override the file.
 //!
 //! ```toml
 //! port = "/dev/ttyACM0"      # or "virtual", "virtual:out/robot.flash"
