@@ -167,3 +167,19 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
         })
         .collect()
 }
+
+/// The run state `dbot record` writes as `name` ([`RunState::name`]).
+fn run_state(name: &str) -> Option<RunState> {
+    [
+        RunState::Idle,
+        RunState::Standing,
+        RunState::Ramping,
+        RunState::Walking,
+        RunState::Stopping,
+        RunState::Streaming,
+        RunState::Fault,
+        RunState::Boot,
+    ]
+    .into_iter()
+    .find(|s| s.name() == name)
+}
