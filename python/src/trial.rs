@@ -40,7 +40,7 @@ pub fn read_trial<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, Py
     // The board's run state per record; None in a trial written before the column.
     let states: Vec<Option<&str>> = records
         .iter()
-        .map(|r| r.first().and_then(|r| r.state).map(|s| s.name()))
+        .map(|r| r.first().and_then(|r| r.state).map(|s| s.key()))
         .collect();
     d.set_item("run_state", states)?;
     let ticks = |v: Option<u16>| v.map_or(f64::NAN, f64::from);

@@ -111,8 +111,16 @@ fn planned_angle_subtracts_the_bias_at_the_stiffness_the_board_held() {
     };
     // The table's stiffness: 0.3 - 0.5 / 5 = 0.2.
     assert!((planned(None) - 0.2).abs() < 1e-9);
-    assert!((planned(Some(2500)) - 0.1).abs() < 1e-9, "{}", planned(Some(2500)));
-    assert!((planned(Some(0)) - 0.3).abs() < 1e-9, "{}", planned(Some(0)));
+    assert!(
+        (planned(Some(2500)) - 0.1).abs() < 1e-9,
+        "{}",
+        planned(Some(2500))
+    );
+    assert!(
+        (planned(Some(0)) - 0.3).abs() < 1e-9,
+        "{}",
+        planned(Some(0))
+    );
 }
 
 /// Every row carries the board's run state (issue 43 item 3): a fault shows in the recording.

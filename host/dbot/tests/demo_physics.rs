@@ -68,7 +68,10 @@ fn the_demo_reports_the_physics_robots_walk_within_physical_bounds() {
         let lowest = number_after(body, "mm at the start,");
         // A 5 kg body on compliant servos sags, by millimetres.
         let sag = start - lowest;
-        assert!(sag > 0.5 * sag_mm && sag < 1.5 * sag_mm, "sag {sag} mm: {body}");
+        assert!(
+            sag > 0.5 * sag_mm && sag < 1.5 * sag_mm,
+            "sag {sag} mm: {body}"
+        );
         let tilt = number_after(body, "tilt up to");
         assert!(
             tilt > 0.5 * tilt_deg && tilt < 1.5 * tilt_deg,
@@ -78,7 +81,10 @@ fn the_demo_reports_the_physics_robots_walk_within_physical_bounds() {
         for leg in ["LF", "LM", "LH", "RF", "RM", "RH"] {
             let slip = number_after(body, &format!("{leg} "));
             // A loaded foot on MuJoCo's soft contacts creeps by millimetres, never by nothing.
-            assert!(slip > 1.0 && slip < 1.5 * slip_mm, "{leg} slip {slip} mm: {body}");
+            assert!(
+                slip > 1.0 && slip < 1.5 * slip_mm,
+                "{leg} slip {slip} mm: {body}"
+            );
             most = most.max(slip);
         }
         assert!(most > 0.5 * slip_mm, "largest slip {most} mm: {body}");
@@ -126,10 +132,7 @@ fn the_fits_are_r_squared_of_a_model_not_of_itself(out: &str, dir: &std::path::P
         .collect();
     assert_eq!(loads.len(), 22, "{block}");
     // On the physics robot the load is the simulation's own torque, and the report says so.
-    assert!(
-        block.contains("not an independent ESTIMATE"),
-        "{block}"
-    );
+    assert!(block.contains("not an independent ESTIMATE"), "{block}");
     assert!(loads.iter().all(|r| *r <= 1.0), "{loads:?}");
     assert!(
         loads.iter().any(|r| *r < 0.999),

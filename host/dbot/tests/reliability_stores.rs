@@ -147,9 +147,11 @@ fn a_command_beside_an_upload_does_not_undo_it() {
         &strings(&["upload", "--table", &new, "--slot", "1", "--port", &image]),
         None,
     );
-    wait_for("the upload waiting for the walk", Duration::from_secs(25), || {
-        read("up.stderr").contains("in use by another dbot")
-    });
+    wait_for(
+        "the upload waiting for the walk",
+        Duration::from_secs(25),
+        || read("up.stderr").contains("in use by another dbot"),
+    );
     assert!(
         !read("up.stdout").contains("verified"),
         "the upload went ahead of the walk"

@@ -104,7 +104,10 @@ fn a_known_gain_is_fitted_back() {
         assert_eq!(&f.gauge, name);
         assert_eq!(f.samples, samples);
         let fitted = f.gain.unwrap();
-        assert!((fitted - gain).abs() < 1e-9, "{name}: gain {fitted}, made {gain}");
+        assert!(
+            (fitted - gain).abs() < 1e-9,
+            "{name}: gain {fitted}, made {gain}"
+        );
         assert!((f.r2.unwrap() - 1.0).abs() < 1e-9, "{f:?}");
         assert!(f.rms_residual_counts.unwrap() < 1e-9, "{f:?}");
     }

@@ -268,7 +268,11 @@ fn a_fault_during_the_recording_ends_the_trial_as_faulted() {
     assert!(text.contains(&path.display().to_string()), "{text}");
     let trial = board::trial::read_trial(&path).unwrap();
     assert_eq!(trial.meta.outcome, board::trial::Outcome::Faulted);
-    let fault = trial.meta.fault.clone().expect("trial.json names the fault");
+    let fault = trial
+        .meta
+        .fault
+        .clone()
+        .expect("trial.json names the fault");
     assert_eq!(fault.kind, "ServoStuck");
     assert_eq!(fault.joint, Some(joint as u8));
     assert_eq!(fault.joint_name.as_deref(), Some(name.as_str()));

@@ -4,8 +4,8 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use protocol::{RunState, Telemetry};
 use protocol::units::angle_to_rad;
+use protocol::{RunState, Telemetry};
 
 use super::joints::JointMeta;
 
@@ -185,7 +185,7 @@ impl Recorder {
                 row.bus_cycle_us,
                 ticks(row.platform_goal_ticks),
                 ticks(row.platform_present_ticks),
-                t.state.name()
+                t.state.key()
             )?;
             self.rows.push(row);
         }

@@ -168,7 +168,7 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
         .collect()
 }
 
-/// The run state `dbot record` writes as `name` ([`RunState::name`]).
+/// The run state `dbot record` writes as `name` ([`RunState::key`]).
 fn run_state(name: &str) -> Option<RunState> {
     [
         RunState::Idle,
@@ -181,5 +181,5 @@ fn run_state(name: &str) -> Option<RunState> {
         RunState::Boot,
     ]
     .into_iter()
-    .find(|s| s.name() == name)
+    .find(|s| s.key() == name)
 }
