@@ -499,7 +499,8 @@ class Board:
         """No perturbation platform any more (not while moving)."""
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
-    def set_torque(self, enable: bool, joint: int | None = None) -> None: ...
+    def set_torque(self, enable: bool) -> None:
+        """Torque on or off for every servo (the board switches them together)."""
     def set_telemetry(self, every: int) -> None:
         """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
         proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
