@@ -72,13 +72,13 @@ TARGET_DIR=$(cargo metadata --format-version 1 --no-deps | bench/.venv/bin/pytho
 
 FW_LOG="$FW_GIVEN"
 if [ "$FIRMWARE" = 1 ]; then
-  if grep -qs "fn bus_rate_and_jitter_at_1_and_4_mbps" firmware/src/sim_tests.rs; then
+  if grep -qs "fn bus_rate_and_jitter_at_1_and_4_mbps" firmware/tests/walk_on_the_wire.rs; then
     echo "== firmware: simulated-wire bus cycle test" >&2
     FW_LOG="$OUT/firmware_bus.log"
-    cargo test --quiet -p firmware --lib sim_tests::bus_rate_and_jitter_at_1_and_4_mbps -- --nocapture >"$FW_LOG" 2>&1 || {
+    cargo test --quiet -p firmware --test walk_on_the_wire bus_rate_and_jitter_at_1_and_4_mbps -- --nocapture >"$FW_LOG" 2>&1 || {
       echo "firmware bus test failed, see $FW_LOG" >&2; FW_LOG=""; }
   else
-    echo "== firmware: simulated-wire bus test not on this branch (firmware/src/sim_tests.rs); rates not measured" >&2
+    echo "== firmware: no simulated-wire bus test (firmware/tests/walk_on_the_wire.rs); rates not measured" >&2
   fi
 fi
 

@@ -1,8 +1,13 @@
 //! Build script of the firmware: copies ../memory.x where the linker finds it, checks that its regions
-//! do not overlap (the gait store above all), hands the gait store bounds to the code as constants, and
-//! passes the cortex-m-rt / defmt linker scripts when building for the RP2040.
+//! do not overlap (the gait store above all), hands the gait store bounds to the code as constants,
+//! hands the build id (the git commit built, `build_id.rs`) to the code, and passes the
+//! cortex-m-rt / defmt linker scripts when building for the RP2040.
 
-use std::{env, fs, path::PathBuf};
+use std::{
+    env, fs,
+    path::{Path, PathBuf},
+    process::Command,
+};
 
 /// One `NAME : ORIGIN = a, LENGTH = b` line of memory.x.
 #[derive(Debug)]
@@ -44,6 +49,18 @@ fn main() {
             gaits.origin - boot2.origin,
             gaits.length,
             ram.length,
+        ),
+    )
+    .unwrap();
+
+    let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").unwrap());
+    fs::write(
+        out.join("build_id.rs"),
+        format!(
+            "/// The first 8 hex digits of the git commit this firmware was built from; 0: unknown\n\
+             /// (built outside a git checkout without `DBOT_BUILD_ID`).\n\
+             pub const BUILD_ID: u32 = {:#010x};\n",
+            build_id(&manifest)
         ),
     )
     .unwrap();
@@ -143,4 +160,48 @@ fn eval(expr: &str) -> u64 {
         }
     }
     u64::try_from(total).expect("memory.x: negative address")
+}
+
+/// The build id: `DBOT_BUILD_ID` (hex) when set, else the first 8 hex digits of the checkout's git
+/// commit (`git rev-parse HEAD`), else 0 (unknown: not a git checkout, or no git). Uncommitted
+/// changes are not part of it. Asks cargo to run this again when the commit moves (HEAD, the
+/// branch's ref, packed refs), so the id never names an older commit.
+fn build_id(manifest: &Path) -> u32 {
+    println!("cargo:rerun-if-env-changed=DBOT_BUILD_ID");
+    if let Ok(given) = env::var("DBOT_BUILD_ID") {
+        let hex = given.trim().trim_start_matches("0x");
+        return u32::from_str_radix(hex, 16).unwrap_or_else(|_| {
+            panic!("DBOT_BUILD_ID {given:?}: give up to 8 hex digits (e.g. 1a2b3c4d)")
+        });
+    }
+    let git = |args: &[&str]| -> Option<String> {
+        let out = Command::new("git")
+            .arg("-C")
+            .arg(manifest)
+            .args(args)
+            .output()
+            .ok()?;
+        out.status
+            .success()
+            .then(|| String::from_utf8_lossy(&out.stdout).trim().to_owned())
+    };
+    let Some(commit) = git(&["rev-parse", "HEAD"]) else {
+        return 0;
+    };
+    let mut watched = vec!["HEAD".to_owned(), "packed-refs".to_owned()];
+    if let Some(branch) = git(&["symbolic-ref", "-q", "HEAD"]) {
+        watched.push(branch);
+    }
+    for name in watched {
+        // Only files that exist: cargo reruns a script on every build for a missing one.
+        if let Some(path) = git(&["rev-parse", "--path-format=absolute", "--git-path", &name])
+            && Path::new(&path).exists()
+        {
+            println!("cargo:rerun-if-changed={path}");
+        }
+    }
+    commit
+        .get(..8)
+        .and_then(|h| u32::from_str_radix(h, 16).ok())
+        .unwrap_or(0)
 }

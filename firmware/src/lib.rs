@@ -29,6 +29,7 @@ extern crate std;
 
 pub mod bias;
 pub mod board;
+pub mod build_id;
 pub mod bus_loop;
 pub mod controller;
 pub mod device_log;

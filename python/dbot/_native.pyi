@@ -15,6 +15,12 @@ class DbotError(Exception):
 class BoardError(DbotError):
     """The link to a board failed: it vanished, did not answer, or refused a request."""
 
+class TrialFaulted(DbotError):
+    """The board stopped the robot on a fault during ``Board.record_trial`` (a servo missing,
+    stuck or overloaded, a setpoint timeout, an emergency stop): the trial is kept with outcome
+    ``"faulted"`` (trial.json's ``fault`` names the fault, joint and bus cycle), and the message
+    names the trial folder."""
+
 class Model:
     """An organism model: bodies, joints, feet and the servo map."""
 
@@ -218,8 +224,12 @@ class Trial(TypedDict):
     cycle: npt.NDArray[np.int64]
     step: npt.NDArray[np.int64]
     slice: npt.NDArray[np.int64]
+    run_state: list[str | None]
+    """[record]: the board's run state (``"Walking"``, ``"Fault"``, ...); None in a trial
+    written before the column."""
     planned_rad: npt.NDArray[np.float64]
-    """[record, joint]; NaN without a step table."""
+    """[record, joint]: the goal less the torque bias at the stiffness the board held (the goal
+    itself at stiffness 0); NaN without a step table."""
     commanded_rad: npt.NDArray[np.float64]
     """[record, joint]; NaN while torque is off (no goal driven)."""
     present_rad: npt.NDArray[np.float64]
@@ -232,7 +242,8 @@ class Trial(TypedDict):
     flags: npt.NDArray[np.int32]
     joint_names: list[str]
     meta: dict[str, Any]
-    """trial.json: format_version, folder, outcome, started, host_version, command_line, port,
+    """trial.json: format_version, folder, outcome (complete, interrupted, failed, faulted),
+    fault (kind, reason, joint, joint_name, cycle; None unless faulted), started, host_version, command_line, port,
     firmware, settings, gait, plan, direction, period_scale, steps, substrate, strain,
     perturbation (leg, step, rest, moved_to, platform_id), notes, joints, cycles, duration_s, missing_records (skipped cycle numbers),
     lost_records (of those, dropped on the board or the host; None if not known)."""
@@ -342,6 +353,9 @@ class Telemetry(Records):
     """[record]: a platform set up only: its servo's goal, ticks (NaN: a record without it)."""
     platform_present_ticks: NotRequired[npt.NDArray[np.float64]]
     """[record]: a platform set up only: its servo's present position, ticks (NaN: none)."""
+    run_state: list[str]
+    """[record]: the board's run state (``"Walking"``, ..., ``"Fault"`` from the first cycle
+    after a fault stopped the robot)."""
 
 class Proprioception(Records):
     time_us: npt.NDArray[np.int64]
@@ -510,7 +524,8 @@ class Board:
         """No perturbation platform any more (not while moving)."""
     def emergency_stop(self) -> None: ...
     def clear_fault(self) -> None: ...
-    def set_torque(self, enable: bool, joint: int | None = None) -> None: ...
+    def set_torque(self, enable: bool) -> None:
+        """Torque on or off for every servo (the board switches them together)."""
     def set_telemetry(self, every: int) -> None:
         """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
         proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
@@ -547,7 +562,8 @@ class Board:
         words before anything moves for a refusal (a ``period`` shorter than planned is checked
         against the servos as ``play(period_scale=)`` checks it; ``allow_infeasible=True`` plays
         it with a ``UserWarning``), ``dbot.BoardError`` for a failed link; Ctrl-C stops the walk,
-        keeps the trial and raises ``KeyboardInterrupt`` naming it."""
+        keeps the trial and raises ``KeyboardInterrupt`` naming it; a fault that stops the robot
+        keeps the trial (outcome ``"faulted"``) and raises ``dbot.TrialFaulted`` naming it."""
         ...
     def record(
         self,

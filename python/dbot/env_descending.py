@@ -19,9 +19,10 @@ the host's clock. A heading or speed given mid-swing takes over at the next step
 Action: a ``Box`` of (heading rad, speed), heading in ``-range_rad ..= range_rad`` (the family's
 range, positive left: REP-103 yaw), speed in ``0.1 ..= 1.0`` of the planned speed. The firmware
 takes 0.1 to 10 (a period scale of 1 / speed at step boundaries), but faster than planned the
-servos may not follow: ``Board.play`` checks a table at a shorter period against the servos
-(``board::rules::period``), ``Board.steer`` does not yet, so this environment stops at the plan's
-own speed, where the family was built feasible (slower is at least as feasible).
+servos may not follow: ``Board.steer`` checks the family's tables at that speed against the
+servos (``board::rules::steer``, as ``Board.play`` checks a shorter period) and refuses a speed
+they cannot follow, so this environment stops at the plan's own speed, where the family was built
+feasible (slower is at least as feasible).
 
 Observation and ``info``: the keys and spaces of :class:`~dbot.env.DbotEnv`. The angles, velocities
 and loads are the board's telemetry of the step's last bus cycle; ``setpoint_age`` is always 0

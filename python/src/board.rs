@@ -491,11 +491,10 @@ impl Board {
         self.with(py, |l| l.clear_fault())
     }
 
-    /// Torque on or off for every servo, or for the servo of one joint (joint-map index).
-    #[pyo3(signature = (enable, joint = None))]
-    fn set_torque(&self, py: Python<'_>, enable: bool, joint: Option<u8>) -> PyResult<()> {
-        let servos = joint.map_or(ServoSelect::All, ServoSelect::Joint);
-        self.with(py, move |l| l.set_torque(servos, enable))
+    /// Torque on or off for every servo (`dbot set --torque`). The board switches all servos
+    /// together: one joint alone it refuses (`Unsupported`), so there is no `joint=` (issue 43).
+    fn set_torque(&self, py: Python<'_>, enable: bool) -> PyResult<()> {
+        self.with(py, move |l| l.set_torque(ServoSelect::All, enable))
     }
 
     /// Telemetry every `every` bus cycles (0: off) outside streaming; streaming's proprioception

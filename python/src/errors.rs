@@ -18,6 +18,13 @@ create_exception!(
     "The link to a board failed: it vanished, did not answer, or refused a request (the message says which port and request)."
 );
 
+create_exception!(
+    dbot,
+    TrialFaulted,
+    DbotError,
+    "The board stopped the robot on a fault during Board.record_trial (a servo missing, stuck or overloaded, a setpoint timeout, an emergency stop): the trial is kept with outcome 'faulted' (trial.json's 'fault' names the fault, joint and bus cycle), and the message names the trial folder."
+);
+
 /// Bad input: the message of the host error, unchanged.
 pub fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())

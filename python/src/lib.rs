@@ -30,6 +30,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("DbotError", py.get_type::<errors::DbotError>())?;
     m.add("BoardError", py.get_type::<errors::BoardError>())?;
+    m.add("TrialFaulted", py.get_type::<errors::TrialFaulted>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("BUILTIN_MODELS", planner::model::BUILTIN_NAMES.to_vec())?;
     m.add_class::<model::Model>()?;

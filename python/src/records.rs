@@ -66,6 +66,9 @@ pub fn telemetry_dict<'py>(
         "cycle_us",
         icol(&|t| i64::from(t.bus.cycle_us)).to_pyarray(py),
     )?;
+    // The board's run state per record (`"Walking"`, ..., `"Fault"`).
+    let states: Vec<&str> = recs.iter().map(|t| t.state.key()).collect();
+    d.set_item("run_state", states)?;
     // The platform servo (goal and present position, ticks; NaN in a record without it), only
     // when a platform is set up.
     if recs.iter().any(|t| t.platform.is_some()) {

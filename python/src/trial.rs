@@ -13,6 +13,8 @@ use crate::errors::value_error;
 
 /// Reads the trial folder `path`: a dict of arrays (`time_s`, `cycle`, `step`, `slice` per
 /// record; `platform_goal_ticks`, `platform_present_ticks` per record, NaN without a platform;
+/// `run_state` per record (a list of str such as `"Walking"`, `"Fault"`; None in a trial written
+/// before the column);
 /// `planned_rad`, `commanded_rad`, `present_rad`, `velocity_rad_s`, `load_raw`,
 /// `torque_estimate_nm`, `modelled_torque_nm`, `error`, `flags` per record and joint, NaN where
 /// the CSV has no value), `joint_names`, `meta` (trial.json) and `path`. ValueError naming the
@@ -35,6 +37,12 @@ pub fn read_trial<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, Py
     d.set_item("cycle", ifirst(&|r| i64::from(r.cycle)).to_pyarray(py))?;
     d.set_item("step", ifirst(&|r| i64::from(r.step)).to_pyarray(py))?;
     d.set_item("slice", ifirst(&|r| i64::from(r.slice)).to_pyarray(py))?;
+    // The board's run state per record; None in a trial written before the column.
+    let states: Vec<Option<&str>> = records
+        .iter()
+        .map(|r| r.first().and_then(|r| r.state).map(|s| s.key()))
+        .collect();
+    d.set_item("run_state", states)?;
     let ticks = |v: Option<u16>| v.map_or(f64::NAN, f64::from);
     d.set_item(
         "platform_goal_ticks",

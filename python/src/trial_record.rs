@@ -87,7 +87,8 @@ impl TrialHooks for PythonDoor<'_> {
 
 /// Records the trial `args` asks for on `link`, naming joints from `model`; returns the published
 /// folder. ValueError with the CLI's words for a refusal, `dbot.BoardError` for a failed link,
-/// KeyboardInterrupt (naming the kept trial) after Ctrl-C.
+/// KeyboardInterrupt (naming the kept trial) after Ctrl-C, `dbot.TrialFaulted` (naming the fault
+/// and the kept trial) when the board stopped the robot on a fault.
 pub fn record(
     py: Python<'_>,
     link: &mut physics::Robot,
@@ -114,6 +115,9 @@ pub fn record(
             Ok(summary.path)
         }
         Err(e @ lab::LabError::Interrupted(_)) => Err(PyKeyboardInterrupt::new_err(e.chain_text())),
+        Err(e @ lab::LabError::Faulted(_)) => {
+            Err(crate::errors::TrialFaulted::new_err(e.chain_text()))
+        }
         Err(e) if is_link_failure(&e) => Err(board_error(e.chain_text())),
         Err(e) => Err(value_error(e.chain_text())),
     }

@@ -115,9 +115,17 @@ def test_reset_stands_streaming_in_the_resting_posture() -> None:
     assert abs(h1 - h0) < 2e-3, (h0, h1)
     # Standing still, forward progress (the default reward) is about nothing.
     assert abs(reward) < 1e-3
-    # Present angles follow the held posture within 0.05 rad (the servos' deflection under the
-    # body's weight: load / stiffness, 2.5 N m / 14.3 N m/rad = 0.17 rad at the very most).
-    assert np.max(np.abs(obs["present_rad"] - env.rest_rad)) < 0.17
+    # Present angles follow the held posture up to each servo's deflection under the body's
+    # weight: its standing load / its stiffness (the planner's statics, dbot.plan_standing, over
+    # the stiffness the board holds), plus 0.01 rad for the body's sway and the settling of the
+    # stance. Before (issue 43) the bound was 0.17 rad, the stall torque over the stiffness, that
+    # no servo under this body comes near.
+    load = np.abs(dbot.plan_standing(dbot.Model.builtin("drosophibot2"))["torques_nm"])
+    k = env.board.settings()["stiffness_nm_rad"]
+    bound = load / k + 0.01
+    deflection = np.abs(obs["present_rad"] - env.rest_rad)
+    assert np.all(deflection < bound), (deflection, bound)
+    assert np.max(bound) < 0.17
     assert "body" in info and info["state"] == "Streaming"
     env.close()
 

@@ -261,3 +261,13 @@ def test_a_stiffness_the_p_gain_register_cannot_hold_is_refused_as_by_set(
         # 0 is the torque bias off, as `dbot set --stiffness 0`.
         board.set_stiffness(0, 0.0)
         assert board.settings()["stiffness_nm_rad"][0] == 0.0
+
+
+def test_set_torque_switches_every_servo_and_takes_no_joint() -> None:
+    # The board switches all servos together and refused one joint alone (`Unsupported`): the
+    # keyword that promised it is gone (issue 43).
+    with dbot.Board.open("virtual") as b:
+        with pytest.raises(TypeError):
+            b.set_torque(True, joint=0)  # type: ignore[call-arg]
+        b.set_torque(False)
+        assert b.status()["torque_enabled"] == 0

@@ -114,6 +114,7 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
                 present: p.present,
                 flags: p.flags,
             }),
+            state: run_state(r.state),
         })
     }
 }

@@ -136,7 +136,7 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
             firmware: version(),
             protocol_version: PROTOCOL_VERSION,
             table_format_version: FORMAT_VERSION,
-            build_id: 0,
+            build_id: crate::build_id::BUILD_ID,
             capabilities: CAPABILITIES,
             slot_capacity: self.limits().slot_capacity,
             max_chunk_len: protocol::MAX_CHUNK_LEN as u16,

@@ -98,7 +98,7 @@ impl Args {
 
         let total = stage_count(self.port != "virtual");
         println!(
-            "[1/{total}] planning the tripod gait of drosophibot2 (flat, table 1 of the paper, swing {:.1} s)",
+            "[1/{total}] planning the tripod gait of drosophibot2 (flat, the servo-safe preset: table 1 of the paper at swing {:.1} s)",
             planner::gait::SERVO_SAFE_SWING_S
         );
         let model = planner::model::builtin("drosophibot2")?;

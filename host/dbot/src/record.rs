@@ -5,7 +5,9 @@
 //!
 //! The trial is recorded into a hidden `.partial-` folder and published when the recording ends:
 //! as asked under its start time, after Ctrl-C as `... interrupted`, after a failed link as
-//! `... failed`; a recording without a single row is removed. No recording ever replaces another.
+//! `... failed`, after a fault that stopped the robot as `... faulted` (the fault, its joint and
+//! cycle in trial.json and the README; the command exits non-zero naming them); a recording
+//! without a single row is removed. No recording ever replaces another.
 //! Ctrl-C stops the walk (whoever started it: `board::record::stop_walk`, the one stop path),
 //! records until the robot stands, keeps the trial and exits non-zero.
 //!

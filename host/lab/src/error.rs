@@ -15,6 +15,10 @@ pub enum LabError {
     /// The caller asked to stop (e.g. Ctrl-C); the words say where and what was kept.
     #[error("{0}")]
     Interrupted(String),
+    /// The board stopped the robot on a fault during a recording; the words name the fault, its
+    /// joint and cycle, and the trial that keeps the rows up to it.
+    #[error("{0}")]
+    Faulted(String),
     /// `what` failed because of `source`.
     #[error("{what}")]
     In {

@@ -47,7 +47,8 @@ pub fn tripod_table() -> Result<Vec<u8>> {
 
 /// Plays slot 0 for `steps` steps in `direction` at its planned period and records the walk into
 /// `csv` (telemetry queued before the start is dropped); how the capture ended says whether it
-/// was interrupted (`stop` returning true ends it early).
+/// was interrupted (`stop` returning true ends it early). A walk the board stopped on a fault is
+/// an error naming the fault (its rows stay in `csv`): no figure is drawn from half a walk.
 pub fn play_and_record<T: Transport>(
     board: &mut Board<T>,
     direction: Direction,
@@ -75,5 +76,12 @@ pub fn play_and_record<T: Transport>(
         stop,
         |_| {},
     )?;
+    if let Ended::Faulted(seen) = ended {
+        crate::bail!(
+            "{seen}; {} bus cycles recorded in {}",
+            rec.cycles(),
+            csv.display()
+        );
+    }
     Ok((rec, ended))
 }

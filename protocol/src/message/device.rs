@@ -130,7 +130,8 @@ pub struct DeviceInfo {
     pub protocol_version: u16,
     /// [`crate::gait::FORMAT_VERSION`] the firmware reads.
     pub table_format_version: u16,
-    /// Build identifier (e.g. the first 4 bytes of the git commit).
+    /// Build identifier: the first 8 hex digits of the git commit the firmware was built from;
+    /// 0 when unknown (built outside a git checkout).
     pub build_id: u32,
     pub capabilities: Capabilities,
     /// Largest table a slot holds, bytes.

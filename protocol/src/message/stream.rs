@@ -84,6 +84,10 @@ pub struct Telemetry {
     pub bus: BusStats,
     /// The perturbation platform's servo, while one is set up (appended: protocol version 7).
     pub platform: Option<super::PlatformFeedback>,
+    /// The board's run state in this cycle (appended: protocol version 8): `Fault` from the first
+    /// cycle after a fault stopped the robot, so a recording shows where the walk ended and why
+    /// (`GetStatus` names the fault).
+    pub state: super::RunState,
 }
 
 /// Feedback of one bus cycle in streaming mode, every [`crate::StreamConfig::feedback_every`]

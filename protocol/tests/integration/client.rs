@@ -71,6 +71,7 @@ fn replies_are_matched_by_seq_and_kind() {
         joints: heapless::Vec::new(),
         bus: BusStats::default(),
         platform: None,
+        state: RunState::Walking,
     });
     assert_eq!(reply::<()>(4, tel), Err(ReplyError::NotAReply));
 }

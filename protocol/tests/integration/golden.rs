@@ -50,7 +50,9 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 7: Request::SetPlatform / ClearPlatform / GetPlatform, Response::Platform,
     //    ProtocolError::Platform appended, Telemetry::platform added at the end (the perturbation
     //    platform's servo).
-    assert_eq!(PROTOCOL_VERSION, 7);
+    // 8: Telemetry::state added at the end (the run state of every recorded cycle, so a
+    //    recording shows a fault).
+    assert_eq!(PROTOCOL_VERSION, 8);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 

@@ -185,6 +185,7 @@ fn the_largest_messages_fit_max_message_len() {
                 present: u16::MAX,
                 flags: u8::MAX,
             }),
+            state: RunState::Streaming,
         }),
         DeviceMessage::Proprioception(Proprioception {
             time_us: u64::MAX,

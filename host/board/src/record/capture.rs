@@ -1,9 +1,10 @@
 //! The recording loop: telemetry from a board into a [`Recorder`] until a time on the board's clock
-//! has passed, the robot stands again, or the caller asks it to end (Ctrl-C).
+//! has passed, the robot stands again, the board stops it on a fault, or the caller asks it to
+//! end (Ctrl-C).
 
 use std::time::Duration;
 
-use protocol::RunState;
+use protocol::{Fault, RunState};
 
 use super::csv_out::Recorder;
 use crate::link::{Board, LinkError, Transport};
@@ -109,6 +110,35 @@ pub enum Ended {
     Done,
     /// The caller's `interrupted` turned true; the board was left as it was.
     Interrupted,
+    /// The board stopped the robot on a fault: every record up to the first one in the fault
+    /// state is in the recording.
+    Faulted(FaultSeen),
+}
+
+/// A fault that ended a recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FaultSeen {
+    /// The board's fault (`GetStatus`); `None` if it was cleared before the host asked.
+    pub fault: Option<Fault>,
+    /// The bus cycle of the first record in the fault state; `None` when the fault was seen by
+    /// asking the board's state (no record carried it).
+    pub cycle: Option<u32>,
+}
+
+impl std::fmt::Display for FaultSeen {
+    /// `the board stopped the robot on a fault: ServoStuck on joint 2: ... (first seen in bus
+    /// cycle 812)`
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the board stopped the robot on a fault: ")?;
+        match &self.fault {
+            Some(fault) => write!(f, "{fault}")?,
+            None => write!(f, "(cleared before it could be read)")?,
+        }
+        if let Some(c) = self.cycle {
+            write!(f, " (first seen in bus cycle {c})")?;
+        }
+        Ok(())
+    }
 }
 
 /// Records telemetry of `board` into `rec`; `progress(seconds_recorded)` after each record.
@@ -148,6 +178,14 @@ fn run<T: Transport>(
         cycles: rec.cycles(),
     };
     let mut next_poll = 0.0;
+    // The fault as the board names it, with the cycle it was first seen in.
+    let faulted = |board: &mut Board<T>, rec: &Recorder, cycle| {
+        let st = board.status().map_err(|e| link(e, rec))?;
+        Ok(Ended::Faulted(FaultSeen {
+            fault: st.fault,
+            cycle,
+        }))
+    };
     loop {
         if interrupted() {
             return Ok(Ended::Interrupted);
@@ -157,10 +195,11 @@ fn run<T: Transport>(
             Ok(None) if moving || until.standing => {
                 // Nothing comes while standing: check whether the walk has ended.
                 let st = board.status().map_err(|e| link(e, rec))?;
-                if matches!(st.state, RunState::Standing | RunState::Idle) {
-                    return Ok(Ended::Done);
+                match st.state {
+                    RunState::Standing | RunState::Idle => return Ok(Ended::Done),
+                    RunState::Fault => return faulted(board, rec, None),
+                    _ => return Err(CaptureError::Silent { seconds: SILENCE_S }),
                 }
-                return Err(CaptureError::Silent { seconds: SILENCE_S });
             }
             Ok(None) => return Err(CaptureError::Silent { seconds: SILENCE_S }),
             Err(e) => return Err(link(e, rec)),
@@ -168,6 +207,9 @@ fn run<T: Transport>(
         rec.push(&t)?;
         let elapsed = rec.duration_s();
         progress(elapsed);
+        if t.state == RunState::Fault {
+            return faulted(board, rec, Some(t.cycle));
+        }
         if until.seconds.is_some_and(|s| elapsed >= s) {
             return Ok(Ended::Done);
         }
@@ -177,7 +219,7 @@ fn run<T: Transport>(
             match st.state {
                 RunState::Ramping | RunState::Walking | RunState::Stopping => moving = true,
                 RunState::Standing | RunState::Idle if moving => return Ok(Ended::Done),
-                RunState::Fault => return Ok(Ended::Done),
+                RunState::Fault => return faulted(board, rec, None),
                 _ => {}
             }
         }

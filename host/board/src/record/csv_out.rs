@@ -4,13 +4,13 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use protocol::Telemetry;
 use protocol::units::angle_to_rad;
+use protocol::{RunState, Telemetry};
 
 use super::joints::JointMeta;
 
 /// Column names of the CSV, in order.
-pub const CSV_HEADER: [&str; 17] = [
+pub const CSV_HEADER: [&str; 18] = [
     "time_s",
     "cycle",
     "step",
@@ -28,11 +28,16 @@ pub const CSV_HEADER: [&str; 17] = [
     "bus_cycle_us",
     "platform_goal_ticks",
     "platform_present_ticks",
+    "run_state",
 ];
 
 /// Columns of the telemetry CSV written before the platform's (trials of the first format
 /// version without them are read with the platform unknown).
 pub const CSV_HEADER_BEFORE_PLATFORM: usize = 15;
+
+/// Columns of the telemetry CSV written before the run state's (trials without it are read with
+/// the state unknown).
+pub const CSV_HEADER_BEFORE_RUN_STATE: usize = 17;
 
 /// One row: one joint in one bus cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,6 +67,9 @@ pub struct Row {
     pub platform_goal_ticks: Option<u16>,
     /// The platform servo's present position, ticks (`None`: no platform set up).
     pub platform_present_ticks: Option<u16>,
+    /// The board's run state in this cycle (`Walking`, ..., `Fault`); `None` in a CSV written
+    /// before the column.
+    pub state: Option<RunState>,
 }
 
 /// What the columns of telemetry.csv mean: written as README.md beside it.
@@ -127,7 +135,9 @@ impl Recorder {
             // With torque off the goal is not driven (the firmware reports whatever it holds), so it
             // says nothing about the plan: fall back to the table's angle at the slice.
             let driven = f.flags & protocol::feedback_flags::TORQUE_OFF == 0;
+            // Stiffness 0 switches the board's bias off: the goal is the planned angle.
             let planned_rad = match (meta.and_then(|m| m.stiffness_nm_per_rad), modelled_nm) {
+                (Some(k), _) if k == 0.0 && driven => Some(commanded_rad),
                 (Some(k), Some(tau)) if k > 0.0 && driven => Some(commanded_rad - tau / k),
                 _ => meta.and_then(|m| m.planned_rad.get(usize::from(t.slice)).copied()),
             };
@@ -149,13 +159,14 @@ impl Recorder {
                 bus_cycle_us: t.bus.cycle_us,
                 platform_goal_ticks: t.platform.map(|p| p.goal),
                 platform_present_ticks: t.platform.map(|p| p.present),
+                state: Some(t.state),
             };
             let name = meta.map_or_else(|| format!("J{j}"), |m| m.name.clone());
             let ticks = |v: Option<u16>| v.map_or(String::new(), |x| x.to_string());
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
             writeln!(
                 self.out,
-                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{}",
+                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{},{}",
                 row.time_s,
                 row.cycle,
                 row.step,
@@ -173,7 +184,8 @@ impl Recorder {
                 row.flags,
                 row.bus_cycle_us,
                 ticks(row.platform_goal_ticks),
-                ticks(row.platform_present_ticks)
+                ticks(row.platform_present_ticks),
+                t.state.key()
             )?;
             self.rows.push(row);
         }

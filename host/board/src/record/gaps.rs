@@ -66,6 +66,7 @@ mod tests {
             bus_cycle_us: 0,
             platform_goal_ticks: None,
             platform_present_ticks: None,
+            state: None,
         }
     }
 

@@ -16,7 +16,8 @@ pub struct JointMeta {
     pub modelled_nm: Vec<f64>,
     /// Planned angle per slice of the step, rad (empty when the table is unknown).
     pub planned_rad: Vec<f64>,
-    /// Stiffness the board's torque bias divides by, N m/rad (from the table's joint map).
+    /// Stiffness the board's torque bias divides by, N m/rad: the table's joint map, replaced by
+    /// the board's setting when it is known ([`held_stiffness`]); 0: the bias is off.
     pub stiffness_nm_per_rad: Option<f64>,
     /// Whether the joint's leg (the `LF` of `LF_ThC1`) is in stance, per slice of the step
     /// (empty when the table or the leg is unknown).
@@ -46,6 +47,17 @@ pub fn joints_of_table(table: &GaitTable<'_>, names: &[String]) -> Vec<JointMeta
             }
         })
         .collect()
+}
+
+/// Makes each joint's stiffness the one the board holds (`settings`, read once the walk has
+/// started: a `dbot set --stiffness` since the upload, 0 included, is what the bias divides by),
+/// so `planned_rad` and the tracking error follow the board, not the table. Joints the settings
+/// do not cover keep theirs.
+pub fn held_stiffness(joints: &mut [JointMeta], settings: &protocol::Settings) {
+    for (m, s) in joints.iter_mut().zip(&settings.joints) {
+        m.stiffness_nm_per_rad =
+            Some(f64::from(s.stiffness) / protocol::units::STIFFNESS_PER_NM_RAD);
+    }
 }
 
 /// Stance per slice of the leg that `joint_name` starts with (bit i of a slice's stance byte is

@@ -11,12 +11,15 @@ mod stats;
 mod stop;
 
 pub use capture::{
-    CaptureError, Ended, Until, capture, capture_until_standing, capture_while,
+    CaptureError, Ended, FaultSeen, Until, capture, capture_until_standing, capture_while,
     check_telemetry_rate, set_recording_rate,
 };
-pub use csv_out::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Recorder, Row, TELEMETRY_README};
+pub use csv_out::{
+    CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, CSV_HEADER_BEFORE_RUN_STATE, Recorder, Row,
+    TELEMETRY_README,
+};
 pub use gaps::{missing_cycles, missing_words};
-pub use joints::{JointMeta, joints_of_table};
+pub use joints::{JointMeta, held_stiffness, joints_of_table};
 pub use names::{joint_names, joint_names_by_ids};
 pub use stats::{JointTracking, PhaseStats, per_slice, phase_stats, tracking};
 pub use stop::{Stopped, stop_walk};

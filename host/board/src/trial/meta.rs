@@ -18,6 +18,10 @@ pub struct TrialMeta {
     pub folder: String,
     /// How the recording ended.
     pub outcome: Outcome,
+    /// The fault that stopped the robot when `outcome` is `faulted`; `None` otherwise (and in a
+    /// trial written before this field).
+    #[serde(default)]
+    pub fault: Option<TrialFault>,
     /// Start time, ISO 8601 UTC.
     pub started: String,
     /// The `dbot` (or Python package) version that wrote the trial.
@@ -77,6 +81,26 @@ pub enum Outcome {
     Interrupted,
     /// The link failed or the board fell silent: the rows received before.
     Failed,
+    /// The board stopped the robot on a fault (servo missing, stuck, overloaded, a setpoint
+    /// timeout, an emergency stop): the rows up to it ([`TrialMeta::fault`] says which).
+    Faulted,
+}
+
+/// The fault that ended a trial.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TrialFault {
+    /// The fault's kind as the board names it (`ServoStuck`, `ServoMissing`, `ServoError`,
+    /// `SetpointTimeout`, `EmergencyStop`, `Watchdog`).
+    pub kind: String,
+    /// The board's words for it (`ServoStuck on joint 2: servo stuck: ...`).
+    pub reason: String,
+    /// The joint it concerns (index in the board's joint map), if any.
+    pub joint: Option<u8>,
+    /// That joint's name in the recording (e.g. `RM_FTi`), when known.
+    pub joint_name: Option<String>,
+    /// The bus cycle of the first telemetry record in the fault state (the board stopped the
+    /// robot between the record before and this one); `None` when no record showed it.
+    pub cycle: Option<u32>,
 }
 
 impl Outcome {
@@ -86,6 +110,7 @@ impl Outcome {
             Outcome::Complete => None,
             Outcome::Interrupted => Some("interrupted"),
             Outcome::Failed => Some("failed"),
+            Outcome::Faulted => Some("faulted"),
         }
     }
 
@@ -94,6 +119,7 @@ impl Outcome {
             Outcome::Complete => "complete",
             Outcome::Interrupted => "interrupted",
             Outcome::Failed => "failed",
+            Outcome::Faulted => "faulted",
         }
     }
 }
@@ -105,6 +131,7 @@ pub struct FirmwareMeta {
     pub version: String,
     pub protocol_version: u16,
     pub table_format_version: u16,
+    /// The first 8 hex digits of the git commit the firmware was built from; 0: unknown.
     pub build_id: u32,
 }
 

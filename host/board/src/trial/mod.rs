@@ -21,6 +21,6 @@ pub use folder::{README_MD, TELEMETRY_CSV, TRIAL_JSON, TrialFolder};
 pub use index::{INDEX_JSONL, INDEX_TXT, IndexEntry, latest_trial, list_trials};
 pub use meta::{
     BoardSettings, FirmwareMeta, GaitMeta, JointSetting, Outcome, Perturbation, PlanMeta,
-    Substrate, TRIAL_FORMAT, TrialMeta,
+    Substrate, TRIAL_FORMAT, TrialFault, TrialMeta,
 };
 pub use read::{Trial, read_trial};

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use super::error::TrialError;
 use super::folder::{TELEMETRY_CSV, TRIAL_JSON};
 use super::meta::{TRIAL_FORMAT, TrialMeta};
-use crate::record::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Row};
+use crate::record::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, CSV_HEADER_BEFORE_RUN_STATE, Row};
+use protocol::RunState;
 
 /// A trial read back.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,9 +65,11 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
     };
     let mut lines = text.lines().enumerate();
     let header = lines.next().map(|(_, l)| l).unwrap_or_default();
-    // A trial written before the platform's columns: the platform is unknown.
+    // A trial written before the platform's (or the run state's) columns: they are unknown.
     let columns = if header == CSV_HEADER.join(",") {
         CSV_HEADER.len()
+    } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_RUN_STATE].join(",") {
+        CSV_HEADER_BEFORE_RUN_STATE
     } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_PLATFORM].join(",") {
         CSV_HEADER_BEFORE_PLATFORM
     } else {
@@ -151,7 +154,32 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
                 bus_cycle_us: fit(int(14)?).ok_or_else(|| ranged(14, int(14).ok()))?,
                 platform_goal_ticks: tick(15)?,
                 platform_present_ticks: tick(16)?,
+                state: match cells.get(17) {
+                    None => None,
+                    Some(name) => Some(run_state(name).ok_or_else(|| {
+                        bad(
+                            line,
+                            format!("column run_state: {name:?} is not a board run state"),
+                        )
+                    })?),
+                },
             })
         })
         .collect()
+}
+
+/// The run state `dbot record` writes as `name` ([`RunState::key`]).
+fn run_state(name: &str) -> Option<RunState> {
+    [
+        RunState::Idle,
+        RunState::Standing,
+        RunState::Ramping,
+        RunState::Walking,
+        RunState::Stopping,
+        RunState::Streaming,
+        RunState::Fault,
+        RunState::Boot,
+    ]
+    .into_iter()
+    .find(|s| s.key() == name)
 }

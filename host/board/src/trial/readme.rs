@@ -9,12 +9,34 @@ use protocol::Direction;
 use super::meta::TrialMeta;
 use crate::record::TELEMETRY_README;
 
+/// A firmware build id as the README says it: the commit's first 8 hex digits, or that it is
+/// unknown (0: a firmware built outside a git checkout).
+fn build_words(id: u32) -> String {
+    if id == 0 {
+        "unknown".to_owned()
+    } else {
+        format!("{id:08x}")
+    }
+}
+
 /// The README of the trial `meta` describes.
 pub(super) fn readme(m: &TrialMeta) -> String {
     let mut s = String::new();
     let yes_no = |b: bool| if b { "yes" } else { "no" };
     let _ = writeln!(s, "# Trial {}\n", m.folder);
     let _ = writeln!(s, "- outcome: {}", m.outcome.name());
+    if let Some(f) = &m.fault {
+        let _ = writeln!(
+            s,
+            "- fault: {}{}{}",
+            f.reason,
+            f.joint_name
+                .as_ref()
+                .map_or(String::new(), |n| format!(" (joint {n})")),
+            f.cycle
+                .map_or(String::new(), |c| format!(", first seen in bus cycle {c}"))
+        );
+    }
     let _ = writeln!(s, "- started: {} (UTC)", m.started);
     let _ = writeln!(
         s,
@@ -87,8 +109,11 @@ pub(super) fn readme(m: &TrialMeta) -> String {
     }
     let _ = writeln!(
         s,
-        "- firmware {} (protocol {}, build {:08x}) on {}",
-        m.firmware.version, m.firmware.protocol_version, m.firmware.build_id, m.port
+        "- firmware {} (protocol {}, build {}) on {}",
+        m.firmware.version,
+        m.firmware.protocol_version,
+        build_words(m.firmware.build_id),
+        m.port
     );
     let _ = writeln!(
         s,

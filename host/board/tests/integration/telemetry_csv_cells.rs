@@ -32,6 +32,7 @@ fn torque_off_rows_have_an_empty_goal() {
         joints,
         bus: BusStats::default(),
         platform: None,
+        state: protocol::RunState::Walking,
     })
     .unwrap();
     drop(rec);
@@ -48,4 +49,96 @@ fn torque_off_rows_have_an_empty_goal() {
     // Torque on: the goal, 1e-4 rad units, to four decimals.
     assert_eq!(&rows[1][col], "-3.1415");
     assert_eq!(&rows[1][7], "0.5000");
+}
+
+/// One torque-on record of one joint: goal 0.3000 rad, slice 0, in `state`.
+fn one_record(state: protocol::RunState) -> Telemetry {
+    let mut joints = heapless::Vec::new();
+    joints
+        .push(JointFeedback {
+            commanded: 3000,
+            present: 2900,
+            velocity: 0,
+            load: 0,
+            error: 0,
+            flags: 0,
+        })
+        .unwrap();
+    Telemetry {
+        time_us: 10,
+        cycle: 7,
+        step: 0,
+        slice: 0,
+        joints,
+        bus: BusStats::default(),
+        platform: None,
+        state,
+    }
+}
+
+/// The planned angle of a row is the goal less the bias torque / k at the k the board held (issue
+/// 43 item 3), not the table's: a table at 5 N m/rad played after `dbot set --stiffness` to 2.5,
+/// and to 0 (bias off: the goal is the plan). Hand calculation: 0.3 - 0.5 / 2.5 = 0.1.
+#[test]
+fn planned_angle_subtracts_the_bias_at_the_stiffness_the_board_held() {
+    let planned = |held: Option<u32>| {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        let mut joint = JointMeta::named("LF_ThC1");
+        joint.modelled_nm = vec![0.5];
+        joint.planned_rad = vec![0.2];
+        joint.stiffness_nm_per_rad = Some(5.0);
+        let mut joints = vec![joint];
+        if let Some(k) = held {
+            let settings = protocol::Settings {
+                baud: 1_000_000,
+                cycle_hz: 100,
+                telemetry_every: 1,
+                joints: [protocol::JointSettings {
+                    stiffness: k,
+                    min: -30000,
+                    max: 30000,
+                    torque_enabled: true,
+                }]
+                .into_iter()
+                .collect(),
+            };
+            board::record::held_stiffness(&mut joints, &settings);
+        }
+        let mut rec = Recorder::create(&path, joints).unwrap();
+        rec.push(&one_record(protocol::RunState::Walking)).unwrap();
+        rec.rows()[0].planned_rad.unwrap()
+    };
+    // The table's stiffness: 0.3 - 0.5 / 5 = 0.2.
+    assert!((planned(None) - 0.2).abs() < 1e-9);
+    assert!(
+        (planned(Some(2500)) - 0.1).abs() < 1e-9,
+        "{}",
+        planned(Some(2500))
+    );
+    assert!(
+        (planned(Some(0)) - 0.3).abs() < 1e-9,
+        "{}",
+        planned(Some(0))
+    );
+}
+
+/// Every row carries the board's run state (issue 43 item 3): a fault shows in the recording.
+#[test]
+fn rows_carry_the_boards_run_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.csv");
+    let mut rec = Recorder::create(&path, vec![JointMeta::named("LF_ThC1")]).unwrap();
+    rec.push(&one_record(protocol::RunState::Walking)).unwrap();
+    rec.push(&one_record(protocol::RunState::Fault)).unwrap();
+    drop(rec);
+    let mut rd = csv::Reader::from_path(&path).unwrap();
+    let col = rd
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == "run_state")
+        .expect("a run_state column");
+    let states: Vec<String> = rd.records().map(|r| r.unwrap()[col].to_owned()).collect();
+    assert_eq!(states, ["Walking", "Fault"]);
 }

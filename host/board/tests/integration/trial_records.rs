@@ -27,6 +27,7 @@ fn meta(joints: Vec<String>) -> TrialMeta {
         format_version: TRIAL_FORMAT,
         folder: String::new(),
         outcome: Outcome::Complete,
+        fault: None,
         started: "2026-12-02T06:30:05Z".into(),
         host_version: "9.8.7".into(),
         command_line: vec![

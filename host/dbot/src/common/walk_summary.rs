@@ -116,8 +116,19 @@ pub fn print_fits(
     for chunk in loads.chunks(6) {
         writeln!(s, "    {}", list(chunk, "N m"))?;
     }
+    writeln!(s, "    {SIMULATED_LOAD}")?;
     Ok(())
 }
+
+/// What the physics robot's "servo load" is: not a measurement independent of the simulation.
+pub const SIMULATED_LOAD: &str = "(physics robot: each load is the simulated joint torque turned into the Present Load \
+register and back by the exact inverse of that conversion, so it is the simulation's own torque, not an \
+independent ESTIMATE as on a real servo)";
+
+/// Under what the bias's gain was measured.
+pub const SIMULATED_SPRING: &str = "(measured on simulated servos that are exactly the spring the bias assumes: \
+torque = k (goal - angle) with k the stiffness the bias divides by, plus only the motor's speed damping \
+and stall limit; no friction, backlash or gain error, so a real servo gains less or differently)";
 
 /// The summary lines of what the torque bias buys: posture error of the forward walk with the
 /// bias against the one without it.
@@ -162,7 +173,8 @@ pub fn print_bias(
         p_off.rms_rad - p_on.rms_rad,
         (1.0 - p_on.rms_rad / p_off.rms_rad.max(1e-12)) * 100.0,
         (p_off.sag_mean_m - p_on.sag_mean_m) * 1e3
-    )
+    )?;
+    writeln!(s, "  {SIMULATED_SPRING}")
 }
 
 /// The summary lines of one forward walk's simulated gauges against the predicted strain

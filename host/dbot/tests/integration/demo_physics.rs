@@ -1,6 +1,7 @@
 //! `dbot demo` walks the physics robot: its report carries the body's figures, each within
-//! physical bounds and none equal to the plan by construction (a MuJoCo body sags, tilts and
-//! slips; the planned figures are exact: 0.1417 m per step, no turn, no sag, no tilt, no slip);
+//! half of what this run measured (a MuJoCo body sags, tilts and slips; the planned figures are
+//! exact: 0.1417 m per step, no turn, no sag, no tilt, no slip; issue 43: bounds of 0.1 to 10 mm
+//! of sag let a 10x regression pass);
 //! the plan's loads and forces against the simulation's as R^2 (at most 1, and not 1: measured is
 //! not the model); the walk without the torque bias, whose posture is worse; and walk.gif.
 
@@ -35,34 +36,58 @@ fn the_demo_reports_the_physics_robots_walk_within_physical_bounds() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(out.contains("bus (physics robot"), "{out}");
-    for label in ["forward", "backward"] {
+    // Measured on this test's run (`dbot demo --steps 2`, MuJoCo 3.17.0; the simulation is
+    // deterministic): (label, heading drift deg, sag mm below the start, tilt deg, largest slip
+    // mm). Each bound allows the figure to move by half (or 1 deg of heading) for a change of the
+    // model, servos or firmware, and fails at twice it: a regression of 2x (or 10x) does not pass.
+    // forward: heading +0.73, 175.0 -> 171.8 mm (3.2), tilt 2.56, slip LF 5.8 LM 5.9 LH 3.4 RF 3.7
+    // RM 6.6 RH 4.0; backward: heading -0.02, 175.2 -> 172.9 mm (2.3), tilt 0.97, slip 3.4 to 4.6.
+    for (label, heading_deg, sag_mm, tilt_deg, slip_mm) in [
+        ("forward", 0.73, 3.2, 2.56, 6.6),
+        ("backward", -0.02, 2.3, 0.97, 4.6),
+    ] {
         let at = out
             .find(&format!("body {label} (physics robot"))
             .unwrap_or_else(|| panic!("no body figures for the {label} walk:\n{out}"));
         let body = &out[at..];
         let body = &body[..body[1..].find("\nbody ").map_or(body.len(), |e| e + 1)];
-        // Table 1: 0.085 m stroke in 0.75 s of stance, 1.25 s cycles: 0.1417 m per step.
+        // The servo-safe preset: 0.085 m stroke in 1.5 s of stance, 2.5 s steps: 0.1417 m.
         let planned = number_after(body, "planned");
-        assert!((planned - 0.085 / 0.75 * 1.25).abs() < 1e-3, "{body}");
+        assert!((planned - 0.085 / 1.5 * 2.5).abs() < 1e-3, "{body}");
         let walked = number_after(body, "distance");
-        // Within 15 % of the plan (start ramp and stop included), but not the plan itself.
-        assert!((walked - planned).abs() < 0.15 * planned, "{body}");
+        // Within 8 % of the plan (start ramp and stop included; measured +4.1 % and -0.7 %), but
+        // not the plan itself.
+        assert!((walked - planned).abs() < 0.08 * planned, "{body}");
         assert!(
             (walked - planned).abs() > 1e-4,
             "distance equals the plan: {body}"
         );
         let heading = number_after(body, "heading drift");
-        assert!(heading.abs() < 5.0, "{body}");
+        assert!((heading - heading_deg).abs() < 1.0, "{body}");
         let start = number_after(body, "thorax height");
         let lowest = number_after(body, "mm at the start,");
-        // A 5 kg body on compliant servos sags, by millimetres, not centimetres.
-        assert!(lowest < start - 0.1 && lowest > start - 10.0, "{body}");
+        // A 5 kg body on compliant servos sags, by millimetres.
+        let sag = start - lowest;
+        assert!(
+            sag > 0.5 * sag_mm && sag < 1.5 * sag_mm,
+            "sag {sag} mm: {body}"
+        );
         let tilt = number_after(body, "tilt up to");
-        assert!(tilt > 0.01 && tilt < 10.0, "{body}");
+        assert!(
+            tilt > 0.5 * tilt_deg && tilt < 1.5 * tilt_deg,
+            "tilt {tilt} deg: {body}"
+        );
+        let mut most = 0.0f64;
         for leg in ["LF", "LM", "LH", "RF", "RM", "RH"] {
             let slip = number_after(body, &format!("{leg} "));
-            assert!((0.0..30.0).contains(&slip), "{leg} slip {slip} mm: {body}");
+            // A loaded foot on MuJoCo's soft contacts creeps by millimetres, never by nothing.
+            assert!(
+                slip > 1.0 && slip < 1.5 * slip_mm,
+                "{leg} slip {slip} mm: {body}"
+            );
+            most = most.max(slip);
         }
+        assert!(most > 0.5 * slip_mm, "largest slip {most} mm: {body}");
         assert!(body.contains("the robot carried the gait"), "{body}");
     }
     the_fits_are_r_squared_of_a_model_not_of_itself(&out, dir.path());
@@ -106,6 +131,8 @@ fn the_fits_are_r_squared_of_a_model_not_of_itself(out: &str, dir: &std::path::P
         .flat_map(r_squared_list)
         .collect();
     assert_eq!(loads.len(), 22, "{block}");
+    // On the physics robot the load is the simulation's own torque, and the report says so.
+    assert!(block.contains("not an independent ESTIMATE"), "{block}");
     assert!(loads.iter().all(|r| *r <= 1.0), "{loads:?}");
     assert!(
         loads.iter().any(|r| *r < 0.999),
@@ -157,6 +184,11 @@ fn the_bias_buys_posture(out: &str, dir: &std::path::Path) {
         "sag bias off {sag_off} mm vs on {sag_on} mm: {block}"
     );
     assert!(block.contains("the bias buys"), "{block}");
+    // And says under what it was measured (issue 43 item 4).
+    assert!(
+        block.contains("exactly the spring the bias assumes"),
+        "{block}"
+    );
     let summary = std::fs::read_to_string(dir.join("demo/summary.txt")).unwrap();
     assert!(summary.contains("torque bias (forward walk with it vs without it"));
     assert!(

@@ -9,7 +9,7 @@ use std::os::unix::fs::PermissionsExt as _;
 use std::path::Path;
 use std::time::Duration;
 
-use board_fakes::cli::{Done, fails_naming, run, spawn, strings, table, tree};
+use board_fakes::cli::{Done, fails_naming, run, spawn, strings, table, tree, wait_for};
 
 /// `dbot upload --table TABLE [--slot SLOT] --port IMAGE`, run in `dir`.
 fn upload(dir: &Path, table: &str, slot: Option<&str>, image: &str) -> Done {
@@ -125,25 +125,39 @@ fn a_command_beside_an_upload_does_not_undo_it() {
     let d = upload(dir.path(), &walk, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     let empty = slot_line(dir.path(), &image, 1);
-    // A walk of 4 steps (about 3 s here, 10 s on a loaded machine: under the 30 s an upload waits)
-    // holds the store (it saves on exit); an upload into slot 1
-    // is started during it. Before: the upload saved first, then the walk saved the flash it had
-    // loaded at its start, and the verified upload was gone.
+    // A walk holds the store (it saves on exit); an upload into slot 1 is started during it.
+    // Before: the upload saved first, then the walk saved the flash it had loaded at its start,
+    // and the verified upload was gone. The order is made, not slept into: the upload starts once
+    // the walk has announced its gait (the store is open, its lock held), the walk is stopped
+    // (Ctrl-C) only once the upload says it waits for that lock.
     let walking = spawn(
         dir.path(),
         "walk",
-        &strings(&["run", "--slot", "0", "--steps", "4", "--port", &image]),
+        &strings(&["run", "--slot", "0", "--steps", "1000", "--port", &image]),
         None,
     );
-    std::thread::sleep(Duration::from_millis(300));
+    let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap_or_default();
+    wait_for("the walk's announcement", Duration::from_secs(60), || {
+        read("walk.stdout").contains("playing 1000 steps")
+    });
     let up = spawn(
         dir.path(),
         "up",
         &strings(&["upload", "--table", &new, "--slot", "1", "--port", &image]),
         None,
     );
+    wait_for(
+        "the upload waiting for the walk",
+        Duration::from_secs(25),
+        || read("up.stderr").contains("in use by another dbot"),
+    );
+    assert!(
+        !read("up.stdout").contains("verified"),
+        "the upload went ahead of the walk"
+    );
+    walking.signal(nix::sys::signal::Signal::SIGINT);
     let w = walking.wait();
-    assert!(w.status.success(), "run: {}", w.stderr);
+    assert!(w.stderr.contains("interrupted"), "run: {}", w.stderr);
     let u = up.wait();
     assert!(u.status.success(), "upload: {}", u.stderr);
     assert!(u.stdout.contains("verified"), "{}", u.stdout);

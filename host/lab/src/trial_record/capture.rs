@@ -1,5 +1,6 @@
 //! Recording a started trial until it ends (its time, the gait standing, the caller's stop, a
-//! failed link), then its plots, outcome and metadata, and publishing the folder.
+//! fault on the board, a failed link), then its plots, outcome and metadata, and publishing the
+//! folder.
 
 use std::cell::RefCell;
 use std::path::Path;
@@ -8,7 +9,7 @@ use board::record::{
     CaptureError, Ended, Recorder, capture_until_standing, capture_while, missing_cycles,
 };
 use board::strain::StrainBeside;
-use board::trial::{Outcome, TELEMETRY_CSV, TrialFolder};
+use board::trial::{Outcome, TELEMETRY_CSV, TrialFault, TrialFolder};
 use physics::Robot;
 use report::recording::{plot_angles, plot_torques};
 
@@ -18,9 +19,10 @@ use super::{TrialHooks, library};
 use crate::error::{Context, LabError, Result};
 
 /// Records the trial `folder` (telemetry.csv, then the plots, README and trial.json) and
-/// publishes it. If the board vanishes or the caller stops the recording, the rows so far are
-/// kept in a trial named so, the plots are drawn from them, and the error says so (after a
-/// stop, once the robot stands).
+/// publishes it. If the board vanishes, stops the robot on a fault, or the caller stops the
+/// recording, the rows so far are kept in a trial named so, the plots are drawn from them, and
+/// the error says so (after a stop, once the robot stands; after a fault:
+/// [`LabError::Faulted`], naming the fault, its joint and cycle).
 pub(super) fn record(
     board: &mut Robot,
     folder: TrialFolder,
@@ -85,11 +87,32 @@ pub(super) fn record(
             Ok(_) => crate::bail!("no telemetry arrived: nothing recorded, no trial kept"),
         };
     }
+    let fault = match &result {
+        Ok(Ended::Faulted(seen)) => Some(*seen),
+        _ => None,
+    };
     meta.outcome = match (&result, stopped) {
         (Err(_), _) => Outcome::Failed,
+        (Ok(Ended::Faulted(_)), _) => Outcome::Faulted,
         (Ok(_), Some(_)) => Outcome::Interrupted,
         (Ok(_), None) => Outcome::Complete,
     };
+    meta.fault = fault.map(|seen| TrialFault {
+        kind: seen
+            .fault
+            .map_or("unknown".to_owned(), |f| f.kind.name().to_owned()),
+        reason: seen.fault.map_or_else(
+            || "a fault, cleared before it could be read".to_owned(),
+            |f| f.to_string(),
+        ),
+        joint: seen.fault.and_then(|f| f.joint),
+        joint_name: seen
+            .fault
+            .and_then(|f| f.joint)
+            .and_then(|j| rec.joints().get(usize::from(j)))
+            .map(|j| j.name.clone()),
+        cycle: seen.cycle,
+    });
     meta.cycles = rec.cycles();
     meta.duration_s = rec.duration_s();
     meta.missing_records = missing_cycles(rec.rows());
@@ -113,6 +136,18 @@ pub(super) fn record(
     }
     plots?;
     let strain = strain.map(|end| strain_summary(end, &shown)).transpose()?;
+    if let (Some(seen), Some(f)) = (fault, &meta.fault) {
+        return Err(LabError::Faulted(format!(
+            "{seen}{}; {} bus cycles ({:.2} s of board time) kept in the trial {shown}; \
+             `dbot status` shows the fault, `dbot set --clear-fault` clears it (Python: \
+             Board.status(), Board.clear_fault())",
+            f.joint_name
+                .as_ref()
+                .map_or(String::new(), |n| format!(" (joint {n})")),
+            rec.cycles(),
+            rec.duration_s(),
+        )));
+    }
     if let Some(how) = stopped {
         let state = board.status().map_or_else(
             |e| format!("unknown ({e})"),

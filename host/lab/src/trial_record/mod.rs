@@ -7,8 +7,9 @@
 //! Every refusal ([`TrialRequest::check`]) comes before anything moves. The trial is recorded
 //! into a hidden `.partial-` folder and published when the recording ends: as asked under its
 //! start time, after the caller's stop ([`TrialHooks::should_stop`], Ctrl-C in the CLI) as
-//! `... interrupted`, after a failed link as `... failed`; a recording without a single row is
-//! removed. No recording ever replaces another. A stop asks the board to end the walk
+//! `... interrupted`, after a failed link as `... failed`, after a fault that stopped the robot
+//! as `... faulted` (failing with [`LabError::Faulted`] naming the fault, its joint and cycle); a
+//! recording without a single row is removed. No recording ever replaces another. A stop asks the board to end the walk
 //! (`board::record::stop_walk`, the one stop path), records until the robot stands, keeps the
 //! trial and fails with [`LabError::Interrupted`] naming it.
 //!

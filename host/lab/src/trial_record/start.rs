@@ -110,7 +110,7 @@ pub(super) fn start(
     {
         crate::bail!("perturb: {m}");
     }
-    let joints = joints::named_joints(
+    let mut joints = joints::named_joints(
         board,
         &request.model,
         checked.table.as_ref(),
@@ -150,11 +150,13 @@ pub(super) fn start(
         format_version: board::trial::TRIAL_FORMAT,
         folder: String::new(),
         outcome: Outcome::Complete,
+        fault: None,
         started: folder.started().iso(),
         host_version: env!("CARGO_PKG_VERSION").to_owned(),
         command_line: request.command_line.clone(),
         port: board.port().to_owned(),
         firmware: FirmwareMeta::of(board.info()),
+        // Read again once the walk has started (below).
         settings: BoardSettings::of(&board.settings()?),
         gait: checked
             .table
@@ -189,6 +191,11 @@ pub(super) fn start(
             .play(cmd)
             .with_context(|| format!("playing slot {}", p.slot))?;
     }
+    // The settings the walk runs with (playing a new table takes its stiffness, a table already
+    // selected keeps `dbot set --stiffness`): what planned_rad subtracts the bias at.
+    let settings = board.settings()?;
+    meta.settings = BoardSettings::of(&settings);
+    board::record::held_stiffness(&mut joints, &settings);
     let until = Until {
         seconds: request.seconds.or(match play {
             Some(p) if p.steps.is_some() => None,

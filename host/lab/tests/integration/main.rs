@@ -6,6 +6,7 @@ mod perturbation;
 mod physics_serve;
 mod plan_dir_consistency;
 mod steer_blend;
+mod strain_gain;
 mod strain_walking;
 mod substrates;
 mod trial_record;

@@ -201,3 +201,109 @@ fn a_period_the_servos_cannot_follow_is_refused_in_the_words_of_run() {
     );
     assert_eq!(trials_in(&out).len(), 1, "{summary}: {:?}", trials_in(&out));
 }
+
+/// A servo that jams during a recorded walk (issue 43 item 3): the board stops the robot on
+/// `ServoStuck`, and the trial ends as faulted, not complete: the rows up to the first record in
+/// the fault state kept, the fault's kind, words, joint and cycle in trial.json and the README,
+/// the folder named `... faulted`, and `record_trial` fails with `LabError::Faulted` naming them.
+#[test]
+fn a_fault_during_the_recording_ends_the_trial_as_faulted() {
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let params = planner::gait::StepParams::preset("servo-safe", &model.name).unwrap();
+    let plan = planner::plan::plan(&model, &params).unwrap();
+    let bytes = planner::plan::table::step_table(&plan, None, "safe").unwrap();
+    let table = protocol::GaitTable::parse(&bytes).unwrap();
+    // The joint that swings most over the step: the stuck rule sees its goal move.
+    let swing = |j: usize| {
+        let a: Vec<i16> = (0..table.slice_count())
+            .map(|s| table.angle(s, j).unwrap())
+            .collect();
+        i32::from(*a.iter().max().unwrap()) - i32::from(*a.iter().min().unwrap())
+    };
+    let joint = (0..table.joint_count()).max_by_key(|&j| swing(j)).unwrap();
+    let id = table.joint(joint).unwrap().servo_id;
+    let name = board::record::joint_names(&model, Some(&table), table.joint_count())[joint].clone();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("trials");
+    let mut board = physics::open("virtual").unwrap();
+    board.upload(0, &bytes, |_, _| {}).unwrap();
+    let physics::RobotLink::Virtual(link) = board.transport() else {
+        panic!("`virtual` opens the virtual robot")
+    };
+    link.robot()
+        .with_chain(|c| {
+            c.set_faults(
+                id,
+                dynamixel::sim::Faults {
+                    stuck: true,
+                    ..dynamixel::sim::Faults::NONE
+                },
+            )
+        })
+        .unwrap();
+    let req = TrialRequest {
+        play: Some(TrialPlay {
+            slot: 0,
+            steps: Some(4),
+            backward: false,
+            period: None,
+            allow_infeasible: false,
+        }),
+        ..request(&out)
+    };
+    let mut hooks = Quiet::default();
+    let e = record_trial(&mut board, &req, &mut hooks).unwrap_err();
+    assert!(matches!(e, lab::LabError::Faulted(_)), "{e:?}");
+    let text = e.chain_text();
+    assert!(
+        text.starts_with(&format!(
+            "the board stopped the robot on a fault: ServoStuck on joint {joint}: servo stuck"
+        )) && text.contains(&format!("(joint {name})")),
+        "{text}"
+    );
+    let trials = trials_in(&out);
+    assert_eq!(trials.len(), 1, "{trials:?}");
+    assert!(trials[0].ends_with(" faulted"), "{trials:?}");
+    let path = out.join(&trials[0]);
+    assert!(text.contains(&path.display().to_string()), "{text}");
+    let trial = board::trial::read_trial(&path).unwrap();
+    assert_eq!(trial.meta.outcome, board::trial::Outcome::Faulted);
+    let fault = trial
+        .meta
+        .fault
+        .clone()
+        .expect("trial.json names the fault");
+    assert_eq!(fault.kind, "ServoStuck");
+    assert_eq!(fault.joint, Some(joint as u8));
+    assert_eq!(fault.joint_name.as_deref(), Some(name.as_str()));
+    // The rows up to the fault: every record before it walking (or ramping), the last one the
+    // first in the fault state, its cycle the fault's; the walk did not finish its steps.
+    let rows = &trial.rows;
+    let last = rows.last().unwrap();
+    assert_eq!(last.state, Some(protocol::RunState::Fault));
+    assert_eq!(fault.cycle, Some(last.cycle));
+    assert!(
+        rows.iter()
+            .filter(|r| r.state == Some(protocol::RunState::Fault))
+            .all(|r| r.cycle == last.cycle)
+    );
+    assert!(trial.meta.cycles > 50, "{} cycles", trial.meta.cycles);
+    assert!(last.step < 4, "step {}", last.step);
+    let readme = std::fs::read_to_string(path.join("README.md")).unwrap();
+    assert!(readme.contains("- outcome: faulted\n"), "{readme}");
+    assert!(
+        readme.contains(&format!(
+            "- fault: {} (joint {name}), first seen in bus cycle {}",
+            fault.reason, last.cycle
+        )),
+        "{readme}"
+    );
+    // The firmware's build id as the README prints it: the commit's 8 hex digits (firmware's
+    // `build_id_is_the_commit_built` checks them against git), never `00000000`.
+    let build = match trial.meta.firmware.build_id {
+        0 => "unknown".to_owned(),
+        id => format!("{id:08x}"),
+    };
+    assert!(readme.contains(&format!("build {build})")), "{readme}");
+    assert!(!readme.contains("build 00000000"), "{readme}");
+}

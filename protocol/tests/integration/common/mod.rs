@@ -44,6 +44,7 @@ pub fn run_state() -> impl Strategy<Value = RunState> {
         Just(RunState::Stopping),
         Just(RunState::Streaming),
         Just(RunState::Fault),
+        Just(RunState::Boot),
     ]
 }
 
@@ -503,18 +504,22 @@ pub fn device_message() -> impl Strategy<Value = DeviceMessage> {
         hvec(feedback(), MAX_JOINTS),
         bus_stats(),
         proptest::option::of(platform_feedback()),
+        run_state(),
     )
-        .prop_map(|((time_us, cycle, step, slice), joints, bus, platform)| {
-            DeviceMessage::Telemetry(Telemetry {
-                time_us,
-                cycle,
-                step,
-                slice,
-                joints,
-                bus,
-                platform,
-            })
-        });
+        .prop_map(
+            |((time_us, cycle, step, slice), joints, bus, platform, state)| {
+                DeviceMessage::Telemetry(Telemetry {
+                    time_us,
+                    cycle,
+                    step,
+                    slice,
+                    joints,
+                    bus,
+                    platform,
+                    state,
+                })
+            },
+        );
     let proprio = (
         any::<(u64, u32, u32, u16)>(),
         hvec(feedback(), MAX_JOINTS),
