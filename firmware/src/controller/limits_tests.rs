@@ -71,7 +71,12 @@ fn a_stiffness_beyond_the_servo_is_refused_and_zero_still_switches_the_bias_off(
             dynamixel::ServoModel::Mx28 => (7, 235_708),
             dynamixel::ServoModel::Mx64 => (17, 565_699),
         };
-        for bad in [1, least - 1, most + 1, protocol::limits::MAX_STIFFNESS_UNITS] {
+        for bad in [
+            1,
+            least - 1,
+            most + 1,
+            protocol::limits::MAX_STIFFNESS_UNITS,
+        ] {
             assert_eq!(
                 c.set_stiffness(j, bad),
                 Err(CommandError::OutOfRange {

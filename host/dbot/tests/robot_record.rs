@@ -13,8 +13,8 @@ use protocol::{GaitTable, PlayCommand, Steps};
 
 fn walking_board(gait: &[u8], steps: Steps) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, gait, |_, _| {}).unwrap();
-    b.play(PlayCommand::forward(0, steps)).unwrap();
+    gate::upload(&mut b, 0, gait).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, steps)).unwrap();
     b
 }
 
@@ -173,3 +173,6 @@ fn the_cli_records_a_played_gait_with_plots() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--play"));
 }
+
+#[path = "../../board/tests/gate/mod.rs"]
+mod gate;

@@ -37,9 +37,14 @@ pub fn walk_forward(
 ) -> Result<BodyWalk> {
     let period_s = f64::from(protocol::GaitTable::parse(table)?.header().step_period_us) * 1e-6;
     let mut b = Board::connect(robot.into_transport())?;
-    b.upload(0, table, |_, _| {})?;
+    let checked = crate::simulated::checked(table, what)?;
+    b.upload(0, &checked, |_, _| {})?;
     before_play(&mut b)?;
-    b.play(PlayCommand::forward(0, Steps::Count(steps)))?;
+    crate::simulated::play(
+        &mut b,
+        PlayCommand::forward(0, Steps::Count(steps)),
+        Some(&checked),
+    )?;
     // Simulated time: `steps` periods after a start ramp; the bound only ends a gait that never
     // stops.
     let cycles = ((f64::from(steps) + 3.0) * period_s / POLL.as_secs_f64()).ceil() as u32;

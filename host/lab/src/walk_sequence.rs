@@ -124,21 +124,29 @@ pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk
     servos.reset_figures();
     servos.start_log(usize::MAX);
     let period = |s: &Segment| s.params.period_s();
-    board.play(PlayCommand {
-        slot: slots[0],
-        direction: first.direction,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(first.steps),
-    })?;
+    // At their planned periods: the period rule needs no table.
+    crate::simulated::play(
+        &mut board,
+        PlayCommand {
+            slot: slots[0],
+            direction: first.direction,
+            period_scale: protocol::units::PERIOD_SCALE_ONE,
+            steps: Steps::Count(first.steps),
+        },
+        None,
+    )?;
     for (i, s) in rest.iter().enumerate() {
-        board
-            .queue_gait(QueueCommand(PlayCommand::new(
+        crate::simulated::queue(
+            &mut board,
+            QueueCommand(PlayCommand::new(
                 slots[i + 1],
                 s.direction,
                 protocol::units::PERIOD_SCALE_ONE,
                 Steps::Count(s.steps),
-            )))
-            .with_context(|| format!("queueing segment {} after the one before", i + 2))?;
+            )),
+            None,
+        )
+        .with_context(|| format!("queueing segment {} after the one before", i + 2))?;
     }
     let walk_s: f64 = segments
         .iter()

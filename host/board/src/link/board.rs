@@ -9,8 +9,7 @@ use protocol::client::Reply;
 use protocol::endpoint::{self as ep, Endpoint};
 use protocol::{
     Client, DeviceInfo, DeviceMessage, FrameAccumulator, Proprioception, ProtocolError, Request,
-    Response, RunState, ServoSelect, Settings, SlotInfo,
-    Status, Telemetry,
+    Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
 };
 
 use super::error::LinkError;

@@ -7,9 +7,9 @@ use protocol::endpoint as ep;
 use protocol::{GaitSummary, GaitTable};
 
 use super::board::Board;
-use crate::rules::build::CheckedTable;
 use super::error::LinkError;
 use super::transport::Transport;
+use crate::rules::build::CheckedTable;
 
 /// What an upload did.
 #[derive(Debug, Clone, PartialEq, Eq)]
