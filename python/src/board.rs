@@ -526,9 +526,17 @@ impl Board {
         self.with(py, move |l| l.set_telemetry(every))
     }
 
-    /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving.
+    /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving. A baud change is
+    /// checked as `dbot set --baud` checks it (`board::rules::bus`): the servos keep their own baud
+    /// (EEPROM), so unless every servo answers at the new baud the board is put back on the old
+    /// one and ValueError says which servo and how to set the servos first (`dbot.Bench`).
     fn set_bus(&self, py: Python<'_>, baud: u32, cycle_hz: u16) -> PyResult<()> {
-        self.with(py, move |l| l.set_bus(baud, cycle_hz))
+        let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_mut()
+            .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
+        let _ = py;
+        ::board::rules::bus::set_bus(link, baud, cycle_hz).map_err(rule_error)
     }
 
     /// The board's run-time settings, as `dbot status` shows them: `baud` (bit/s), `cycle_hz`,

@@ -306,3 +306,95 @@ fn the_stiffness_bound_is_the_p_gain_register_of_every_servo() {
 }
 
 mod gate;
+
+#[test]
+fn a_table_file_meets_the_rules_a_plan_meets_with_the_same_override() {
+    // The synthetic gait at 0.4 s per step: joint 0 peaks at slice 0 at 0.4 sin(2 pi / 100) /
+    // 0.004 s = 6.28 rad/s, over the MX-28's 5.76. Before the rules checked table bytes, such a
+    // table (built with --allow-infeasible) uploaded without the override.
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let fast = SyntheticGait::new(100, 0.4).build();
+    let e = board::rules::build::table_bytes(fast.clone(), "step table fast.dbgt", &model, CHECK)
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(matches!(e, RuleError::Infeasible { .. }), "{text}");
+    assert!(
+        text.starts_with("step table fast.dbgt: the servos cannot follow this plan:\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "at slice 0: {:.2} rad/s, over the servo's no-load speed {W0:.2} rad/s",
+            peak(0.4)
+        )),
+        "{text}"
+    );
+    assert!(
+        text.ends_with(
+            "pass --allow-infeasible (Python: allow_infeasible=True) to build it anyway"
+        )
+    );
+    // The override lets it through, the warning in its table; the link takes nothing else.
+    let checked =
+        board::rules::build::table_bytes(fast.clone(), "step table fast.dbgt", &model, ALLOW)
+            .unwrap();
+    assert!(matches!(
+        checked.warning(),
+        Some(Overridden::Infeasible { .. })
+    ));
+    assert_eq!(checked.bytes(), &fast[..]);
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    b.upload(0, &checked, |_, _| {}).unwrap();
+    // At its planned period the synthetic gait of 1.0 s is followed: no warning.
+    let slow = SyntheticGait::new(100, 1.0).build();
+    let ok = board::rules::build::table_bytes(slow, "t", &model, CHECK).unwrap();
+    assert_eq!(ok.warning(), None);
+}
+
+#[test]
+fn a_queued_gait_meets_the_period_rule_of_the_first() {
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let bytes = SyntheticGait::new(100, 1.0).build();
+    gate::upload(&mut b, 1, &bytes).unwrap();
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let queued = |scale: u16| {
+        protocol::QueueCommand(PlayCommand::new(
+            1,
+            Direction::Forward,
+            scale,
+            Steps::Count(1),
+        ))
+    };
+    let check = |b: &mut Board<_>, scale, known: Option<&[u8]>, o| {
+        board::rules::period::check_queue(b, queued(scale), known, &model, o)
+    };
+    // 0.4 times the period: joint 0 at 6.28 rad/s, the refusal `dbot run --period` gives.
+    let e = check(&mut b, 400, Some(&bytes), CHECK).unwrap_err();
+    let by_play = check_play(
+        &mut b,
+        PlayCommand::new(1, Direction::Forward, 400, Steps::Count(1)),
+        Some(&bytes),
+        &model,
+        CHECK,
+    )
+    .unwrap_err();
+    assert!(matches!(e, RuleError::TooFast { .. }), "{e}");
+    assert_eq!(e.to_string(), by_play.to_string());
+    // Not held: refused unless overridden, as a play is.
+    let e = check(&mut b, 800, None, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::UnknownTable { slot: 1, .. }), "{e}");
+    assert!(check(&mut b, 800, None, ALLOW).unwrap().warning().is_some());
+    // At the planned period and slower nothing is needed.
+    assert!(
+        check(&mut b, 1000, None, CHECK)
+            .unwrap()
+            .warning()
+            .is_none()
+    );
+    assert!(
+        check(&mut b, 1500, None, CHECK)
+            .unwrap()
+            .warning()
+            .is_none()
+    );
+}

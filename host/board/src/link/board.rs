@@ -440,8 +440,9 @@ impl<T: Transport> Board<T> {
         self.call(ep::SetTelemetry { every })
     }
 
-    /// Bus baud (bit/s) and cycle rate (Hz).
-    pub fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), LinkError> {
+    /// Bus baud (bit/s) and cycle rate (Hz), unchecked: crate-private, every door changes the
+    /// bus through `rules::bus::set_bus`, which verifies the servos follow a baud change.
+    pub(crate) fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), LinkError> {
         self.call(ep::SetBus { baud, cycle_hz })
     }
 
