@@ -171,19 +171,19 @@ def test_table_bytes_are_refused_by_upload_as_by_dbot_upload_table(plans: pathli
     # A table built with the override meets the rule again when uploaded (it used to upload
     # unchecked from both doors): the same joints, margins and advice after the line naming it.
     ok("table", "--plan", "fast", "--out", "tf.dbgt", "--allow-infeasible", cwd=plans)
-    by_cli = refusal("upload", "--table", "tf.dbgt", "--slot", "4",
+    by_cli = refusal("upload", "--table", "tf.dbgt", "--slot", "2",
                      "--port", "virtual:file.flash", "--create", cwd=plans)
     assert by_cli.startswith("step table tf.dbgt: the servos cannot follow this plan:\n"), by_cli
     table = (plans / "tf.dbgt").read_bytes()
     with dbot.Board.open("virtual") as board:
         with pytest.raises(ValueError) as e:
-            board.upload(4, table)
+            board.upload(2, table)
         words = str(e.value)
         assert words.startswith("step table: the servos cannot follow this plan:\n"), words
         assert words.split("\n", 1)[1] == by_cli.split("\n", 1)[1]
-        assert next(g for g in board.gaits() if g["slot"] == 4)["gait"] is None
+        assert next(g for g in board.gaits() if g["slot"] == 2)["gait"] is None
         with pytest.warns(UserWarning):
-            assert board.upload(4, table, allow_infeasible=True) == len(table)
+            assert board.upload(2, table, allow_infeasible=True) == len(table)
 
 
 def test_a_queued_gait_faster_than_the_servos_follow_is_refused_as_play(

@@ -50,6 +50,8 @@ impl Args {
             (Some(path), _) => {
                 let bytes = std::fs::read(path)
                     .with_context(|| format!("reading the step table {}", path.display()))?;
+                protocol::GaitTable::parse(&bytes)
+                    .with_context(|| format!("{} is not a valid step table", path.display()))?;
                 let setup = self.board.setup()?;
                 let model = crate::common::model_spec::load_model(
                     setup.model.as_deref().unwrap_or("drosophibot2"),

@@ -189,7 +189,7 @@ fn table_and_upload_refuse_the_same_infeasible_plan_with_the_same_words() {
     let first = |t: &str| t.lines().next().unwrap_or("").to_owned();
     let by_file = refusal(&on_robot(
         d,
-        &["upload", "--table", "t.dbgt", "--slot", "4"],
+        &["upload", "--table", "t.dbgt", "--slot", "2"],
     ));
     assert_eq!(
         first(&by_file),
@@ -199,10 +199,10 @@ fn table_and_upload_refuse_the_same_infeasible_plan_with_the_same_words() {
     assert!(by_file.contains("  LF_FTi at slice"), "{by_file}");
     let by_run = refusal(&on_robot(
         d,
-        &["run", "--table", "t.dbgt", "--slot", "4", "--steps", "1"],
+        &["run", "--table", "t.dbgt", "--slot", "2", "--steps", "1"],
     ));
     assert_eq!(first(&by_run), first(&by_file), "{by_run}");
-    assert!(ok(on_robot(d, &["gaits"])).contains("slot 4: empty"));
+    assert!(ok(on_robot(d, &["gaits"])).contains("slot 2: empty"));
     let o = on_robot(
         d,
         &[
