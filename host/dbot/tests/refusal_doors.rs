@@ -210,7 +210,7 @@ fn table_and_upload_refuse_the_same_infeasible_plan_with_the_same_words() {
             "--table",
             "t.dbgt",
             "--slot",
-            "4",
+            "2",
             "--allow-infeasible",
         ],
     );
