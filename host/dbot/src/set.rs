@@ -1,7 +1,7 @@
 //! `dbot set`: run-time settings of the board: servo stiffness (torque bias), bus cycle rate and
 //! baud, telemetry rate, torque, fault clearing. Flags override the setup file's values.
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use board::link::LinkError;
 use protocol::{ProtocolError, RunState, ServoSelect};
 

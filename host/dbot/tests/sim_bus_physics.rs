@@ -168,5 +168,4 @@ fn the_physics_robots_strain_board_on_a_pty_records_the_bodys_gauges() {
     assert!(rows > 30, "{rows} strain rows");
 }
 
-#[path = "../../board/tests/gate/mod.rs"]
-mod gate;
+use board_fakes::gate;

@@ -62,5 +62,4 @@ fn the_platform_slide_follows_the_goal_position_the_firmware_writes() {
     assert_eq!(present, 2324);
 }
 
-#[path = "../../board/tests/gate/mod.rs"]
-mod gate;
+use support::gate;

@@ -118,5 +118,4 @@ fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_def
     );
 }
 
-#[path = "../../board/tests/gate/mod.rs"]
-mod gate;
+use support::gate;

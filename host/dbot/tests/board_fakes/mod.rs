@@ -262,4 +262,4 @@ pub fn slave_fd(p: &Pty) -> i32 {
 }
 
 #[path = "../../../board/tests/gate/mod.rs"]
-mod gate;
+pub mod gate;

@@ -93,4 +93,4 @@ pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::F
 }
 
 #[path = "../../../board/tests/gate/mod.rs"]
-mod gate;
+pub mod gate;
