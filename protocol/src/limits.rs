@@ -2,6 +2,8 @@
 //! baud, bus cycle rate, servo stiffness). The host's flags and setup file and the firmware's
 //! `SetBus` / `SetStiffness` handling all check against these, so they cannot disagree.
 
+use dynamixel::ServoModel;
+
 /// Bauds the Dynamixel MX (2.0 firmware) servos support: the rates of the Baud Rate register
 /// (address 8), e-manual. `dynamixel::control_table::BAUD_RATES` is the register table; a
 /// firmware test checks that both list the same rates.
@@ -47,6 +49,34 @@ pub const fn wire_limit_hz(baud: u32, servos: usize) -> u32 {
 /// less than one tick even at stall: the bias could not act. 0 means "bias off" and is allowed on
 /// the board; a value given in N m/rad must not round to 0 by accident ([`stiffness_units`]).
 pub const MAX_STIFFNESS_UNITS: u32 = 3_911_391;
+
+/// The stiffness (mN m/rad, inclusive) the Position P Gain register of `servo` holds, on every
+/// path to it: the board's `SetStiffness` (firmware) and a step table's joint record (its parse,
+/// `crate::gait`), and the host's rule (`board::rules::stiffness`) from the same numbers. The
+/// firmware writes the P gain nearest the stiffness (`dynamixel::units::p_gain_for_stiffness`,
+/// ESTIMATE per unit: MX-28 0.0144, MX-64 0.0345 N m/rad) clamped to 1 ..= 16383; the torque
+/// bias divides by the stiffness itself. Outside this range the clamp would give the servo
+/// another stiffness than the one the bias divides by (at 1 mN m/rad on an MX-28 the bias asks
+/// 500 rad of a 0.5 N m joint: full speed into its limit). The range is that of the values in
+/// N m/rad the host accepts (P gain nearest 1 ..= 16383) rounded to mN m/rad: MX-28 7 ..= 235 708,
+/// MX-64 17 ..= 565 699 (hand computed: half a unit, 7.19 and 17.26, and 16383.5 units, 235 707.6
+/// and 565 698.2, with the unit (1/128) / 885 x stall torque x 4096 / 2 pi).
+pub fn p_gain_stiffness_units(servo: ServoModel) -> core::ops::RangeInclusive<u32> {
+    let unit_mnm = f64::from(servo.stiffness_per_p_gain()) * 1000.0;
+    // Every mN m/rad value that some N m/rad with P gain nearest 1 ..= 16383 rounds to.
+    let least = unit_mnm * 0.5;
+    let most = unit_mnm * (f64::from(dynamixel::units::P_GAIN_MAX) + 0.5);
+    // `floor`/`ceil` need std: the values are positive, so truncation and +1 do.
+    let least = least as u32; // rounds least down: least - 0.5 <= x < least + 0.5 rounds to it
+    let most = most as u32 + 1;
+    least.max(1)..=most.min(MAX_STIFFNESS_UNITS)
+}
+
+/// Whether `units` (mN m/rad) is a stiffness the P gain of `servo` holds
+/// ([`p_gain_stiffness_units`]); 0 is the board's "bias off" and is checked by the caller.
+pub fn p_gain_holds(servo: ServoModel, units: u32) -> bool {
+    p_gain_stiffness_units(servo).contains(&units)
+}
 
 /// Why a setting is outside what the hardware can do. The messages say the limit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -142,6 +172,18 @@ pub fn stiffness_units(nm_per_rad: f64) -> Result<u32, LimitError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_p_gain_holds_the_hand_computed_stiffness_range() {
+        // MX-28: (1/128)/885 x 2.5 N m x 4096/(2 pi) = 14.3869 mN m/rad per P unit; half of it
+        // 7.19, 16383.5 of it 235 707.6. MX-64 (6.0 N m): 34.5285, 17.26 and 565 698.2.
+        assert_eq!(p_gain_stiffness_units(ServoModel::Mx28), 7..=235_708);
+        assert_eq!(p_gain_stiffness_units(ServoModel::Mx64), 17..=565_699);
+        // The case: 1 mN m/rad, which P gain 1 (14.4 mN m/rad) cannot give.
+        assert!(!p_gain_holds(ServoModel::Mx28, 1));
+        assert!(!p_gain_holds(ServoModel::Mx28, MAX_STIFFNESS_UNITS));
+        assert!(p_gain_holds(ServoModel::Mx28, 12_230));
+    }
 
     #[test]
     fn the_wire_limit_is_the_hand_computed_one() {

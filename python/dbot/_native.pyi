@@ -454,8 +454,10 @@ class Board:
     def status(self) -> Status:
         """State, fault, torque mask, playback position and the counters since boot
         (:class:`Counters`, named integers)."""
-    def upload(self, slot: int, table: bytes) -> int:
-        """Uploads and verifies a step table; returns the bytes sent."""
+    def upload(self, slot: int, table: bytes, allow_infeasible: bool = False) -> int:
+        """Checks the table as ``dbot upload --table`` checks a file (ValueError, the same words,
+        for one the servos cannot follow at its planned period unless ``allow_infeasible``, then a
+        UserWarning), uploads and verifies it; returns the bytes sent."""
     def upload_plan(
         self,
         slot: int,
@@ -492,9 +494,12 @@ class Board:
         steps: int | None = None,
         period_scale: float = 1.0,
         backward: bool = False,
+        allow_infeasible: bool = False,
     ) -> None:
         """Plays ``slot`` after the gait playing, at a step boundary without standing still;
-        raises if it cannot follow (the reason names the legs or the joint, jump and bound)."""
+        raises if it cannot follow (the reason names the legs or the joint, jump and bound).
+        Faster than planned it meets ``play``'s period rule (ValueError, the same words, unless
+        ``allow_infeasible``)."""
     def set_steer_family(self, straight: int, left: int, right: int, range: float) -> None:
         """The gaits ``steer`` blends: slots planned for headings 0, ``+range`` and ``-range``
         rad with the same leg phases, slices and period; raises with the reason if the board
@@ -529,7 +534,10 @@ class Board:
     def set_telemetry(self, every: int) -> None:
         """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
         proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
-    def set_bus(self, baud: int, cycle_hz: int) -> None: ...
+    def set_bus(self, baud: int, cycle_hz: int) -> None:
+        """Bus baud (bit/s) and cycle rate (Hz). A baud change is undone and refused
+        (ValueError, ``dbot set --baud``'s words) unless every servo answers at the new baud: the
+        servos keep their own (EEPROM), set them first with ``dbot.Bench``."""
     def settings(self) -> Settings:
         """The board's run-time settings (as ``dbot status`` shows them)."""
     def set_stiffness(self, joint: int, stiffness_nm_rad: float) -> None:

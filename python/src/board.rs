@@ -239,12 +239,28 @@ impl Board {
         Ok(d)
     }
 
-    /// Uploads a step table (bytes, e.g. `Plan.step_table()`) into `slot` and verifies it.
-    /// Returns the number of bytes sent.
-    fn upload(&self, py: Python<'_>, slot: u8, table: &Bound<'_, PyBytes>) -> PyResult<u32> {
+    /// Uploads a step table (bytes, e.g. `Plan.step_table()` or a `.dbgt` file's) into `slot`
+    /// and verifies it. The bytes are checked by the library's rules first, as `dbot upload
+    /// --table` checks a file (same words): a table the servos cannot follow at its planned
+    /// period (one built with `allow_infeasible=True`) is refused (ValueError) unless
+    /// `allow_infeasible` (then a UserWarning), and a stiffness a servo's P gain cannot hold is
+    /// refused. Returns the number of bytes sent.
+    #[pyo3(signature = (slot, table, allow_infeasible = false))]
+    fn upload(
+        &self,
+        py: Python<'_>,
+        slot: u8,
+        table: &Bound<'_, PyBytes>,
+        allow_infeasible: bool,
+    ) -> PyResult<u32> {
         let bytes = table.as_bytes().to_vec();
-        let report = self.with(py, |l| l.upload(slot, &bytes, |_, _| {}))?;
-        self.naming().uploaded(slot, bytes);
+        let model = self.naming().uploaded_table(slot).1.clone();
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        let checked = ::board::rules::build::table_bytes(bytes, "step table", &model, overrides)
+            .map_err(rule_error)?;
+        warn_overridden(py, checked.warning())?;
+        let report = self.with(py, |l| l.upload(slot, &checked, |_, _| {}))?;
+        self.naming().uploaded(slot, checked.into_bytes());
         Ok(report.bytes)
     }
 
@@ -337,7 +353,10 @@ impl Board {
     /// Queues the gait in `slot` to play after the one playing (or the last queued), at a step
     /// boundary without standing still; the board refuses one that cannot follow (different legs
     /// on the ground at the boundary, a joint jump beyond one bus cycle of its servo), saying why.
-    #[pyo3(signature = (slot, steps = None, period_scale = 1.0, backward = false))]
+    /// Faster than planned (`period_scale` < 1) it meets `play`'s rule (and `dbot run --then`'s):
+    /// refused (ValueError, the same words) when a servo could not follow, or when this `Board`
+    /// did not upload the slot's table, unless `allow_infeasible` (a UserWarning).
+    #[pyo3(signature = (slot, steps = None, period_scale = 1.0, backward = false, allow_infeasible = false))]
     fn queue_gait(
         &self,
         py: Python<'_>,
@@ -345,9 +364,28 @@ impl Board {
         steps: Option<u32>,
         period_scale: f64,
         backward: bool,
+        allow_infeasible: bool,
     ) -> PyResult<()> {
         let command = protocol::QueueCommand(scaled_command(slot, steps, period_scale, backward)?);
-        self.with(py, move |l| l.queue_gait(command))
+        let (known, model) = {
+            let naming = self.naming();
+            let (table, model) = naming.uploaded_table(slot);
+            (table.map(<[u8]>::to_vec), model.clone())
+        };
+        let known = match known {
+            Some(t) => Some(t),
+            None => ::board::rules::period::table_of_port(&self.port, slot).map_err(value_error)?,
+        };
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        let warning = {
+            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+            let link = guard
+                .as_mut()
+                .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
+            ::board::rules::period::queue(link, command, known.as_deref(), &model, overrides)
+                .map_err(rule_error)?
+        };
+        warn_overridden(py, warning.as_ref())
     }
 
     /// Sets the gaits `steer` blends: slots `straight`, `left`, `right`, planned for headings 0,
@@ -503,9 +541,17 @@ impl Board {
         self.with(py, move |l| l.set_telemetry(every))
     }
 
-    /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving.
+    /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving. A baud change is
+    /// checked as `dbot set --baud` checks it (`board::rules::bus`): the servos keep their own baud
+    /// (EEPROM), so unless every servo answers at the new baud the board is put back on the old
+    /// one and ValueError says which servo and how to set the servos first (`dbot.Bench`).
     fn set_bus(&self, py: Python<'_>, baud: u32, cycle_hz: u16) -> PyResult<()> {
-        self.with(py, move |l| l.set_bus(baud, cycle_hz))
+        let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
+        let link = guard
+            .as_mut()
+            .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
+        let _ = py;
+        ::board::rules::bus::set_bus(link, baud, cycle_hz).map_err(rule_error)
     }
 
     /// The board's run-time settings, as `dbot status` shows them: `baud` (bit/s), `cycle_hz`,
@@ -543,7 +589,7 @@ impl Board {
     fn set_stiffness(&self, py: Python<'_>, joint: u8, stiffness_nm_rad: f64) -> PyResult<()> {
         // The library's rule, as `dbot set --stiffness` applies it: the board's unit range and
         // the P gain register of every servo model (0: the torque bias off).
-        let units = ::board::rules::stiffness::units(stiffness_nm_rad)
+        let units = ::board::rules::stiffness::Stiffness::of(stiffness_nm_rad)
             .map_err(|e| value_error(format!("joint {joint}: {e}")))?;
         self.with(py, move |l| l.set_stiffness(joint, units))
     }

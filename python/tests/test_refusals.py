@@ -8,7 +8,9 @@ with the text ``dbot table`` prints; ``allow_infeasible=True`` builds the bytes
 refuses a scale at which a servo could not follow the table as ``dbot run --period`` does (and
 ``Board.record_trial(period=)`` as ``dbot record --period``), with the speed computed here by hand (planned peak speed / scale against the MX-28's 55 rev/min no-load
 speed from its e-manual). ``Board.steer(speed=)`` refuses a speed at which a servo could not follow
-the family's tables as ``dbot steer --speed`` does, with the same words.
+the family's tables as ``dbot steer --speed`` does, with the same words. ``Board.upload(slot,
+bytes)`` checks the bytes as ``dbot upload --table`` checks a file, and ``Board.queue_gait``
+meets ``play``'s period rule.
 
 Needs the CLI binary: ``cargo build -p dbot`` (or ``DBOT_BIN``)."""
 
@@ -162,6 +164,43 @@ def test_a_period_scale_the_servos_cannot_follow_is_refused_as_run_period(
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             board.play(1, steps=1, period_scale=1.2)
+        board.stop()
+
+
+def test_table_bytes_are_refused_by_upload_as_by_dbot_upload_table(plans: pathlib.Path) -> None:
+    # A table built with the override meets the rule again when uploaded (it used to upload
+    # unchecked from both doors): the same joints, margins and advice after the line naming it.
+    ok("table", "--plan", "fast", "--out", "tf.dbgt", "--allow-infeasible", cwd=plans)
+    by_cli = refusal("upload", "--table", "tf.dbgt", "--slot", "2",
+                     "--port", "virtual:file.flash", "--create", cwd=plans)
+    assert by_cli.startswith("step table tf.dbgt: the servos cannot follow this plan:\n"), by_cli
+    table = (plans / "tf.dbgt").read_bytes()
+    with dbot.Board.open("virtual") as board:
+        with pytest.raises(ValueError) as e:
+            board.upload(2, table)
+        words = str(e.value)
+        assert words.startswith("step table: the servos cannot follow this plan:\n"), words
+        assert words.split("\n", 1)[1] == by_cli.split("\n", 1)[1]
+        assert next(g for g in board.gaits() if g["slot"] == 2)["gait"] is None
+        with pytest.warns(UserWarning):
+            assert board.upload(2, table, allow_infeasible=True) == len(table)
+
+
+def test_a_queued_gait_faster_than_the_servos_follow_is_refused_as_play(
+    plans: pathlib.Path,
+) -> None:
+    safe = read_relative(plans, "safe")
+    with dbot.Board.open("virtual") as board:
+        board.upload_plan(1, safe)
+        with pytest.raises(ValueError) as by_play:
+            board.play(1, steps=1, period_scale=0.4)
+        board.play(1, steps=1)
+        # `queue_gait(period_scale=)` used to reach the board unchecked.
+        with pytest.raises(ValueError) as e:
+            board.queue_gait(1, steps=1, period_scale=0.4)
+        assert str(e.value) == str(by_play.value)
+        with pytest.warns(UserWarning):
+            board.queue_gait(1, steps=1, period_scale=0.4, allow_infeasible=True)
         board.stop()
 
 

@@ -260,8 +260,11 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     /// servo's P gain as it is (a gain of 0 would make it limp).
     pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), CommandError> {
         self.check_joint(joint)?;
-        // 0 switches the bias off; above the limit the bias could not move a servo by a tick.
-        if stiffness > protocol::limits::MAX_STIFFNESS_UNITS {
+        // 0 switches the bias off. Else the joint's servo must hold it in its P gain register
+        // (`protocol::limits::p_gain_holds`, the host's rule too): a stiffness the gain clamps
+        // would make the bias divide by a spring the servo is not.
+        let model = self.joints[joint as usize].model;
+        if stiffness != 0 && !protocol::limits::p_gain_holds(model, stiffness) {
             return Err(CommandError::OutOfRange {
                 what: Setting::Stiffness,
                 value: stiffness.into(),

@@ -63,15 +63,32 @@ fn a_rate_beyond_the_wire_is_refused_at_the_hand_computed_limit() {
 #[test]
 fn a_stiffness_beyond_the_servo_is_refused_and_zero_still_switches_the_bias_off() {
     let mut c = controller();
-    let max = protocol::limits::MAX_STIFFNESS_UNITS;
-    assert_eq!(c.set_stiffness(0, max), Ok(()));
-    assert_eq!(
-        c.set_stiffness(0, max + 1),
-        Err(CommandError::OutOfRange {
-            what: Setting::Stiffness,
-            value: i64::from(max) + 1
-        })
-    );
-    assert_eq!(c.set_stiffness(0, 0), Ok(()));
-    assert_eq!(c.stiffness()[0], 0);
+    // What P gain 1 ..= 16383 gives (hand computed in protocol::limits): MX-28 7 ..= 235 708
+    // mN m/rad, MX-64 17 ..= 565 699. 1 mN m/rad (accepted before) would make the bias ask
+    // 500 rad of a 0.5 N m joint.
+    for j in 0..c.joints().len() as u8 {
+        let (least, most) = match c.joints()[usize::from(j)].model {
+            dynamixel::ServoModel::Mx28 => (7, 235_708),
+            dynamixel::ServoModel::Mx64 => (17, 565_699),
+        };
+        for bad in [
+            1,
+            least - 1,
+            most + 1,
+            protocol::limits::MAX_STIFFNESS_UNITS,
+        ] {
+            assert_eq!(
+                c.set_stiffness(j, bad),
+                Err(CommandError::OutOfRange {
+                    what: Setting::Stiffness,
+                    value: i64::from(bad)
+                }),
+                "joint {j}: {bad} mN m/rad"
+            );
+        }
+        assert_eq!(c.set_stiffness(j, least), Ok(()));
+        assert_eq!(c.set_stiffness(j, most), Ok(()));
+        assert_eq!(c.set_stiffness(j, 0), Ok(()));
+        assert_eq!(c.stiffness()[usize::from(j)], 0);
+    }
 }

@@ -326,14 +326,16 @@ mod tests {
         let mut b = open();
         // A fresh robot: the firmware's defaults (1 Mbit/s, 100 Hz; Config::default()).
         assert_eq!(b.settings().unwrap().cycle_hz, 100);
-        b.set_bus(2_000_000, 200).unwrap();
+        // The rate: a baud change needs servos that follow it (`rules::bus`), and the virtual
+        // servos keep theirs.
+        b.set_bus(1_000_000, 150).unwrap();
         b.set_telemetry(7).unwrap();
         saved_settings::save(&mut b, spec.store().unwrap()).unwrap();
         b.transport_mut().shutdown().unwrap();
         drop(b);
         let mut again = open();
         let s = again.settings().unwrap();
-        assert_eq!((s.baud, s.cycle_hz, s.telemetry_every), (2_000_000, 200, 7));
+        assert_eq!((s.baud, s.cycle_hz, s.telemetry_every), (1_000_000, 150, 7));
     }
 
     #[test]

@@ -42,6 +42,13 @@ pub enum SettingsError {
         #[source]
         source: LinkError,
     },
+    /// A kept stiffness the rule refuses (the file was edited, or kept by an older dbot).
+    #[error("{path}: the stiffness of joint {joint}: {source}")]
+    Stiffness {
+        path: PathBuf,
+        joint: usize,
+        source: crate::rules::stiffness::StiffnessError,
+    },
     #[error("reading the settings to save in {path}: {source}")]
     Query {
         path: PathBuf,
@@ -102,6 +109,13 @@ pub fn apply<T: Transport>(board: &mut Board<T>, store: &Path) -> Result<(), Set
     if now.joints.len() == kept.stiffness.len() {
         for (j, (&k, cur)) in kept.stiffness.iter().zip(&now.joints).enumerate() {
             if k != cur.stiffness {
+                let k = crate::rules::stiffness::Stiffness::of_units(k).map_err(|source| {
+                    SettingsError::Stiffness {
+                        path: path.clone(),
+                        joint: j,
+                        source,
+                    }
+                })?;
                 board
                     .set_stiffness(j as u8, k)
                     .map_err(failed(format!("the stiffness of joint {j}")))?;

@@ -10,7 +10,7 @@ use planner::plan::feasibility::{Feasibility, Violation};
 pub struct FeasibilityArgs {
     /// Build, upload or play the table even when a servo cannot follow it (speed over the no-load
     /// speed, torque over stall or over the torque-speed line, an inverse-kinematics jump; for
-    /// `run --period`, at the period asked for).
+    /// `run --period`, at the period asked for, and so for every gait queued with --then).
     #[arg(long)]
     pub allow_infeasible: bool,
 }

@@ -100,12 +100,25 @@ impl Args {
                 protocol::limits::HOST_TIMEOUT_CYCLES / 100
             );
         }
+        let model = crate::common::model_spec::load_model(
+            s.setup.model.as_deref().unwrap_or("drosophibot2"),
+        )?;
+        let overrides = self.slot.feasibility.overrides();
         if let Some(path) = &self.table {
             let bytes = std::fs::read(path)
                 .with_context(|| format!("reading the step table {}", path.display()))?;
-            if let Some(line) =
-                upload_table(&mut s.board, slot, path, &bytes, interrupt::requested)?
-            {
+            // Checked by the rules as `dbot upload --table` checks it (the same override).
+            let (line, warning) = upload_table(
+                &mut s.board,
+                slot,
+                path,
+                &bytes,
+                &model,
+                overrides,
+                interrupt::requested,
+            )?;
+            crate::feasibility_args::warn(warning.as_ref());
+            if let Some(line) = line {
                 println!("{line}");
             }
         }
@@ -125,29 +138,41 @@ impl Args {
         // Faster than planned: the table's speeds at that period against the servos (the
         // library's rule); the host holds the table of a `virtual:PATH` robot in its image.
         let known = board::rules::period::table_of_port(s.board.port(), slot)?;
-        let model = crate::common::model_spec::load_model(
-            s.setup.model.as_deref().unwrap_or("drosophibot2"),
-        )?;
-        let warning = board::rules::period::check_play(
+        let checked = board::rules::period::check_play(
             &mut s.board,
-            &command,
+            command,
             known.as_deref(),
             &model,
-            self.slot.feasibility.overrides(),
+            overrides,
         )?;
-        crate::feasibility_args::warn(warning.as_ref());
+        crate::feasibility_args::warn(checked.warning());
+        // Every queued gait meets the same rule at its own period, before anything moves.
+        let mut queued = Vec::with_capacity(self.then.len());
+        for &(next, back) in &self.then {
+            let (c, _) = play_command(&mut s.board, next, self.steps, self.period, back)?;
+            let known = board::rules::period::table_of_port(s.board.port(), next)?;
+            let q = board::rules::period::check_queue(
+                &mut s.board,
+                protocol::QueueCommand(c),
+                known.as_deref(),
+                &model,
+                overrides,
+            )
+            .with_context(|| format!("--then {next}"))?;
+            crate::feasibility_args::warn(q.warning());
+            queued.push((next, q));
+        }
         println!("{}", announce(slot, &gait, &command));
         if interrupt::requested() {
             bail!("interrupted before the walk started: nothing was played");
         }
         let before = (s.board.now().as_secs_f64(), s.board.status()?.counters);
         s.board
-            .play(command)
+            .play(&checked)
             .with_context(|| format!("playing slot {slot}"))?;
-        for &(next, back) in &self.then {
-            let (c, _) = play_command(&mut s.board, next, self.steps, self.period, back)?;
+        for (next, q) in &queued {
             s.board
-                .queue_gait(protocol::QueueCommand(c))
+                .queue_gait(q)
                 .with_context(|| format!("queueing slot {next} after the gait before it"))?;
         }
         if self.detach {

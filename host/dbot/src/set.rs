@@ -1,7 +1,7 @@
 //! `dbot set`: run-time settings of the board: servo stiffness (torque bias), bus cycle rate and
 //! baud, telemetry rate, torque, fault clearing. Flags override the setup file's values.
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use board::link::LinkError;
 use protocol::{ProtocolError, RunState, ServoSelect};
 
@@ -12,7 +12,8 @@ use crate::common::words::state_name;
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Examples:
   dbot set --stiffness 8.4       # N m/rad, all joints
-  dbot set --rate 200 --baud 2000000   # Hz, bit/s; only while not walking
+  dbot set --rate 150                  # Hz; only while not walking
+  dbot set --baud 2000000 --rate 200   # bit/s: set the servos first (dbot dxl setup --new-baud)
   dbot set --from-config          # stiffness, rate, baud of the setup file")]
 pub struct Args {
     /// Servo stiffness, N m/rad (all joints, or --joint): written to the servos' Position P Gain
@@ -30,7 +31,9 @@ pub struct Args {
     #[arg(long)]
     pub rate: Option<u16>,
     /// Dynamixel bus baud rate, bit/s: one the MX servos support (9600, 57600, 115200, 1000000,
-    /// 2000000, 3000000, 4000000, 4500000).
+    /// 2000000, 3000000, 4000000, 4500000). The servos keep their own baud (EEPROM): set each
+    /// first (`dbot dxl setup --new-baud B` through a U2D2); the board then checks every servo
+    /// answers at B, else goes back to its old baud and refuses.
     #[arg(long)]
     pub baud: Option<u32>,
     /// Telemetry every this many bus cycles (0 = off), outside streaming; a stream sets its own
@@ -137,7 +140,8 @@ impl Args {
             check_bus(b, r, cur.joints.len().max(ROBOT_SERVOS)).map_err(|e| {
                 anyhow::anyhow!("--baud/--rate (with the board's current bus): {e}")
             })?;
-            s.board.set_bus(b, r).context("bus settings")?;
+            // A baud change is verified (every servo answers at it) or undone and refused.
+            board::rules::bus::set_bus(&mut s.board, b, r)?;
             did.push(format!("bus {b} bit/s at {r} Hz"));
         }
         if let Some(e) = self.telemetry_every {

@@ -2,7 +2,7 @@
 //! report of what the slot held before. Ctrl-C before the commit aborts the upload (the slot keeps
 //! its table) and exits non-zero; a killed upload never commits, so the board keeps it too.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 use board::link::LinkError;
@@ -22,7 +22,9 @@ use board::slot_health::describe;
   dbot upload --plan out/walk --slot 2 --port virtual:lab.flash --create")]
 #[group(id = "source", required = true, multiple = false)]
 pub struct Args {
-    /// Step table file (as written by `dbot table`).
+    /// Step table file (as written by `dbot table`), checked by the same rules before the board
+    /// is touched: a table the servos cannot follow (one built with --allow-infeasible) needs
+    /// --allow-infeasible here too, a stiffness a servo's P gain cannot hold is refused.
     #[arg(long, group = "source")]
     pub table: Option<PathBuf>,
     /// Plan directory (as written by `dbot plan` or `dbot demo`); the step table is built from it
@@ -38,32 +40,34 @@ pub struct Args {
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
         // A plan is built under the rules (slot capacity, servo feasibility unless overridden)
-        // before the board is touched; a table file was built by `dbot table` under the same.
-        let (table, checked) = match (&self.table, &self.plan) {
-            (Some(path), _) => (
-                std::fs::read(path)
-                    .with_context(|| format!("reading the step table {}", path.display()))?,
-                None,
-            ),
+        // before the board is touched; a table file is checked by the same rules with the same
+        // override (a table built with --allow-infeasible needs it again here).
+        let overrides = self.slot.feasibility.overrides();
+        let checked = match (&self.table, &self.plan) {
+            (Some(path), _) => {
+                let bytes = std::fs::read(path)
+                    .with_context(|| format!("reading the step table {}", path.display()))?;
+                protocol::GaitTable::parse(&bytes)
+                    .with_context(|| format!("{} is not a valid step table", path.display()))?;
+                let setup = self.board.setup()?;
+                let model = crate::common::model_spec::load_model(
+                    setup.model.as_deref().unwrap_or("drosophibot2"),
+                )?;
+                board::rules::build::table_bytes(
+                    bytes,
+                    &format!("step table {}", path.display()),
+                    &model,
+                    overrides,
+                )?
+            }
             (None, Some(dir)) => {
                 let plan = plan_dir::read(dir)?;
-                let t = board::rules::build::plan_dir_table(
-                    &plan,
-                    None,
-                    self.slot.feasibility.overrides(),
-                )?;
-                crate::feasibility_args::warn(t.warning());
-                (t.bytes().to_vec(), Some(t))
+                board::rules::build::plan_dir_table(&plan, None, overrides)?
             }
             (None, None) => bail!("give --table FILE or --plan DIR"),
         };
-        protocol::GaitTable::parse(&table).with_context(|| match (&self.table, &self.plan) {
-            (Some(p), _) => format!("{} is not a valid step table", p.display()),
-            (None, p) => format!(
-                "the step table built from {} is not valid",
-                p.as_deref().unwrap_or(Path::new("?")).display()
-            ),
-        })?;
+        crate::feasibility_args::warn(checked.warning());
+        let table = checked.bytes();
         interrupt::catch()?;
         let mut s = self.board.connect()?;
         let slot = self.slot.slot(&s.setup);
@@ -72,18 +76,13 @@ impl Args {
                 .expect("template is valid"),
         );
         let progress = |sent, _| bar.set_position(u64::from(sent));
-        let report = match &checked {
-            Some(t) => board::rules::upload::upload_checked(
-                &mut s.board,
-                slot,
-                t,
-                progress,
-                interrupt::requested,
-            ),
-            None => s
-                .board
-                .upload_unless(slot, &table, progress, interrupt::requested),
-        };
+        let report = board::rules::upload::upload_checked(
+            &mut s.board,
+            slot,
+            &checked,
+            progress,
+            interrupt::requested,
+        );
         bar.finish_and_clear();
         if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
             // The aborted session ends cleanly (the virtual robot keeps its flash as it is now).

@@ -125,7 +125,8 @@ pub fn walk_all<S: DemoBody>(
 ) -> Result<DemoWalks> {
     let body = has_body(&transport);
     let mut board = Board::connect(transport)?;
-    let upload = board.upload(0, input.table, |_, _| {})?;
+    let checked = crate::simulated::checked(input.table, "the demo's gait")?;
+    let upload = board.upload(0, &checked, |_, _| {})?;
     let parsed = protocol::GaitTable::parse(input.table)?;
     let joints = joints_of_table(&parsed, input.names);
     // With a body, a third walk: forward again with the firmware's torque bias switched off.
@@ -148,7 +149,7 @@ pub fn walk_all<S: DemoBody>(
         if !bias_on {
             // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
             for j in 0..joints.len() {
-                board.set_stiffness(j as u8, 0)?;
+                board.set_stiffness(j as u8, board::rules::stiffness::Stiffness::OFF)?;
             }
             // The goals are now the planned angles: the recorder must not subtract a bias.
             for m in &mut meta {

@@ -109,6 +109,7 @@ from_library!(
     planner::plan_dir::PlanDirError,
     planner::analysis::SweepError,
     board::link::LinkError,
+    board::rules::RuleError,
     board::files::FileError,
     board::record::CaptureError,
     physics::PhysicsError,

@@ -41,6 +41,7 @@ pub mod physics_walk;
 pub mod plan_comparison;
 pub mod plan_dir_write;
 pub mod plan_walk;
+pub mod simulated;
 pub mod steer_blend;
 pub mod strain_compare;
 pub mod strain_walk;

@@ -88,13 +88,18 @@ pub fn walk_and_record(
 ) -> Result<BodyWalk> {
     let what = &walk.what;
     let mut b = Board::connect(robot.into_transport())?;
+    // Every table and command through the rules, as every door (`crate::simulated`).
+    let mut checked = Vec::with_capacity(walk.tables.len());
     for &(slot, table) in &walk.tables {
-        b.upload(slot, table, |_, _| {})?;
+        let t = crate::simulated::checked(table, what)?;
+        b.upload(slot, &t, |_, _| {})?;
+        checked.push((slot, t));
     }
+    let table_of = |slot: u8| checked.iter().find(|(s, _)| *s == slot).map(|(_, t)| t);
     before_play(&mut b)?;
-    b.play(walk.play)?;
+    crate::simulated::play(&mut b, walk.play, table_of(walk.play.slot))?;
     for (i, &next) in walk.queue.iter().enumerate() {
-        b.queue_gait(QueueCommand(next))
+        crate::simulated::queue(&mut b, QueueCommand(next), table_of(next.slot))
             .with_context(|| format!("{what}: queueing gait {} after the one before", i + 2))?;
     }
     let polls = (follow.limit_s / follow.every.as_secs_f64()).ceil() as u32;

@@ -52,7 +52,8 @@ pub fn walk_plan_dir(
     let names = written.servo_joint_names();
     let body = PhysicsRobot::drosophibot(scene)?;
     let mut board = Board::connect(body.into_transport())?;
-    board.upload(0, &table, |_, _| {})?;
+    let checked = crate::simulated::checked(&table, &plan_dir.display().to_string())?;
+    board.upload(0, &checked, |_, _| {})?;
     let parsed = protocol::GaitTable::parse(&table)?;
     let joints = joints_of_table(&parsed, &names);
     let how = WalkHow {

@@ -207,7 +207,7 @@ pub fn walk_strain(
         if !bias_on {
             // Stiffness 0 is the firmware's setting for "no bias" (firmware/src/bias.rs).
             for j in 0..joints {
-                b.set_stiffness(j as u8, 0)?;
+                b.set_stiffness(j as u8, board::rules::stiffness::Stiffness::OFF)?;
             }
         }
         Ok(())

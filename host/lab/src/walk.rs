@@ -58,12 +58,17 @@ pub fn play_and_record<T: Transport>(
     stop: impl Fn() -> bool,
 ) -> Result<(Recorder, Ended)> {
     board.discard_telemetry();
-    board.play(PlayCommand {
-        slot: 0,
-        direction,
-        period_scale: protocol::units::PERIOD_SCALE_ONE,
-        steps: Steps::Count(steps),
-    })?;
+    // At its planned period: the period rule needs no table.
+    crate::simulated::play(
+        board,
+        PlayCommand {
+            slot: 0,
+            direction,
+            period_scale: protocol::units::PERIOD_SCALE_ONE,
+            steps: Steps::Count(steps),
+        },
+        None,
+    )?;
     let mut rec =
         Recorder::create(csv, joints).with_context(|| format!("creating {}", csv.display()))?;
     let ended = capture_while(

@@ -154,12 +154,12 @@ pub struct TurnWalk {
 
 /// The step table of `plan` as `dbot table --plan` builds it: the walks' inverse dynamics as the
 /// torque bias, every rule of an upload checked.
-pub fn walk_table(plan: &Plan, name: &str) -> Result<Vec<u8>> {
+pub fn walk_table(plan: &Plan, name: &str) -> Result<board::rules::build::CheckedTable> {
     let cycle = crate::walk::solve_walk_dynamics(plan)?;
     let torques = planner::dynamics::output::torque_rows(&cycle);
     let table = board::rules::build::plan_table(plan, Some(&torques), name, Default::default())
         .with_context(|| format!("the step table `{name}`"))?;
-    Ok(table.into_bytes())
+    Ok(table)
 }
 
 /// Plans `params` for `model`, walks `steps` steps (at least 2) forward on a fresh physics robot

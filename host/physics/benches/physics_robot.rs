@@ -80,9 +80,8 @@ impl Walk {
     fn run(&self, robot: PhysicsRobot, cycles: u32) -> (Board<physics::PhysicsTransport>, f64) {
         let t0 = cpu_now();
         let mut b = Board::connect(robot.into_transport()).unwrap();
-        b.upload(0, &self.table, |_, _| {}).unwrap();
-        b.play(PlayCommand::forward(0, Steps::Count(cycles)))
-            .unwrap();
+        gate::upload(&mut b, 0, &self.table).unwrap();
+        gate::play(&mut b, PlayCommand::forward(0, Steps::Count(cycles))).unwrap();
         b.wait(Duration::from_secs_f64(
             self.period_s * f64::from(cycles) + 1.0,
         ))
@@ -194,3 +193,6 @@ fn tuning(walk: &Walk, mut options: MjcfOptions) {
         slip
     );
 }
+
+#[path = "../../board/tests/gate/mod.rs"]
+mod gate;

@@ -297,18 +297,21 @@ fn write_joint(out: &mut Vec<u8>, spec: &JointSpec) -> Result<(i16, i16), BuildE
         .ok_or_else(|| err(Field::MinAngle, spec.min_rad, lo, hi))?;
     let max = to_fixed(spec.max_rad, ANGLE_PER_RAD, min, I16.1 as i64)
         .ok_or_else(|| err(Field::MaxAngle, spec.max_rad, spec.min_rad, hi))?;
+    // What the servo's P gain register holds (`limits::p_gain_stiffness_units`), as the parse
+    // and the board check it.
+    let held = crate::limits::p_gain_stiffness_units(spec.model);
     let stiffness = to_fixed(
         spec.stiffness_nm_per_rad,
         STIFFNESS_PER_NM_RAD,
-        1,
-        u32::MAX.into(),
+        i64::from(*held.start()),
+        i64::from(*held.end()),
     )
     .ok_or_else(|| {
         err(
             Field::Stiffness,
             spec.stiffness_nm_per_rad,
-            1e-3,
-            f64::from(u32::MAX) / 1e3,
+            f64::from(*held.start()) / STIFFNESS_PER_NM_RAD,
+            f64::from(*held.end()) / STIFFNESS_PER_NM_RAD,
         )
     })?;
     out.push(spec.servo_id);

@@ -287,9 +287,9 @@ fn check_joint(r: &[u8], joint: u8) -> Result<(), TableError> {
     if r[0] > 252 {
         return bad(JointField::ServoId);
     }
-    if ServoModel::from_table_code(r[1]).is_none() {
+    let Some(model) = ServoModel::from_table_code(r[1]) else {
         return bad(JointField::Model);
-    }
+    };
     if r[2] != 1 && r[2] as i8 != -1 {
         return bad(JointField::Sign);
     }
@@ -302,7 +302,8 @@ fn check_joint(r: &[u8], joint: u8) -> Result<(), TableError> {
     if le_i16(r, 6) > le_i16(r, 8) {
         return bad(JointField::Limits);
     }
-    if le_u32(r, 12) == 0 {
+    // The bias divides by it and the servo's P gain must hold it (`limits::p_gain_holds`).
+    if !crate::limits::p_gain_holds(model, le_u32(r, 12)) {
         return bad(JointField::Stiffness);
     }
     Ok(())

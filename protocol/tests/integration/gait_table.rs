@@ -88,6 +88,17 @@ fn every_kind_of_bad_table_has_its_error() {
             tampered(|t| t[48..52].fill(0)),
             joint_0(JointField::Stiffness),
         ),
+        // 16 and 565 700 mN m/rad: beyond what the golden joint's MX-64 P gain 1 ..= 16383
+        // holds (17 ..= 565 699, hand computed in protocol::limits); a table used to pass with
+        // any non-zero stiffness.
+        (
+            tampered(|t| t[48..52].copy_from_slice(&16u32.to_le_bytes())),
+            joint_0(JointField::Stiffness),
+        ),
+        (
+            tampered(|t| t[48..52].copy_from_slice(&565_700u32.to_le_bytes())),
+            joint_0(JointField::Stiffness),
+        ),
         (
             tampered(|t| t[52] = 0x40),
             TableError::BadStance {
@@ -289,6 +300,15 @@ fn builder_refuses_bad_joints_and_headers() {
         field_of(with(|j| j.stiffness_nm_per_rad = f64::INFINITY)),
         gait::Field::Stiffness
     );
+    // What the MX-28's P gain cannot hold (0.0072 ..= 235.7 N m/rad): the builder refuses as
+    // the parse and the board do.
+    for f in [
+        (|j: &mut JointSpec| j.stiffness_nm_per_rad = 0.001) as fn(&mut JointSpec),
+        |j| j.stiffness_nm_per_rad = 0.006,
+        |j| j.stiffness_nm_per_rad = 236.0,
+    ] {
+        assert_eq!(field_of(with(f)), gait::Field::Stiffness);
+    }
 }
 
 #[test]

@@ -8,14 +8,16 @@ use std::time::Duration;
 use protocol::client::Reply;
 use protocol::endpoint::{self as ep, Endpoint};
 use protocol::{
-    Client, DeviceInfo, DeviceMessage, FrameAccumulator, PlayCommand, Proprioception,
-    ProtocolError, QueueCommand, Request, Response, RunState, ServoSelect, Settings, SlotInfo,
-    Status, Telemetry,
+    Client, DeviceInfo, DeviceMessage, FrameAccumulator, Proprioception, ProtocolError, Request,
+    Response, RunState, ServoSelect, Settings, SlotInfo, Status, Telemetry,
 };
 
 use super::error::LinkError;
 use super::transport::{Transport, TransportError};
 use super::version::{ForeignInfo, device_info_prefix};
+use crate::rules::period::{CheckedPlay, CheckedQueue};
+use crate::rules::steer::CheckedSteer;
+use crate::rules::stiffness::Stiffness;
 
 /// How long a request waits for its reply by default. Flash work on the board (a sector erase
 /// per chunk) stays well below it.
@@ -155,7 +157,9 @@ impl<T: Transport> Board<T> {
 
     /// Sends a typed request and returns its reply: `board.call(GetStatus)` is a `Status`,
     /// `board.call(SetBus { .. })` a `()`.
-    pub fn call<E: Endpoint>(&mut self, request: E) -> Result<E::Reply, LinkError> {
+    /// Crate-private: requests that move servos go through the typed methods, which take only
+    /// what the rules made (`crate::rules`), so no door outside this crate can skip a rule.
+    pub(crate) fn call<E: Endpoint>(&mut self, request: E) -> Result<E::Reply, LinkError> {
         self.request(&request.into())
     }
 
@@ -163,7 +167,7 @@ impl<T: Transport> Board<T> {
     /// just started, or just taken a gait with other servos, and is looking for them) refuses
     /// what needs the servos: such a request is retried for up to [`BOOT_WAIT`] on the
     /// transport's clock before the board's refusal is returned.
-    pub fn request<R: Reply>(&mut self, request: &Request) -> Result<R, LinkError> {
+    pub(crate) fn request<R: Reply>(&mut self, request: &Request) -> Result<R, LinkError> {
         let name = request_name(request);
         let give_up = self.transport.now() + BOOT_WAIT;
         let response = loop {
@@ -203,7 +207,7 @@ impl<T: Transport> Board<T> {
 
     /// Sends `request` and returns its [`Response`] (an error response becomes
     /// [`LinkError::Device`]).
-    pub fn request_response(&mut self, request: &Request) -> Result<Response, LinkError> {
+    pub(crate) fn request_response(&mut self, request: &Request) -> Result<Response, LinkError> {
         let name = request_name(request);
         let (seq, frame) =
             self.client
@@ -300,9 +304,9 @@ impl<T: Transport> Board<T> {
         self.call(ep::GetJointMap { slot })
     }
 
-    /// Starts playback.
-    pub fn play(&mut self, command: PlayCommand) -> Result<(), LinkError> {
-        self.call(command)
+    /// Starts playback of a command the period rule passed (`rules::period::check_play`).
+    pub fn play(&mut self, play: &CheckedPlay) -> Result<(), LinkError> {
+        self.call(*play.command())
     }
 
     /// Lets `duration` pass on the transport's clock, keeping telemetry that arrives.
@@ -325,8 +329,9 @@ impl<T: Transport> Board<T> {
     /// Queues a gait to play after the one playing, at a step boundary, without standing still
     /// (the board refuses one that cannot follow: `protocol::switch`, e.g. a joint jump beyond
     /// one bus cycle of its servo, naming the joint).
-    pub fn queue_gait(&mut self, command: QueueCommand) -> Result<(), LinkError> {
-        self.call(command)
+    /// The command is one the period rule passed (`rules::period::check_queue`).
+    pub fn queue_gait(&mut self, queued: &CheckedQueue) -> Result<(), LinkError> {
+        self.call(*queued.command())
     }
 
     /// Drops the queued gaits; the one playing plays on.
@@ -361,11 +366,10 @@ impl<T: Transport> Board<T> {
     /// The descending command: walk at `heading_rad` (positive left, within the family's range)
     /// and `speed` (1 = as planned). From standing the steered walk starts and goes on until
     /// [`Board::stop`]; while it walks, the new heading and speed take over at the next step
-    /// boundary. Unchecked against the servos: faster than planned, `rules::steer::steer` checks
-    /// the family's tables first (every door steers through it).
-    pub fn steer(&mut self, heading_rad: f64, speed: f64) -> Result<(), LinkError> {
-        let command = protocol::steer::command_of(heading_rad, speed).map_err(LinkError::Steer)?;
-        self.call(command)
+    /// boundary. Only a command the steering rule passed (`rules::steer::check_steer`: faster
+    /// than planned, the family's tables against the servos).
+    pub fn steer(&mut self, steer: &CheckedSteer) -> Result<(), LinkError> {
+        self.call(*steer.command())
     }
 
     /// Sets up the perturbation platform for the next runs and waits (at most 1 s of the
@@ -436,15 +440,21 @@ impl<T: Transport> Board<T> {
         self.call(ep::SetTelemetry { every })
     }
 
-    /// Bus baud (bit/s) and cycle rate (Hz).
-    pub fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), LinkError> {
+    /// Bus baud (bit/s) and cycle rate (Hz), unchecked: crate-private, every door changes the
+    /// bus through `rules::bus::set_bus`, which verifies the servos follow a baud change.
+    pub(crate) fn set_bus(&mut self, baud: u32, cycle_hz: u16) -> Result<(), LinkError> {
         self.call(ep::SetBus { baud, cycle_hz })
     }
 
     /// Stiffness of `joint`, mN m/rad: the board writes it to the servo's Position P Gain and the
     /// torque bias divides by it (0: bias off, the gain left as it is).
-    pub fn set_stiffness(&mut self, joint: u8, stiffness: u32) -> Result<(), LinkError> {
-        self.call(ep::SetStiffness { joint, stiffness })
+    /// Only a stiffness the rule passed (`rules::stiffness::Stiffness`: the board's unit and
+    /// every servo's P gain register); the board checks the joint's own servo again.
+    pub fn set_stiffness(&mut self, joint: u8, stiffness: Stiffness) -> Result<(), LinkError> {
+        self.call(ep::SetStiffness {
+            joint,
+            stiffness: stiffness.units(),
+        })
     }
 
     pub(super) fn send_raw(&mut self, bytes: &[u8]) -> Result<(), LinkError> {

@@ -1,5 +1,7 @@
 //! Uploading a gait table: begin, chunks in order, commit with the CRC, then read the slot back to
 //! verify. Any failure midway aborts the upload (best effort) so the slot keeps its old table.
+//! Only a [`CheckedTable`] is uploaded: the rules (`crate::rules::build`) are the one maker of it,
+//! so no door can send a table the rules have not seen.
 
 use protocol::endpoint as ep;
 use protocol::{GaitSummary, GaitTable};
@@ -7,6 +9,7 @@ use protocol::{GaitSummary, GaitTable};
 use super::board::Board;
 use super::error::LinkError;
 use super::transport::Transport;
+use crate::rules::build::CheckedTable;
 
 /// What an upload did.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -27,7 +30,12 @@ pub type Uploaded = Result<UploadReport, LinkError>;
 impl<T: Transport> Board<T> {
     /// Uploads `table` into `slot`, calling `progress(sent, total)` after every chunk, and verifies
     /// the slot afterwards (header and CRC as listed by the board).
-    pub fn upload(&mut self, slot: u8, table: &[u8], progress: impl FnMut(u32, u32)) -> Uploaded {
+    pub fn upload(
+        &mut self,
+        slot: u8,
+        table: &CheckedTable,
+        progress: impl FnMut(u32, u32),
+    ) -> Uploaded {
         self.upload_unless(slot, table, progress, || false)
     }
 
@@ -37,10 +45,11 @@ impl<T: Transport> Board<T> {
     pub fn upload_unless(
         &mut self,
         slot: u8,
-        table: &[u8],
+        table: &CheckedTable,
         mut progress: impl FnMut(u32, u32),
         mut interrupted: impl FnMut() -> bool,
     ) -> Uploaded {
+        let table = table.bytes();
         let parsed = GaitTable::parse(table).map_err(LinkError::Table)?;
         let header = parsed.header();
         let total_len = table.len() as u32;

@@ -204,25 +204,20 @@ impl<S: ServoDynamics> VirtualRobot<S> {
     }
 
     /// `SetBus` changed the board's baud: the wire and the bus master follow, as the board's UART
-    /// does, and the virtual servos are taken to be set up for it (on a robot: `dbot dxl setup`
-    /// first).
+    /// does. The virtual servos keep their own Baud Rate register, as real ones keep theirs in
+    /// EEPROM: a board switched alone no longer hears them (`rules::bus` checks and undoes that).
     fn follow_baud(&mut self) {
         let want = self.board.controller.borrow().config().baud;
         if want == self.board.bus.config().baud {
             return;
         }
-        let Some(code) = dynamixel::control_table::baud_code(want) else {
+        if dynamixel::control_table::baud_code(want).is_none() {
             return;
-        };
+        }
         self.wire.set_baud(want);
         self.board.bus.set_config(MasterConfig {
             baud: want,
             reply_slack_us: REPLY_SLACK_US,
-        });
-        self.wire.with_chain(|chain| {
-            for s in chain.servos_mut() {
-                s.put(dynamixel::control_table::BAUD_RATE, u32::from(code));
-            }
         });
     }
 }

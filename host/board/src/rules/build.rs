@@ -2,7 +2,9 @@
 //! --plan`, Python `PlanDir.step_table`), a plan in memory (Python `Plan.step_table`) or an
 //! excitation trial (`dbot excite`, Python `dbot.excitation`). Each checks
 //! the slot capacity, servo feasibility (unless overridden) and what each servo's P gain can hold
-//! before the bytes exist; a [`CheckedTable`] is only made here, so an upload of one has passed them.
+//! before the bytes exist; a table file or bytes from elsewhere is checked by the same rules
+//! ([`table_bytes`]). A [`CheckedTable`] is only made here and [`crate::link::Board::upload`] takes
+//! nothing else, so every upload has passed them (or carries its override's warning).
 
 use planner::model::Model;
 use planner::plan::Plan;
@@ -102,6 +104,33 @@ pub fn excitation_table(
         source,
     })?;
     check_stiffness(&bytes, model, &what)?;
+    Ok(CheckedTable { bytes, warning })
+}
+
+/// The step table `bytes` read from a file or given as bytes (`dbot upload --table FILE`, `dbot
+/// run --table`, `dbot record --table`, Python `Board.upload(slot, bytes)`), named `what` in
+/// messages, its joints named by `model`: checked as a table built here would be (slot capacity,
+/// what the servos can follow at its planned period unless overridden, what each servo's P gain can
+/// hold), so a table built with `--allow-infeasible` needs the override again to reach a board.
+pub fn table_bytes(
+    bytes: Vec<u8>,
+    what: &str,
+    model: &Model,
+    overrides: Overrides,
+) -> Result<CheckedTable, RuleError> {
+    let table = protocol::GaitTable::parse(&bytes).map_err(|source| RuleError::BadTable {
+        what: what.to_owned(),
+        source,
+    })?;
+    check_slices(
+        &format!("{what}: slices"),
+        table.slice_count(),
+        table.joint_count(),
+    )?;
+    let names = crate::record::joint_names(model, Some(&table), table.joint_count());
+    let f = super::period::table_feasibility(&table, &names, 1.0);
+    let warning = enforce(&f, what, overrides)?;
+    check_stiffness(&bytes, model, what)?;
     Ok(CheckedTable { bytes, warning })
 }
 

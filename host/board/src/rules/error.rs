@@ -67,6 +67,21 @@ pub enum RuleError {
     /// A stiffness the board or the servo's Position P Gain register cannot hold.
     #[error(transparent)]
     Stiffness(super::stiffness::StiffnessError),
+    /// A baud change its servos did not follow (they keep their EEPROM baud): undone.
+    #[error(
+        "baud {to}: {who} did not answer at {to} bit/s, so the board is back at {from} bit/s (a servo keeps its own baud, the Baud Rate register in EEPROM, whatever the board's UART does); set every servo's baud first through a U2D2 (dbot dxl setup -p ADAPTER --id N --new-baud {to}; Python: dbot.Bench), then set the board's (dbot set --baud {to}; Python: Board.set_bus), which checks every servo answers",
+        who = match joint { Some(j) => format!("the servo of joint {j}"), None => "a servo".to_owned() }
+    )]
+    BaudNotFollowed {
+        from: u32,
+        to: u32,
+        joint: Option<u8>,
+    },
+    /// A baud change on a board with no joint map: no servos to check it with.
+    #[error(
+        "baud {baud}: the board has no joint map yet, so it cannot check that its servos answer at {baud} bit/s; upload and play a gait first (dbot upload, dbot run; Python: Board.upload_plan, Board.play)"
+    )]
+    BaudUnverifiable { baud: u32 },
     /// A per-joint setting on a board that has no joints yet.
     #[error("the board has no joint map yet (upload and play a gait first)")]
     NoJointMap,

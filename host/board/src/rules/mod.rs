@@ -1,6 +1,6 @@
 //! The rules that protect the robot, enforced by the library calls that build a step table
-//! ([`build`]), upload one ([`upload`]), play one faster than planned ([`period`]), steer faster than planned ([`steer`]) and set a servo's
-//! stiffness ([`stiffness`]), so `dbot`, Python and any Rust caller refuse alike, with the same
+//! ([`build`]), upload one ([`upload`]), play or queue one faster than planned ([`period`]), steer faster than planned ([`steer`]), set a servo's
+//! stiffness ([`stiffness`]) and change the bus baud ([`bus`]), so `dbot`, Python and any Rust caller refuse alike, with the same
 //! words ([`RuleError`]'s Display). One override, [`Overrides::allow_infeasible`], lets a plan the
 //! servos cannot follow through; what it let through comes back as an [`Overridden`] warning whose
 //! words every door shows as they are.
@@ -9,6 +9,7 @@
 //! its joint's limits (`protocol::gait::BuildError`), whichever door builds the table.
 
 pub mod build;
+pub mod bus;
 mod error;
 pub mod feasibility;
 pub mod period;

@@ -1,4 +1,5 @@
-//! Playing a table faster than planned (`dbot run --period`, Python `Board.play(period_scale=)`):
+//! Playing a table faster than planned (`dbot run --period`, Python `Board.play(period_scale=)`,
+//! and a gait queued after it: `dbot run --then`, `Board.queue_gait(period_scale=)`):
 //! the table's angles and torques at the scaled period are checked against the same servo limits
 //! as at build time (no-load speed, torque-speed line). Slower than planned needs no check: every
 //! speed falls and the torque the servo gives at that speed grows, and the table's torques and
@@ -9,7 +10,7 @@ use std::path::Path;
 
 use planner::model::Model;
 use planner::plan::feasibility::{Feasibility, Servo, ServoLimits, Violation, check_servos};
-use protocol::{GaitTable, PlayCommand};
+use protocol::{GaitTable, PlayCommand, QueueCommand};
 
 use super::{Overridden, Overrides, RuleError, Violations};
 use crate::link::{Board, Transport};
@@ -82,11 +83,74 @@ pub fn check_scaled(
     })
 }
 
+/// A play command that passed the period rule ([`check_play`], the one maker of it): what
+/// [`Board::play`] takes, with the warning of the override that let it through.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedPlay {
+    command: PlayCommand,
+    warning: Option<Overridden>,
+}
+
+impl CheckedPlay {
+    pub fn command(&self) -> &PlayCommand {
+        &self.command
+    }
+
+    /// What `Overrides::allow_infeasible` let through, to show before the walk starts.
+    pub fn warning(&self) -> Option<&Overridden> {
+        self.warning.as_ref()
+    }
+}
+
+/// A queued gait that passed the period rule ([`check_queue`], the one maker of it): what
+/// [`Board::queue_gait`] takes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedQueue {
+    command: QueueCommand,
+    warning: Option<Overridden>,
+}
+
+impl CheckedQueue {
+    pub fn command(&self) -> &QueueCommand {
+        &self.command
+    }
+
+    /// What `Overrides::allow_infeasible` let through, to show before it plays.
+    pub fn warning(&self) -> Option<&Overridden> {
+        self.warning.as_ref()
+    }
+}
+
 /// Checks `command` before it is played: at a period shorter than planned, the table of its slot
 /// must be `known` (bytes the host holds, with the CRC the board reports for the slot) and pass
 /// [`check_scaled`], its joints named by `model`; a table the host does not hold is refused
 /// unless overridden. An empty slot is left to the board to refuse.
 pub fn check_play<T: Transport>(
+    board: &mut Board<T>,
+    command: PlayCommand,
+    known: Option<&[u8]>,
+    model: &Model,
+    overrides: Overrides,
+) -> Result<CheckedPlay, RuleError> {
+    let warning = check_command(board, &command, known, model, overrides)?;
+    Ok(CheckedPlay { command, warning })
+}
+
+/// [`check_play`] for a gait queued after the one playing (`dbot run --then`, Python
+/// `Board.queue_gait`): the same rule at the queued gait's own period scale, so a queued gait
+/// cannot be played faster than the first gait may.
+pub fn check_queue<T: Transport>(
+    board: &mut Board<T>,
+    command: QueueCommand,
+    known: Option<&[u8]>,
+    model: &Model,
+    overrides: Overrides,
+) -> Result<CheckedQueue, RuleError> {
+    let warning = check_command(board, &command.0, known, model, overrides)?;
+    Ok(CheckedQueue { command, warning })
+}
+
+fn check_command<T: Transport>(
     board: &mut Board<T>,
     command: &PlayCommand,
     known: Option<&[u8]>,
@@ -143,9 +207,22 @@ pub fn play<T: Transport>(
     model: &Model,
     overrides: Overrides,
 ) -> Result<Option<Overridden>, RuleError> {
-    let warning = check_play(board, &command, known, model, overrides)?;
-    board.play(command)?;
-    Ok(warning)
+    let checked = check_play(board, command, known, model, overrides)?;
+    board.play(&checked)?;
+    Ok(checked.warning)
+}
+
+/// [`check_queue`], then queues `command`.
+pub fn queue<T: Transport>(
+    board: &mut Board<T>,
+    command: QueueCommand,
+    known: Option<&[u8]>,
+    model: &Model,
+    overrides: Overrides,
+) -> Result<Option<Overridden>, RuleError> {
+    let checked = check_queue(board, command, known, model, overrides)?;
+    board.queue_gait(&checked)?;
+    Ok(checked.warning)
 }
 
 /// The table in `slot` as the host holds it without the board: in the flash image of a

@@ -25,12 +25,43 @@ use crate::link::{Board, LinkError, Transport};
 /// set cannot be checked: refused unless overridden.
 pub fn check_steer<T: Transport>(
     board: &mut Board<T>,
+    heading_rad: f64,
     speed: f64,
     held: &dyn Fn(u8) -> Result<Option<Vec<u8>>, crate::robot::ImageError>,
     model: &Model,
     overrides: Overrides,
+) -> Result<CheckedSteer, RuleError> {
+    let command = protocol::steer::command_of(heading_rad, speed).map_err(LinkError::Steer)?;
+    let warning = check_speed(board, command, held, model, overrides)?;
+    Ok(CheckedSteer { command, warning })
+}
+
+/// A descending command that passed the steering rule ([`check_steer`], the one maker of it):
+/// what [`Board::steer`] takes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedSteer {
+    command: protocol::SteerCommand,
+    warning: Option<Overridden>,
+}
+
+impl CheckedSteer {
+    pub fn command(&self) -> &protocol::SteerCommand {
+        &self.command
+    }
+
+    /// What `Overrides::allow_infeasible` let through.
+    pub fn warning(&self) -> Option<&Overridden> {
+        self.warning.as_ref()
+    }
+}
+
+fn check_speed<T: Transport>(
+    board: &mut Board<T>,
+    command: protocol::SteerCommand,
+    held: &dyn Fn(u8) -> Result<Option<Vec<u8>>, crate::robot::ImageError>,
+    model: &Model,
+    overrides: Overrides,
 ) -> Result<Option<Overridden>, RuleError> {
-    let command = protocol::steer::command_of(0.0, speed).map_err(LinkError::Steer)?;
     let scale_fixed =
         protocol::steer::period_scale_of(command.speed_permille).map_err(LinkError::Steer)?;
     let scale = f64::from(scale_fixed) / f64::from(protocol::units::PERIOD_SCALE_ONE);
@@ -71,9 +102,9 @@ pub fn steer<T: Transport>(
     model: &Model,
     overrides: Overrides,
 ) -> Result<Option<Overridden>, RuleError> {
-    let warning = check_steer(board, speed, held, model, overrides)?;
-    board.steer(heading_rad, speed)?;
-    Ok(warning)
+    let checked = check_steer(board, heading_rad, speed, held, model, overrides)?;
+    board.steer(&checked)?;
+    Ok(checked.warning)
 }
 
 /// The period rule's refusal, saying that it is the steering speed that asks for the period.

@@ -76,6 +76,33 @@ pub fn units(stiffness: f64) -> Result<u32, StiffnessError> {
     Ok(units)
 }
 
+/// A stiffness the rule passed ([`units`]): what [`Board::set_stiffness`] takes. Made only by
+/// [`Stiffness::of`] (N m/rad), [`Stiffness::of_units`] (the board's unit, as a kept setting) and
+/// [`Stiffness::OFF`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stiffness(u32);
+
+impl Stiffness {
+    /// 0: the torque bias off, the servos keep their P gain.
+    pub const OFF: Self = Self(0);
+
+    /// `stiffness` N m/rad under [`units`]' rule.
+    pub fn of(stiffness: f64) -> Result<Self, StiffnessError> {
+        units(stiffness).map(Self)
+    }
+
+    /// A stiffness in the board's unit (mN m/rad, e.g. a setting kept beside a virtual robot),
+    /// under the same rule.
+    pub fn of_units(units: u32) -> Result<Self, StiffnessError> {
+        Self::of(f64::from(units) / protocol::units::STIFFNESS_PER_NM_RAD)
+    }
+
+    /// In the board's unit, mN m/rad.
+    pub fn units(self) -> u32 {
+        self.0
+    }
+}
+
 /// Sets the stiffness of `joint` (joint-map index) or, with `None`, of every joint of the board,
 /// after [`units`] accepted it. Returns the joints set.
 pub fn set_stiffness<T: Transport>(
@@ -83,7 +110,7 @@ pub fn set_stiffness<T: Transport>(
     joint: Option<u8>,
     stiffness: f64,
 ) -> Result<Vec<u8>, RuleError> {
-    let units = units(stiffness).map_err(RuleError::Stiffness)?;
+    let units = Stiffness::of(stiffness).map_err(RuleError::Stiffness)?;
     let list: Vec<u8> = match joint {
         Some(j) => vec![j],
         None => (0..board.settings()?.joints.len() as u8).collect(),

@@ -16,7 +16,7 @@ pub fn upload_checked<T: Transport>(
     progress: impl FnMut(u32, u32),
     interrupted: impl FnMut() -> bool,
 ) -> Uploaded {
-    board.upload_unless(slot, table.bytes(), progress, interrupted)
+    board.upload_unless(slot, table, progress, interrupted)
 }
 
 /// Builds the step table of `plan` under the rules ([`plan_dir_table`]) and uploads it into

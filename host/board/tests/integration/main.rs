@@ -17,3 +17,7 @@ mod stream_table;
 mod telemetry_csv_cells;
 mod trial_records;
 mod walk_stop;
+
+/// The tests' way through the rules to a board, shared with the other host crates' tests.
+#[path = "../gate/mod.rs"]
+mod gate;

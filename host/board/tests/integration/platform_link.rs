@@ -35,14 +35,13 @@ fn play(steps: u32) -> PlayCommand {
 #[test]
 fn the_platform_rises_in_the_telemetry_at_its_step_and_its_servo_follows() {
     let mut b = board_with_platform_servo();
-    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
-        .unwrap();
+    gate::upload(&mut b, 0, &SyntheticGait::new(100, 1.0).build()).unwrap();
     let p = Perturb::parse("RM:1:rise", 23).unwrap();
     b.set_platform(p.setup).unwrap();
     b.set_telemetry(1).unwrap();
     // Selecting the gait boots the board again to find its servos: play once it is Idle.
     loop {
-        match b.play(play(3)) {
+        match gate::play(&mut b, play(3)) {
             Ok(()) => break,
             Err(LinkError::Device { .. }) => b.wait(Duration::from_millis(20)).unwrap(),
             Err(e) => panic!("{e}"),
@@ -72,8 +71,7 @@ fn the_platform_rises_in_the_telemetry_at_its_step_and_its_servo_follows() {
 #[test]
 fn a_missing_platform_servo_and_a_joints_id_are_named() {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
-        .unwrap();
+    gate::upload(&mut b, 0, &SyntheticGait::new(100, 1.0).build()).unwrap();
     let e = b
         .set_platform(Perturb::parse("LF:0:rise", 23).unwrap().setup)
         .unwrap_err();
@@ -100,3 +98,5 @@ fn a_missing_platform_servo_and_a_joints_id_are_named() {
         "{e}"
     );
 }
+
+use crate::gate;

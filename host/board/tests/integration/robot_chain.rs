@@ -24,8 +24,8 @@ fn a_table_naming_a_servo_the_robot_lacks_does_not_walk() {
     let mut gait = SyntheticGait::new(100, 1.0);
     // Joint 4 (LF_FTi) on servo 40: no such servo on the bus (IDs 1..=22).
     gait.joints[4].servo_id = 40;
-    b.upload(0, &gait.build(), |_, _| {}).unwrap();
-    let refused = b.play(play());
+    gate::upload(&mut b, 0, &gait.build()).unwrap();
+    let refused = gate::play(&mut b, play());
     b.wait(Duration::from_secs(1)).unwrap();
     let status = b.status().unwrap();
     assert!(
@@ -45,9 +45,8 @@ fn a_table_naming_a_servo_the_robot_lacks_does_not_walk() {
 fn the_robots_own_table_walks_on_the_same_chain() {
     // The control case: the same gait with the robot's IDs plays.
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
-        .unwrap();
-    b.play(play()).unwrap();
+    gate::upload(&mut b, 0, &SyntheticGait::new(100, 1.0).build()).unwrap();
+    gate::play(&mut b, play()).unwrap();
     b.wait(Duration::from_millis(1500)).unwrap();
     assert_eq!(b.status().unwrap().state, RunState::Walking);
     assert_eq!(chain_ids(&b), (1..=22).collect::<Vec<u8>>());
@@ -79,3 +78,5 @@ fn the_chain_carries_the_servos_the_model_file_names() {
     }
     assert_eq!((on_bus.len(), mx64), (22, 6));
 }
+
+use crate::gate;

@@ -37,11 +37,11 @@ fn queued(slot: u8, direction: Direction) -> QueueCommand {
 fn forward_turn_backward_and_stop_play_as_one_run() {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
     let g = SyntheticGait::new(100, 1.0);
-    b.upload(0, &g.build(), |_, _| {}).unwrap();
-    b.upload(1, &turn(&g), |_, _| {}).unwrap();
-    b.play(PlayCommand::forward(0, Steps::Count(2))).unwrap();
-    b.queue_gait(queued(1, Direction::Forward)).unwrap();
-    b.queue_gait(queued(0, Direction::Backward)).unwrap();
+    gate::upload(&mut b, 0, &g.build()).unwrap();
+    gate::upload(&mut b, 1, &turn(&g)).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, Steps::Count(2))).unwrap();
+    gate::queue(&mut b, queued(1, Direction::Forward)).unwrap();
+    gate::queue(&mut b, queued(0, Direction::Backward)).unwrap();
     // Ramp (at least 0.5 s) plus 3 x 2 steps of 1 s; status every 0.1 s.
     let mut seen: Vec<(u8, Direction)> = vec![];
     let mut walked = false;
@@ -90,3 +90,5 @@ fn forward_turn_backward_and_stop_play_as_one_run() {
         "steps in the telemetry: {steps:?}"
     );
 }
+
+use crate::gate;

@@ -36,14 +36,14 @@ fn connect_reports_the_versions_of_this_host() {
 fn upload_verifies_and_reports_what_it_replaced() {
     let mut b = board();
     let first = SyntheticGait::new(100, 1.0).build();
-    let r = b.upload(1, &first, |_, _| {}).unwrap();
+    let r = gate::upload(&mut b, 1, &first).unwrap();
     assert_eq!(r.replaced, None);
     assert_eq!(r.bytes as usize, first.len());
     // 22 joints x 100 slices = 9 188 bytes in chunks of at most 512: 18 chunks.
     assert_eq!(first.len(), 36 + 22 * 16 + 100 * (2 + 22 * 4) + 4);
     assert_eq!(r.chunks as usize, first.len().div_ceil(512));
     let second = SyntheticGait::new(50, 0.5).build();
-    let r2 = b.upload(1, &second, |_, _| {}).unwrap();
+    let r2 = gate::upload(&mut b, 1, &second).unwrap();
     assert_eq!(r2.replaced, Some(r.stored));
     assert_eq!(r2.stored.header.slice_count, 50);
     let slots = b.gaits().unwrap();
@@ -54,9 +54,8 @@ fn upload_verifies_and_reports_what_it_replaced() {
 #[test]
 fn a_gait_plays_its_steps_and_the_robot_stands_again() {
     let mut b = board();
-    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
-        .unwrap();
-    b.play(play(0, 3, Direction::Forward)).unwrap();
+    gate::upload(&mut b, 0, &SyntheticGait::new(100, 1.0).build()).unwrap();
+    gate::play(&mut b, play(0, 3, Direction::Forward)).unwrap();
     let mut last_step = 0;
     let mut cycles = 0;
     let mut t0 = None;
@@ -81,12 +80,12 @@ fn a_gait_plays_its_steps_and_the_robot_stands_again() {
 fn an_upload_cut_midway_leaves_the_old_gait() {
     let old = SyntheticGait::new(100, 1.0).build();
     let mut b = board();
-    let before = b.upload(2, &old, |_, _| {}).unwrap().stored;
+    let before = gate::upload(&mut b, 2, &old).unwrap().stored;
     let mut t = b.into_transport();
     t.cut_after_sent(3000);
     let mut b = Board::connect(t).unwrap();
     let new = SyntheticGait::new(80, 0.8).build();
-    let err = b.upload(2, &new, |_, _| {}).unwrap_err();
+    let err = gate::upload(&mut b, 2, &new).unwrap_err();
     assert!(matches!(err, LinkError::Vanished { .. }), "{err}");
     // Power cycle the robot: the store mounts from flash alone.
     let flash = b.into_transport().into_robot().into_flash();
@@ -97,9 +96,8 @@ fn an_upload_cut_midway_leaves_the_old_gait() {
 /// Plays `steps` steps of the synthetic 1 s gait and returns the board once it is walking.
 fn walking(steps: Steps) -> Board<VirtualTransport> {
     let mut b = board();
-    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
-        .unwrap();
-    b.play(PlayCommand::forward(0, steps)).unwrap();
+    gate::upload(&mut b, 0, &SyntheticGait::new(100, 1.0).build()).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, steps)).unwrap();
     while b.status().unwrap().state != RunState::Walking {
         b.wait(Duration::from_millis(50)).unwrap();
     }
@@ -153,7 +151,7 @@ fn estop_drops_torque_on_every_servo_at_once() {
         }
     });
     // Play is refused until the fault is cleared.
-    let e = b.play(play(0, 1, Direction::Forward)).unwrap_err();
+    let e = gate::play(&mut b, play(0, 1, Direction::Forward)).unwrap_err();
     assert!(e.to_string().contains("Play refused"), "{e}");
     // Naming the fault, not only the state (issue #30 item 8).
     assert!(
@@ -171,8 +169,7 @@ fn torque_on_right_after_an_upload_waits_for_the_board_to_find_its_servos() {
     // SetTorque until it has found the 22 servos: the host waits that out instead of failing
     // with "not allowed in state ...".
     let mut b = board();
-    b.upload(0, &SyntheticGait::new(100, 1.0).build(), |_, _| {})
-        .unwrap();
+    gate::upload(&mut b, 0, &SyntheticGait::new(100, 1.0).build()).unwrap();
     assert_eq!(b.status().unwrap().state, RunState::Boot);
     b.set_torque(protocol::ServoSelect::All, true).unwrap();
     assert_eq!(b.status().unwrap().state, RunState::Standing);
@@ -302,3 +299,5 @@ fn a_reply_to_another_request_is_not_taken_for_ours() {
         LinkError::NoReply { .. }
     ));
 }
+
+use crate::gate;

@@ -27,8 +27,8 @@ fn tripod_table() -> Vec<u8> {
 
 fn walking(table: &[u8], steps: Steps) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, table, |_, _| {}).unwrap();
-    b.play(PlayCommand::forward(0, steps)).unwrap();
+    gate::upload(&mut b, 0, table).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, steps)).unwrap();
     b
 }
 
@@ -138,3 +138,5 @@ fn a_jammed_joint_of_the_tripod_gait_is_reported_as_servo_stuck_naming_it() {
         "{text}"
     );
 }
+
+use crate::gate;

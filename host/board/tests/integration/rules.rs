@@ -110,7 +110,7 @@ fn a_faster_play_of_a_table_the_host_does_not_hold_is_refused_unless_overridden(
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
     let bytes = SyntheticGait::new(100, 1.0).build();
     let crc = GaitTable::parse(&bytes).unwrap().crc();
-    b.upload(1, &bytes, |_, _| {}).unwrap();
+    gate::upload(&mut b, 1, &bytes).unwrap();
     let model = planner::model::builtin("drosophibot2").unwrap();
     let play = |scale: u16| PlayCommand {
         slot: 1,
@@ -120,24 +120,28 @@ fn a_faster_play_of_a_table_the_host_does_not_hold_is_refused_unless_overridden(
     };
     // At the planned period and slower the table is not needed.
     assert!(
-        check_play(&mut b, &play(1000), None, &model, CHECK)
+        check_play(&mut b, play(1000), None, &model, CHECK)
             .unwrap()
+            .warning()
             .is_none()
     );
     assert!(
-        check_play(&mut b, &play(1500), None, &model, CHECK)
+        check_play(&mut b, play(1500), None, &model, CHECK)
             .unwrap()
+            .warning()
             .is_none()
     );
-    let e = check_play(&mut b, &play(800), None, &model, CHECK).unwrap_err();
+    let e = check_play(&mut b, play(800), None, &model, CHECK).unwrap_err();
     assert!(
         e.to_string().contains(&format!(
             "this host does not hold its table (CRC {crc:#010x}"
         )),
         "{e}"
     );
-    let w = check_play(&mut b, &play(800), None, &model, ALLOW)
+    let w = check_play(&mut b, play(800), None, &model, ALLOW)
         .unwrap()
+        .warning()
+        .cloned()
         .unwrap();
     assert_eq!(
         w,
@@ -149,15 +153,16 @@ fn a_faster_play_of_a_table_the_host_does_not_hold_is_refused_unless_overridden(
     );
     // Held: 0.8 is fine (joint 0 at 3.14 rad/s), 0.4 is not.
     assert!(
-        check_play(&mut b, &play(800), Some(&bytes), &model, CHECK)
+        check_play(&mut b, play(800), Some(&bytes), &model, CHECK)
             .unwrap()
+            .warning()
             .is_none()
     );
-    let e = check_play(&mut b, &play(400), Some(&bytes), &model, CHECK).unwrap_err();
+    let e = check_play(&mut b, play(400), Some(&bytes), &model, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::TooFast { .. }), "{e}");
     // A different table than the slot's is not the slot's.
     let other = SyntheticGait::new(100, 2.0).build();
-    let e = check_play(&mut b, &play(800), Some(&other), &model, CHECK).unwrap_err();
+    let e = check_play(&mut b, play(800), Some(&other), &model, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::UnknownTable { .. }), "{e}");
 }
 
@@ -184,7 +189,7 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
     let left = turning("left", 0.1);
     let right = turning("right", -0.1);
     for (slot, t) in [(0, &straight), (1, &left), (2, &right)] {
-        b.upload(slot, t, |_, _| {}).unwrap();
+        gate::upload(&mut b, slot, t).unwrap();
     }
     let held = |slot: u8| {
         Ok([&straight, &left, &right]
@@ -193,7 +198,7 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
     };
     let none = |_: u8| Ok(None);
     // No family set from here: faster than planned cannot be checked.
-    let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
+    let e = check_steer(&mut b, 0.0, 2.0, &held, &model, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::UnknownFamily { .. }), "{e}");
     assert!(
         e.to_string()
@@ -201,23 +206,28 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
         "{e}"
     );
     assert_eq!(
-        check_steer(&mut b, 2.0, &held, &model, ALLOW).unwrap(),
+        check_steer(&mut b, 0.0, 2.0, &held, &model, ALLOW)
+            .unwrap()
+            .warning()
+            .cloned(),
         Some(Overridden::SteerUnchecked { speed: 2.0 })
     );
     b.set_steer_family(0, 1, 2, 0.06).unwrap();
     // As planned and slower: nothing to check, nothing needed.
     assert!(
-        check_steer(&mut b, 1.0, &none, &model, CHECK)
+        check_steer(&mut b, 0.0, 1.0, &none, &model, CHECK)
             .unwrap()
+            .warning()
             .is_none()
     );
     assert!(
-        check_steer(&mut b, 0.5, &none, &model, CHECK)
+        check_steer(&mut b, 0.0, 0.5, &none, &model, CHECK)
             .unwrap()
+            .warning()
             .is_none()
     );
     // Outside the board's speed range: the protocol's words.
-    let e = check_steer(&mut b, 20.0, &held, &model, CHECK).unwrap_err();
+    let e = check_steer(&mut b, 0.0, 20.0, &held, &model, CHECK).unwrap_err();
     assert!(
         e.to_string().contains("speed 20000 permille is outside"),
         "{e}"
@@ -227,7 +237,7 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
     // = 6.28 rad/s is over the MX-28's no-load speed: the left gait, the first checked, is named.
     let side = 0.5 * (TAU / 100.0).sin() / 0.005;
     assert!(peak(0.5) < (1.0 - 0.3 / STALL) * W0 && side > W0);
-    let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
+    let e = check_steer(&mut b, 0.0, 2.0, &held, &model, CHECK).unwrap_err();
     let text = e.to_string();
     assert!(
         text.starts_with("steering at speed 2: slot 1 (\"left\"): at 0.500 s per step (0.500 times the planned 1.000 s) the servos cannot follow it:\n"),
@@ -241,7 +251,7 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
     );
     // The right gait alone is as fast: a family of it and the straight gait is refused naming it.
     b.set_steer_family(0, 0, 2, 0.06).unwrap();
-    let e = check_steer(&mut b, 2.0, &held, &model, CHECK).unwrap_err();
+    let e = check_steer(&mut b, 0.0, 2.0, &held, &model, CHECK).unwrap_err();
     assert!(
         e.to_string()
             .starts_with("steering at speed 2: slot 2 (\"right\")"),
@@ -249,12 +259,13 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
     );
     // At speed 1.25 (joint 0 of a side gait at 3.93 rad/s, 0.8 N m left on the line) all follow.
     assert!(
-        check_steer(&mut b, 1.25, &held, &model, CHECK)
+        check_steer(&mut b, 0.0, 1.25, &held, &model, CHECK)
             .unwrap()
+            .warning()
             .is_none()
     );
     // Tables the host does not hold: refused naming the straight gait's slot, unless overridden.
-    let e = check_steer(&mut b, 1.25, &none, &model, CHECK).unwrap_err();
+    let e = check_steer(&mut b, 0.0, 1.25, &none, &model, CHECK).unwrap_err();
     assert!(matches!(e, RuleError::UnknownTable { slot: 0, .. }), "{e}");
     // The override: the refusal's lines as a warning, then the walk starts.
     b.set_steer_family(0, 1, 2, 0.06).unwrap();
@@ -292,4 +303,98 @@ fn the_stiffness_bound_is_the_p_gain_register_of_every_servo() {
     // The board's own unit range is still the first check.
     assert!(matches!(units(-0.01), Err(StiffnessError::Limit(_))));
     assert!(matches!(units(f64::NAN), Err(StiffnessError::Limit(_))));
+}
+
+use crate::gate;
+
+#[test]
+fn a_table_file_meets_the_rules_a_plan_meets_with_the_same_override() {
+    // The synthetic gait at 0.4 s per step: joint 0 peaks at slice 0 at 0.4 sin(2 pi / 100) /
+    // 0.004 s = 6.28 rad/s, over the MX-28's 5.76. Before the rules checked table bytes, such a
+    // table (built with --allow-infeasible) uploaded without the override.
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let fast = SyntheticGait::new(100, 0.4).build();
+    let e = board::rules::build::table_bytes(fast.clone(), "step table fast.dbgt", &model, CHECK)
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(matches!(e, RuleError::Infeasible { .. }), "{text}");
+    assert!(
+        text.starts_with("step table fast.dbgt: the servos cannot follow this plan:\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "at slice 0: {:.2} rad/s, over the servo's no-load speed {W0:.2} rad/s",
+            peak(0.4)
+        )),
+        "{text}"
+    );
+    assert!(
+        text.ends_with(
+            "pass --allow-infeasible (Python: allow_infeasible=True) to build it anyway"
+        )
+    );
+    // The override lets it through, the warning in its table; the link takes nothing else.
+    let checked =
+        board::rules::build::table_bytes(fast.clone(), "step table fast.dbgt", &model, ALLOW)
+            .unwrap();
+    assert!(matches!(
+        checked.warning(),
+        Some(Overridden::Infeasible { .. })
+    ));
+    assert_eq!(checked.bytes(), &fast[..]);
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    b.upload(0, &checked, |_, _| {}).unwrap();
+    // At its planned period the synthetic gait of 1.0 s is followed: no warning.
+    let slow = SyntheticGait::new(100, 1.0).build();
+    let ok = board::rules::build::table_bytes(slow, "t", &model, CHECK).unwrap();
+    assert_eq!(ok.warning(), None);
+}
+
+#[test]
+fn a_queued_gait_meets_the_period_rule_of_the_first() {
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let bytes = SyntheticGait::new(100, 1.0).build();
+    gate::upload(&mut b, 1, &bytes).unwrap();
+    let model = planner::model::builtin("drosophibot2").unwrap();
+    let queued = |scale: u16| {
+        protocol::QueueCommand(PlayCommand::new(
+            1,
+            Direction::Forward,
+            scale,
+            Steps::Count(1),
+        ))
+    };
+    let check = |b: &mut Board<_>, scale, known: Option<&[u8]>, o| {
+        board::rules::period::check_queue(b, queued(scale), known, &model, o)
+    };
+    // 0.4 times the period: joint 0 at 6.28 rad/s, the refusal `dbot run --period` gives.
+    let e = check(&mut b, 400, Some(&bytes), CHECK).unwrap_err();
+    let by_play = check_play(
+        &mut b,
+        PlayCommand::new(1, Direction::Forward, 400, Steps::Count(1)),
+        Some(&bytes),
+        &model,
+        CHECK,
+    )
+    .unwrap_err();
+    assert!(matches!(e, RuleError::TooFast { .. }), "{e}");
+    assert_eq!(e.to_string(), by_play.to_string());
+    // Not held: refused unless overridden, as a play is.
+    let e = check(&mut b, 800, None, CHECK).unwrap_err();
+    assert!(matches!(e, RuleError::UnknownTable { slot: 1, .. }), "{e}");
+    assert!(check(&mut b, 800, None, ALLOW).unwrap().warning().is_some());
+    // At the planned period and slower nothing is needed.
+    assert!(
+        check(&mut b, 1000, None, CHECK)
+            .unwrap()
+            .warning()
+            .is_none()
+    );
+    assert!(
+        check(&mut b, 1500, None, CHECK)
+            .unwrap()
+            .warning()
+            .is_none()
+    );
 }

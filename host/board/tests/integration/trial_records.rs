@@ -97,8 +97,8 @@ fn record_walk(folder: &TrialFolder) -> (Vec<String>, Recorder) {
     let gait = SyntheticGait::new(40, 0.6).build();
     let table = GaitTable::parse(&gait).unwrap();
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, &gait, |_, _| {}).unwrap();
-    b.play(PlayCommand::forward(0, Steps::Count(2))).unwrap();
+    gate::upload(&mut b, 0, &gait).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, Steps::Count(2))).unwrap();
     let names: Vec<String> = (0..22).map(|j| format!("JOINT{j}")).collect();
     let mut rec = Recorder::create(
         &folder.work_dir().join(TELEMETRY_CSV),
@@ -331,3 +331,5 @@ fn a_trial_of_another_format_version_is_refused_naming_both() {
         "{e}"
     );
 }
+
+use crate::gate;

@@ -14,9 +14,9 @@ use protocol::{GaitTable, PlayCommand, RunState, Steps};
 /// A board walking an endless 0.6 s gait, `after` board time after the play command.
 fn walking(gait: &[u8], after: Duration) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, gait, |_, _| {}).unwrap();
+    gate::upload(&mut b, 0, gait).unwrap();
     b.set_telemetry(1).unwrap();
-    b.play(PlayCommand::forward(0, Steps::Continuous)).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, Steps::Continuous)).unwrap();
     b.wait(after).unwrap();
     // The recording starts now (the records kept while waiting are not its own).
     b.discard_telemetry();
@@ -105,3 +105,5 @@ fn a_stop_on_a_board_in_a_fault_has_nothing_to_stop() {
     assert!(st.fault.is_some());
     assert_eq!(stop_walk(&mut b).unwrap(), Stopped::NotWalking);
 }
+
+use crate::gate;

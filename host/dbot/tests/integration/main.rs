@@ -41,3 +41,7 @@ mod steer_cli;
 mod store_damage_cli;
 mod strain_cli;
 mod validation_doc;
+
+/// The tests' way through the rules to a board, shared with the other host crates' tests.
+#[path = "../../../board/tests/gate/mod.rs"]
+mod gate;

@@ -133,7 +133,16 @@ fn the_physics_robot_walks_the_users_gait_from_one_command() {
     // `run --table` too.
     let d = run(
         dir.path(),
-        &strings(&["run", "--port", "physics", "--table", &t, "--steps", "1"]),
+        &strings(&[
+            "run",
+            "--port",
+            "physics",
+            "--table",
+            &t,
+            "--steps",
+            "1",
+            "--allow-infeasible",
+        ]),
     );
     assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
     assert!(d.stdout.contains("slot 0: uploaded"), "{}", d.stdout);

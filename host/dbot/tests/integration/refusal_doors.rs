@@ -1,6 +1,7 @@
 //! The rules that protect the robot are the library's (`board::rules`), so every door refuses
 //! alike: the same infeasible plan is refused by `dbot table` and `dbot upload --plan` with the same
-//! words, `--allow-infeasible` builds the same bytes through both; `dbot run --period` refuses a
+//! words, `--allow-infeasible` builds the same bytes through both, and the table file it built is
+//! refused by `dbot upload --table` and `dbot run --table` without the override; `dbot run --period` refuses a
 //! period at which a servo could not follow the table, naming the joint, the speed and the limit,
 //! `dbot record --play --period` refuses it with the same words, and `dbot steer --speed` refuses the speed that asks for that period with the same words;
 //! `dbot set --stiffness` refuses what the servos' P gain register cannot hold. The Python doors
@@ -180,6 +181,46 @@ fn table_and_upload_refuse_the_same_infeasible_plan_with_the_same_words() {
     let bytes = std::fs::read(d.join("t.dbgt")).unwrap();
     let crc = protocol::GaitTable::parse(&bytes).unwrap().crc();
     assert!(out.contains(&format!("CRC {crc:#010x} read back")), "{out}");
+
+    // The table file built with the override meets the rule again at every door that takes a
+    // file (it used to upload and play unchecked): refused without the override, naming the
+    // same joint, and nothing stored.
+    let first = |t: &str| t.lines().next().unwrap_or("").to_owned();
+    let by_file = refusal(&on_robot(
+        d,
+        &["upload", "--table", "t.dbgt", "--slot", "2"],
+    ));
+    assert_eq!(
+        first(&by_file),
+        "step table t.dbgt: the servos cannot follow this plan:",
+        "{by_file}"
+    );
+    assert!(by_file.contains("  LF_FTi at slice"), "{by_file}");
+    let by_run = refusal(&on_robot(
+        d,
+        &["run", "--table", "t.dbgt", "--slot", "2", "--steps", "1"],
+    ));
+    assert_eq!(first(&by_run), first(&by_file), "{by_run}");
+    assert!(ok(on_robot(d, &["gaits"])).contains("slot 2: empty"));
+    let o = on_robot(
+        d,
+        &[
+            "upload",
+            "--table",
+            "t.dbgt",
+            "--slot",
+            "2",
+            "--allow-infeasible",
+        ],
+    );
+    let warned_file = stderr(&o);
+    ok(o);
+    assert!(
+        warned_file.starts_with(
+            "warning: step table t.dbgt: the servos cannot follow this plan (--allow-infeasible / allow_infeasible=True):\n"
+        ),
+        "{warned_file}"
+    );
 }
 
 #[test]

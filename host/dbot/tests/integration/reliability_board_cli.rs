@@ -456,7 +456,8 @@ fn an_upload_interrupted_or_killed_midway_leaves_the_stored_gait_intact() {
 fn a_recording_killed_leaves_whole_files() {
     let dir = tempfile::tempdir().unwrap();
     let image = format!("virtual:{}", dir.path().join("robot.flash").display());
-    let t = table(dir.path(), "g.dbgt", 40, 0.4);
+    // 0.6 s: an MX-28 follows it (4.17 rad/s), as a table file must.
+    let t = table(dir.path(), "g.dbgt", 40, 0.6);
     let d = run(
         dir.path(),
         &strings(&["upload", "--table", &t, "--port", &image, "--create"]),

@@ -45,7 +45,8 @@ fn slot_line(dir: &Path, image: &str, slot: u8) -> String {
 fn record_every_0_into_a_good_recording_is_refused_and_keeps_it() {
     let dir = tempfile::tempdir().unwrap();
     let image = format!("virtual:{}", dir.path().join("robot.flash").display());
-    let t = table(dir.path(), "g.dbgt", 40, 0.4);
+    // 0.6 s: an MX-28 follows it (4.17 rad/s), as a table file must.
+    let t = table(dir.path(), "g.dbgt", 40, 0.6);
     let d = upload(dir.path(), &t, None, &image);
     assert!(d.status.success(), "{}", d.stderr);
     let rec = dir.path().join("rec");

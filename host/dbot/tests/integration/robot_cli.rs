@@ -110,11 +110,35 @@ fn run_walks_the_steps_and_status_estop_set_work() {
     );
     let out = ok(dir.path(), &["stop"]);
     assert!(out.contains("nothing to stop"), "{out}");
-    let out = ok(dir.path(), &["set", "--rate", "200", "--baud", "2000000"]);
-    assert!(out.contains("bus 2000000 bit/s at 200 Hz"), "{out}");
+    let out = ok(dir.path(), &["set", "--rate", "150"]);
+    assert!(out.contains("bus 1000000 bit/s at 150 Hz"), "{out}");
     // Kept as a board keeps it: the next command (a fresh boot of the virtual robot) sees it.
     let out = ok(dir.path(), &["status"]);
-    assert!(out.contains("bus       2000000 bit/s, 200 Hz"), "{out}");
+    assert!(out.contains("bus       1000000 bit/s, 150 Hz"), "{out}");
+    // A baud change of the board alone strands the servos (they keep their EEPROM baud), as the
+    // virtual ones now do: it is undone and refused, naming the servo and the command that moves
+    // the servos first. (The virtual robot used to set its servos silently and take it.)
+    let o = dbot(dir.path(), &["set", "--baud", "2000000"]);
+    assert!(
+        !o.status.success(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let e = stderr(&o);
+    assert!(
+        e.contains("baud 2000000: the servo of joint ")
+            && e.contains(
+                " did not answer at 2000000 bit/s, so the board is back at 1000000 bit/s"
+            ),
+        "{e}"
+    );
+    assert!(
+        e.contains("dbot dxl setup -p ADAPTER --id N --new-baud 2000000"),
+        "{e}"
+    );
+    let out = ok(dir.path(), &["status"]);
+    assert!(out.contains("bus       1000000 bit/s, 150 Hz"), "{out}");
+    assert!(!out.contains("Fault"), "{out}");
     let out = ok(dir.path(), &["servos", "--table", &t]);
     assert!(out.contains("    0      1  MX-28(2.0)"), "{out}");
 }

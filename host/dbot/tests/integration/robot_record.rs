@@ -12,8 +12,8 @@ use protocol::{GaitTable, PlayCommand, Steps};
 
 fn walking_board(gait: &[u8], steps: Steps) -> Board<VirtualTransport> {
     let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-    b.upload(0, gait, |_, _| {}).unwrap();
-    b.play(PlayCommand::forward(0, steps)).unwrap();
+    gate::upload(&mut b, 0, gait).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, steps)).unwrap();
     b
 }
 
@@ -172,3 +172,5 @@ fn the_cli_records_a_played_gait_with_plots() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--play"));
 }
+
+use crate::gate;

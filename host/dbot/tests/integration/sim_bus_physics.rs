@@ -94,9 +94,12 @@ fn the_physics_robots_strain_board_on_a_pty_records_the_bodys_gauges() {
     )
     .unwrap();
     b.wait(Duration::from_secs(2)).unwrap();
-    b.upload(0, &std::fs::read(&t).unwrap(), |_, _| {}).unwrap();
-    b.play(protocol::PlayCommand::forward(0, protocol::Steps::Count(1)))
-        .unwrap();
+    gate::upload(&mut b, 0, &std::fs::read(&t).unwrap()).unwrap();
+    gate::play(
+        &mut b,
+        protocol::PlayCommand::forward(0, protocol::Steps::Count(1)),
+    )
+    .unwrap();
     let until = Instant::now() + Duration::from_secs(120);
     while b.status().unwrap().state != protocol::RunState::Standing
         || b.status().unwrap().playback.is_some()
@@ -163,3 +166,5 @@ fn the_physics_robots_strain_board_on_a_pty_records_the_bodys_gauges() {
     // 2 s of lines every 24 ms or so (measured 73: the host-paced board, the host's scheduling).
     assert!(rows > 30, "{rows} strain rows");
 }
+
+use board_fakes::gate;

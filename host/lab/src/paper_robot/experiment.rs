@@ -121,7 +121,8 @@ pub fn run(
     let gauges = body.gauge_names();
     body.start_log(usize::MAX);
     let mut board = Board::connect(body.into_transport())?;
-    board.upload(0, &table, |_, _| {})?;
+    let checked = crate::simulated::checked(&table, &e.name)?;
+    board.upload(0, &checked, |_, _| {})?;
     let parsed = protocol::GaitTable::parse(&table)?;
     let joints = joints_of_table(&parsed, &names);
     let csv = match dir {

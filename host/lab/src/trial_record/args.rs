@@ -55,8 +55,9 @@ pub struct TrialArgs {
     /// With --play: step period, s (default: the planned one).
     #[cfg_attr(feature = "clap", arg(long, requires = "play"))]
     pub period: Option<f64>,
-    /// With --play: play at a --period shorter than planned even when a servo cannot follow the
-    /// table there (as `dbot run --allow-infeasible`); a warning names what it let through.
+    /// With --play: upload the --table file and play it (at a --period shorter than planned too)
+    /// even when a servo cannot follow it (as `dbot run --allow-infeasible`); a warning names what
+    /// it let through.
     #[cfg_attr(feature = "clap", arg(long, requires = "play"))]
     pub allow_infeasible: bool,
     /// Record the lab's strain board on this port beside the servos (a serial path, or `virtual`

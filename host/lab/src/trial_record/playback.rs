@@ -81,16 +81,27 @@ pub fn play_command<T: Transport>(
 /// Puts the step table `bytes` (read from `path`) into `slot` before a walk, unless the slot
 /// holds that very table (same CRC, so a board's flash is not rewritten for nothing): the way a
 /// lab walks its own gait on a robot that each command opens afresh (`--port physics`,
-/// `--port virtual`). The upload is the board library's, with every refusal `dbot upload` has;
-/// `stop` returning true abandons it (the slot keeps its previous table). Returns the line to
-/// show for an upload, `None` when the slot held the table already.
+/// `--port virtual`). The table is checked by the rules as `dbot upload --table` checks it
+/// (`board::rules::build::table_bytes`, its joints named by `model`, with `overrides`), held or
+/// not, and the upload is the board library's; `stop` returning true abandons it (the slot keeps
+/// its previous table). Returns the line to show for an upload (`None` when the slot held the
+/// table already) and the warning of an override.
 pub fn upload_table<T: Transport>(
     board: &mut Board<T>,
     slot: u8,
     path: &Path,
     bytes: &[u8],
+    model: &planner::model::Model,
+    overrides: board::rules::Overrides,
     stop: impl FnMut() -> bool,
-) -> Result<Option<String>> {
+) -> Result<(Option<String>, Option<board::rules::Overridden>)> {
+    let checked = board::rules::build::table_bytes(
+        bytes.to_vec(),
+        &format!("step table {}", path.display()),
+        model,
+        overrides,
+    )?;
+    let warning = checked.warning().cloned();
     let table = protocol::GaitTable::parse(bytes)
         .with_context(|| format!("table {} is not a step table", path.display()))?;
     let held = board
@@ -100,18 +111,21 @@ pub fn upload_table<T: Transport>(
         .and_then(|g| g.gait)
         .is_some_and(|g| g.crc == table.crc());
     if held {
-        return Ok(None);
+        return Ok((None, warning));
     }
-    let report = board.upload_unless(slot, bytes, |_, _| {}, stop);
+    let report = board.upload_unless(slot, &checked, |_, _| {}, stop);
     if let Err(e @ LinkError::UploadInterrupted { .. }) = report {
         return Err(LabError::Interrupted(format!("interrupted: {e}")));
     }
     let report =
         report.with_context(|| format!("uploading table {} into slot {slot}", path.display()))?;
-    Ok(Some(format!(
-        "slot {slot}: uploaded {} from {} (verified: CRC {:#010x})",
-        describe(&report.stored),
-        path.display(),
-        report.stored.crc
-    )))
+    Ok((
+        Some(format!(
+            "slot {slot}: uploaded {} from {} (verified: CRC {:#010x})",
+            describe(&report.stored),
+            path.display(),
+            report.stored.crc
+        )),
+        warning,
+    ))
 }

@@ -65,11 +65,25 @@ pub(super) fn start(
     }
     board::record::set_recording_rate(board, request.every)
         .with_context(|| format!("every {}", request.every))?;
-    if let (Some(p), Some(t)) = (play, &request.table)
-        && let Some(line) =
-            playback::upload_table(board, p.slot, &t.path, &t.bytes, || hooks.should_stop())?
-    {
-        hooks.say(&line);
+    if let (Some(p), Some(t)) = (play, &request.table) {
+        let overrides = board::rules::Overrides {
+            allow_infeasible: p.allow_infeasible,
+        };
+        let (line, warning) = playback::upload_table(
+            board,
+            p.slot,
+            &t.path,
+            &t.bytes,
+            &request.model,
+            overrides,
+            || hooks.should_stop(),
+        )?;
+        if let Some(w) = warning {
+            hooks.warn(&w);
+        }
+        if let Some(line) = line {
+            hooks.say(&line);
+        }
     }
     // The walk to start, checked before anything moves: a period shorter than planned must be
     // one the servos can follow (the rule of `dbot run --period` and `Board.play`).
@@ -87,18 +101,18 @@ pub(super) fn start(
             let overrides = board::rules::Overrides {
                 allow_infeasible: p.allow_infeasible,
             };
-            let warning = board::rules::period::check_play(
+            let checked = board::rules::period::check_play(
                 board,
-                &command,
+                command,
                 known.as_deref(),
                 &request.model,
                 overrides,
             )
             .map_err(library)?;
-            if let Some(w) = warning {
-                hooks.warn(&w);
+            if let Some(w) = checked.warning() {
+                hooks.warn(w);
             }
-            Some((p, command, gait))
+            Some((p, checked, gait))
         }
         None => None,
     };
@@ -177,7 +191,8 @@ pub(super) fn start(
         lost_records: None,
     };
     let dropped_before = Dropped::now(board)?;
-    if let Some((p, cmd, gait)) = walk {
+    if let Some((p, checked, gait)) = walk {
+        let cmd = *checked.command();
         if hooks.should_stop() {
             crate::bail!("interrupted before the walk started: nothing was played or recorded");
         }
@@ -188,7 +203,7 @@ pub(super) fn start(
         meta.steps = p.steps;
         board.discard_telemetry();
         board
-            .play(cmd)
+            .play(&checked)
             .with_context(|| format!("playing slot {}", p.slot))?;
     }
     // The settings the walk runs with (playing a new table takes its stiffness, a table already

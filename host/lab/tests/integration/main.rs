@@ -12,3 +12,7 @@ mod substrates;
 mod trial_record;
 mod walk_sequence;
 mod walk_turn;
+
+/// The tests' way through the rules to a board, shared with the other host crates' tests.
+#[path = "../../../board/tests/gate/mod.rs"]
+mod gate;

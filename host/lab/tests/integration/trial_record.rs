@@ -140,7 +140,7 @@ fn a_period_the_servos_cannot_follow_is_refused_in_the_words_of_run() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("trials");
     let mut board = physics::open("virtual").unwrap();
-    board.upload(0, &bytes, |_, _| {}).unwrap();
+    gate::upload(&mut board, 0, &bytes).unwrap();
     let fast = |allow_infeasible: bool, held: bool| TrialRequest {
         play: Some(TrialPlay {
             slot: 0,
@@ -155,7 +155,7 @@ fn a_period_the_servos_cannot_follow_is_refused_in_the_words_of_run() {
     // What `dbot run --period` and `Board.play` are refused with: the rule on the same command.
     let by_run = board::rules::period::check_play(
         &mut board,
-        &protocol::PlayCommand::new(
+        protocol::PlayCommand::new(
             0,
             protocol::Direction::Forward,
             900,
@@ -226,7 +226,7 @@ fn a_fault_during_the_recording_ends_the_trial_as_faulted() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("trials");
     let mut board = physics::open("virtual").unwrap();
-    board.upload(0, &bytes, |_, _| {}).unwrap();
+    gate::upload(&mut board, 0, &bytes).unwrap();
     let physics::RobotLink::Virtual(link) = board.transport() else {
         panic!("`virtual` opens the virtual robot")
     };

@@ -18,3 +18,7 @@ mod strain_standing;
 mod substrate;
 mod walk_figures;
 mod walk_log;
+
+/// The tests' way through the rules to a board, shared with the other host crates' tests.
+#[path = "../../../board/tests/gate/mod.rs"]
+mod gate;

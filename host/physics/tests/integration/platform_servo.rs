@@ -28,7 +28,7 @@ fn the_platform_slide_follows_the_goal_position_the_firmware_writes() {
     )
     .unwrap();
     let mut b = Board::connect(robot.into_transport()).unwrap();
-    b.upload(0, &table, |_, _| {}).unwrap();
+    gate::upload(&mut b, 0, &table).unwrap();
     b.set_torque(ServoSelect::All, true).unwrap();
     // Rest 2330 ticks: standing, every cycle's Sync Write carries the platform's rest goal.
     let setup = PlatformSetup {
@@ -60,3 +60,5 @@ fn the_platform_slide_follows_the_goal_position_the_firmware_writes() {
     let present = robot.with_chain(|c| c.servo(23).unwrap().get(ct::PRESENT_POSITION));
     assert_eq!(present, 2324);
 }
+
+use support::gate;

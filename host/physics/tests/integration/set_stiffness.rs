@@ -28,7 +28,7 @@ fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_def
     let robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     let joints = robot.plant().joints().to_vec();
     let mut b = Board::connect(robot.into_transport()).unwrap();
-    b.upload(0, &table, |_, _| {}).unwrap();
+    gate::upload(&mut b, 0, &table).unwrap();
     b.wait(Duration::from_millis(200)).unwrap();
     // Torque on: the board holds the posture it finds (the planned stance the body powers on in),
     // and gravity comes in over the next second.
@@ -82,7 +82,8 @@ fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_def
 
     // `dbot set --stiffness` on every joint: half the table's value.
     for (t, &(_, k)) in table_joints.iter().enumerate() {
-        b.set_stiffness(t as u8, k / 2).unwrap();
+        let half = board::rules::stiffness::Stiffness::of_units(k / 2).unwrap();
+        b.set_stiffness(t as u8, half).unwrap();
     }
     b.wait(Duration::from_secs(2)).unwrap();
     assert_eq!(b.status().unwrap().fault, None);
@@ -115,3 +116,5 @@ fn halving_every_joints_stiffness_with_set_stiffness_doubles_a_loaded_joints_def
         "{name}: deflection ratio {ratio}, gain ratio {gain_ratio}"
     );
 }
+
+use support::gate;

@@ -204,7 +204,7 @@ impl RobotServer {
         let handle = std::thread::spawn(move || {
             let _slave = p.slave;
             let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
-            b.upload(0, &table, |_, _| {}).unwrap();
+            gate::upload(&mut b, 0, &table).unwrap();
             let mut robot = b.into_transport().into_robot();
             let (t0, base) = (Instant::now(), robot.now_us());
             let mut out = [0u8; 4096];
@@ -260,3 +260,5 @@ impl RobotServer {
 pub fn slave_fd(p: &Pty) -> i32 {
     p.slave.as_raw_fd()
 }
+
+pub use crate::gate;

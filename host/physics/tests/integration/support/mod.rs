@@ -58,13 +58,16 @@ pub fn walking(
     steps: u32,
 ) -> Board<PhysicsTransport> {
     let mut b = Board::connect(robot.into_transport()).unwrap();
-    b.upload(0, table, |_, _| {}).unwrap();
-    b.play(PlayCommand {
-        slot: 0,
-        direction,
-        period_scale: 1000,
-        steps: Steps::Count(steps),
-    })
+    gate::upload(&mut b, 0, table).unwrap();
+    gate::play(
+        &mut b,
+        PlayCommand {
+            slot: 0,
+            direction,
+            period_scale: 1000,
+            steps: Steps::Count(steps),
+        },
+    )
     .unwrap();
     b
 }
@@ -75,9 +78,8 @@ pub fn walking(
 pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::Figures {
     use std::time::Duration;
     let mut b = Board::connect(robot.into_transport()).unwrap();
-    b.upload(0, table, |_, _| {}).unwrap();
-    b.play(PlayCommand::forward(0, Steps::Count(steps)))
-        .unwrap();
+    gate::upload(&mut b, 0, table).unwrap();
+    gate::play(&mut b, PlayCommand::forward(0, Steps::Count(steps))).unwrap();
     // The walk takes `steps` periods after a start ramp of well under a period; a robot that
     // faults (e.g. a servo that cannot follow) ends it early.
     for _ in 0..(steps + 2) * 5 {
@@ -89,3 +91,5 @@ pub fn walk_figures(robot: PhysicsRobot, table: &[u8], steps: u32) -> physics::F
     }
     b.transport().robot().servos().figures().unwrap().clone()
 }
+
+pub use crate::gate;
