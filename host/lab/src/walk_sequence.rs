@@ -115,7 +115,11 @@ pub fn walk_sequence(model: &Model, segments: &[Segment]) -> Result<SequenceWalk
                 let plan = planner::plan::plan(model, &s.params).with_context(|| {
                     format!("planning segment {} of {}", slots.len() + 1, model.name)
                 })?;
-                tables.push(walk_table(&plan, &format!("seq{}", plans.len()))?);
+                tables.push(
+                    walk_table(&plan, &format!("seq{}", plans.len()))?
+                        .bytes()
+                        .to_vec(),
+                );
                 plans.push((s.params.clone(), PlannedTurn::of(&plan)));
                 plans.len() - 1
             }

@@ -176,7 +176,7 @@ pub fn walk_turn(model: &Model, params: &StepParams, steps: u32) -> Result<TurnW
     let table = walk_table(&plan, "turn")?;
     let robot = PhysicsRobot::new(model, &planner::terrain::Ground::Flat)?;
     let walk = Walk {
-        tables: vec![(0, table.as_slice())],
+        tables: vec![(0, table.bytes())],
         play: PlayCommand::forward(0, Steps::Count(steps)),
         queue: Vec::new(),
         what: format!("the curve of {steps} steps"),

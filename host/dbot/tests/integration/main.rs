@@ -44,4 +44,4 @@ mod validation_doc;
 
 /// The tests' way through the rules to a board, shared with the other host crates' tests.
 #[path = "../../../board/tests/gate/mod.rs"]
-mod gate;
+pub mod gate;

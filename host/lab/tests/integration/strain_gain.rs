@@ -36,7 +36,7 @@ fn a_known_gain_is_fitted_back() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("trials");
     let mut board = physics::open("virtual").unwrap();
-    board.upload(0, &bytes, |_, _| {}).unwrap();
+    gate::upload(&mut board, 0, &bytes).unwrap();
     let req = TrialRequest {
         out: out.clone(),
         trial: Some("known gain".to_owned()),
@@ -112,3 +112,5 @@ fn a_known_gain_is_fitted_back() {
         assert!(f.rms_residual_counts.unwrap() < 1e-9, "{f:?}");
     }
 }
+
+use crate::gate;

@@ -307,3 +307,5 @@ fn a_fault_during_the_recording_ends_the_trial_as_faulted() {
     assert!(readme.contains(&format!("build {build})")), "{readme}");
     assert!(!readme.contains("build 00000000"), "{readme}");
 }
+
+use crate::gate;

@@ -21,4 +21,4 @@ mod walk_log;
 
 /// The tests' way through the rules to a board, shared with the other host crates' tests.
 #[path = "../../../board/tests/gate/mod.rs"]
-mod gate;
+pub mod gate;
