@@ -51,7 +51,10 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     // 7: Request::SetPlatform / ClearPlatform / GetPlatform, Response::Platform,
     //    ProtocolError::Platform appended, Telemetry::platform added at the end (the perturbation
     //    platform's servo).
-    assert_eq!(PROTOCOL_VERSION, 7);
+    // 8: Request::SetHealthLimits, Setting::HealthLimits appended; Telemetry::health,
+    //    Status::health_warning / health_stop, Settings::health added at the end (heat and
+    //    supply of the servos).
+    assert_eq!(PROTOCOL_VERSION, 8);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 
