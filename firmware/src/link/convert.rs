@@ -114,6 +114,10 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
                 present: p.present,
                 flags: p.flags,
             }),
+            health: r.health[..usize::from(r.joint_count).min(r.health.len())]
+                .iter()
+                .copied()
+                .collect(),
         })
     }
 }
