@@ -15,6 +15,7 @@ fn record(time_us: u64, cycle: u32) -> Telemetry {
         joints: heapless::Vec::new(),
         bus: BusStats::default(),
         platform: None,
+        health: heapless::Vec::new(),
     }
 }
 

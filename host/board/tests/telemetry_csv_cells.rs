@@ -2,7 +2,7 @@
 //! carries no goal (the firmware's goal register then holds -pi, which is not a command).
 
 use board::record::{JointMeta, Recorder};
-use protocol::{BusStats, JointFeedback, Telemetry, feedback_flags};
+use protocol::{BusStats, JointFeedback, ServoHealth, Telemetry, feedback_flags};
 
 #[test]
 fn torque_off_rows_have_an_empty_goal() {
@@ -32,6 +32,16 @@ fn torque_off_rows_have_an_empty_goal() {
         joints,
         bus: BusStats::default(),
         platform: None,
+        // Joint 0 not read yet; joint 1's servo at 47 degC on 11.8 V.
+        health: [
+            ServoHealth::default(),
+            ServoHealth {
+                temperature_c: 47,
+                voltage_dv: 118,
+            },
+        ]
+        .into_iter()
+        .collect(),
     })
     .unwrap();
     drop(rec);
@@ -48,4 +58,7 @@ fn torque_off_rows_have_an_empty_goal() {
     // Torque on: the goal, 1e-4 rad units, to four decimals.
     assert_eq!(&rows[1][col], "-3.1415");
     assert_eq!(&rows[1][7], "0.5000");
+    // Heat and supply: empty until the servo is first read, then degC and V.
+    assert_eq!((&rows[0][17], &rows[0][18]), ("", ""));
+    assert_eq!((&rows[1][17], &rows[1][18]), ("47", "11.8"));
 }

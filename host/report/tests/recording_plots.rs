@@ -84,6 +84,8 @@ fn rows() -> Vec<Row> {
                 bus_cycle_us: 5000,
                 platform_goal_ticks: None,
                 platform_present_ticks: None,
+                temperature_c: None,
+                input_voltage_v: None,
             });
         }
     }

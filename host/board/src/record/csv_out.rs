@@ -10,7 +10,7 @@ use protocol::units::angle_to_rad;
 use super::joints::JointMeta;
 
 /// Column names of the CSV, in order.
-pub const CSV_HEADER: [&str; 17] = [
+pub const CSV_HEADER: [&str; 19] = [
     "time_s",
     "cycle",
     "step",
@@ -28,11 +28,17 @@ pub const CSV_HEADER: [&str; 17] = [
     "bus_cycle_us",
     "platform_goal_ticks",
     "platform_present_ticks",
+    "temperature_c",
+    "input_voltage_v",
 ];
 
 /// Columns of the telemetry CSV written before the platform's (trials of the first format
 /// version without them are read with the platform unknown).
 pub const CSV_HEADER_BEFORE_PLATFORM: usize = 15;
+
+/// Columns of the telemetry CSV written before the servos' heat and supply (protocol version 8):
+/// such trials are read with temperature and voltage unknown.
+pub const CSV_HEADER_BEFORE_HEALTH: usize = 17;
 
 /// One row: one joint in one bus cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,6 +68,11 @@ pub struct Row {
     pub platform_goal_ticks: Option<u16>,
     /// The platform servo's present position, ticks (`None`: no platform set up).
     pub platform_present_ticks: Option<u16>,
+    /// The servo's last Present Temperature, degC (`None`: not read yet; the board reads one
+    /// servo per bus cycle in turn, so a value can be a round of the chain old).
+    pub temperature_c: Option<u8>,
+    /// The servo's last Present Input Voltage, V (`None`: not read yet).
+    pub input_voltage_v: Option<f64>,
 }
 
 /// What the columns of telemetry.csv mean: written as README.md beside it.
@@ -122,6 +133,7 @@ impl Recorder {
         self.latest_s = time_s;
         for (j, f) in t.joints.iter().enumerate() {
             let meta = self.joints.get(j);
+            let health = t.health.get(j).filter(|h| h.is_read());
             let commanded_rad = angle_to_rad(f.commanded);
             let modelled_nm = meta.and_then(|m| m.modelled_nm.get(usize::from(t.slice)).copied());
             // With torque off the goal is not driven (the firmware reports whatever it holds), so it
@@ -149,13 +161,15 @@ impl Recorder {
                 bus_cycle_us: t.bus.cycle_us,
                 platform_goal_ticks: t.platform.map(|p| p.goal),
                 platform_present_ticks: t.platform.map(|p| p.present),
+                temperature_c: health.map(|h| h.temperature_c),
+                input_voltage_v: health.map(|h| f64::from(h.voltage_dv) / 10.0),
             };
             let name = meta.map_or_else(|| format!("J{j}"), |m| m.name.clone());
             let ticks = |v: Option<u16>| v.map_or(String::new(), |x| x.to_string());
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
             writeln!(
                 self.out,
-                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{}",
+                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{},{},{}",
                 row.time_s,
                 row.cycle,
                 row.step,
@@ -173,7 +187,10 @@ impl Recorder {
                 row.flags,
                 row.bus_cycle_us,
                 ticks(row.platform_goal_ticks),
-                ticks(row.platform_present_ticks)
+                ticks(row.platform_present_ticks),
+                row.temperature_c.map_or(String::new(), |t| t.to_string()),
+                row.input_voltage_v
+                    .map_or(String::new(), |v| format!("{v:.1}"))
             )?;
             self.rows.push(row);
         }

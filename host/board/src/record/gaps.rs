@@ -66,6 +66,8 @@ mod tests {
             bus_cycle_us: 0,
             platform_goal_ticks: None,
             platform_present_ticks: None,
+            temperature_c: None,
+            input_voltage_v: None,
         }
     }
 

@@ -14,7 +14,10 @@ pub use capture::{
     CaptureError, Ended, Until, capture, capture_until_standing, capture_while,
     check_telemetry_rate, set_recording_rate,
 };
-pub use csv_out::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Recorder, Row, TELEMETRY_README};
+pub use csv_out::{
+    CSV_HEADER, CSV_HEADER_BEFORE_HEALTH, CSV_HEADER_BEFORE_PLATFORM, Recorder, Row,
+    TELEMETRY_README,
+};
 pub use gaps::{missing_cycles, missing_words};
 pub use joints::{JointMeta, joints_of_table};
 pub use names::{joint_names, joint_names_by_ids};

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::error::TrialError;
 use super::folder::{TELEMETRY_CSV, TRIAL_JSON};
 use super::meta::{TRIAL_FORMAT, TrialMeta};
-use crate::record::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, Row};
+use crate::record::{CSV_HEADER, CSV_HEADER_BEFORE_HEALTH, CSV_HEADER_BEFORE_PLATFORM, Row};
 
 /// A trial read back.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,9 +64,12 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
     };
     let mut lines = text.lines().enumerate();
     let header = lines.next().map(|(_, l)| l).unwrap_or_default();
-    // A trial written before the platform's columns: the platform is unknown.
+    // A trial written before the platform's columns: the platform is unknown; before the heat
+    // and supply columns: temperature and voltage are unknown.
     let columns = if header == CSV_HEADER.join(",") {
         CSV_HEADER.len()
+    } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_HEALTH].join(",") {
+        CSV_HEADER_BEFORE_HEALTH
     } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_PLATFORM].join(",") {
         CSV_HEADER_BEFORE_PLATFORM
     } else {
@@ -151,6 +154,14 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
                 bus_cycle_us: fit(int(14)?).ok_or_else(|| ranged(14, int(14).ok()))?,
                 platform_goal_ticks: tick(15)?,
                 platform_present_ticks: tick(16)?,
+                temperature_c: match cells.get(17) {
+                    None | Some(&"") => None,
+                    Some(_) => Some(fit(int(17)?).ok_or_else(|| ranged(17, int(17).ok()))?),
+                },
+                input_voltage_v: match cells.get(18) {
+                    None | Some(&"") => None,
+                    Some(_) => Some(num(18)?),
+                },
             })
         })
         .collect()
