@@ -62,6 +62,9 @@ step "firmware release image for thumbv6m-none-eabi"
 (cd firmware && cargo build --release --locked)
 cargo run --quiet --locked -p hil-tests --bin firmware-size -- target/thumbv6m-none-eabi/release/firmware
 
+step "on-target tests (hil-tests/on-target, embedded-test) build for thumbv6m-none-eabi"
+(cd hil-tests/on-target && cargo build --tests --locked)
+
 step "emulated board for pytest: hil-emulator and hil-bus (the firmware image is built above)"
 cargo build --quiet --locked -p hil-tests --bins
 

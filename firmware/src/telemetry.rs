@@ -50,6 +50,8 @@ pub struct Record {
     pub overruns: u32,
     /// The perturbation platform's servo, while one is set up and checked.
     pub platform: Option<PlatformSample>,
+    /// Each joint's servo's last heat and supply reading (zeros: not read yet).
+    pub health: [protocol::ServoHealth; MAX_JOINTS],
 }
 
 /// The platform servo in a record. Positions in servo ticks.

@@ -109,7 +109,8 @@ fn take_traffic(tap: &Tap) -> Traffic {
     // Status packets: ERR, then the data from register 126 on.
     let at = 1 + usize::from(PRESENT_POSITION.addr - FEEDBACK_ADDR);
     packets(&tap.heard.borrow_mut().split_off(0), |id, inst, params| {
-        if inst == STATUS {
+        // (A heat and supply read's status, 3 data bytes, is not feedback.)
+        if inst == STATUS && params.len() >= at + 4 {
             let b = &params[at..at + 4];
             t.present
                 .insert(id, i32::from_le_bytes([b[0], b[1], b[2], b[3]]));

@@ -150,7 +150,10 @@ impl ServoBus {
     /// ([`dynamixel::sim::Faults`]): `{"silent": [id, bool]}` (executes, never replies),
     /// `{"corrupt": [id, bool]}` (every reply with a bad CRC) or `{"corrupt": [id, n]}` (the next n
     /// replies), `{"stuck": [id, bool]}` (output jammed: position frozen, goals accepted, no error
-    /// bit); and `{"noise": {"bytes": n, "headers": k}}` ([`Self::queue_noise`]).
+    /// bit); `{"noise": {"bytes": n, "headers": k}}` ([`Self::queue_noise`]); and the heat knobs
+    /// ([`dynamixel::sim::thermal`], ESTIMATE): `{"thermal": [id, K/W, s]}` (thermal resistance
+    /// and time constant of one servo: a high resistance makes it heat fast) and
+    /// `{"temperature": [id, degC]}` (its winding's temperature now).
     pub fn control(&mut self, msg: &Value) -> Result<()> {
         let flag = |v: &Value, what: &str| {
             v.as_bool()
@@ -192,6 +195,25 @@ impl ServoBus {
             let id = v[0].as_u64().context("external_torque[0]: servo id")? as u8;
             let nm = v[1].as_f64().context("external_torque[1]: N m")?;
             self.chain.set_external_torque(id, nm)?;
+        } else if let Some(v) = msg.get("thermal") {
+            let id = v[0].as_u64().context("thermal[0]: servo id")? as u8;
+            let r = v[1].as_f64().filter(|x| *x > 0.0);
+            let tau = v[2].as_f64().filter(|x| *x > 0.0);
+            let (Some(r), Some(tau)) = (r, tau) else {
+                bail!("thermal: [id, K/W > 0, time constant s > 0], got {v}");
+            };
+            self.chain.set_thermal(
+                id,
+                dynamixel::sim::Thermal {
+                    r_th_k_per_w: r,
+                    tau_s: tau,
+                    ..dynamixel::sim::Thermal::MX
+                },
+            )?;
+        } else if let Some(v) = msg.get("temperature") {
+            let id = v[0].as_u64().context("temperature[0]: servo id")? as u8;
+            let t = v[1].as_f64().context("temperature[1]: degC")?;
+            self.chain.servo_mut(id)?.set_temperature_c(t);
         } else if let Some(code) = msg.get("return_delay") {
             self.chain
                 .set_return_delay_all(code.as_u64().context("return_delay: code")? as u8);

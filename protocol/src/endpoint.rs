@@ -15,9 +15,9 @@
 use crate::MAX_CHUNK_LEN;
 use crate::gait::GaitHeader;
 use crate::message::{
-    DeviceInfo, JointIds, PlatformSetup, PlatformStatus, PlayCommand, ProtocolError, QueueCommand,
-    Request, Response, ServoSelect, Settings, SlotInfo, Status, SteerCommand, SteerFamily,
-    StreamConfig,
+    DeviceInfo, HealthLimits, JointIds, PlatformSetup, PlatformStatus, PlayCommand, ProtocolError,
+    QueueCommand, Request, Response, ServoSelect, Settings, SlotInfo, Status, SteerCommand,
+    SteerFamily, StreamConfig,
 };
 pub use crate::reply::{ChunkAccepted, Committed};
 use crate::reply::{IntoResponse, Reply};
@@ -208,4 +208,6 @@ endpoints! {
     ClearPlatform => (), clear_platform;
     /// The platform set up and its servo's state (`None`: none is set).
     GetPlatform => Option<PlatformStatus>, get_platform;
+    /// Heat and supply limits: warn, and stop a walk at the end of its step.
+    SetHealthLimits(HealthLimits) => (), set_health_limits;
 }

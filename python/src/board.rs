@@ -233,6 +233,23 @@ impl Board {
     fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.with(py, |l| l.status())?;
         let d = records::status_dict(py, &s)?;
+        // The servos' heat and supply: the worst warning now, the servo that stopped the last
+        // walk (None: none), named as `dbot status` names them.
+        let names = if s.health_warning.is_some() || s.health_stop.is_some() {
+            let n = self.with(py, |l| l.settings())?.joints.len();
+            self.naming().names(n)
+        } else {
+            Vec::new()
+        };
+        for (key, alarm) in [
+            ("health_warning", s.health_warning),
+            ("health_stop", s.health_stop),
+        ] {
+            match alarm {
+                Some(a) => d.set_item(key, records::health_alarm_dict(py, &a, &names)?)?,
+                None => d.set_item(key, py.None())?,
+            }
+        }
         // Asked afresh (not the slots of `info()`, read at open): an upload since clears a mark.
         let store = self.with(py, |l| l.gaits().map(|g| store_health(&g)))?;
         d.set_item("store", store)?;
@@ -539,6 +556,37 @@ impl Board {
     /// follows `enter_streaming(feedback_every=...)` instead.
     fn set_telemetry(&self, py: Python<'_>, every: u16) -> PyResult<()> {
         self.with(py, move |l| l.set_telemetry(every))
+    }
+
+    /// The servos' heat and supply limits: warn at `warn_temp_c`, stop a walk at the end of its
+    /// step at `stop_temp_c` (degC; defaults 70 and 75, below the servos' own 80); warn at
+    /// `warn_low_v` / `warn_high_v`, stop at `stop_low_v` / `stop_high_v` (V; defaults 10.5 /
+    /// 14.8 and 10.0 / 15.5, inside the servos' own 9.5 to 16.0). Unnamed limits keep the
+    /// board's. Refused (ValueError) in the words of `dbot set`. Returns the limits as set.
+    #[pyo3(signature = (warn_temp_c = None, stop_temp_c = None, warn_low_v = None, stop_low_v = None, warn_high_v = None, stop_high_v = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_health_limits(
+        &self,
+        py: Python<'_>,
+        warn_temp_c: Option<f64>,
+        stop_temp_c: Option<f64>,
+        warn_low_v: Option<f64>,
+        stop_low_v: Option<f64>,
+        warn_high_v: Option<f64>,
+        stop_high_v: Option<f64>,
+    ) -> PyResult<String> {
+        let args = board::health::HealthLimitArgs {
+            warn_temperature_c: warn_temp_c,
+            stop_temperature_c: stop_temp_c,
+            warn_low_v,
+            stop_low_v,
+            warn_high_v,
+            stop_high_v,
+        };
+        let cur = self.with(py, |l| l.settings())?.health;
+        let limits = board::health::health_limits(cur, &args).map_err(value_error)?;
+        self.with(py, move |l| l.set_health_limits(limits))?;
+        Ok(board::health::limits_line(&limits))
     }
 
     /// Bus baud rate (bit/s) and bus cycle rate (Hz); only while not moving. A baud change is

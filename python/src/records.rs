@@ -80,6 +80,53 @@ pub fn telemetry_dict<'py>(
     }
     let rows: Vec<&[JointFeedback]> = recs.iter().map(|t| t.joints.as_slice()).collect();
     joint_columns(py, &d, &rows, naming)?;
+    // Each servo's last heat and supply reading ([record, joint]; NaN until first read).
+    let j = rows.iter().map(|r| r.len()).max().unwrap_or(0);
+    let health = |g: &dyn Fn(&protocol::ServoHealth) -> f64| {
+        Array2::from_shape_fn((recs.len(), j), |(i, k)| {
+            recs[i]
+                .health
+                .get(k)
+                .filter(|h| h.is_read())
+                .map_or(f64::NAN, g)
+        })
+        .to_pyarray(py)
+    };
+    d.set_item("temperature_c", health(&|h| f64::from(h.temperature_c)))?;
+    d.set_item(
+        "input_voltage_v",
+        health(&|h| f64::from(h.voltage_dv) / 10.0),
+    )?;
+    Ok(d)
+}
+
+/// A heat or supply alarm as a dict: `joint`, `id`, `kind` (`"hot"`, `"low_voltage"`,
+/// `"high_voltage"`), `level` (`"warn"`, `"stop"`), `value` and `limit` (degC or V), `message`
+/// (the words `dbot status` prints, naming the joint by `names`).
+pub fn health_alarm_dict<'py>(
+    py: Python<'py>,
+    a: &protocol::HealthAlarm,
+    names: &[String],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("joint", a.joint)?;
+    d.set_item("id", a.id)?;
+    let (kind, scale) = match a.kind {
+        protocol::HealthKind::Hot => ("hot", 1.0),
+        protocol::HealthKind::LowVoltage => ("low_voltage", 0.1),
+        protocol::HealthKind::HighVoltage => ("high_voltage", 0.1),
+    };
+    d.set_item("kind", kind)?;
+    d.set_item(
+        "level",
+        match a.level {
+            protocol::HealthLevel::Warn => "warn",
+            protocol::HealthLevel::Stop => "stop",
+        },
+    )?;
+    d.set_item("value", f64::from(a.value) * scale)?;
+    d.set_item("limit", f64::from(a.limit) * scale)?;
+    d.set_item("message", board::health::alarm_line(a, names))?;
     Ok(d)
 }
 

@@ -4,6 +4,7 @@
 //! pseudo-terminal server of `dbot sim-bus` put these on a timeline.
 
 use super::servo::{Faults, VirtualServo};
+use super::thermal::{Supply, Thermal};
 use crate::control_table as ct;
 use crate::encode;
 use crate::instruction::{BROADCAST_ID, Instruction, StatusError};
@@ -39,6 +40,8 @@ pub enum ChainError {
 #[derive(Debug, Clone, PartialEq)]
 pub struct VirtualChain {
     servos: Vec<VirtualServo>,
+    /// The supply all servos share (ESTIMATE, [`super::thermal`]).
+    pub supply: Supply,
 }
 
 /// The servo IDs of Drosophibot II's MX-64(2.0), the six CTr joints (legs LF, LM, LH, RF, RM, RH;
@@ -61,7 +64,10 @@ impl VirtualChain {
             }
             out.push(VirtualServo::new(id, model, code, 2048));
         }
-        Ok(Self { servos: out })
+        Ok(Self {
+            servos: out,
+            supply: Supply::DEFAULT,
+        })
     }
 
     /// `n` servos with IDs 1..=n; IDs in [`DROSOPHIBOT_CTR_IDS`] are MX-64(2.0), others MX-28(2.0).
@@ -125,10 +131,22 @@ impl VirtualChain {
         Ok(())
     }
 
-    /// Advances every motor by `dt_s` seconds.
+    /// Replaces the thermal body of servo `id` (a high `r_th_k_per_w` makes it heat fast).
+    pub fn set_thermal(&mut self, id: u8, thermal: Thermal) -> Result<(), ChainError> {
+        self.servo_mut(id)?.thermal = thermal;
+        Ok(())
+    }
+
+    /// Advances every motor by `dt_s` seconds, then heats each servo at its motor current and
+    /// sets every servo's input voltage from the chain's total current ([`super::thermal`]).
     pub fn step(&mut self, dt_s: f64) {
         for s in &mut self.servos {
             s.step(dt_s);
+        }
+        let total: f64 = self.servos.iter().map(|s| s.motor_current_a()).sum();
+        let volts = self.supply.at_servos(total);
+        for s in &mut self.servos {
+            s.heat(dt_s, volts);
         }
     }
 

@@ -2,6 +2,7 @@
 //! model of [`super::physics`], and the faults a test can switch on.
 
 use super::physics::{self, MotorInput, MotorState};
+use super::thermal::{self, Thermal};
 use crate::control_table::{self as ct, Field, hardware_error};
 use crate::instruction::StatusError;
 use crate::model::ServoModel;
@@ -114,6 +115,11 @@ pub struct VirtualServo {
     /// The output is moved by an external plant (a rigid-body simulation) that sets the motor
     /// state with [`Self::set_motor_state`]; [`Self::step`] then leaves it alone.
     pub external_plant: bool,
+    /// The thermal body behind Present Temperature (ESTIMATE, [`super::thermal`]); a test raises
+    /// `r_th_k_per_w` to make one servo heat fast.
+    pub thermal: Thermal,
+    /// Winding temperature, degC (Present Temperature is its rounded value).
+    temperature_c: f64,
 }
 
 impl VirtualServo {
@@ -129,6 +135,8 @@ impl VirtualServo {
             external_torque_nm: 0.0,
             faults: Faults::default(),
             external_plant: false,
+            thermal: Thermal::MX,
+            temperature_c: Thermal::MX.ambient_c,
         };
         s.factory_defaults();
         s.put(ct::ID, id as u32);
@@ -228,6 +236,8 @@ impl VirtualServo {
     pub fn reboot(&mut self) {
         self.reset_ram();
         self.refresh_present();
+        // Still hot after a reboot: the temperature is the winding's, not a RAM default.
+        self.refresh_health(None);
     }
 
     /// The motor state from an external plant (angle from tick 0, velocity and output torque toward
@@ -253,6 +263,47 @@ impl VirtualServo {
         };
         physics::step(&mut self.motor, &input, dt_s);
         self.refresh_present();
+    }
+
+    /// Motor current at the present output torque, A (ESTIMATE, [`thermal::motor_current_a`]).
+    pub fn motor_current_a(&self) -> f64 {
+        thermal::motor_current_a(self.model, self.motor.torque_nm)
+    }
+
+    /// Winding temperature, degC.
+    pub fn temperature_c(&self) -> f64 {
+        self.temperature_c
+    }
+
+    /// Sets the winding temperature (test setup); Present Temperature follows at once.
+    pub fn set_temperature_c(&mut self, t_c: f64) {
+        self.temperature_c = t_c;
+        self.refresh_health(None);
+    }
+
+    /// Heats the winding for `dt_s` seconds at the present motor current and sets Present Input
+    /// Voltage to `volts` (the chain's supply at the servos). Past the Temperature Limit the servo
+    /// latches the overheating error and, if its Shutdown register has that bit, drops torque.
+    pub fn heat(&mut self, dt_s: f64, volts: f64) {
+        let i = self.motor_current_a();
+        self.temperature_c = self.thermal.step_c(self.model, self.temperature_c, i, dt_s);
+        self.refresh_health(Some(volts));
+    }
+
+    fn refresh_health(&mut self, volts: Option<f64>) {
+        let t = self.temperature_c.round().clamp(0.0, 255.0) as u32;
+        self.put(ct::PRESENT_TEMPERATURE, t);
+        if let Some(v) = volts {
+            let dv = (v * 10.0).round().clamp(0.0, 65535.0) as u32;
+            self.put(ct::PRESENT_INPUT_VOLTAGE, dv);
+        }
+        if t > self.get(ct::TEMPERATURE_LIMIT) {
+            let e = self.hardware_error() | hardware_error::OVERHEATING;
+            self.put(ct::HARDWARE_ERROR_STATUS, e as u32);
+            if self.get(ct::SHUTDOWN) as u8 & hardware_error::OVERHEATING != 0 {
+                self.put(ct::TORQUE_ENABLE, 0);
+            }
+        }
     }
 
     fn refresh_present(&mut self) {

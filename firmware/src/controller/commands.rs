@@ -150,6 +150,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.joints = maps;
         self.selected = Some(Selected { slot, layout, crc });
         if !same_servos {
+            self.health.reset();
             self.known = [false; MAX_JOINTS];
             self.misses.reset();
             if self.state == State::Idle {
@@ -190,6 +191,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.play = Some(clock);
         self.steps_before = 0;
         self.host_quiet = 0;
+        self.health_stop = None;
         self.apply(Event::Start)
     }
 

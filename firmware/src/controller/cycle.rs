@@ -69,6 +69,10 @@ pub struct CyclePlan {
     /// The perturbation platform's servo and goal, while a checked platform is set up: it rides
     /// in the joints' goal Sync Write (and Sync Read) after them, and in their torque switches.
     pub platform: Option<Goal>,
+    /// `(joint, bus ID)` whose Present Input Voltage and Present Temperature the bus loop reads
+    /// after the action, if the cycle leaves time for it before the next start
+    /// ([`crate::bus_loop`]); one servo per cycle in turn.
+    pub health_read: Option<(u8, u8)>,
 }
 
 impl CyclePlan {
@@ -163,6 +167,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         self.flash_ops_at_plan = self.flash_ops;
         let action = self.next_action(dt);
         let platform = self.platform_goal(action);
+        let health_read = self.health_read_for(action);
         let (goals, n) = self.goal_list();
         let clamped = (0..n.min(32))
             .filter(|&j| self.clamped[j])
@@ -182,6 +187,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             gains: self.gain_list(action),
             gain_gen: self.gains_wanted,
             platform,
+            health_read,
         }
     }
 

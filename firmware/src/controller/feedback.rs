@@ -222,6 +222,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             if fb.alert {
                 f |= flags::ALERT;
             }
+            f |= self.health_flags(j);
             *s = JointSample {
                 commanded: plan.goals().get(j).map_or(self.goals[j], |g| g.position),
                 present: fb.position,
@@ -253,6 +254,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             crc_errors: self.counters.crc_errors,
             overruns: self.counters.overruns,
             platform: self.platform_sample(plan),
+            health: *self.health.readings(),
         };
         self.telemetry.push(record);
     }

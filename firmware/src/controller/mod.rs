@@ -9,6 +9,7 @@ mod cycle;
 mod feedback;
 #[cfg(test)]
 mod gain_wire_tests;
+mod health;
 #[cfg(test)]
 mod limits_tests;
 mod platform;
@@ -169,6 +170,10 @@ pub struct Controller<F> {
     counters: Counters,
     telemetry: DropQueue<Record, TELEMETRY_QUEUE>,
     telemetry_countdown: u16,
+    /// The servos' heat and supply ([`crate::safety::health`]), and the alarm that stopped the
+    /// last walk (until the next `Play`).
+    health: crate::safety::health::HealthWatch<MAX_JOINTS>,
+    health_stop: Option<protocol::HealthAlarm>,
 }
 
 impl<F: NorFlash + FlashWindow> Controller<F> {
@@ -212,6 +217,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             counters: Counters::default(),
             telemetry: DropQueue::new(),
             telemetry_countdown: 0,
+            health: crate::safety::health::HealthWatch::new(protocol::HealthLimits::DEFAULT),
+            health_stop: None,
         };
         if let Some(slot) = (0..c.store.slots()).find(|&s| c.store.table(s).is_some()) {
             // A table that fails validation just leaves the map empty; the host sees it in `list`.

@@ -115,6 +115,10 @@ pub fn telemetry<F: NorFlash + crate::store::FlashWindow>(
                 flags: p.flags,
             }),
             state: run_state(r.state),
+            health: r.health[..usize::from(r.joint_count).min(r.health.len())]
+                .iter()
+                .copied()
+                .collect(),
         })
     }
 }

@@ -181,6 +181,8 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
                 rejected_frames: self.rejected,
                 telemetry_dropped: c.telemetry_dropped(),
             },
+            health_warning: c.health_warning(),
+            health_stop: c.health_stop(),
         })
     }
 
@@ -305,6 +307,7 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
             cycle_hz: cfg.cycle_hz,
             telemetry_every: cfg.telemetry_every,
             joints,
+            health: c.health_limits(),
         })
     }
 
@@ -361,6 +364,15 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
 
     fn clear_fault(&mut self, _: ep::ClearFault) -> Result<(), ProtocolError> {
         self.c.clear_fault().map_err(command_error)
+    }
+
+    fn set_health_limits(&mut self, r: protocol::HealthLimits) -> Result<(), ProtocolError> {
+        self.c
+            .set_health_limits(r)
+            .map_err(|e| ProtocolError::InvalidSetting {
+                setting: protocol::Setting::HealthLimits,
+                value: e.value(),
+            })
     }
 
     fn set_telemetry(&mut self, r: ep::SetTelemetry) -> Result<(), ProtocolError> {

@@ -21,6 +21,9 @@
 //! `Switch` (a stop has been promised at the end of this step), and every state but Ramping and
 //! Walking drops the queue on entry, so a lost host or a fault never leaves a gait waiting.
 
+pub mod health;
+#[cfg(test)]
+mod health_tests;
 pub mod stuck;
 
 pub use stuck::{StuckDetector, StuckLimits};

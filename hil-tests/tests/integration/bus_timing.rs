@@ -61,15 +61,20 @@ fn measure(test: &str, baud: u32, cycle_hz: u16) -> Result<Option<Timing>> {
         lost as usize <= JOINTS * 2 * usize::from(cycle_hz) / 100,
         "{lost} servo replies timed out during the measurement: {after:?}"
     );
-    // A cycle starts with the first burst at least half a period after the previous cycle's start.
-    // Most cycles open with a Sync Write; some run another action (e.g. reading a servo's
-    // hardware error after boot trouble), so the instruction alone does not mark a cycle.
+    // A cycle starts with the first burst at least 0.9 of a period after the previous cycle's
+    // start (starts lie on the grid, late by microseconds; a cycle's later bursts, such as the
+    // heat and supply read in its slack, come well within the period). Most cycles open with a Sync Write; some run another action (e.g. a Sync Read only), so the
+    // instruction alone does not mark a cycle. A single Read is never a cycle's start here: it is
+    // the heat and supply read that follows a cycle's action in its slack (firmware bus_loop),
+    // on the same grid; the hardware error read that is a cycle's action comes only after a
+    // servo fault, which this measurement refuses.
+    const READ: u8 = 0x02;
     let period_ns = 1e9 / f64::from(cycle_hz);
     let mut cycles: Vec<&hil_tests::BusBurst> = Vec::new();
-    for b in &bursts {
+    for b in bursts.iter().filter(|b| b.instruction != Some(READ)) {
         let new_cycle = cycles
             .last()
-            .is_none_or(|c| (b.start - c.start).as_nanos() as f64 >= period_ns / 2.0);
+            .is_none_or(|c| (b.start - c.start).as_nanos() as f64 >= period_ns * 0.9);
         if new_cycle {
             cycles.push(b);
         }

@@ -459,3 +459,63 @@ fn bus_noise_bursts_are_survived_and_counted() -> Result<()> {
     );
     Ok(())
 }
+
+/// A servo heating over a walk (the chain's thermal knob: servo 3, an MX-64 carrying 1 N m, with
+/// 25x the default thermal resistance, started at 68 degC; ESTIMATE model, deterministic): the
+/// board warns at 70 degC (status and telemetry flag joint 2, its temperature in the record),
+/// then stops the walk at the end of its step at 75 degC naming the joint and servo, before the
+/// servo's own 80 degC shutdown (which would be a ServoError fault).
+#[test]
+fn a_heating_servo_warns_then_stops_the_walk_at_a_steps_end_naming_it() -> Result<()> {
+    let Some((board, mut link)) = walking("heat_stop")? else {
+        return Ok(());
+    };
+    let emu = board.emulator().context("emulator")?;
+    // Hand-worked: I = 4.1 A * 1 / 6.0 = 0.68 A, P = 0.68^2 * 12 / 4.1 = 1.37 W, steady at
+    // 36 + 1.37 * 200 = 310 degC, rising (310 - 70) / 60 = 4 K/s at 70: 75 about 1.8 s after
+    // 68 degC, 80 more than a second after that, longer than a step and a round of reads.
+    emu.bus_control(json!({"external_torque": [3, 1.0]}))?;
+    emu.bus_control(json!({"thermal": [3, 200.0, 60.0]}))?;
+    emu.bus_control(json!({"temperature": [3, 68.0]}))?;
+    let deadline = emu.sim_time()? + Duration::from_secs(6);
+    let started = Instant::now();
+    let (mut warned, mut hot_record, mut saw_stopping) = (None, None, false);
+    let stopped = loop {
+        let records = telemetry(&link.collect(Duration::from_millis(30))?);
+        for t in &records {
+            if t.joints[2].flags & feedback_flags::HEALTH_WARN != 0 && hot_record.is_none() {
+                hot_record = Some(t.health[2]);
+            }
+        }
+        let s: Status = link.request(&Request::GetStatus, T)?;
+        link.unsolicited.clear();
+        ensure!(
+            s.fault.is_none(),
+            "the servo's own limit was reached: {s:?}"
+        );
+        if warned.is_none() {
+            warned = s.health_warning;
+        }
+        saw_stopping |= s.state == RunState::Stopping;
+        if s.state == RunState::Standing {
+            break s;
+        }
+        ensure!(
+            emu.sim_time()? < deadline && started.elapsed() < Duration::from_secs(120),
+            "no stop within 6 s of simulated time: {s:?}"
+        );
+    };
+    let w = warned.context("no warning before the stop")?;
+    ensure!((w.joint, w.id) == (2, 3), "warning {w:?}");
+    let h = hot_record.context("no telemetry record flagged joint 2")?;
+    ensure!((70..75).contains(&h.temperature_c), "flagged record {h:?}");
+    ensure!(h.voltage_dv > 100, "supply {h:?}");
+    let stop = stopped.health_stop.context("the stop names no servo")?;
+    ensure!(
+        (stop.joint, stop.id, stop.kind, stop.limit) == (2, 3, protocol::HealthKind::Hot, 75),
+        "stop {stop:?}"
+    );
+    ensure!(saw_stopping || stopped.playback.is_none(), "{stopped:?}");
+    println!("heat: warned {w}; stopped {stop}");
+    Ok(())
+}

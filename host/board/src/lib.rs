@@ -9,6 +9,7 @@
 pub mod bench;
 pub mod bus;
 pub mod files;
+pub mod health;
 pub mod link;
 pub mod platform;
 pub mod port;

@@ -1,5 +1,5 @@
 //! `dbot set`: run-time settings of the board: servo stiffness (torque bias), bus cycle rate and
-//! baud, telemetry rate, torque, fault clearing. Flags override the setup file's values.
+//! baud, telemetry rate, the servos' heat and supply limits, torque, fault clearing. Flags override the setup file's values.
 
 use anyhow::bail;
 use board::link::LinkError;
@@ -14,7 +14,8 @@ use crate::common::words::state_name;
   dbot set --stiffness 8.4       # N m/rad, all joints
   dbot set --rate 150                  # Hz; only while not walking
   dbot set --baud 2000000 --rate 200   # bit/s: set the servos first (dbot dxl setup --new-baud)
-  dbot set --from-config          # stiffness, rate, baud of the setup file")]
+  dbot set --from-config          # stiffness, rate, baud of the setup file
+  dbot set --stop-temp 72 --warn-temp 65   # degC: warn, and stop a walk at the end of its step")]
 pub struct Args {
     /// Servo stiffness, N m/rad (all joints, or --joint): written to the servos' Position P Gain
     /// and used by the torque bias; 0 switches the bias off and leaves the gain. 0.0173 to 235.7:
@@ -40,6 +41,27 @@ pub struct Args {
     /// proprioception rate (`feedback_every`).
     #[arg(long)]
     pub telemetry_every: Option<u16>,
+    /// Warn when a servo's Present Temperature reaches this, degC (default 70).
+    #[arg(long, value_name = "DEGC")]
+    pub warn_temp: Option<f64>,
+    /// Stop a walk at the end of its step when a servo's temperature reaches this, degC
+    /// (default 75; below the servos' own 80 degC shutdown).
+    #[arg(long, value_name = "DEGC")]
+    pub stop_temp: Option<f64>,
+    /// Warn when a servo's Present Input Voltage falls to this, V (default 10.5).
+    #[arg(long, value_name = "V")]
+    pub warn_low_volts: Option<f64>,
+    /// Stop a walk at the end of its step when the input voltage falls to this, V (default 10.0;
+    /// above the servos' own 9.5 V).
+    #[arg(long, value_name = "V")]
+    pub stop_low_volts: Option<f64>,
+    /// Warn when the input voltage rises to this, V (default 14.8).
+    #[arg(long, value_name = "V")]
+    pub warn_high_volts: Option<f64>,
+    /// Stop a walk at the end of its step when the input voltage rises to this, V (default 15.5;
+    /// below the servos' own 16.0 V).
+    #[arg(long, value_name = "V")]
+    pub stop_high_volts: Option<f64>,
     /// Torque on (hold the present posture) or off.
     #[arg(long)]
     pub torque: Option<OnOff>,
@@ -96,7 +118,16 @@ impl Args {
             check_bus(b, r, ROBOT_SERVOS)
                 .map_err(|e| anyhow::anyhow!("--rate {r} --baud {b}: {e}"))?;
         }
-        let nothing = !self.clear_fault
+        let health = board::health::HealthLimitArgs {
+            warn_temperature_c: self.warn_temp,
+            stop_temperature_c: self.stop_temp,
+            warn_low_v: self.warn_low_volts,
+            stop_low_v: self.stop_low_volts,
+            warn_high_v: self.warn_high_volts,
+            stop_high_v: self.stop_high_volts,
+        };
+        let nothing = health.is_empty()
+            && !self.clear_fault
             && k.is_none()
             && rate.is_none()
             && baud.is_none()
@@ -104,7 +135,7 @@ impl Args {
             && self.torque.is_none();
         if nothing {
             bail!(
-                "nothing to set: give --stiffness, --rate, --baud, --telemetry-every, --torque or --clear-fault"
+                "nothing to set: give --stiffness, --rate, --baud, --telemetry-every, a heat or supply limit (--warn-temp, --stop-temp, --warn-low-volts, ...), --torque or --clear-fault"
             );
         }
         let mut s = self.board.connect()?;
@@ -147,6 +178,12 @@ impl Args {
         if let Some(e) = self.telemetry_every {
             s.board.set_telemetry(e)?;
             did.push(format!("telemetry every {e} cycles"));
+        }
+        if !health.is_empty() {
+            let cur = s.board.settings()?.health;
+            let limits = board::health::health_limits(cur, &health)?;
+            s.board.set_health_limits(limits)?;
+            did.push(board::health::limits_line(&limits));
         }
         if let Some(t) = self.torque {
             s.board.set_torque(ServoSelect::All, t == OnOff::On)?;

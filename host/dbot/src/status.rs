@@ -1,5 +1,6 @@
 //! `dbot status`: the board's state, a damaged gait store, fault, playback position, upload in
-//! progress and counters.
+//! progress, the servos' heat and supply (a warning, the servo that stopped the last walk) and
+//! counters.
 
 use crate::args::board::BoardArgs;
 use crate::common::words::state_name;
@@ -31,6 +32,26 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
     if let Some(f) = st.fault {
         println!("fault     {f}");
     }
+    if st.health_warning.is_some() || st.health_stop.is_some() {
+        // Joints named by their servo IDs through the setup's model (the built-in robot's
+        // without one).
+        let ids = s
+            .board
+            .joint_map(None)?
+            .map(|m| m.servo_ids.to_vec())
+            .unwrap_or_default();
+        let setup = board.setup()?;
+        let model = crate::common::model_spec::load_model(
+            setup.model.as_deref().unwrap_or("drosophibot2"),
+        )?;
+        let names = board::record::joint_names_by_ids(&model, &ids);
+        if let Some(a) = st.health_warning {
+            println!("warning   {}", board::health::alarm_line(&a, &names));
+        }
+        if let Some(a) = st.health_stop {
+            println!("stopped   {}", board::health::alarm_line(&a, &names));
+        }
+    }
     if let Some(p) = st.playback {
         println!(
             "playback  slot {} {}, step {} slice {}, period x{:.3}",
@@ -55,6 +76,7 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
         st.torque_enabled.count_ones(),
         set.joints.len()
     );
+    println!("health    {}", board::health::limits_line(&set.health));
     let c = st.counters;
     println!(
         "counters  {} cycles, {} missed deadlines, {} bus timeouts, {} CRC errors, {} rejected frames, {} telemetry dropped",

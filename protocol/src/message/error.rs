@@ -23,6 +23,8 @@ pub enum Setting {
     StreamTimeout,
     StreamFeedback,
     SetpointJoints,
+    /// Heat and supply limits (appended: protocol version 8).
+    HealthLimits,
 }
 
 impl Setting {
@@ -39,6 +41,7 @@ impl Setting {
             Setting::StreamTimeout => "stream timeout",
             Setting::StreamFeedback => "stream feedback",
             Setting::SetpointJoints => "setpoint joints",
+            Setting::HealthLimits => "health limits",
         }
     }
 }

@@ -5,6 +5,7 @@
 
 mod device;
 mod error;
+mod health;
 mod platform;
 mod request;
 mod status;
@@ -16,6 +17,10 @@ pub use device::{
     SlotInfo,
 };
 pub use error::{Fault, FaultKind, ProtocolError, Setting};
+pub use health::{
+    HealthAlarm, HealthKind, HealthLevel, HealthLimitError, HealthLimits, SERVO_MAX_VOLTAGE_DV,
+    SERVO_MIN_VOLTAGE_DV, SERVO_TEMPERATURE_LIMIT_C, ServoHealth,
+};
 pub use platform::{PlatformFeedback, PlatformMove, PlatformSetup, PlatformState, PlatformStatus};
 pub use request::{
     Direction, PlayCommand, QueueCommand, Request, ServoSelect, Steps, StreamConfig,

@@ -96,6 +96,10 @@ pub enum Request {
     ClearPlatform,
     /// Reply: `Platform`.
     GetPlatform,
+    /// Heat and supply limits, checked with [`crate::HealthLimits::check`] (refused with
+    /// `InvalidSetting { setting: HealthLimits, .. }`). Reply: `Ack`. (Appended: protocol
+    /// version 8.)
+    SetHealthLimits(crate::HealthLimits),
 }
 
 /// Which servos a command addresses.

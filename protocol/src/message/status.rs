@@ -116,6 +116,12 @@ pub struct Status {
     /// Bit j set when joint j's servo has torque on.
     pub torque_enabled: u32,
     pub counters: Counters,
+    /// The worst servo at or past a heat or supply warning limit now (appended: protocol
+    /// version 8), `None` when all are within.
+    pub health_warning: Option<super::HealthAlarm>,
+    /// The servo whose reading stopped the last walk at the end of its step, until the next
+    /// `Play` (appended: protocol version 8).
+    pub health_stop: Option<super::HealthAlarm>,
 }
 
 /// Run-time settings of one joint.
@@ -142,4 +148,6 @@ pub struct Settings {
     /// follows `StreamConfig::feedback_every` instead.
     pub telemetry_every: u16,
     pub joints: heapless::Vec<JointSettings, MAX_JOINTS>,
+    /// Heat and supply limits (appended: protocol version 8).
+    pub health: super::HealthLimits,
 }

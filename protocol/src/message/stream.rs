@@ -35,6 +35,11 @@ pub mod feedback_flags {
     pub const TORQUE_OFF: u8 = 1 << 3;
     /// The servo's status carried the Alert bit: a hardware error is latched (`GetStatus` names it).
     pub const ALERT: u8 = 1 << 4;
+    /// The servo's last heat or supply reading is at or past a warning limit
+    /// ([`crate::HealthLimits`]; appended: protocol version 8).
+    pub const HEALTH_WARN: u8 = 1 << 5;
+    /// ... at or past a stop limit: a walk stops at the end of its step.
+    pub const HEALTH_STOP: u8 = 1 << 6;
 }
 
 /// One joint's state in one bus cycle.
@@ -88,6 +93,9 @@ pub struct Telemetry {
     /// cycle after a fault stopped the robot, so a recording shows where the walk ended and why
     /// (`GetStatus` names the fault).
     pub state: super::RunState,
+    /// Each joint's servo's last heat and supply reading (appended: protocol version 8), in joint
+    /// order; read one servo per bus cycle, so a value can be up to one round of the chain old.
+    pub health: heapless::Vec<super::ServoHealth, MAX_JOINTS>,
 }
 
 /// Feedback of one bus cycle in streaming mode, every [`crate::StreamConfig::feedback_every`]

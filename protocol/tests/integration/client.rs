@@ -36,6 +36,8 @@ fn replies_are_matched_by_seq_and_kind() {
         upload: None,
         torque_enabled: 0x3F_FFFF,
         counters: Counters::default(),
+        health_warning: None,
+        health_stop: None,
     };
     let msg = |seq, response| DeviceMessage::Reply { seq, response };
     assert_eq!(
@@ -72,6 +74,7 @@ fn replies_are_matched_by_seq_and_kind() {
         bus: BusStats::default(),
         platform: None,
         state: RunState::Walking,
+        health: heapless::Vec::new(),
     });
     assert_eq!(reply::<()>(4, tel), Err(ReplyError::NotAReply));
 }

@@ -33,6 +33,9 @@ impl Handler for FakeBoard {
     fn set_platform(&mut self, _: PlatformSetup) -> Result<(), ProtocolError> {
         unsupported()
     }
+    fn set_health_limits(&mut self, _: HealthLimits) -> Result<(), ProtocolError> {
+        unsupported()
+    }
     fn clear_platform(&mut self, _: ep::ClearPlatform) -> Result<(), ProtocolError> {
         unsupported()
     }
@@ -53,6 +56,8 @@ impl Handler for FakeBoard {
             upload: None,
             torque_enabled: 0b11,
             counters: Counters::default(),
+            health_warning: None,
+            health_stop: None,
         })
     }
     fn list_gaits(&mut self, _: ep::ListGaits) -> Result<Slots, ProtocolError> {

@@ -51,7 +51,9 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     //    ProtocolError::Platform appended, Telemetry::platform added at the end (the perturbation
     //    platform's servo).
     // 8: Telemetry::state added at the end (the run state of every recorded cycle, so a
-    //    recording shows a fault).
+    //    recording shows a fault); Request::SetHealthLimits, Setting::HealthLimits appended;
+    //    Telemetry::health, Status::health_warning / health_stop, Settings::health added at the
+    //    end (heat and supply of the servos).
     assert_eq!(PROTOCOL_VERSION, 8);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }

@@ -186,6 +186,14 @@ fn the_largest_messages_fit_max_message_len() {
                 flags: u8::MAX,
             }),
             state: RunState::Streaming,
+            health: core::iter::repeat_n(
+                ServoHealth {
+                    temperature_c: u8::MAX,
+                    voltage_dv: u16::MAX,
+                },
+                MAX_JOINTS,
+            )
+            .collect(),
         }),
         DeviceMessage::Proprioception(Proprioception {
             time_us: u64::MAX,
@@ -255,6 +263,14 @@ fn the_largest_messages_fit_max_message_len() {
                     MAX_JOINTS,
                 )
                 .collect(),
+                health: HealthLimits {
+                    warn_temperature_c: u8::MAX,
+                    stop_temperature_c: u8::MAX,
+                    warn_low_dv: u16::MAX,
+                    stop_low_dv: u16::MAX,
+                    warn_high_dv: u16::MAX,
+                    stop_high_dv: u16::MAX,
+                },
             }),
         },
     ];

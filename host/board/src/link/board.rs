@@ -436,6 +436,11 @@ impl<T: Transport> Board<T> {
         self.call(ep::SetTorque { servos, enable })
     }
 
+    /// Heat and supply limits (checked on the board too: `InvalidSetting` "health limits").
+    pub fn set_health_limits(&mut self, limits: protocol::HealthLimits) -> Result<(), LinkError> {
+        self.call(limits)
+    }
+
     pub fn set_telemetry(&mut self, every: u16) -> Result<(), LinkError> {
         self.call(ep::SetTelemetry { every })
     }

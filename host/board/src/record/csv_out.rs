@@ -10,7 +10,7 @@ use protocol::{RunState, Telemetry};
 use super::joints::JointMeta;
 
 /// Column names of the CSV, in order.
-pub const CSV_HEADER: [&str; 18] = [
+pub const CSV_HEADER: [&str; 20] = [
     "time_s",
     "cycle",
     "step",
@@ -29,6 +29,8 @@ pub const CSV_HEADER: [&str; 18] = [
     "platform_goal_ticks",
     "platform_present_ticks",
     "run_state",
+    "temperature_c",
+    "input_voltage_v",
 ];
 
 /// Columns of the telemetry CSV written before the platform's (trials of the first format
@@ -38,6 +40,10 @@ pub const CSV_HEADER_BEFORE_PLATFORM: usize = 15;
 /// Columns of the telemetry CSV written before the run state's (trials without it are read with
 /// the state unknown).
 pub const CSV_HEADER_BEFORE_RUN_STATE: usize = 17;
+/// Columns of the telemetry CSV written before the servos' heat and supply (protocol version 8
+/// has both; a CSV with the run state and without them is read with temperature and voltage
+/// unknown).
+pub const CSV_HEADER_BEFORE_HEALTH: usize = 18;
 
 /// One row: one joint in one bus cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,6 +76,11 @@ pub struct Row {
     /// The board's run state in this cycle (`Walking`, ..., `Fault`); `None` in a CSV written
     /// before the column.
     pub state: Option<RunState>,
+    /// The servo's last Present Temperature, degC (`None`: not read yet; the board reads one
+    /// servo per bus cycle in turn, so a value can be a round of the chain old).
+    pub temperature_c: Option<u8>,
+    /// The servo's last Present Input Voltage, V (`None`: not read yet).
+    pub input_voltage_v: Option<f64>,
 }
 
 /// What the columns of telemetry.csv mean: written as README.md beside it.
@@ -130,6 +141,7 @@ impl Recorder {
         self.latest_s = time_s;
         for (j, f) in t.joints.iter().enumerate() {
             let meta = self.joints.get(j);
+            let health = t.health.get(j).filter(|h| h.is_read());
             let commanded_rad = angle_to_rad(f.commanded);
             let modelled_nm = meta.and_then(|m| m.modelled_nm.get(usize::from(t.slice)).copied());
             // With torque off the goal is not driven (the firmware reports whatever it holds), so it
@@ -160,13 +172,15 @@ impl Recorder {
                 platform_goal_ticks: t.platform.map(|p| p.goal),
                 platform_present_ticks: t.platform.map(|p| p.present),
                 state: Some(t.state),
+                temperature_c: health.map(|h| h.temperature_c),
+                input_voltage_v: health.map(|h| f64::from(h.voltage_dv) / 10.0),
             };
             let name = meta.map_or_else(|| format!("J{j}"), |m| m.name.clone());
             let ticks = |v: Option<u16>| v.map_or(String::new(), |x| x.to_string());
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
             writeln!(
                 self.out,
-                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{},{}",
+                "{:.6},{},{},{},{},{},{},{:.4},{:.3},{},{},{},{},{},{},{},{},{},{},{}",
                 row.time_s,
                 row.cycle,
                 row.step,
@@ -185,7 +199,10 @@ impl Recorder {
                 row.bus_cycle_us,
                 ticks(row.platform_goal_ticks),
                 ticks(row.platform_present_ticks),
-                t.state.key()
+                t.state.key(),
+                row.temperature_c.map_or(String::new(), |t| t.to_string()),
+                row.input_voltage_v
+                    .map_or(String::new(), |v| format!("{v:.1}"))
             )?;
             self.rows.push(row);
         }

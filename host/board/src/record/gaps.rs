@@ -67,6 +67,8 @@ mod tests {
             platform_goal_ticks: None,
             platform_present_ticks: None,
             state: None,
+            temperature_c: None,
+            input_voltage_v: None,
         }
     }
 

@@ -15,8 +15,8 @@ pub use capture::{
     check_telemetry_rate, set_recording_rate,
 };
 pub use csv_out::{
-    CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, CSV_HEADER_BEFORE_RUN_STATE, Recorder, Row,
-    TELEMETRY_README,
+    CSV_HEADER, CSV_HEADER_BEFORE_HEALTH, CSV_HEADER_BEFORE_PLATFORM, CSV_HEADER_BEFORE_RUN_STATE,
+    Recorder, Row, TELEMETRY_README,
 };
 pub use gaps::{missing_cycles, missing_words};
 pub use joints::{JointMeta, held_stiffness, joints_of_table};

@@ -6,7 +6,10 @@ use std::path::{Path, PathBuf};
 use super::error::TrialError;
 use super::folder::{TELEMETRY_CSV, TRIAL_JSON};
 use super::meta::{TRIAL_FORMAT, TrialMeta};
-use crate::record::{CSV_HEADER, CSV_HEADER_BEFORE_PLATFORM, CSV_HEADER_BEFORE_RUN_STATE, Row};
+use crate::record::{
+    CSV_HEADER, CSV_HEADER_BEFORE_HEALTH, CSV_HEADER_BEFORE_PLATFORM, CSV_HEADER_BEFORE_RUN_STATE,
+    Row,
+};
 use protocol::RunState;
 
 /// A trial read back.
@@ -65,9 +68,12 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
     };
     let mut lines = text.lines().enumerate();
     let header = lines.next().map(|(_, l)| l).unwrap_or_default();
-    // A trial written before the platform's (or the run state's) columns: they are unknown.
+    // A trial written before the platform's, the run state's or the heat and supply columns:
+    // what they hold is unknown.
     let columns = if header == CSV_HEADER.join(",") {
         CSV_HEADER.len()
+    } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_HEALTH].join(",") {
+        CSV_HEADER_BEFORE_HEALTH
     } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_RUN_STATE].join(",") {
         CSV_HEADER_BEFORE_RUN_STATE
     } else if header == CSV_HEADER[..CSV_HEADER_BEFORE_PLATFORM].join(",") {
@@ -162,6 +168,14 @@ fn read_rows(path: &Path, joints: &[String]) -> Result<Vec<Row>, TrialError> {
                             format!("column run_state: {name:?} is not a board run state"),
                         )
                     })?),
+                },
+                temperature_c: match cells.get(18) {
+                    None | Some(&"") => None,
+                    Some(_) => Some(fit(int(18)?).ok_or_else(|| ranged(18, int(18).ok()))?),
+                },
+                input_voltage_v: match cells.get(19) {
+                    None | Some(&"") => None,
+                    Some(_) => Some(num(19)?),
                 },
             })
         })

@@ -16,6 +16,7 @@ fn record(time_us: u64, cycle: u32) -> Telemetry {
         bus: BusStats::default(),
         platform: None,
         state: protocol::RunState::Walking,
+        health: heapless::Vec::new(),
     }
 }
 

@@ -2,7 +2,7 @@
 //! carries no goal (the firmware's goal register then holds -pi, which is not a command).
 
 use board::record::{JointMeta, Recorder};
-use protocol::{BusStats, JointFeedback, Telemetry, feedback_flags};
+use protocol::{BusStats, JointFeedback, ServoHealth, Telemetry, feedback_flags};
 
 #[test]
 fn torque_off_rows_have_an_empty_goal() {
@@ -33,6 +33,16 @@ fn torque_off_rows_have_an_empty_goal() {
         bus: BusStats::default(),
         platform: None,
         state: protocol::RunState::Walking,
+        // Joint 0 not read yet; joint 1's servo at 47 degC on 11.8 V.
+        health: [
+            ServoHealth::default(),
+            ServoHealth {
+                temperature_c: 47,
+                voltage_dv: 118,
+            },
+        ]
+        .into_iter()
+        .collect(),
     })
     .unwrap();
     drop(rec);
@@ -49,6 +59,9 @@ fn torque_off_rows_have_an_empty_goal() {
     // Torque on: the goal, 1e-4 rad units, to four decimals.
     assert_eq!(&rows[1][col], "-3.1415");
     assert_eq!(&rows[1][7], "0.5000");
+    // Heat and supply: empty until the servo is first read, then degC and V (after run_state).
+    assert_eq!((&rows[0][18], &rows[0][19]), ("", ""));
+    assert_eq!((&rows[1][18], &rows[1][19]), ("47", "11.8"));
 }
 
 /// One torque-on record of one joint: goal 0.3000 rad, slice 0, in `state`.
@@ -73,6 +86,7 @@ fn one_record(state: protocol::RunState) -> Telemetry {
         bus: BusStats::default(),
         platform: None,
         state,
+        health: heapless::Vec::new(),
     }
 }
 
@@ -102,6 +116,7 @@ fn planned_angle_subtracts_the_bias_at_the_stiffness_the_board_held() {
                 }]
                 .into_iter()
                 .collect(),
+                health: protocol::HealthLimits::DEFAULT,
             };
             board::record::held_stiffness(&mut joints, &settings);
         }

@@ -85,6 +85,8 @@ fn rows() -> Vec<Row> {
                 platform_goal_ticks: None,
                 platform_present_ticks: None,
                 state: None,
+                temperature_c: None,
+                input_voltage_v: None,
             });
         }
     }

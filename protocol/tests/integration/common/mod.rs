@@ -114,6 +114,7 @@ pub fn request() -> impl Strategy<Value = Request> {
         platform_setup().prop_map(Request::SetPlatform),
         Just(Request::ClearPlatform),
         Just(Request::GetPlatform),
+        health_limits().prop_map(Request::SetHealthLimits),
     ]
 }
 
@@ -434,8 +435,59 @@ pub fn status() -> impl Strategy<Value = Status> {
                 upload,
                 torque_enabled,
                 counters,
+                health_warning: None,
+                health_stop: None,
             },
         )
+        .prop_flat_map(|s| {
+            (
+                Just(s),
+                proptest::option::of(health_alarm()),
+                proptest::option::of(health_alarm()),
+            )
+        })
+        .prop_map(|(s, health_warning, health_stop)| Status {
+            health_warning,
+            health_stop,
+            ..s
+        })
+}
+
+pub fn health_alarm() -> impl Strategy<Value = HealthAlarm> {
+    let kind = prop_oneof![
+        Just(HealthKind::Hot),
+        Just(HealthKind::LowVoltage),
+        Just(HealthKind::HighVoltage)
+    ];
+    let level = prop_oneof![Just(HealthLevel::Warn), Just(HealthLevel::Stop)];
+    (any::<(u8, u8, u16, u16)>(), kind, level).prop_map(
+        |((joint, id, value, limit), kind, level)| HealthAlarm {
+            joint,
+            id,
+            kind,
+            level,
+            value,
+            limit,
+        },
+    )
+}
+
+pub fn health_limits() -> impl Strategy<Value = HealthLimits> {
+    any::<(u8, u8, u16, u16, u16, u16)>().prop_map(|(a, b, c, d, e, f)| HealthLimits {
+        warn_temperature_c: a,
+        stop_temperature_c: b,
+        warn_low_dv: c,
+        stop_low_dv: d,
+        warn_high_dv: e,
+        stop_high_dv: f,
+    })
+}
+
+pub fn servo_health() -> impl Strategy<Value = ServoHealth> {
+    any::<(u8, u16)>().prop_map(|(temperature_c, voltage_dv)| ServoHealth {
+        temperature_c,
+        voltage_dv,
+    })
 }
 
 pub fn settings() -> impl Strategy<Value = Settings> {
@@ -452,13 +504,17 @@ pub fn settings() -> impl Strategy<Value = Settings> {
         any::<u16>(),
         any::<u16>(),
         hvec(joint, MAX_JOINTS),
+        health_limits(),
     )
-        .prop_map(|(baud, cycle_hz, telemetry_every, joints)| Settings {
-            baud,
-            cycle_hz,
-            telemetry_every,
-            joints,
-        })
+        .prop_map(
+            |(baud, cycle_hz, telemetry_every, joints, health)| Settings {
+                baud,
+                cycle_hz,
+                telemetry_every,
+                joints,
+                health,
+            },
+        )
 }
 
 pub fn response() -> impl Strategy<Value = Response> {
@@ -505,9 +561,10 @@ pub fn device_message() -> impl Strategy<Value = DeviceMessage> {
         bus_stats(),
         proptest::option::of(platform_feedback()),
         run_state(),
+        hvec(servo_health(), MAX_JOINTS),
     )
         .prop_map(
-            |((time_us, cycle, step, slice), joints, bus, platform, state)| {
+            |((time_us, cycle, step, slice), joints, bus, platform, state, health)| {
                 DeviceMessage::Telemetry(Telemetry {
                     time_us,
                     cycle,
@@ -517,6 +574,7 @@ pub fn device_message() -> impl Strategy<Value = DeviceMessage> {
                     bus,
                     platform,
                     state,
+                    health,
                 })
             },
         );
