@@ -12,16 +12,20 @@ use crate::{Context, Result};
 
 /// `table` (named `what` in messages) checked for a walk on a simulated robot.
 pub fn checked(table: &[u8], what: &str) -> Result<CheckedTable> {
+    let (model, overrides) = rules()?;
+    board::rules::build::table_bytes(table.to_vec(), what, &model, overrides)
+        .with_context(|| format!("{what}: the step table"))
+}
+
+/// The model and the override every simulated walk's rules are checked with.
+fn rules() -> Result<(planner::model::Model, Overrides)> {
     let model = planner::model::builtin("drosophibot2")?;
-    board::rules::build::table_bytes(
-        table.to_vec(),
-        what,
-        &model,
+    Ok((
+        model,
         Overrides {
             allow_infeasible: true,
         },
-    )
-    .with_context(|| format!("{what}: the step table"))
+    ))
 }
 
 /// Plays `command` on a simulated robot under the period rule (with the override of
@@ -31,17 +35,9 @@ pub fn play<T: board::link::Transport>(
     command: protocol::PlayCommand,
     table: Option<&CheckedTable>,
 ) -> Result<()> {
-    let model = planner::model::builtin("drosophibot2")?;
-    let overrides = Overrides {
-        allow_infeasible: true,
-    };
-    let play = board::rules::period::check_play(
-        board,
-        command,
-        table.map(CheckedTable::bytes),
-        &model,
-        overrides,
-    )?;
+    let (model, overrides) = rules()?;
+    let known = table.map(CheckedTable::bytes);
+    let play = board::rules::period::check_play(board, command, known, &model, overrides)?;
     board.play(&play)?;
     Ok(())
 }
@@ -53,17 +49,9 @@ pub fn queue<T: board::link::Transport>(
     command: protocol::QueueCommand,
     table: Option<&CheckedTable>,
 ) -> Result<()> {
-    let model = planner::model::builtin("drosophibot2")?;
-    let overrides = Overrides {
-        allow_infeasible: true,
-    };
-    let queued = board::rules::period::check_queue(
-        board,
-        command,
-        table.map(CheckedTable::bytes),
-        &model,
-        overrides,
-    )?;
+    let (model, overrides) = rules()?;
+    let known = table.map(CheckedTable::bytes);
+    let queued = board::rules::period::check_queue(board, command, known, &model, overrides)?;
     board.queue_gait(&queued)?;
     Ok(())
 }
