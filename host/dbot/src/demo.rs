@@ -30,10 +30,8 @@ use planner::plan_dir;
 use crate::args::dynamics::DynamicsArgs;
 use crate::common::interrupt;
 use crate::common::output::replace;
-use crate::common::walk_summary::{
-    print_bias, print_body, print_fits, print_strain, print_tracking,
-};
 use lab::plan_dir_write::{PlanSource, write_plan_dir};
+use lab::walk_words::{print_bias, print_body, print_fits, print_strain, print_tracking};
 
 /// The demo's gait name in its plan directory and step table.
 const GAIT_NAME: &str = "dbII tripod";

@@ -56,5 +56,6 @@ pub mod walk_files;
 pub mod walk_fits;
 pub mod walk_sequence;
 pub mod walk_turn;
+pub mod walk_words;
 
 pub use error::{Context, LabError, Result};

@@ -11,5 +11,4 @@ pub mod model_spec;
 pub mod output;
 pub mod playback;
 pub mod session;
-pub mod walk_summary;
 pub mod words;

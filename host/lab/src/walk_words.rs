@@ -1,14 +1,15 @@
 //! The lines `dbot demo` prints about its walks: the body against the plan, the tracking error
 //! per leg, the plan-versus-simulation fits and what the torque bias buys. The figures come from
-//! `lab`; this file only words them.
+//! the walk modules beside this one; this file only words them, in the library so that every
+//! door (the CLI, Python) can print the same words.
 
 use std::fmt::Write as _;
 
+use crate::walk_bias::bias_gain;
+use crate::walk_body::{distance, leg_tracking, planned_per_step_m};
+use crate::walk_files::Walk;
+use crate::walk_fits::{Fit, r2_text};
 use board::record::Recorder;
-use lab::walk_bias::bias_gain;
-use lab::walk_body::{distance, leg_tracking, planned_per_step_m};
-use lab::walk_files::Walk;
-use lab::walk_fits::{Fit, r2_text};
 use physics::Figures;
 
 /// The body's figures of one walk against the plan (`lab::walk_body::distance`).
@@ -185,7 +186,7 @@ pub fn print_strain(s: &mut String, label: &str, fits: &[Fit], steps: u32) -> st
         s,
         "simulated gauges vs predicted strain (by the slice the firmware played, steps 2 to {steps}; strain_vs_plan.png)"
     )?;
-    writeln!(s, "  {}", lab::strain_walk::summary_line(label, fits))?;
+    writeln!(s, "  {}", crate::strain_walk::summary_line(label, fits))?;
     for chunk in fits.chunks(6) {
         let line = chunk
             .iter()
