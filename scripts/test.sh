@@ -9,7 +9,8 @@ export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 unset DBOT_HIL_OPTIONAL
 
 # Each step's wall time, printed as a table when the script ends, also when a step fails (EXIT trap):
-# the failing step is the last row, marked FAILED.
+# the failing step is the last row, marked FAILED; then nextest's summary line again, so the output
+# still ends with the runner's summary.
 step_names=()
 step_secs=()
 step_start=$SECONDS
@@ -36,7 +37,13 @@ print_times() {
         printf '%8d  %s%s\n' "${step_secs[i]}" "${step_names[i]}" "$mark"
     done
     printf '%8d  %s\n' "$SECONDS" "total"
+    # The output ends with the test runner's summary line, as it would without the table.
+    if [ -s "$summary_log" ]; then
+        grep -E '^ +Summary ' "$summary_log" | tail -n 1 || true
+    fi
+    rm -f "$summary_log"
 }
+summary_log=$(mktemp)
 trap print_times EXIT
 
 step "toolchain: thumbv6m-none-eabi target, rustfmt, clippy"
@@ -81,4 +88,4 @@ step "every command the docs give to reproduce a figure, in a quick mode (bench/
 bench/run.sh --quick
 
 step "all host-side tests (nextest)"
-cargo nextest run --workspace --locked --no-fail-fast
+cargo nextest run --workspace --locked --no-fail-fast 2>&1 | tee "$summary_log"
