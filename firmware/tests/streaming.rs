@@ -293,7 +293,7 @@ fn a_setpoint_1_rad_away_is_approached_at_the_servos_speed_never_jumped_to() {
         protocol::ServoModel::Mx64 => (43, 16),
     };
     let mut last: Vec<i32> = board.controller.borrow().goals().to_vec();
-    let mut arrived = vec![None; JOINTS];
+    let mut arrived = [None; JOINTS];
     for cycle in 1..=25 {
         wire.block_on(board.run_cycle());
         let goals = take_traffic(&tap)

@@ -330,8 +330,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 .sample_goals(sample, &old_k[..n], &mut old[..n], &mut cut[..n])
                 .is_some()
             {
-                for j in 0..n {
-                    self.bias_residual[j] += old[j] - goals[j];
+                for ((r, o), g) in self.bias_residual.iter_mut().zip(&old[..n]).zip(&*goals) {
+                    *r += o - g;
                 }
             }
             self.bias_k[..n].copy_from_slice(&self.stiffness[..n]);
