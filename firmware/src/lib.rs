@@ -34,6 +34,7 @@ pub mod bus_loop;
 pub mod controller;
 pub mod device_log;
 pub mod gait_view;
+pub mod goal_step;
 pub mod link;
 pub mod memory_map;
 pub mod pins;

@@ -242,9 +242,94 @@ fn standing_then_streaming(baud: u32, cycle_hz: u16) -> (TapBoard, SimWire, Tap,
         feedback_every: 1,
     });
     assert_eq!(ask(&mut board, &mut client, enter), Response::Ack);
+    // The board moves each goal toward a setpoint by at most the servo's step per cycle
+    // (firmware::goal_step: 18 ticks on an MX-28 at 200 Hz), and the standing posture is up to
+    // 0.7 rad (456 ticks) from setpoint 0's: settle there first, so that the consecutive
+    // setpoints of the tests, 0.01 rad (6.5 ticks) apart, each reach the wire in one cycle.
+    board.receive(&setpoint_frame(0), |_| panic!("setpoint 0 rejected"));
+    for _ in 0..40 {
+        wire.block_on(board.run_cycle());
+    }
+    let settled = take_traffic(&tap);
+    let goals = settled.goals.expect("a streaming cycle writes goals");
+    for j in 0..JOINTS {
+        let a = ticks_to_angle(&gait, j, goals[&(j as u8 + 1)]);
+        assert!(
+            (a - f64::from(angle(0, j))).abs() <= 2.0 * PI / 4096.0 * 1e4,
+            "joint {j} did not reach setpoint 0: {a:.1}"
+        );
+    }
     board.drain_telemetry(|_| {});
-    take_traffic(&tap);
     (board, wire, tap, gait)
+}
+
+/// Setpoint `seq` with every joint 1 rad (10 000 x 1e-4 rad) past its angle of setpoint 0.
+fn one_rad_on_frame(seq: u32) -> Vec<u8> {
+    let sp = Setpoint {
+        seq,
+        joints: (0..JOINTS)
+            .map(|j| JointSetpoint {
+                angle: angle(0, j) + 10_000,
+                torque: None,
+            })
+            .collect(),
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    Client::encode_setpoint(&sp, &mut buf).unwrap().to_vec()
+}
+
+#[test]
+fn a_setpoint_1_rad_away_is_approached_at_the_servos_speed_never_jumped_to() {
+    let (mut board, wire, tap, gait) = standing_then_streaming(1_000_000, 100);
+    let limited_before = board.controller.borrow().counters().rate_limited;
+    board.receive(&one_rad_on_frame(1), |_| panic!("setpoint rejected"));
+    // Per cycle at 100 Hz, by hand: no-load speed x 10 ms in ticks (4096 per turn), rounded
+    // down. MX-28: 55 rev/min x 4096 / 60 / 100 = 37.55 -> 37; MX-64: 63 x 4096 / 6000 = 43.01
+    // -> 43. 1 rad is 4096 / 2 pi = 651.9 ticks, so each goal is 651 or 652 ticks away (the two
+    // postures round separately): ceil(651.9 / 37) = 18 cycles on an MX-28 (17 x 37 = 629 falls
+    // short), ceil(651.9 / 43) = 16 on an MX-64 (15 x 43 = 645 falls short).
+    let step = |j: usize| match gait.joints[j].model {
+        protocol::ServoModel::Mx28 => (37, 18),
+        protocol::ServoModel::Mx64 => (43, 16),
+    };
+    let mut last: Vec<i32> = board.controller.borrow().goals().to_vec();
+    let mut arrived = [None; JOINTS];
+    for cycle in 1..=25 {
+        wire.block_on(board.run_cycle());
+        let goals = take_traffic(&tap)
+            .goals
+            .expect("a streaming cycle writes goals");
+        for j in 0..JOINTS {
+            let g = goals[&(j as u8 + 1)];
+            let moved = (g - last[j]).abs();
+            let (max, _) = step(j);
+            assert!(
+                moved <= max,
+                "cycle {cycle} joint {j}: moved {moved} > {max}"
+            );
+            if arrived[j].is_none() {
+                let a = ticks_to_angle(&gait, j, g);
+                if (a - f64::from(angle(0, j) + 10_000)).abs() <= 2.0 * PI / 4096.0 * 1e4 {
+                    arrived[j] = Some(cycle);
+                } else {
+                    // On the way, every cycle takes the whole step.
+                    assert_eq!(moved, max, "cycle {cycle} joint {j}");
+                }
+            }
+            last[j] = g;
+        }
+        // Keep the stream alive.
+        board.receive(&one_rad_on_frame(cycle + 1), |_| {
+            panic!("setpoint rejected")
+        });
+    }
+    for (j, a) in arrived.iter().enumerate() {
+        assert_eq!(*a, Some(step(j).1), "joint {j} arrival cycle");
+    }
+    let limited = board.controller.borrow().counters().rate_limited - limited_before;
+    // 17 cut cycles on each MX-28 and 15 on each MX-64.
+    let mx64 = (0..JOINTS).filter(|&j| step(j).0 == 43).count() as u32;
+    assert_eq!(limited, 17 * (JOINTS as u32 - mx64) + 15 * mx64);
 }
 
 /// Streams for `n` cycles, a setpoint in six of every seven at a phase spread over the period

@@ -633,7 +633,8 @@ impl Board {
 
     /// Stiffness of the servo of `joint` (joint-map index), N m/rad: the board writes it to the
     /// servo's Position P Gain and the torque bias divides by it; within the hardware's limits,
-    /// as `dbot set --stiffness` (protocol::limits).
+    /// as `dbot set --stiffness` (protocol::limits). While walking the goals do not step: the bias
+    /// moves to the new stiffness by at most the servo's one-cycle move per cycle.
     fn set_stiffness(&self, py: Python<'_>, joint: u8, stiffness_nm_rad: f64) -> PyResult<()> {
         // The library's rule, as `dbot set --stiffness` applies it: the board's unit range and
         // the P gain register of every servo model (0: the torque bias off).
@@ -823,8 +824,10 @@ impl Board {
     }
 
     /// Sends joint targets (rad, joint-map order: `Model.servo_joint_names`) and optional torque
-    /// feed-forward (N m) for the next bus cycle. Returns the setpoint's sequence number, echoed
-    /// in proprioception's `setpoint_seq`.
+    /// feed-forward (N m) from the next bus cycle on. Returns the setpoint's sequence number, echoed
+    /// in proprioception's `setpoint_seq`. The board moves each goal toward its target by at most
+    /// what the joint's servo moves in one cycle (no-load speed x cycle period: 37 ticks on an
+    /// MX-28 at 100 Hz), so a target farther away is reached over several cycles, not in one.
     #[pyo3(signature = (angles_rad, torques_nm = None))]
     fn send_setpoint(
         &self,

@@ -255,7 +255,9 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         Ok(())
     }
 
-    /// Stiffness of `joint`, mN m/rad; takes effect from the next cycle, also while walking. It is
+    /// Stiffness of `joint`, mN m/rad; takes effect from the next cycle, also while walking, where
+    /// the goals do not step: the goal difference the new bias makes is taken up at most the
+    /// servo's step per cycle ([`crate::goal_step`], `cycle::follow_stiffness`). It is
     /// the torque bias's divisor and, with torque on, the servo's Position P Gain
     /// (`dynamixel::units::p_gain_for_stiffness`, written once by the next bus cycle's
     /// `BusAction::WriteGains`, and at every torque-on). 0 switches the bias off and leaves the
@@ -352,6 +354,9 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         // No setpoint of this session yet: a number from an earlier one would name a setpoint
         // these cycles do not carry.
         self.stream.seq = 0;
+        // Until a setpoint comes, the goals stay where they are.
+        self.stream.target = self.goals;
+        self.stream.planned_target = self.planned;
         Ok(())
     }
 
@@ -360,7 +365,10 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
     }
 
     /// A streamed setpoint: per joint the angle (microradians) and optionally a torque (mN m) for the
-    /// bias. Ignored outside streaming.
+    /// bias. Refused outside streaming. The goals move toward it from the next cycle by at most
+    /// what the servo moves in one cycle ([`crate::goal_step::max_step_ticks`]: e.g. 37 ticks on
+    /// an MX-28 at 100 Hz); a setpoint further away is approached at that rate, never jumped to
+    /// (`Counters::rate_limited` counts the cut moves).
     pub fn setpoint(
         &mut self,
         seq: u32,
@@ -385,9 +393,9 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                 torque.unwrap_or(0),
                 self.stiffness[j],
             );
-            self.goals[j] = g;
+            self.stream.target[j] = g;
             self.clamped[j] = c;
-            self.planned[j] = crate::bias::goal_ticks(&self.joints[j], angle, 0, 0).0;
+            self.stream.planned_target[j] = crate::bias::goal_ticks(&self.joints[j], angle, 0, 0).0;
         }
         self.stream.seq = seq;
         self.stream.age = 0;

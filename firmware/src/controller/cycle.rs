@@ -147,6 +147,10 @@ pub enum Outcome {
 /// Streaming mode: latest setpoint goals and their age.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct Stream {
+    /// The last setpoint's goals and their planned angles (no bias), ticks: the goals move toward
+    /// them by at most the servo's step per cycle ([`crate::goal_step`]).
+    pub target: [i32; MAX_JOINTS],
+    pub planned_target: [i32; MAX_JOINTS],
     pub seq: u32,
     pub age: u16,
     pub timeout_cycles: u16,
@@ -266,6 +270,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
                     self.event(Event::Fault(SafeReason::SetpointTimeout));
                     return BusAction::ReadOnly;
                 }
+                self.stream_goals();
             }
             _ => {}
         }
@@ -290,6 +295,64 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
         }
     }
 
+    /// The per-cycle goal step of `joint` ([`crate::goal_step::max_step_ticks`]).
+    fn step_ticks(&self, joint: usize) -> i32 {
+        crate::goal_step::max_step_ticks(self.joints[joint].model, self.config.cycle_hz)
+    }
+
+    /// Streaming: each goal moves toward the last setpoint by at most the servo's step this cycle
+    /// (a setpoint far away is approached at the servo's no-load speed, never jumped to).
+    fn stream_goals(&mut self) {
+        let mut limited = 0u32;
+        for j in 0..self.joints.len() {
+            let step = self.step_ticks(j);
+            let (g, cut) = crate::goal_step::toward(self.goals[j], self.stream.target[j], step);
+            self.goals[j] = g;
+            self.planned[j] =
+                crate::goal_step::toward(self.planned[j], self.stream.planned_target[j], step).0;
+            limited += cut as u32;
+        }
+        self.counters.rate_limited = self.counters.rate_limited.wrapping_add(limited);
+    }
+
+    /// Walking: a stiffness change moves the torque bias, which would step the goals by
+    /// torque x (1/k_new - 1/k_old). At the first cycle after a change the difference between the
+    /// goals with the stiffness the bias had and with the new one becomes a residual added to
+    /// the new goals (so that cycle's goals are where the old bias had them), and the residual
+    /// shrinks toward 0 by at most the servo's step per cycle ([`crate::goal_step`]).
+    fn follow_stiffness(&mut self, sample: crate::playback::Sample, goals: &mut [i32]) {
+        let n = goals.len();
+        if self.bias_k[..n] != self.stiffness[..n] {
+            let old_k = self.bias_k;
+            let mut old = [0i32; MAX_JOINTS];
+            let mut cut = [false; MAX_JOINTS];
+            if self
+                .sample_goals(sample, &old_k[..n], &mut old[..n], &mut cut[..n])
+                .is_some()
+            {
+                for ((r, o), g) in self.bias_residual.iter_mut().zip(&old[..n]).zip(&*goals) {
+                    *r += o - g;
+                }
+            }
+            self.bias_k[..n].copy_from_slice(&self.stiffness[..n]);
+        }
+        let mut limited = 0u32;
+        for (j, g) in goals.iter_mut().enumerate() {
+            if self.bias_residual[j] == 0 {
+                continue;
+            }
+            let (r, cut) = crate::goal_step::toward(self.bias_residual[j], 0, self.step_ticks(j));
+            // The residual this cycle still carries is the one before the step: the change's
+            // first cycle keeps the old bias's goals exactly.
+            let carried = self.bias_residual[j];
+            self.bias_residual[j] = r;
+            let cal = &self.joints[j];
+            *g = (*g + carried).clamp(cal.min_ticks, cal.max_ticks);
+            limited += cut as u32;
+        }
+        self.counters.rate_limited = self.counters.rate_limited.wrapping_add(limited);
+    }
+
     fn ramp_goals(&mut self, dt: u32) {
         let Some(sel) = self.selected else { return };
         let n = self.joints.len();
@@ -304,6 +367,12 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             return;
         };
         self.count_clamped(clamped);
+        if self.ramp.is_none() {
+            // The ramp's target has the bias of these settings: a change from here on is
+            // followed from the walk's first cycle (`follow_stiffness`).
+            self.bias_k = self.stiffness;
+            self.bias_residual = [0; MAX_JOINTS];
+        }
         let ramp = self.ramp.get_or_insert_with(|| {
             let mut from = [0i32; MAX_JOINTS];
             for (f, p) in from.iter_mut().zip(&self.present[..n]) {
@@ -370,6 +439,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             &mut planned[..n],
             &mut planned_cut[..n],
         );
+        self.follow_stiffness(sample, &mut goals[..n]);
         self.goals[..n].copy_from_slice(&goals[..n]);
         self.planned[..n].copy_from_slice(&planned[..n]);
         self.clamped = cut;

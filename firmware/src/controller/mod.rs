@@ -96,6 +96,10 @@ pub struct Counters {
     pub bus_errors: u32,
     /// Goals clamped to a joint limit.
     pub clamped: u32,
+    /// Goal moves cut short by the per-cycle step ([`crate::goal_step`]): streamed setpoints
+    /// further than the servo moves in a cycle, and the torque bias following a stiffness change
+    /// while walking. Counted on the board only (not in the wire's status).
+    pub rate_limited: u32,
     /// Latest cycle start lateness and the largest one seen, microseconds.
     pub jitter_us: u32,
     pub max_jitter_us: u32,
@@ -119,6 +123,11 @@ pub struct Controller<F> {
     state: State,
     joints: heapless::Vec<JointCal, MAX_JOINTS>,
     stiffness: [u32; MAX_JOINTS],
+    /// Walking: the stiffness the goals' torque bias last used, and what is left of the goal
+    /// difference a stiffness change made (ticks per joint), shrinking by the servo's step per
+    /// cycle (`cycle::follow_stiffness`).
+    bias_k: [u32; MAX_JOINTS],
+    bias_residual: [i32; MAX_JOINTS],
     selected: Option<Selected>,
     play: Option<PlayClock>,
     ramp: Option<Ramp>,
@@ -187,6 +196,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             state: State::Boot,
             joints: heapless::Vec::new(),
             stiffness: [0; MAX_JOINTS],
+            bias_k: [0; MAX_JOINTS],
+            bias_residual: [0; MAX_JOINTS],
             selected: None,
             play: None,
             ramp: None,

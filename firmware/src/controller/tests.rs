@@ -442,12 +442,19 @@ fn backward_play_runs_the_slices_in_reverse() {
 }
 
 #[test]
-fn stiffness_changed_while_walking_applies_from_the_next_cycle() {
+fn stiffness_changed_while_walking_applies_from_the_next_cycle_without_a_step() {
     let mut r = Rig::walking();
     r.c.set_stiffness(4, 0).unwrap();
     let t = r.c.play_clock().unwrap().phase_us() + 10_000;
+    // The change's first cycle keeps the bias joint 4 had (the goals do not step) ...
     r.cycle();
     let pos = t as f64 / 1e6 * 100.0;
+    assert!((r.servos.pos[4] as f64 - r.gait.goal(pos, 4, STIFFNESS)).abs() <= 1.0);
+    assert!((r.servos.pos[5] as f64 - r.gait.goal(pos, 5, STIFFNESS)).abs() <= 1.0);
+    // ... and the next one has none: the bias it drops is at most 0.3 N m / 8.4 N m/rad =
+    // 0.0357 rad = 23.3 ticks, within one MX-28 step (37 ticks at 100 Hz).
+    r.cycle();
+    let pos = (t + 10_000) as f64 / 1e6 * 100.0;
     assert!((r.servos.pos[4] as f64 - r.gait.goal(pos, 4, 0.0)).abs() <= 1.0);
     assert!((r.servos.pos[5] as f64 - r.gait.goal(pos, 5, STIFFNESS)).abs() <= 1.0);
     assert_eq!(
@@ -457,6 +464,52 @@ fn stiffness_changed_while_walking_applies_from_the_next_cycle() {
             joints: 22
         })
     );
+}
+
+#[test]
+fn a_stiffness_change_while_walking_moves_no_goal_more_than_a_servo_step_per_cycle() {
+    let mut r = Rig::walking();
+    // Joint 0 (an MX-28) near the start of the step carries about +0.3 N m
+    // (0.3 cos(2 pi s / 100), s < 2). From 8.4 to 0.84 N m/rad its bias grows by
+    // 0.3 x (1/0.84 - 1/8.4) = 0.321 rad = 209 ticks: five and a half MX-28 steps (37 ticks at
+    // 100 Hz, 55 rev/min x 4096 / 60 / 100 = 37.5 rounded down).
+    assert_eq!(r.c.joints[0].model, dynamixel::ServoModel::Mx28);
+    let step = 37.0;
+    let t0 = r.c.play_clock().unwrap().phase_us();
+    let at = |k: u32| (t0 + 10_000 * k) as f64 / 1e6 * 100.0;
+    r.c.set_stiffness(0, 840).unwrap();
+    // The goal difference the change makes, from the f64 reference at the first cycle after it.
+    let diff = r.gait.goal(at(1), 0, STIFFNESS) - r.gait.goal(at(1), 0, 0.84);
+    assert!(
+        diff < -5.0 * step,
+        "the change must step more than a servo step: {diff}"
+    );
+    let mut before = r.servos.pos[0] as f64 - r.gait.goal(at(0), 0, STIFFNESS);
+    let mut left = diff;
+    for k in 1..=8 {
+        r.cycle();
+        // Where the goal is against the new bias's: what is left of the difference, 37 ticks
+        // less each cycle after the first (which keeps the old bias's goal).
+        let off = r.servos.pos[0] as f64 - r.gait.goal(at(k), 0, 0.84);
+        assert!((off - left).abs() <= 2.0, "cycle {k}: {off} vs {left}");
+        // Beyond what the gait itself moves (with the bias the goal had the cycle before), the
+        // goal moves at most one servo step (2 ticks of rounding). Cycle 1 against the old bias:
+        // the old code jumped the whole 209 ticks here.
+        let now = if k == 1 {
+            r.servos.pos[0] as f64 - r.gait.goal(at(1), 0, STIFFNESS)
+        } else {
+            off
+        };
+        assert!(
+            (now - before).abs() <= step + 2.0,
+            "cycle {k}: {before} -> {now}"
+        );
+        before = off;
+        left = (left + step).min(0.0);
+    }
+    // ceil(209 / 37) = 6 cycles of steps after the first: from cycle 7 on, the new bias alone.
+    assert!(before.abs() <= 1.0, "{before}");
+    assert!(r.c.counters().rate_limited >= 5);
 }
 
 #[test]
@@ -697,8 +750,11 @@ fn streaming_follows_setpoints_and_faults_when_they_stop() {
     let mut sp = vec![(0, None); JOINTS];
     sp[0] = (100_000, None);
     r.c.setpoint(7, &sp).unwrap();
+    // The servo stands at 1800 (IdealServos), 213 ticks from 2013: the goal moves one MX-28 step
+    // per cycle toward it (55 rev/min x 4096 / 60 / 100 Hz = 37.5 -> 37 ticks), not at once.
+    assert_eq!(r.c.joints[0].model, dynamixel::ServoModel::Mx28);
     r.cycle();
-    assert_eq!(r.servos.pos[0], 1948 + 65);
+    assert_eq!(r.servos.pos[0], 1800 + 37);
     assert_eq!(r.c.stream_status(), (7, 1));
     // Wrong number of joints is refused and changes nothing.
     assert!(r.c.setpoint(8, &sp[..3]).is_err());

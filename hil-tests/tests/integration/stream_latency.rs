@@ -219,6 +219,25 @@ fn stand_and_stream(link: &mut Link, baud: u32, cycle_hz: u16) -> Result<()> {
         T,
     )?;
     ensure!(r == Response::Ack, "EnterStreaming answered {r:?}");
+    // The board moves a goal toward a setpoint by at most the servo's step per cycle
+    // (firmware::goal_step: 18 ticks on an MX-28 at 200 Hz) and the standing posture is up to
+    // 0.2 rad (130 ticks) from the first measured setpoint: settle one ANGLE_STEP (3.3 ticks)
+    // short of it first, so that every measured setpoint reaches the bus in one cycle.
+    let settle = Setpoint {
+        seq: SEQ0 - 1,
+        joints: (0..JOINTS)
+            .map(|_| JointSetpoint {
+                angle: ANGLE0 - ANGLE_STEP,
+                torque: None,
+            })
+            .collect(),
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let frame = Client::encode_setpoint(&settle, &mut buf)
+        .map_err(|e| anyhow::anyhow!("cannot encode the settling setpoint: {e:?}"))?;
+    link.send_raw(frame)?;
+    record_where(link, |p| p.setpoint_seq == SEQ0 - 1 && p.setpoint_age >= 40)
+        .context("the settling setpoint was not held for 40 cycles")?;
     link.unsolicited.clear();
     Ok(())
 }
