@@ -70,3 +70,24 @@ def test_a_missing_servo_fails_in_the_cli_words(bus: str) -> None:
     assert cli.returncode != 0
     assert cli.stdout == report["text"]
     assert "the robot is not ready" in cli.stderr
+
+
+def test_the_emulated_board_is_checked_and_its_servos_need_a_bus(emulator_port: str) -> None:
+    """The doctor on the emulated board (the release firmware image in the RP2040 emulator, over
+    its USB pseudo-terminal): the board is found with this host's protocol and table versions and
+    its bus settings; the board's protocol does not pass register reads through, so without a
+    servo bus the servos are one item, not checked, that says what to give. The CLI prints the
+    same lines."""
+    report = dbot.doctor(port=emulator_port, quiet=True)
+    items = {i["name"]: i for i in report["items"]}
+    assert items["board"]["outcome"] == "pass", report["text"]
+    assert items["board bus"]["outcome"] == "pass", report["text"]
+    servos = items["servos"]
+    assert servos["outcome"] == "not checked", report["text"]
+    assert "does not pass register reads through" in servos["fix"], servos
+    assert not any(n.startswith("servo ID ") for n in items), report["text"]
+    cli = subprocess.run(
+        [str(dbot_cli()), "doctor", "--port", emulator_port],
+        capture_output=True, text=True, timeout=600,
+    )
+    assert cli.stdout == report["text"], cli.stderr
