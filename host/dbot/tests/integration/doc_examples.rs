@@ -339,6 +339,7 @@ fn only_hardware_examples_and_the_validation_check_are_not_run_here() {
         [
             "dbot record --out out/rec --table walk.dbgt --seconds 20 --port /dev/ttyACM0",
             "dbot dxl scan -p /dev/ttyUSB0 --baud auto",
+            "dbot set --baud 2000000 --rate 200",
             "dbot record --out rec --table gait.dbgt --seconds 20",
         ],
         "{skipped:?}"
