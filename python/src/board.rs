@@ -109,6 +109,21 @@ impl Board {
         self.with(py, |l| take(l, d))?.map(dict).transpose()
     }
 
+    /// The table in `slot` for the period rule (the one this `Board` uploaded, else the one a
+    /// `virtual:PATH` robot's image holds) and the model that names its joints.
+    fn slot_table(&self, slot: u8) -> PyResult<(Option<Vec<u8>>, planner::model::Model)> {
+        let (known, model) = {
+            let naming = self.naming();
+            let (table, model) = naming.uploaded_table(slot);
+            (table.map(<[u8]>::to_vec), model.clone())
+        };
+        let known = match known {
+            Some(t) => Some(t),
+            None => ::board::rules::period::table_of_port(&self.port, slot).map_err(value_error)?,
+        };
+        Ok((known, model))
+    }
+
     fn naming(&self) -> std::sync::MutexGuard<'_, JointNaming> {
         self.naming.lock().unwrap_or_else(|e| e.into_inner())
     }
@@ -331,16 +346,7 @@ impl Board {
     ) -> PyResult<()> {
         let command = scaled_command(slot, steps, period_scale, backward)?;
         let stored = self.with(py, |l| l.gaits())?;
-        let (known, model) = {
-            let naming = self.naming();
-            let (table, model) = naming.uploaded_table(slot);
-            (table.map(<[u8]>::to_vec), model.clone())
-        };
-        // A table this `Board` did not upload: a `virtual:PATH` robot's image holds it.
-        let known = match known {
-            Some(t) => Some(t),
-            None => ::board::rules::period::table_of_port(&self.port, slot).map_err(value_error)?,
-        };
+        let (known, model) = self.slot_table(slot)?;
         let overrides = ::board::rules::Overrides { allow_infeasible };
         let warning = {
             let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
@@ -384,15 +390,7 @@ impl Board {
         allow_infeasible: bool,
     ) -> PyResult<()> {
         let command = protocol::QueueCommand(scaled_command(slot, steps, period_scale, backward)?);
-        let (known, model) = {
-            let naming = self.naming();
-            let (table, model) = naming.uploaded_table(slot);
-            (table.map(<[u8]>::to_vec), model.clone())
-        };
-        let known = match known {
-            Some(t) => Some(t),
-            None => ::board::rules::period::table_of_port(&self.port, slot).map_err(value_error)?,
-        };
+        let (known, model) = self.slot_table(slot)?;
         let overrides = ::board::rules::Overrides { allow_infeasible };
         let warning = {
             let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
