@@ -106,8 +106,11 @@ impl BusLoop {
         {
             let reading = read_health(bus, id).await;
             end = bus.clock().now_us();
-            if let Ok(r) = reading {
-                shared.with(|c| c.health_reading(joint, id, r));
+            match reading {
+                Ok(r) => shared.with(|c| c.health_reading(joint, id, r)),
+                Err(BusError::Reply { fault, .. }) => shared.with(|c| c.health_reply_lost(fault)),
+                // The UART or the request itself failed: the cycle's own Sync Read reports it.
+                Err(_) => {}
             }
             self.timing.health_reads += 1;
         }

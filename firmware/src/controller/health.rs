@@ -3,6 +3,7 @@
 //! walk stopped at the end of its step naming the servo), the limits as a setting.
 
 use embedded_storage::nor_flash::NorFlash;
+use dynamixel::master::ReplyFault;
 use protocol::{HealthAlarm, HealthLevel, HealthLimitError, HealthLimits, ServoHealth};
 
 use super::{BusAction, Controller};
@@ -40,6 +41,21 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             && self.event(Event::Stop)
         {
             self.health_stop = Some(alarm);
+        }
+    }
+
+    /// A heat and supply read whose reply was lost: counted with the cycle's lost replies
+    /// (every lost reply is counted, whichever read it answered); it is not a miss, since the
+    /// servo's feedback in the cycle's Sync Read decides whether it is there.
+    pub fn health_reply_lost(&mut self, fault: ReplyFault) {
+        match fault {
+            ReplyFault::Timeout => self.counters.timeouts = self.counters.timeouts.wrapping_add(1),
+            ReplyFault::Crc | ReplyFault::Malformed => {
+                self.counters.crc_errors = self.counters.crc_errors.wrapping_add(1)
+            }
+            // A servo that answers with an error number is there; the cycle's feedback carries
+            // it (ReplyFault is non-exhaustive: a new kind is not counted until it is named).
+            _ => {}
         }
     }
 
