@@ -131,7 +131,11 @@ impl<S: ServoDynamics + std::fmt::Debug> Transport for VirtualTransport<S> {
     }
 
     fn recv(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
-        let deadline = self.robot.now_us() + timeout.as_micros() as u64;
+        // Rounded up to the robot's whole microseconds: a timeout shorter than one (what is left
+        // of a deadline between two ticks) still lets time reach it, or the caller's loop on
+        // `now() < deadline` would wait forever.
+        let timeout_us = u64::try_from(timeout.as_nanos().div_ceil(1000)).unwrap_or(u64::MAX);
+        let deadline = self.robot.now_us().saturating_add(timeout_us);
         loop {
             if self.closed {
                 return Err(self.closed_error());

@@ -301,3 +301,28 @@ fn a_reply_to_another_request_is_not_taken_for_ours() {
 }
 
 use crate::gate;
+
+/// A wait whose deadline falls between two of the robot's microsecond ticks (1/120 s is
+/// 8333.33 us) returns: the virtual link rounds what is left up to the next tick. Before the
+/// fix a timeout under 1 us left the clock where it was and `wait` looped forever (seen at
+/// 120 and 140 Hz in `python/tests/test_latency.py`).
+#[test]
+fn a_wait_to_a_deadline_between_two_microseconds_returns_at_the_next_one() {
+    use board::link::Transport;
+    let mut t = VirtualTransport::new(VirtualRobot::new());
+    let mut buf = [0u8; 64];
+    // What the board says at boot, first; then it has nothing to say: time passes to the deadline.
+    while t.recv(&mut buf, Duration::from_millis(1)).unwrap() > 0 {}
+    let t0 = t.now();
+    assert_eq!(t.recv(&mut buf, Duration::from_nanos(300)).unwrap(), 0);
+    assert_eq!(t.now() - t0, Duration::from_micros(1));
+    // Through the board client: 10 waits of 1/120 s end at ceil(10 x 8333.33 us) or below
+    // (each wait rounds up its own remainder, never by more than 1 us).
+    let mut b = Board::connect(VirtualTransport::new(VirtualRobot::new())).unwrap();
+    let start = b.transport().now();
+    for _ in 0..10 {
+        b.wait(Duration::from_secs_f64(1.0 / 120.0)).unwrap();
+    }
+    let waited = (b.transport().now() - start).as_micros();
+    assert!((83_334..=83_340).contains(&waited), "{waited} us");
+}
