@@ -20,7 +20,9 @@ use firmware::board::Board;
 use firmware::controller::Config;
 use firmware::safety::State;
 use firmware::store::nor_double::NorDouble;
-use firmware::testkit::rig::{SECTORS, SimBoardOn, ask, board_on, play, run_until, upload, wire};
+use firmware::testkit::rig::{
+    SECTORS, SimBoardOn, ask, board_on, play, run_until, status, upload, wire,
+};
 use firmware::testkit::{JOINTS, SyntheticGait};
 use protocol::{
     Client, DeviceMessage, FrameAccumulator, JointSetpoint, MAX_FRAME_LEN, Proprioception, Request,
@@ -330,6 +332,9 @@ fn a_setpoint_1_rad_away_is_approached_at_the_servos_speed_never_jumped_to() {
     // 17 cut cycles on each MX-28 and 15 on each MX-64.
     let mx64 = (0..JOINTS).filter(|&j| step(j).0 == 43).count() as u32;
     assert_eq!(limited, 17 * (JOINTS as u32 - mx64) + 15 * mx64);
+    // The host sees the same count in the board's status.
+    let s = status(&mut board, &mut Client::new());
+    assert_eq!(s.counters.rate_limited - limited_before, limited);
 }
 
 /// Streams for `n` cycles, a setpoint in six of every seven at a phase spread over the period

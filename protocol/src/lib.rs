@@ -133,7 +133,7 @@ pub use switch::{SwitchError, check_switch};
 pub use upload::{UploadError, UploadLimits, UploadTracker};
 
 /// Version of the wire protocol; bumped on every change of the encoded bytes.
-pub const PROTOCOL_VERSION: u16 = 8;
+pub const PROTOCOL_VERSION: u16 = 9;
 
 /// USB vendor ID of the board: pid.codes' open-source vendor ID.
 pub const USB_VID: u16 = 0x1209;

@@ -322,6 +322,9 @@ class Counters(TypedDict):
     """Frames from the host that could not be decoded."""
     telemetry_dropped: int
     """Telemetry / proprioception records dropped because the host did not read them in time."""
+    rate_limited: int
+    """Goal moves the board cut to what the servo can move in one bus cycle (a streamed setpoint
+    further away, or the torque bias after a stiffness change while walking)."""
 
 class Status(TypedDict):
     state: Literal["Idle", "Standing", "Ramping", "Walking", "Stopping", "Streaming", "Fault", "Boot"]

@@ -244,7 +244,7 @@ impl Board {
 
     /// Run state, fault (kind and joint), torque mask, playback position and the board's counters
     /// since boot as a dict of named integers (`cycles`, `missed_deadlines`, `bus_timeouts`,
-    /// `crc_errors`, `rejected_frames`, `telemetry_dropped`).
+    /// `crc_errors`, `rejected_frames`, `telemetry_dropped`, `rate_limited`).
     fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.with(py, |l| l.status())?;
         let d = records::status_dict(py, &s)?;

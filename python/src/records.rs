@@ -168,6 +168,7 @@ fn counters_dict<'py>(py: Python<'py>, c: &Counters) -> PyResult<Bound<'py, PyDi
     d.set_item("crc_errors", c.crc_errors)?;
     d.set_item("rejected_frames", c.rejected_frames)?;
     d.set_item("telemetry_dropped", c.telemetry_dropped)?;
+    d.set_item("rate_limited", c.rate_limited)?;
     Ok(d)
 }
 

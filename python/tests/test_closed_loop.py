@@ -177,7 +177,7 @@ def test_proprioception_every_cycle_with_telemetry_off(tripod_plan, model, port)
     try:
         before = board.status()["counters"]
         names = {"cycles", "missed_deadlines", "bus_timeouts", "crc_errors", "rejected_frames",
-                 "telemetry_dropped"}
+                 "telemetry_dropped", "rate_limited"}
         assert set(before) == names
         assert all(isinstance(v, int) and v >= 0 for v in before.values()), before
         board.enter_streaming(timeout_cycles=FOLLOW_TIMEOUT_CYCLES, feedback_every=1)

@@ -180,6 +180,7 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
                 crc_errors: k.crc_errors,
                 rejected_frames: self.rejected,
                 telemetry_dropped: c.telemetry_dropped(),
+                rate_limited: k.rate_limited,
             },
             health_warning: c.health_warning(),
             health_stop: c.health_stop(),

@@ -79,13 +79,14 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
     println!("health    {}", board::health::limits_line(&set.health));
     let c = st.counters;
     println!(
-        "counters  {} cycles, {} missed deadlines, {} bus timeouts, {} CRC errors, {} rejected frames, {} telemetry dropped",
+        "counters  {} cycles, {} missed deadlines, {} bus timeouts, {} CRC errors, {} rejected frames, {} telemetry dropped, {} goal moves rate-limited",
         c.cycles,
         c.missed_deadlines,
         c.bus_timeouts,
         c.crc_errors,
         c.rejected_frames,
-        c.telemetry_dropped
+        c.telemetry_dropped,
+        c.rate_limited
     );
     s.close()
 }

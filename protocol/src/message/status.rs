@@ -102,6 +102,11 @@ pub struct Counters {
     pub rejected_frames: u32,
     /// Telemetry records dropped because the host did not read them in time.
     pub telemetry_dropped: u32,
+    /// Goal moves the board cut short to what the servo can move in one bus cycle (a streamed
+    /// setpoint further away, or the torque bias after a stiffness change while walking:
+    /// `firmware::goal_step`), one per joint per cycle (added at the end of the counters: protocol
+    /// version 9).
+    pub rate_limited: u32,
 }
 
 /// Answer to [`crate::Request::GetStatus`].

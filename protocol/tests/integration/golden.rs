@@ -54,7 +54,9 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     //    recording shows a fault); Request::SetHealthLimits, Setting::HealthLimits appended;
     //    Telemetry::health, Status::health_warning / health_stop, Settings::health added at the
     //    end (heat and supply of the servos).
-    assert_eq!(PROTOCOL_VERSION, 8);
+    // 9: Counters::rate_limited added at the end of the counters (inside Status: the bytes of
+    //    every later Status field move).
+    assert_eq!(PROTOCOL_VERSION, 9);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }
 

@@ -411,13 +411,14 @@ pub fn status() -> impl Strategy<Value = Status> {
         received,
         total_len,
     });
-    let counters = any::<[u32; 6]>().prop_map(|c| Counters {
+    let counters = any::<[u32; 7]>().prop_map(|c| Counters {
         cycles: c[0],
         missed_deadlines: c[1],
         bus_timeouts: c[2],
         crc_errors: c[3],
         rejected_frames: c[4],
         telemetry_dropped: c[5],
+        rate_limited: c[6],
     });
     (
         run_state(),
