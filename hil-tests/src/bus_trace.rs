@@ -23,21 +23,12 @@ pub type GoalWrite = (Duration, Vec<(u8, i32)>);
 pub fn unbroken_packets(bursts: &[TracedBurst]) -> Result<usize> {
     let mut sync_writes = 0;
     for (i, b) in bursts.iter().enumerate() {
-        let mut parser = Parser::<1024>::new();
-        ensure!(
-            parser.feed(&b.bytes) == b.bytes.len(),
-            "burst at {:?} ({} bytes) longer than the parser holds",
-            b.burst.start,
-            b.bytes.len()
-        );
-        while let Some(frame) = parser.next_frame() {
-            let f = frame.map_err(|e| {
-                anyhow!("corrupt packet in the burst at {:?}: {e:?}", b.burst.start)
-            })?;
+        let parser = packets(b, |f| {
             if f.instruction == Instruction::SyncWrite as u8 {
                 sync_writes += 1;
             }
-        }
+            Ok(())
+        })?;
         let head = parser.buffered();
         let stray = parser.skipped_bytes();
         if head > 0 || stray > 0 {
@@ -55,7 +46,9 @@ pub fn unbroken_packets(bursts: &[TracedBurst]) -> Result<usize> {
                 format!("the line idle for {d:?} between the two")
             });
             bail!(
-                "a gap inside a packet: the burst at {:?} ({} bytes, instruction {:?}) {when} in                  the middle of a packet ({head} bytes of a packet's head, {stray} bytes outside                  any packet), {idle}",
+                "a gap inside a packet: the burst at {:?} ({} bytes, instruction {:?}) {when} in \
+                 the middle of a packet ({head} bytes of a packet's head, {stray} bytes outside \
+                 any packet), {idle}",
                 b.burst.start,
                 b.bytes.len(),
                 b.burst.instruction,
@@ -79,19 +72,9 @@ pub fn goal_writes_of_whole_bursts(bursts: &[TracedBurst]) -> Result<Vec<GoalWri
 fn parse(bursts: &[TracedBurst], whole: bool) -> Result<Vec<GoalWrite>> {
     let mut out = Vec::new();
     for b in bursts {
-        let mut parser = Parser::<1024>::new();
-        ensure!(
-            parser.feed(&b.bytes) == b.bytes.len(),
-            "burst at {:?} ({} bytes) longer than the parser holds",
-            b.burst.start,
-            b.bytes.len()
-        );
-        while let Some(frame) = parser.next_frame() {
-            let f = frame.map_err(|e| {
-                anyhow!("corrupt packet in the burst at {:?}: {e:?}", b.burst.start)
-            })?;
+        let parser = packets(b, |f| {
             if f.instruction != Instruction::SyncWrite as u8 {
-                continue;
+                return Ok(());
             }
             // Sync Write parameters (e-manual): address (2, LE), length (2, LE), then per servo
             // its ID and `length` data bytes.
@@ -100,7 +83,7 @@ fn parse(bursts: &[TracedBurst], whole: bool) -> Result<Vec<GoalWrite>> {
             let addr = u16::from_le_bytes([p[0], p[1]]);
             let len = usize::from(u16::from_le_bytes([p[2], p[3]]));
             if addr != GOAL_POSITION.addr || len != 4 {
-                continue;
+                return Ok(());
             }
             let per_servo = p[4..].chunks_exact(1 + len);
             ensure!(
@@ -112,7 +95,8 @@ fn parse(bursts: &[TracedBurst], whole: bool) -> Result<Vec<GoalWrite>> {
                 .collect();
             goals.sort_by_key(|g| g.0);
             out.push((b.burst.start, goals));
-        }
+            Ok(())
+        })?;
         ensure!(
             !whole || (parser.skipped_bytes() == 0 && parser.buffered() == 0),
             "burst at {:?}: {} bytes outside whole packets (lost on the wire?)",
@@ -121,6 +105,27 @@ fn parse(bursts: &[TracedBurst], whole: bool) -> Result<Vec<GoalWrite>> {
         );
     }
     Ok(out)
+}
+
+/// Parses `b`'s bytes into packets, handing each to `each`; a corrupt packet is an error. Returns
+/// the parser, holding what was left over (a packet's head, bytes outside any packet).
+fn packets(
+    b: &TracedBurst,
+    mut each: impl FnMut(&dynamixel::parser::Frame<'_>) -> Result<()>,
+) -> Result<Parser<1024>> {
+    let mut parser = Parser::<1024>::new();
+    ensure!(
+        parser.feed(&b.bytes) == b.bytes.len(),
+        "burst at {:?} ({} bytes) longer than the parser holds",
+        b.burst.start,
+        b.bytes.len()
+    );
+    while let Some(frame) = parser.next_frame() {
+        let f = frame
+            .map_err(|e| anyhow!("corrupt packet in the burst at {:?}: {e:?}", b.burst.start))?;
+        each(&f)?;
+    }
+    Ok(parser)
 }
 
 #[cfg(test)]
