@@ -2,8 +2,8 @@
 //! the bus loop reads in this cycle's slack, what a reading does (a warning in the status, a
 //! walk stopped at the end of its step naming the servo), the limits as a setting.
 
-use embedded_storage::nor_flash::NorFlash;
 use dynamixel::master::ReplyFault;
+use embedded_storage::nor_flash::NorFlash;
 use protocol::{HealthAlarm, HealthLevel, HealthLimitError, HealthLimits, ServoHealth};
 
 use super::{BusAction, Controller};

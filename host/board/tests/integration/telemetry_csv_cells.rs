@@ -46,14 +46,7 @@ fn torque_off_rows_have_an_empty_goal() {
     })
     .unwrap();
     drop(rec);
-    let mut rd = csv::Reader::from_path(&path).unwrap();
-    let col = rd
-        .headers()
-        .unwrap()
-        .iter()
-        .position(|h| h == "commanded_rad")
-        .unwrap();
-    let rows: Vec<csv::StringRecord> = rd.records().map(|r| r.unwrap()).collect();
+    let (col, rows) = column_and_rows(&path, "commanded_rad");
     assert_eq!(&rows[0][4], "LF_ThC1");
     assert_eq!(&rows[0][col], "", "torque off: no goal");
     // Torque on: the goal, 1e-4 rad units, to four decimals.
@@ -147,13 +140,19 @@ fn rows_carry_the_boards_run_state() {
     rec.push(&one_record(protocol::RunState::Walking)).unwrap();
     rec.push(&one_record(protocol::RunState::Fault)).unwrap();
     drop(rec);
-    let mut rd = csv::Reader::from_path(&path).unwrap();
+    let (col, rows) = column_and_rows(&path, "run_state");
+    let states: Vec<&str> = rows.iter().map(|r| &r[col]).collect();
+    assert_eq!(states, ["Walking", "Fault"]);
+}
+
+/// The index of the column named `name` in the CSV at `path`, and its rows.
+fn column_and_rows(path: &std::path::Path, name: &str) -> (usize, Vec<csv::StringRecord>) {
+    let mut rd = csv::Reader::from_path(path).unwrap();
     let col = rd
         .headers()
         .unwrap()
         .iter()
-        .position(|h| h == "run_state")
-        .expect("a run_state column");
-    let states: Vec<String> = rd.records().map(|r| r.unwrap()[col].to_owned()).collect();
-    assert_eq!(states, ["Walking", "Fault"]);
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    (col, rd.records().map(|r| r.unwrap()).collect())
 }

@@ -53,6 +53,22 @@ fn board_s(out: &str) -> f64 {
         .unwrap()
 }
 
+/// `dbot upload --table TABLE --slot SLOT --allow-infeasible` in `d` (the synthetic variants are
+/// not planned for the servos; the override is what this file's tests are not about).
+fn upload(d: &Path, table: &str, slot: u8) {
+    ok(
+        d,
+        &[
+            "upload",
+            "--table",
+            table,
+            "--slot",
+            &slot.to_string(),
+            "--allow-infeasible",
+        ],
+    );
+}
+
 #[test]
 fn then_plays_the_queued_gaits_at_step_boundaries_without_a_stand() {
     let dir = tempfile::tempdir().unwrap();
@@ -62,28 +78,8 @@ fn then_plays_the_queued_gaits_at_step_boundaries_without_a_stand() {
     let curve = variant(d, "curve.dbgt", |s| {
         0.05 * (2.0 * PI * s as f64 / 100.0).sin()
     });
-    ok(
-        d,
-        &[
-            "upload",
-            "--table",
-            &straight,
-            "--slot",
-            "0",
-            "--allow-infeasible",
-        ],
-    );
-    ok(
-        d,
-        &[
-            "upload",
-            "--table",
-            &curve,
-            "--slot",
-            "1",
-            "--allow-infeasible",
-        ],
-    );
+    upload(d, &straight, 0);
+    upload(d, &curve, 1);
     let one = ok(d, &["run", "--slot", "0", "--steps", "6"]);
     let out = ok(
         d,
@@ -117,28 +113,8 @@ fn a_gait_that_cannot_follow_is_refused_with_the_reason() {
     let straight = variant(d, "straight.dbgt", |_| 0.0);
     // 0.1 rad on every joint at slice 0: more than an MX-28 turns in one 100 Hz cycle (0.0576).
     let shifted = variant(d, "shifted.dbgt", |_| 0.1);
-    ok(
-        d,
-        &[
-            "upload",
-            "--table",
-            &straight,
-            "--slot",
-            "0",
-            "--allow-infeasible",
-        ],
-    );
-    ok(
-        d,
-        &[
-            "upload",
-            "--table",
-            &shifted,
-            "--slot",
-            "2",
-            "--allow-infeasible",
-        ],
-    );
+    upload(d, &straight, 0);
+    upload(d, &shifted, 2);
     let o = dbot(d, &["run", "--slot", "0", "--steps", "1", "--then", "2"]);
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());

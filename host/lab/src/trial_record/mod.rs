@@ -104,6 +104,38 @@ pub struct TrialRequest {
     pub model: Model,
 }
 
+impl TrialRequest {
+    /// A trial into the folder `out` that plays `steps` steps forward of the gait in `slot` at
+    /// its planned period (`None`: until stopped), telemetry every cycle, joints named by
+    /// `model`; everything else at its default (no table, strain or perturbation). Change fields
+    /// with struct update syntax: `TrialRequest { notes, ..TrialRequest::playing(..) }`.
+    pub fn playing(out: &std::path::Path, slot: u8, steps: Option<u32>, model: Model) -> Self {
+        Self {
+            out: out.to_owned(),
+            trial: None,
+            notes: String::new(),
+            substrate: None,
+            seconds: None,
+            table: None,
+            plan: None,
+            play: Some(TrialPlay {
+                slot,
+                steps,
+                backward: false,
+                period: None,
+                allow_infeasible: false,
+            }),
+            strain: None,
+            perturb: None,
+            platform_id: None,
+            every: 1,
+            held_table: None,
+            command_line: Vec::new(),
+            model,
+        }
+    }
+}
+
 /// The platform servo's bus ID of `request`: the one place its default is chosen.
 /// Without one given: the lab's 22 unless the table's joints use it, then the first free ID after
 /// theirs (`board::platform::default_platform_id_for`).

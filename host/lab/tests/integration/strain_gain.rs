@@ -7,7 +7,7 @@
 
 use std::fmt::Write as _;
 
-use lab::trial_record::{TrialHooks, TrialPlay, TrialRequest, record_trial};
+use lab::trial_record::{TrialHooks, TrialRequest, record_trial};
 
 struct Quiet;
 
@@ -38,27 +38,9 @@ fn a_known_gain_is_fitted_back() {
     let mut board = physics::open("virtual").unwrap();
     gate::upload(&mut board, 0, &bytes).unwrap();
     let req = TrialRequest {
-        out: out.clone(),
         trial: Some("known gain".to_owned()),
-        notes: String::new(),
-        substrate: None,
-        seconds: None,
-        table: None,
-        plan: None,
-        play: Some(TrialPlay {
-            slot: 0,
-            steps: Some(1),
-            backward: false,
-            period: None,
-            allow_infeasible: false,
-        }),
-        strain: None,
-        perturb: None,
-        platform_id: None,
-        every: 1,
-        held_table: None,
         command_line: vec!["test".to_owned()],
-        model: model.clone(),
+        ..TrialRequest::playing(&out, 0, Some(1), model.clone())
     };
     let trial = record_trial(&mut board, &req, &mut Quiet).unwrap().path;
     let rows = board::trial::read_trial(&trial).unwrap().rows;

@@ -23,27 +23,13 @@ impl TrialHooks for Quiet {
 
 fn request(out: &std::path::Path) -> TrialRequest {
     TrialRequest {
-        out: out.to_owned(),
-        trial: None,
-        notes: String::new(),
-        substrate: None,
-        seconds: None,
-        table: None,
-        plan: None,
-        play: Some(TrialPlay {
-            slot: 0,
-            steps: Some(2),
-            backward: false,
-            period: None,
-            allow_infeasible: false,
-        }),
-        strain: None,
-        perturb: None,
-        platform_id: None,
-        every: 1,
-        held_table: None,
         command_line: vec!["test".to_owned()],
-        model: planner::model::builtin("drosophibot2").unwrap(),
+        ..TrialRequest::playing(
+            out,
+            0,
+            Some(2),
+            planner::model::builtin("drosophibot2").unwrap(),
+        )
     }
 }
 
