@@ -127,32 +127,42 @@ fn trial(
     let mut spans: Vec<(usize, f64, f64, Motion)> = Vec::new();
     let mut ramps: Vec<Vec<Ramp>> = vec![Vec::new(); joints.len()];
     let mut chirps: Vec<Option<Chirp>> = vec![None; joints.len()];
-    // Transfer to the centre, hold.
-    for (k, j) in joints.iter().enumerate() {
-        let r = Ramp {
-            from: j.rest,
-            to: j.centre,
-            start_s: t,
-            speed: o.transfer_speed,
-        };
-        ramps[k].push(r);
-        spans.push((k, t, t + transfer, ramp_motion(&r)));
-    }
-    t += transfer + o.hold_s;
-    // Steps: up, back, down, back; each held.
-    for offset in [1.0, 0.0, -1.0, 0.0] {
-        for (k, j) in joints.iter().enumerate() {
-            let from = ramps[k].last().map_or(j.centre, |r| r.to);
-            let to = j.centre + offset * j.step;
+    // Each joint's next ramp (from, to, speed) starting at `start`, its span `span_s` long.
+    let push_ramps = |ramps: &mut Vec<Vec<Ramp>>,
+                      spans: &mut Vec<(usize, f64, f64, Motion)>,
+                      start: f64,
+                      span_s: f64,
+                      ends: &dyn Fn(usize, Option<&Ramp>) -> (f64, f64, f64)| {
+        for (k, joint_ramps) in ramps.iter_mut().enumerate() {
+            let (from, to, speed) = ends(k, joint_ramps.last());
             let r = Ramp {
                 from,
                 to,
-                start_s: t,
-                speed: j.speed,
+                start_s: start,
+                speed,
             };
-            ramps[k].push(r);
-            spans.push((k, t, t + step_time + o.hold_s, ramp_motion(&r)));
+            joint_ramps.push(r);
+            spans.push((k, start, start + span_s, ramp_motion(&r)));
         }
+    };
+    // Transfer to the centre, hold.
+    push_ramps(&mut ramps, &mut spans, t, transfer, &|k, _| {
+        (joints[k].rest, joints[k].centre, o.transfer_speed)
+    });
+    t += transfer + o.hold_s;
+    // Steps: up, back, down, back; each held.
+    for offset in [1.0, 0.0, -1.0, 0.0] {
+        push_ramps(
+            &mut ramps,
+            &mut spans,
+            t,
+            step_time + o.hold_s,
+            &|k, last| {
+                let j = &joints[k];
+                let from = last.map_or(j.centre, |r| r.to);
+                (from, j.centre + offset * j.step, j.speed)
+            },
+        );
         t += step_time + o.hold_s;
     }
     // The chirp, then a hold.
@@ -182,16 +192,9 @@ fn trial(
     }
     t += chirp_s + o.hold_s;
     // Back to the resting posture, and a last hold before the table loops.
-    for (k, j) in joints.iter().enumerate() {
-        let r = Ramp {
-            from: j.centre,
-            to: j.rest,
-            start_s: t,
-            speed: o.transfer_speed,
-        };
-        ramps[k].push(r);
-        spans.push((k, t, t + transfer, ramp_motion(&r)));
-    }
+    push_ramps(&mut ramps, &mut spans, t, transfer, &|k, _| {
+        (joints[k].centre, joints[k].rest, o.transfer_speed)
+    });
     t += transfer + 0.5 * o.hold_s;
     let n = slices_for(t, o.suspended_dt_s);
     let chirp_window = chirps
