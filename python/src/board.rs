@@ -85,15 +85,26 @@ impl Board {
     /// Runs `f` on the link.
     fn with<R>(
         &self,
-        _py: Python<'_>,
+        py: Python<'_>,
         f: impl FnOnce(&mut Link) -> Result<R, ::board::link::LinkError>,
+    ) -> PyResult<R> {
+        self.with_rules(py, f, board_error)
+    }
+
+    /// [`Self::with`] for a call whose error `error` turns into Python's (a rule's refusal:
+    /// `rule_error`).
+    fn with_rules<R, E>(
+        &self,
+        _py: Python<'_>,
+        f: impl FnOnce(&mut Link) -> Result<R, E>,
+        error: impl FnOnce(E) -> PyErr,
     ) -> PyResult<R> {
         let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
         guard
             .as_mut()
             .map(f)
             .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?
-            .map_err(board_error)
+            .map_err(error)
     }
 
     /// The next record `take` brings within `timeout_s` of the board's clock, as `dict` makes it;
@@ -348,14 +359,11 @@ impl Board {
         let stored = self.with(py, |l| l.gaits())?;
         let (known, model) = self.slot_table(slot)?;
         let overrides = ::board::rules::Overrides { allow_infeasible };
-        let warning = {
-            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
-            let link = guard
-                .as_mut()
-                .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
-            ::board::rules::period::play(link, command, known.as_deref(), &model, overrides)
-                .map_err(rule_error)?
-        };
+        let warning = self.with_rules(
+            py,
+            |link| ::board::rules::period::play(link, command, known.as_deref(), &model, overrides),
+            rule_error,
+        )?;
         warn_overridden(py, warning.as_ref())?;
         self.naming().played(slot);
         if let Some(msg) = stored
@@ -392,14 +400,13 @@ impl Board {
         let command = protocol::QueueCommand(scaled_command(slot, steps, period_scale, backward)?);
         let (known, model) = self.slot_table(slot)?;
         let overrides = ::board::rules::Overrides { allow_infeasible };
-        let warning = {
-            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
-            let link = guard
-                .as_mut()
-                .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
-            ::board::rules::period::queue(link, command, known.as_deref(), &model, overrides)
-                .map_err(rule_error)?
-        };
+        let warning = self.with_rules(
+            py,
+            |link| {
+                ::board::rules::period::queue(link, command, known.as_deref(), &model, overrides)
+            },
+            rule_error,
+        )?;
         warn_overridden(py, warning.as_ref())
     }
 
@@ -452,14 +459,11 @@ impl Board {
             None => ::board::rules::period::table_of_port(&port, slot),
         };
         let overrides = ::board::rules::Overrides { allow_infeasible };
-        let warning = {
-            let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
-            let link = guard
-                .as_mut()
-                .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
-            ::board::rules::steer::steer(link, heading, speed, &held, &model, overrides)
-                .map_err(rule_error)?
-        };
+        let warning = self.with_rules(
+            py,
+            |link| ::board::rules::steer::steer(link, heading, speed, &held, &model, overrides),
+            rule_error,
+        )?;
         warn_overridden(py, warning.as_ref())
     }
 
@@ -592,12 +596,11 @@ impl Board {
     /// (EEPROM), so unless every servo answers at the new baud the board is put back on the old
     /// one and ValueError says which servo and how to set the servos first (`dbot.Bench`).
     fn set_bus(&self, py: Python<'_>, baud: u32, cycle_hz: u16) -> PyResult<()> {
-        let mut guard = self.link.lock().unwrap_or_else(|e| e.into_inner());
-        let link = guard
-            .as_mut()
-            .ok_or_else(|| board_error(format!("{}: the board was closed", self.port)))?;
-        let _ = py;
-        ::board::rules::bus::set_bus(link, baud, cycle_hz).map_err(rule_error)
+        self.with_rules(
+            py,
+            |link| ::board::rules::bus::set_bus(link, baud, cycle_hz),
+            rule_error,
+        )
     }
 
     /// The board's run-time settings, as `dbot status` shows them: `baud` (bit/s), `cycle_hz`,

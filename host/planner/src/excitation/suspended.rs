@@ -8,6 +8,9 @@ use super::{ExcitationError, ExcitationOptions, ExcitationTrial, Motion, Segment
 use super::{ExcitationKind, rest, sample, slices_for};
 use crate::model::{JointKind, Model};
 
+/// A joint's next ramp from its index and its last ramp: (from, to, speed), rad and rad/s.
+type RampEnds<'a> = dyn Fn(usize, Option<&Ramp>) -> (f64, f64, f64) + 'a;
+
 /// One excited joint's plan.
 struct Joint {
     index: usize,
@@ -132,7 +135,7 @@ fn trial(
                       spans: &mut Vec<(usize, f64, f64, Motion)>,
                       start: f64,
                       span_s: f64,
-                      ends: &dyn Fn(usize, Option<&Ramp>) -> (f64, f64, f64)| {
+                      ends: &RampEnds| {
         for (k, joint_ramps) in ramps.iter_mut().enumerate() {
             let (from, to, speed) = ends(k, joint_ramps.last());
             let r = Ramp {
