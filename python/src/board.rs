@@ -135,6 +135,31 @@ impl Board {
         Ok((known, model))
     }
 
+    /// Runs a period rule's door (`period::play`, `period::queue`) on the table in `slot`
+    /// ([`Self::slot_table`]) with `allow_infeasible`, warning when it was overridden.
+    fn by_period_rule(
+        &self,
+        py: Python<'_>,
+        slot: u8,
+        allow_infeasible: bool,
+        door: impl FnOnce(
+            &mut Link,
+            Option<&[u8]>,
+            &planner::model::Model,
+            ::board::rules::Overrides,
+        )
+            -> Result<Option<::board::rules::Overridden>, ::board::rules::RuleError>,
+    ) -> PyResult<()> {
+        let (known, model) = self.slot_table(slot)?;
+        let overrides = ::board::rules::Overrides { allow_infeasible };
+        let warning = self.with_rules(
+            py,
+            |link| door(link, known.as_deref(), &model, overrides),
+            rule_error,
+        )?;
+        warn_overridden(py, warning.as_ref())
+    }
+
     fn naming(&self) -> std::sync::MutexGuard<'_, JointNaming> {
         self.naming.lock().unwrap_or_else(|e| e.into_inner())
     }
@@ -357,14 +382,14 @@ impl Board {
     ) -> PyResult<()> {
         let command = scaled_command(slot, steps, period_scale, backward)?;
         let stored = self.with(py, |l| l.gaits())?;
-        let (known, model) = self.slot_table(slot)?;
-        let overrides = ::board::rules::Overrides { allow_infeasible };
-        let warning = self.with_rules(
+        self.by_period_rule(
             py,
-            |link| ::board::rules::period::play(link, command, known.as_deref(), &model, overrides),
-            rule_error,
+            slot,
+            allow_infeasible,
+            |link, known, model, overrides| {
+                ::board::rules::period::play(link, command, known, model, overrides)
+            },
         )?;
-        warn_overridden(py, warning.as_ref())?;
         self.naming().played(slot);
         if let Some(msg) = stored
             .iter()
@@ -398,16 +423,14 @@ impl Board {
         allow_infeasible: bool,
     ) -> PyResult<()> {
         let command = protocol::QueueCommand(scaled_command(slot, steps, period_scale, backward)?);
-        let (known, model) = self.slot_table(slot)?;
-        let overrides = ::board::rules::Overrides { allow_infeasible };
-        let warning = self.with_rules(
+        self.by_period_rule(
             py,
-            |link| {
-                ::board::rules::period::queue(link, command, known.as_deref(), &model, overrides)
+            slot,
+            allow_infeasible,
+            |link, known, model, overrides| {
+                ::board::rules::period::queue(link, command, known, model, overrides)
             },
-            rule_error,
-        )?;
-        warn_overridden(py, warning.as_ref())
+        )
     }
 
     /// Sets the gaits `steer` blends: slots `straight`, `left`, `right`, planned for headings 0,
