@@ -3,7 +3,7 @@
 //! thorax then needs no further support.
 
 use crate::dynamics_support;
-use dynamics_support::rnea::{BaseState, rnea};
+use dynamics_support::rnea::{BaseState, forward, rnea};
 use dynamics_support::{standing_pose, toy_hexapod, trajectory, with_springs};
 use nalgebra::Vector3;
 use planner::dynamics::{DynamicsOptions, SliceInput, ThoraxMotion, solve_slice};
@@ -35,7 +35,8 @@ fn torques_match_independent_rnea() {
             velocity: thorax.linear_velocity,
             acceleration: thorax.linear_acceleration,
         };
-        let r = rnea(&model, &q, &qd, &qdd, base, input.gravity, &s.grf);
+        let k = forward(&model, &q, &qd, &qdd, base, input.gravity);
+        let r = rnea(&model, &q, &k, &s.grf);
         let scale = weight * 0.3;
         for (j, joint) in model.joints.iter().enumerate() {
             let name = &joint.name;

@@ -116,17 +116,9 @@ pub struct Rnea {
     pub base: Sv,
 }
 
-/// Inverse dynamics with the foot forces `grf` (thorax frame) applied at the feet.
-pub fn rnea(
-    model: &Model,
-    q: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
-    base: BaseState,
-    gravity: V3,
-    grf: &[V3],
-) -> Rnea {
-    let k = forward(model, q, qd, qdd, base, gravity);
+/// Inverse dynamics at the angles `q` of the motion `k` (their [`forward`] pass) with the foot forces `grf` (thorax
+/// frame) applied at the feet.
+pub fn rnea(model: &Model, q: &[f64], k: &Kin, grf: &[V3]) -> Rnea {
     let n = model.bodies.len();
     let mut f: Vec<Sv> = (0..n)
         .map(|b| {
