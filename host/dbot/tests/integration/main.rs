@@ -12,6 +12,7 @@ mod compare_trials;
 mod demo_physics;
 mod doc_examples;
 mod docs_commands;
+mod docs_transcript;
 mod dxl_cli;
 mod dxl_sdk;
 mod paper_robot;
