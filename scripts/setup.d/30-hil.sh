@@ -19,3 +19,17 @@ fi
 if ! command -v defmt-print >/dev/null && [ ! -x "${CARGO_HOME:-$HOME/.cargo}/bin/defmt-print" ]; then
     cargo install defmt-print --locked
 fi
+
+# elf2flash converts the release image to UF2 for flashing without a probe (docs/hardware.md); the
+# test `uf2_image` checks its output against the ELF. It links libudev (Debian: libudev-dev).
+if ! elf2flash --version 2>/dev/null | grep -q '^elf2flash 0\.1\.0$'; then
+    if ! pkg-config --exists libudev 2>/dev/null; then
+        if [ "$(id -u)" = 0 ]; then
+            apt-get install -y -q libudev-dev >/dev/null
+        else
+            echo "30-hil: elf2flash needs libudev's headers: sudo apt-get install libudev-dev" >&2
+            exit 1
+        fi
+    fi
+    cargo install elf2flash --version 0.1.0 --locked
+fi

@@ -16,5 +16,6 @@ mod safety;
 mod servo_bus;
 mod soak;
 mod stream_latency;
+mod uf2_image;
 mod walk;
 mod walk_sequence;
