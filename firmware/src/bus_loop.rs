@@ -101,6 +101,13 @@ impl BusLoop {
         let mut replies = [Err(ReplyFault::Timeout); MAX_JOINTS];
         let outcome = perform(&plan, bus, &mut replies).await;
         let mut end = bus.clock().now_us();
+        if let Some(read) = plan.servo_read
+            && end + servo_read_budget_us(bus.config(), read) <= due + period
+        {
+            let result = servo_read(bus, read).await;
+            end = bus.clock().now_us();
+            shared.with(|c| c.servo_read_done(result));
+        }
         if let Some((joint, id)) = plan.health_read
             && end + health_read_budget_us(bus.config()) <= due + period
         {
@@ -154,6 +161,61 @@ const HEALTH_READ_RX: usize = 14;
 pub fn health_read_budget_us(config: &MasterConfig) -> u64 {
     let reply = u64::from(config.wire_time_us(HEALTH_READ_RX)) + u64::from(config.reply_slack_us);
     u64::from(config.wire_time_us(HEALTH_READ_TX)) + 2 * reply
+}
+
+/// The longest the host's servo read `read` takes, as [`health_read_budget_us`] counts: a Read
+/// instruction (14 bytes) and its status (11 + `len`), or a Ping (10) and its status (14).
+pub fn servo_read_budget_us(config: &MasterConfig, read: protocol::ServoRead) -> u64 {
+    let (tx, rx) = match read.len {
+        0 => (10, 14),
+        n => (14, 11 + usize::from(n)),
+    };
+    let reply = u64::from(config.wire_time_us(rx)) + u64::from(config.reply_slack_us);
+    u64::from(config.wire_time_us(tx)) + 2 * reply
+}
+
+/// Does the host's servo read `read` (a Ping when its length is 0).
+async fn servo_read<IO, D, C>(
+    bus: &mut BusMaster<IO, D, C>,
+    read: protocol::ServoRead,
+) -> protocol::ServoReadResult
+where
+    IO: Read + ReadReady + Write,
+    D: DirectionPin,
+    C: Clock,
+{
+    use protocol::ServoReadOutcome as O;
+    let lost = |e: BusError| match e {
+        BusError::Reply {
+            fault: ReplyFault::Timeout,
+            ..
+        } => O::Timeout,
+        _ => O::Corrupt,
+    };
+    let outcome = if read.len == 0 {
+        match bus.ping(read.id).await {
+            Ok(p) => O::Ping {
+                error: p.error.0,
+                model_number: p.model_number,
+                firmware: p.firmware,
+            },
+            Err(e) => lost(e),
+        }
+    } else {
+        let mut buf = [0u8; protocol::MAX_SERVO_READ];
+        let out = &mut buf[..usize::from(read.len)];
+        match bus.read(read.id, read.addr, out).await {
+            Ok(error) => O::Data {
+                error: error.0,
+                data: heapless::Vec::from_slice(out).unwrap_or_default(),
+            },
+            Err(e) => lost(e),
+        }
+    };
+    protocol::ServoReadResult {
+        request: read,
+        outcome,
+    }
 }
 
 /// Reads servo `id`'s Present Input Voltage (144, 0.1 V) and Present Temperature (146, degC).

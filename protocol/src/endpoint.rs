@@ -16,8 +16,8 @@ use crate::MAX_CHUNK_LEN;
 use crate::gait::GaitHeader;
 use crate::message::{
     DeviceInfo, HealthLimits, JointIds, PlatformSetup, PlatformStatus, PlayCommand, ProtocolError,
-    QueueCommand, Request, Response, ServoSelect, Settings, SlotInfo, Status, SteerCommand,
-    SteerFamily, StreamConfig,
+    QueueCommand, Request, Response, ServoRead, ServoReadResult, ServoSelect, Settings, SlotInfo,
+    Status, SteerCommand, SteerFamily, StreamConfig,
 };
 pub use crate::reply::{ChunkAccepted, Committed};
 use crate::reply::{IntoResponse, Reply};
@@ -210,4 +210,8 @@ endpoints! {
     GetPlatform => Option<PlatformStatus>, get_platform;
     /// Heat and supply limits: warn, and stop a walk at the end of its step.
     SetHealthLimits(HealthLimits) => (), set_health_limits;
+    /// Reads registers of (or pings) one servo between bus cycles; collect with `GetServoRead`.
+    ReadServo(ServoRead) => (), read_servo;
+    /// The last finished servo read (`None`: pending, or none asked).
+    GetServoRead => Option<ServoReadResult>, get_servo_read;
 }

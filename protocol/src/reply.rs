@@ -8,7 +8,8 @@ use core::fmt;
 
 use crate::frame::FrameError;
 use crate::message::{
-    DeviceInfo, DeviceMessage, JointIds, PlatformStatus, Response, Settings, SlotInfo, Status,
+    DeviceInfo, DeviceMessage, JointIds, PlatformStatus, Response, ServoReadResult, Settings,
+    SlotInfo, Status,
 };
 use crate::{MAX_SLOTS, ProtocolError};
 
@@ -148,6 +149,7 @@ reply_variant!(Settings, Settings);
 reply_variant!(heapless::Vec<SlotInfo, MAX_SLOTS>, Slots);
 reply_variant!(Option<JointIds>, JointMap);
 reply_variant!(Option<PlatformStatus>, Platform);
+reply_variant!(Option<ServoReadResult>, ServoRead);
 
 /// Takes `message` as the reply to request `seq` and extracts the value of type `R`.
 pub fn reply<R: Reply>(seq: u16, message: DeviceMessage) -> Result<R, ReplyError> {

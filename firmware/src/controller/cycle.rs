@@ -73,6 +73,9 @@ pub struct CyclePlan {
     /// after the action, if the cycle leaves time for it before the next start
     /// ([`crate::bus_loop`]); one servo per cycle in turn.
     pub health_read: Option<(u8, u8)>,
+    /// The host's servo read ([`Controller::read_servo`]), done after the action if the cycle
+    /// leaves time for it; it waits for a later cycle otherwise.
+    pub servo_read: Option<protocol::ServoRead>,
 }
 
 impl CyclePlan {
@@ -192,6 +195,7 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             gain_gen: self.gains_wanted,
             platform,
             health_read,
+            servo_read: self.servo_read,
         }
     }
 

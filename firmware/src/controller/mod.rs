@@ -13,6 +13,7 @@ mod health;
 #[cfg(test)]
 mod limits_tests;
 mod platform;
+mod servo_read;
 mod steer;
 mod switch;
 #[cfg(test)]
@@ -30,6 +31,7 @@ use crate::telemetry::{DropQueue, Record};
 pub use crate::telemetry::SetpointStamp;
 pub use commands::{CommandError, PlayParams, Setting};
 pub use cycle::{BusAction, CyclePlan, Outcome};
+pub use servo_read::ServoReadError;
 pub use switch::QUEUE_LEN;
 
 /// Telemetry records the queue holds before it drops (about 400 B each).
@@ -183,6 +185,10 @@ pub struct Controller<F> {
     /// last walk (until the next `Play`).
     health: crate::safety::health::HealthWatch<MAX_JOINTS>,
     health_stop: Option<protocol::HealthAlarm>,
+    /// The host's servo read waiting for a cycle with the time for it, and the last finished one
+    /// ([`servo_read`]).
+    servo_read: Option<protocol::ServoRead>,
+    servo_read_result: Option<protocol::ServoReadResult>,
 }
 
 impl<F: NorFlash + FlashWindow> Controller<F> {
@@ -230,6 +236,8 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             telemetry_countdown: 0,
             health: crate::safety::health::HealthWatch::new(protocol::HealthLimits::DEFAULT),
             health_stop: None,
+            servo_read: None,
+            servo_read_result: None,
         };
         if let Some(slot) = (0..c.store.slots()).find(|&s| c.store.table(s).is_some()) {
             // A table that fails validation just leaves the map empty; the host sees it in `list`.

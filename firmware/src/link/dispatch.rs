@@ -367,6 +367,26 @@ impl<F: NorFlash + FlashWindow> Handler for Service<'_, F> {
         self.c.clear_fault().map_err(command_error)
     }
 
+    fn read_servo(&mut self, r: protocol::ServoRead) -> Result<(), ProtocolError> {
+        use crate::controller::ServoReadError;
+        self.c
+            .read_servo(r)
+            .map_err(|e| ProtocolError::InvalidSetting {
+                setting: protocol::Setting::ServoRead,
+                value: match e {
+                    ServoReadError::Id(id) => i32::from(id),
+                    ServoReadError::Len(len) => i32::from(len),
+                },
+            })
+    }
+
+    fn get_servo_read(
+        &mut self,
+        _: ep::GetServoRead,
+    ) -> Result<Option<protocol::ServoReadResult>, ProtocolError> {
+        Ok(self.c.servo_read_result())
+    }
+
     fn set_health_limits(&mut self, r: protocol::HealthLimits) -> Result<(), ProtocolError> {
         self.c
             .set_health_limits(r)

@@ -25,6 +25,8 @@ pub enum Setting {
     SetpointJoints,
     /// Heat and supply limits (appended: protocol version 8).
     HealthLimits,
+    /// A servo read's ID or length (appended: protocol version 9).
+    ServoRead,
 }
 
 impl Setting {
@@ -42,6 +44,7 @@ impl Setting {
             Setting::StreamFeedback => "stream feedback",
             Setting::SetpointJoints => "setpoint joints",
             Setting::HealthLimits => "health limits",
+            Setting::ServoRead => "servo read",
         }
     }
 }

@@ -8,6 +8,7 @@ mod error;
 mod health;
 mod platform;
 mod request;
+mod servo_read;
 mod status;
 mod steer;
 mod stream;
@@ -25,6 +26,7 @@ pub use platform::{PlatformFeedback, PlatformMove, PlatformSetup, PlatformState,
 pub use request::{
     Direction, PlayCommand, QueueCommand, Request, ServoSelect, Steps, StreamConfig,
 };
+pub use servo_read::{MAX_SERVO_READ, ServoRead, ServoReadOutcome, ServoReadResult};
 pub use status::{
     Counters, JointSettings, PlaybackPosition, RunState, Settings, Status, UploadProgress,
 };
@@ -97,6 +99,9 @@ pub enum Response {
     /// The platform set up and its servo's state; `None` when none is set (appended: protocol
     /// version 7).
     Platform(Option<PlatformStatus>),
+    /// Reply to `GetServoRead`: the last finished servo read, `None` while it is pending or when
+    /// none was asked (appended: protocol version 9).
+    ServoRead(Option<ServoReadResult>),
 }
 
 #[cfg(feature = "std")]
@@ -119,6 +124,7 @@ impl Response {
             Response::Error(e) => format!("an error: {e}"),
             Response::JointMap(_) => "a joint map".into(),
             Response::Platform(_) => "the perturbation platform's set-up".into(),
+            Response::ServoRead(_) => "a servo read's result".into(),
         }
     }
 }

@@ -100,6 +100,11 @@ pub enum Request {
     /// `InvalidSetting { setting: HealthLimits, .. }`). Reply: `Ack`. (Appended: protocol
     /// version 8.)
     SetHealthLimits(crate::HealthLimits),
+    /// Reads registers of (or pings) one servo on the board's bus between bus cycles (appended:
+    /// protocol version 9); a read still pending is replaced. Collect with `GetServoRead`.
+    ReadServo(crate::ServoRead),
+    /// The last finished servo read (appended: protocol version 9).
+    GetServoRead,
 }
 
 /// Which servos a command addresses.

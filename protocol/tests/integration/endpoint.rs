@@ -36,6 +36,15 @@ impl Handler for FakeBoard {
     fn set_health_limits(&mut self, _: HealthLimits) -> Result<(), ProtocolError> {
         unsupported()
     }
+    fn read_servo(&mut self, _: ServoRead) -> Result<(), ProtocolError> {
+        unsupported()
+    }
+    fn get_servo_read(
+        &mut self,
+        _: ep::GetServoRead,
+    ) -> Result<Option<ServoReadResult>, ProtocolError> {
+        unsupported()
+    }
     fn clear_platform(&mut self, _: ep::ClearPlatform) -> Result<(), ProtocolError> {
         unsupported()
     }

@@ -55,7 +55,8 @@ fn protocol_version_is_the_one_these_bytes_belong_to() {
     //    Telemetry::health, Status::health_warning / health_stop, Settings::health added at the
     //    end (heat and supply of the servos).
     // 9: Counters::rate_limited added at the end of the counters (inside Status: the bytes of
-    //    every later Status field move).
+    //    every later Status field move); Request::ReadServo / GetServoRead, Response::ServoRead
+    //    and Setting::ServoRead appended (servo reads through the board).
     assert_eq!(PROTOCOL_VERSION, 9);
     assert_eq!(gait::FORMAT_VERSION, 1);
 }

@@ -115,6 +115,8 @@ pub fn request() -> impl Strategy<Value = Request> {
         Just(Request::ClearPlatform),
         Just(Request::GetPlatform),
         health_limits().prop_map(Request::SetHealthLimits),
+        servo_read().prop_map(Request::ReadServo),
+        Just(Request::GetServoRead),
     ]
 }
 
@@ -285,6 +287,8 @@ pub fn protocol_error() -> impl Strategy<Value = ProtocolError> {
         Just(Setting::StreamTimeout),
         Just(Setting::StreamFeedback),
         Just(Setting::SetpointJoints),
+        Just(Setting::HealthLimits),
+        Just(Setting::ServoRead),
     ];
     prop_oneof![
         Just(ProtocolError::Unsupported),
@@ -530,7 +534,29 @@ pub fn response() -> impl Strategy<Value = Response> {
         protocol_error().prop_map(Response::Error),
         proptest::option::of(joint_ids()).prop_map(Response::JointMap),
         proptest::option::of(platform_status()).prop_map(Response::Platform),
+        proptest::option::of(servo_read_result()).prop_map(Response::ServoRead),
     ]
+}
+
+pub fn servo_read() -> impl Strategy<Value = ServoRead> {
+    any::<(u8, u16, u8)>().prop_map(|(id, addr, len)| ServoRead { id, addr, len })
+}
+
+pub fn servo_read_result() -> impl Strategy<Value = ServoReadResult> {
+    let outcome = prop_oneof![
+        (any::<u8>(), hvec(any::<u8>(), MAX_SERVO_READ))
+            .prop_map(|(error, data)| ServoReadOutcome::Data { error, data }),
+        any::<(u8, u16, u8)>().prop_map(|(error, model_number, firmware)| {
+            ServoReadOutcome::Ping {
+                error,
+                model_number,
+                firmware,
+            }
+        }),
+        Just(ServoReadOutcome::Timeout),
+        Just(ServoReadOutcome::Corrupt),
+    ];
+    (servo_read(), outcome).prop_map(|(request, outcome)| ServoReadResult { request, outcome })
 }
 
 pub fn feedback() -> impl Strategy<Value = JointFeedback> {
