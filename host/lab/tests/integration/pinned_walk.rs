@@ -4,10 +4,10 @@
 //! steepest whole-degree incline that gait, planned for the slope, climbs (it climbs the pinned
 //! angle and not one degree more).
 //!
-//! The simulation is deterministic (the body steps on simulated time alone,
-//! `physics::bus_traffic`), so the bounds are tight: any change that moves what the physics
-//! robot does (model, servo dynamics, firmware timing, planner) fails here and must regenerate
-//! the pinned file, with the reason in its commit:
+//! The simulation is deterministic (the body steps on simulated time alone: the physics test
+//! `bus_traffic`), so the bounds are tight: any change that moves what the physics robot does
+//! (model, servo dynamics, firmware timing, planner) fails here and must regenerate the pinned
+//! file, with the reason in its commit:
 //!
 //! ```sh
 //! DBOT_REPIN=1 cargo nextest run -p lab -E 'test(/pinned_walk::/)'
