@@ -78,6 +78,12 @@ impl BusLoop {
         Self::default()
     }
 
+    /// When the next cycle starts on the grid, us (`None` before the first, which starts at
+    /// once): the loop waits for it, or starts at once if the clock is already past it.
+    pub fn next_start_us(&self) -> Option<u64> {
+        self.next_us
+    }
+
     /// Runs one cycle: waits for its start on the grid, plans, performs and completes it.
     pub async fn run_cycle<S, F, IO, D, C>(&mut self, shared: &S, bus: &mut BusMaster<IO, D, C>)
     where

@@ -41,7 +41,7 @@ board): the controller reads only the observation (strain where there is strain,
 registers).
 
     .venv/bin/python python/examples/sns_walk.py --port physics --cycles 4 --out out/sns
-    .venv/bin/python python/examples/sns_walk.py --port physics:incline:6 --cycles 4 --out out/sns
+    .venv/bin/python python/examples/sns_walk.py --port physics:incline:5 --cycles 4 --out out/sns
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 //! [`PhysicsRobot`]: a MuJoCo body as the [`ServoDynamics`] of the board's virtual robot (the
 //! firmware library's board over the simulated Dynamixel bus, `board::robot::VirtualRobot`).
-//! Before each bus cycle the plant steps to the cycle's start under the goals the servos hold,
+//! Before each bus cycle the plant steps to the cycle's start (the bus loop's grid point, so the
+//! bytes on the bus move nothing in the body: test `bus_traffic`) under the goals the servos hold,
 //! and the servos' Present registers take the body's angles, velocities and actuator torques; the
 //! firmware's cycle then reads them and writes new goals. Within a cycle's few milliseconds of
 //! bus traffic the servos report the state at its start (a real servo samples continuously: up

@@ -167,13 +167,14 @@ impl<S: ServoDynamics> VirtualRobot<S> {
         n
     }
 
-    /// Start of the next bus cycle, us (later if the bus loop has to skip an overrun start).
+    /// Start of the next bus cycle, us: the bus loop's next grid point (after an overrun the one
+    /// it skips to), or now if that point has passed or no cycle has run yet.
     pub fn next_cycle_us(&self) -> u64 {
-        let t = self.board.timing();
-        if t.cycles == 0 {
-            return self.now_us();
-        }
-        t.last_start_us + u64::from(self.board.controller.borrow().period_us())
+        let now = self.now_us();
+        self.board
+            .schedule
+            .next_start_us()
+            .map_or(now, |t| t.max(now))
     }
 
     /// Lets time pass up to `t_us`, running every bus cycle that starts before it.
@@ -189,14 +190,18 @@ impl<S: ServoDynamics> VirtualRobot<S> {
 
     /// Runs the next bus cycle of the firmware's bus loop (time passes to its start and through
     /// its bus traffic) and queues its telemetry for the host.
+    ///
+    /// What moves the servos is stepped to the cycle's START, not to the wire's clock: the wire's
+    /// clock stands wherever the last bus traffic ended, so stepping to it would let the bytes on
+    /// the bus (a register read more or less) move the simulated body.
     pub fn cycle(&mut self) {
         self.follow_baud();
         {
+            let start = self.next_cycle_us();
             let c = self.board.controller.borrow();
-            let now = self.wire.now_us();
             let servos = &mut self.servos;
             self.wire
-                .with_chain(|chain| servos.before_cycle(&c, chain, now));
+                .with_chain(|chain| servos.before_cycle(&c, chain, start));
         }
         self.wire.clone().block_on(self.board.run_cycle());
         let out = &mut self.to_host;

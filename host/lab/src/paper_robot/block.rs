@@ -8,6 +8,7 @@ use std::fmt::Write;
 use super::experiment::PhaseRow;
 use super::metrics::{
     Group, Pair, apart, joint_change, lag, load_r2, load_vs_plan, peak_apart, spread, stance_load,
+    stance_planned,
 };
 
 pub const BEGIN: &str = "<!-- physics:begin -->";
@@ -349,18 +350,51 @@ scene.\n\n";
         })
         .map(|r| format!("{} {:+.3}", r.0, r.3))
         .collect();
+    // The plan's own change of the same joints: the simulation follows its plan in stance, so a
+    // load that falls where the paper's rose falls in the plan first.
+    let (flat_plan, up_plan) = (stance_planned(rows, flat), stance_planned(rows, up));
+    let planned_rise = |j: &str| {
+        let f = flat_plan.iter().find(|(k, _)| k == j)?.1;
+        let u = up_plan.iter().find(|(k, _)| k == j)?.1;
+        Some(u - f)
+    };
+    let pronators: Vec<(&str, f64, f64)> = rise
+        .iter()
+        .filter(|r| {
+            r.0.get(3..)
+                .is_some_and(|k| k.starts_with("TrF") || k == "ThC3")
+        })
+        .filter_map(|r| Some((r.0.as_str(), r.3, planned_rise(&r.0)?)))
+        .collect();
+    let planned: Vec<String> = pronators
+        .iter()
+        .map(|(j, _, p)| format!("{j} {p:+.3}"))
+        .collect();
+    let same_sign = pronators
+        .iter()
+        .filter(|(_, l, p)| l.signum() == p.signum())
+        .count();
     let hits = top.iter().filter(|r| paper(&r.0)).count();
     let _ = writeln!(
         s,
         "\n![figure 7](paper-robot/fig7.png)\n\n- **Incline** (paper: stance torques of \
 the pronation/supination joints rise greatly, TrF in every leg and ThC3 in the front, and the hind \
 FTi). Simulation: {hits} of the 6 largest rises are joints the paper names: {}. The stance load \
-of the TrF and ThC3 joints changes by (N m, RMS over stance): {}.\n",
+of the TrF and ThC3 joints changes by (N m, RMS over stance): {}. The plan's own stance torques \
+of the same joints change by (N m, planned, RMS over stance): {}; in {same_sign} of {} the plan \
+changes the same way as the simulated load. The simulation follows its plan (the servos hold the \
+planned posture with the plan's torque bias): where the loads fall, the inverse dynamics planned \
+them to fall: the inverse dynamics shares the slope's load among the stance feet by the paper's \
+criterion (least complementary energy, sum of torque^2 / stiffness, within the friction cones) and \
+puts it on the hind CTr and FTi. The disagreement is the plan's, not the simulated servos': the \
+paper's figure 7 is the robot's measured load.\n",
         if hits >= 3 {
             "**agrees** (3 or more)"
         } else {
             "**does not agree** (fewer than 3)"
         },
-        trf.join(", ")
+        trf.join(", "),
+        planned.join(", "),
+        pronators.len(),
     );
 }

@@ -154,13 +154,23 @@ pub fn joint_change(all: &[PhaseRow], a: &str, b: &str) -> Vec<(String, f64, f64
 
 /// Per joint of `exp`: RMS of the load over the joint's stance slices, N m.
 pub fn stance_load(all: &[PhaseRow], exp: &str) -> Vec<(String, f64)> {
+    stance_rms(all, exp, |r| r.mean_nm)
+}
+
+/// Per joint of `exp`: RMS of the planned torque over the joint's stance slices, N m.
+pub fn stance_planned(all: &[PhaseRow], exp: &str) -> Vec<(String, f64)> {
+    stance_rms(all, exp, |r| r.planned_nm)
+}
+
+/// Per joint of `exp`: RMS of `value` over the joint's stance slices.
+fn stance_rms(all: &[PhaseRow], exp: &str, value: impl Fn(&PhaseRow) -> f64) -> Vec<(String, f64)> {
     let mut out: Vec<(String, f64)> = Vec::new();
     for r in all.iter().filter(|r| r.experiment == exp) {
         if !out.iter().any(|(j, _)| *j == r.joint) {
             let v = rms(all
                 .iter()
                 .filter(|x| x.experiment == exp && x.joint == r.joint && x.stance)
-                .map(|x| x.mean_nm));
+                .map(&value));
             if let Some(v) = v {
                 out.push((r.joint.clone(), v));
             }

@@ -4,6 +4,7 @@
 mod doctor;
 mod perturbation;
 mod physics_serve;
+mod pinned_walk;
 mod plan_dir_consistency;
 mod steer_blend;
 mod strain_gain;

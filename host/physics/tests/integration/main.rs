@@ -6,6 +6,7 @@ mod servo_dynamics;
 mod support;
 
 mod blocks;
+mod bus_traffic;
 mod firmware_in_the_loop;
 mod fly_timestep;
 mod mjcf_model_data;
