@@ -72,20 +72,23 @@ def test_a_missing_servo_fails_in_the_cli_words(bus: str) -> None:
     assert "the robot is not ready" in cli.stderr
 
 
-def test_the_emulated_board_is_checked_and_its_servos_need_a_bus(emulator_port: str) -> None:
+def test_the_emulated_board_and_its_servos_are_checked_through_it(emulator_port: str) -> None:
     """The doctor on the emulated board (the release firmware image in the RP2040 emulator, over
     its USB pseudo-terminal): the board is found with this host's protocol and table versions and
-    its bus settings; the board's protocol does not pass register reads through, so without a
-    servo bus the servos are one item, not checked, that says what to give. The CLI prints the
-    same lines."""
+    its bus settings, and every servo of the model file is read through the board (`ReadServo`,
+    protocol version 9) on the emulator's virtual servo chain: each answers with the e-manual's
+    model number for its model file entry, and the supply reads the virtual servos' 12.0 V. The
+    CLI prints the same lines."""
     report = dbot.doctor(port=emulator_port, quiet=True)
     items = {i["name"]: i for i in report["items"]}
     assert items["board"]["outcome"] == "pass", report["text"]
     assert items["board bus"]["outcome"] == "pass", report["text"]
-    servos = items["servos"]
-    assert servos["outcome"] == "not checked", report["text"]
-    assert "does not pass register reads through" in servos["fix"], servos
-    assert not any(n.startswith("servo ID ") for n in items), report["text"]
+    servos = [i for n, i in items.items() if n.startswith("servo ID ")]
+    assert len(servos) == 22, report["text"]
+    for i in servos:
+        want = "model number 311" if "MX-64" in i["name"] else "model number 30)"
+        assert want in i["detail"], i
+    assert "12.0 V" in items["supply voltage"]["detail"], report["text"]
     cli = subprocess.run(
         [str(dbot_cli()), "doctor", "--port", emulator_port],
         capture_output=True, text=True, timeout=600,

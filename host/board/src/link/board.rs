@@ -437,6 +437,31 @@ impl<T: Transport> Board<T> {
     }
 
     /// Heat and supply limits (checked on the board too: `InvalidSetting` "health limits").
+    /// Reads `read.len` bytes at `read.addr` of servo `read.id` on the board's bus (a Ping with
+    /// length 0), through the board: asked, then collected once a bus cycle had the time for it,
+    /// for at most `timeout` of the transport's clock. `None`: not done by then (a board busy
+    /// with long bus cycles, or gone quiet).
+    pub fn read_servo(
+        &mut self,
+        read: protocol::ServoRead,
+        timeout: Duration,
+    ) -> Result<Option<protocol::ServoReadOutcome>, LinkError> {
+        self.call(read)?;
+        let deadline = self.transport.now() + timeout;
+        loop {
+            if let Some(r) = self.call(ep::GetServoRead)?
+                && r.request == read
+            {
+                return Ok(Some(r.outcome));
+            }
+            if self.transport.now() >= deadline {
+                return Ok(None);
+            }
+            // A bus cycle or so (10 ms at 100 Hz): the read is done after one.
+            self.wait(Duration::from_millis(5))?;
+        }
+    }
+
     pub fn set_health_limits(&mut self, limits: protocol::HealthLimits) -> Result<(), LinkError> {
         self.call(limits)
     }

@@ -8,8 +8,9 @@
 //!
 //! The servos' registers are read on a servo bus: a serial port (`bus`: a U2D2 on the robot's
 //! bus, or `dbot sim-bus`'s link), or for the in-process robots (`virtual`, `physics`) their own
-//! simulated wire. The board's protocol carries no register reads, so for a board on a serial
-//! port without a `bus` the servo items are not checked (and say how to check them).
+//! simulated wire, or for a board on a serial port without a `bus` the board's own bus, the reads
+//! passed through it between its bus cycles (`ReadServo`, protocol version 9; a silent servo cannot
+//! be looked for at other rates there, and the item says so).
 
 pub mod servo_bus;
 pub mod servos;
@@ -17,7 +18,7 @@ mod strain;
 
 use planner::model::Model;
 
-pub use servo_bus::{SerialBus, ServoBus, SimBus};
+pub use servo_bus::{BoardBus, SerialBus, ServoBus, SimBus};
 pub use servos::{Expected, check_servos, expected_servos};
 pub use strain::{check_strain, check_strain_io};
 
@@ -219,16 +220,19 @@ pub fn run(model: &Model, options: &Options) -> Report {
             b.set_baud(baud).expect("the simulated wire takes any rate");
             Some(Box::new(b))
         }
-        (None, None) => {
-            items.push(Item::not_checked(
-                "servos",
-                "the board does not pass register reads through: give a servo bus (--bus PORT, \
-                 Python bus=): a U2D2 on the robot's bus, with the board's bus cable unplugged \
-                 so that one master talks at a time"
-                    .to_owned(),
-            ));
-            None
-        }
+        (None, None) => match robot.as_mut() {
+            // A board on a port: its reads passed through to its bus, at its rate.
+            Some(r) => Some(Box::new(BoardBus::new(r, baud))),
+            None => {
+                items.push(Item::not_checked(
+                    "servos",
+                    "no board and no servo bus: give the board's port (--port) or a servo bus \
+                     (--bus PORT, Python bus=): a U2D2 on the robot's bus"
+                        .to_owned(),
+                ));
+                None
+            }
+        },
     };
     if let Some(bus) = bus.as_deref_mut() {
         items.push(Item::pass(
@@ -241,6 +245,8 @@ pub fn run(model: &Model, options: &Options) -> Report {
         ));
         items.extend(check_servos(bus, &expected));
     }
+    // The bus may borrow the board, which is closed below.
+    drop(bus);
     if let Some(strain) = &options.strain {
         items.push(check_strain(
             strain,

@@ -141,7 +141,7 @@ pub fn check_servos(bus: &mut dyn ServoBus, expected: &[Expected]) -> Vec<Item> 
         .filter(|(_, h)| matches!(h, Heard::Silent))
         .map(|(e, _)| e.id)
         .collect();
-    let elsewhere = find_elsewhere(bus, &silent, baud);
+    let (elsewhere, elsewhere_searched) = find_elsewhere(bus, &silent, baud);
     let mut items = Vec::new();
     for (i, (e, h)) in expected.iter().zip(&heard).enumerate() {
         let name = format!("servo ID {} ({}, {})", e.id, e.joint, e.model.name());
@@ -163,7 +163,12 @@ pub fn check_servos(bus: &mut dyn ServoBus, expected: &[Expected]) -> Vec<Item> 
                 ),
                 None => Item::fail(
                     &name,
-                    format!("missing: no answer at {baud} bit/s nor at any other MX rate"),
+                    match &elsewhere_searched {
+                        Ok(()) => {
+                            format!("missing: no answer at {baud} bit/s nor at any other MX rate")
+                        }
+                        Err(why) => format!("missing: no answer at {baud} bit/s ({why})"),
+                    },
                     format!(
                         "check its cable and power, and that no other servo took its ID; \
                          find what answers: {}",
@@ -186,13 +191,20 @@ pub fn check_servos(bus: &mut dyn ServoBus, expected: &[Expected]) -> Vec<Item> 
 }
 
 /// The silent `ids` that answer at another MX rate, and that rate; the bus is back at `baud`.
-fn find_elsewhere(bus: &mut dyn ServoBus, ids: &[u8], baud: u32) -> Vec<(u8, u32)> {
+/// With it, why other rates were not searched (a bus that cannot change its rate).
+fn find_elsewhere(
+    bus: &mut dyn ServoBus,
+    ids: &[u8],
+    baud: u32,
+) -> (Vec<(u8, u32)>, Result<(), String>) {
     let mut found = Vec::new();
+    let mut searched = Ok(());
     if ids.is_empty() {
-        return found;
+        return (found, searched);
     }
     for &(_, rate) in ct::BAUD_RATES.iter().filter(|(_, r)| *r != baud) {
-        if bus.set_baud(rate).is_err() {
+        if let Err(why) = bus.set_baud(rate) {
+            searched = Err(why);
             continue;
         }
         for &id in ids {
@@ -203,7 +215,7 @@ fn find_elsewhere(bus: &mut dyn ServoBus, ids: &[u8], baud: u32) -> Vec<(u8, u32
     }
     // A bus that cannot go back is reported by the next read that fails.
     let _ = bus.set_baud(baud);
-    found
+    (found, searched)
 }
 
 fn check_answer(

@@ -222,3 +222,53 @@ fn the_healthy_virtual_robot_and_strain_board_pass() {
         report.text()
     );
 }
+
+/// The servo items through a board's own bus (reads passed through it, `ReadServo`) on the
+/// in-process virtual robot built on `chain`.
+fn check_through_a_board(chain: VirtualChain) -> Vec<Item> {
+    use board::robot::{FLASH_SECTORS, VirtualFlash, VirtualRobot, VirtualTransport};
+    let robot = VirtualRobot::with_parts(
+        VirtualFlash::new(FLASH_SECTORS),
+        chain,
+        board::robot::PlannedLoads,
+    );
+    let mut b = board::link::Board::connect(VirtualTransport::new(robot)).unwrap();
+    let mut bus = doctor::BoardBus::new(&mut b, BAUD);
+    doctor::check_servos(&mut bus, &doctor::expected_servos(&model()))
+}
+
+#[test]
+fn through_a_board_every_servo_is_read_and_a_wrong_or_missing_one_named() {
+    // Healthy: the same 22 servos and supply as on a bus of its own.
+    let items = check_through_a_board(robot_chain(BAUD));
+    assert_eq!(items.len(), 23, "{items:#?}");
+    assert!(failed(&items).is_empty(), "{items:#?}");
+    assert!(
+        item(&items, "servo ID 3 ")
+            .detail
+            .contains("MX-64(2.0) (model number 311)")
+    );
+    // An MX-28 at ID 3 and servo 5 silent: both named; the silent one not looked for at other
+    // rates, which the board's bus cannot change to, and the item says so.
+    let servos: Vec<_> = robot_servos()
+        .into_iter()
+        .map(|(id, m)| (id, if id == 3 { ServoModel::Mx28 } else { m }))
+        .collect();
+    let mut chain = VirtualChain::new(&servos, BAUD).unwrap();
+    chain.set_return_delay_all(0);
+    chain.set_faults(5, Faults::SILENT).unwrap();
+    let items = check_through_a_board(chain);
+    let (three, five) = (item(&items, "servo ID 3 "), item(&items, "servo ID 5 "));
+    assert_eq!(failed(&items), [three.name.as_str(), five.name.as_str()]);
+    assert!(
+        three
+            .detail
+            .contains("answers as MX-28(2.0) (model number 30)"),
+        "{three}"
+    );
+    assert!(
+        five.detail
+            .starts_with("missing: no answer at 1000000 bit/s (the board's bus runs at"),
+        "{five}"
+    );
+}
