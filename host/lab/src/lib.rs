@@ -29,6 +29,8 @@
 //! - [`validation`]: the run results of docs/validation.md.
 //! - [`doctor`]: the bring-up check of a freshly wired robot (`dbot doctor`, `dbot.doctor()`).
 
+pub mod identify;
+pub mod replay;
 pub mod demo;
 pub mod doctor;
 pub mod error;
