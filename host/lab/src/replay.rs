@@ -35,15 +35,14 @@ impl Reading {
         }
     }
 
-    /// How `model` reads joint `j`'s load: calibrated when the model file gives the joint (or its
-    /// servo model) a load gain.
+    /// How `model` reads joint `j`'s load: calibrated when the model file gives the joint its
+    /// own load gain (as the identification writes it), else the servo model's ESTIMATE.
     pub fn of(model: &Model, j: usize) -> Self {
-        let name = &model.joints[j].name;
-        let given = |e: Option<&planner::model::ServoParamsEntry>| e.is_some_and(|e| e.load_gain.is_some());
-        let servo = model.joints[j].servo.map(|s| s.model);
-        if given(model.servo_dynamics.of_joint(name))
-            || servo.is_some_and(|s| given(model.servo_dynamics.of_model(s)))
-        {
+        let own = model
+            .servo_dynamics
+            .of_joint(&model.joints[j].name)
+            .is_some_and(|e| e.load_gain.is_some());
+        if own {
             Reading::Calibrated
         } else {
             Reading::Estimate

@@ -36,6 +36,11 @@ pub struct MotionFit<'a> {
     /// Replays run so far, and the budget after which the fit stops.
     pub replays: std::cell::Cell<usize>,
     pub budget: usize,
+    /// Each identified joint's torque-speed slope at the start, N m s/rad (kept: see
+    /// [`Self::model_at`]).
+    kv: Vec<f64>,
+    /// Each identified joint's stall torque at the start, N m (see [`Self::model_at`]).
+    stall0: Vec<f64>,
     /// The lowest cost seen and its parameters.
     pub best: Option<(f64, DVector<f64>)>,
     pub error: std::cell::RefCell<Option<crate::LabError>>,
@@ -60,7 +65,17 @@ impl<'a> MotionFit<'a> {
                 x[k * MOTION.len() + i] = (f.get)(&p) / f.scale;
             }
         }
+        let kv = joints
+            .iter()
+            .map(|&j| model.servo_params(j).expect("a servo joint").back_emf_nm_s_per_rad())
+            .collect();
+        let stall0 = joints
+            .iter()
+            .map(|&j| model.servo_params(j).expect("a servo joint").stall_torque_nm)
+            .collect();
         let mut fit = Self {
+            kv,
+            stall0,
             model,
             recordings,
             joints,
@@ -77,7 +92,12 @@ impl<'a> MotionFit<'a> {
     }
 
     /// `model` with the parameters `x` (scaled) as each identified joint's overrides, clamped
-    /// to the bounds.
+    /// to the bounds. The torque-speed line keeps its start slope: the no-load speed follows
+    /// the stall torque (the slope and the gear damping are one to the motion below saturation,
+    /// `params::NOT_FROM_MOTION`). The optimiser's divisor is the one at the start stall torque,
+    /// so that it alone sets the stiffness (Kp is the stall torque over the divisor, times the
+    /// register) and the stall torque alone the I and D gains' scale and the saturation: the
+    /// file's divisor is that one times the fitted stall over the start's.
     pub fn model_at(&self, x: &DVector<f64>) -> Model {
         let mut m = self.model.clone();
         for (k, &j) in self.joints.iter().enumerate() {
@@ -89,6 +109,12 @@ impl<'a> MotionFit<'a> {
                 .unwrap_or_default();
             for (i, f) in MOTION.iter().enumerate() {
                 (f.set)(&mut e, (x[k * MOTION.len() + i] * f.scale).clamp(f.lo, f.hi));
+            }
+            if let Some(stall) = e.stall_torque_nm {
+                e.no_load_speed_rad_s = Some(stall / self.kv[k]);
+                if let Some(d) = e.p_gain_divisor {
+                    e.p_gain_divisor = Some(d * stall / self.stall0[k]);
+                }
             }
             let name = name.clone();
             m.servo_dynamics.set_joint(&name, e);

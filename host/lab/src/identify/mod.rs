@@ -65,6 +65,8 @@ pub struct Identification {
     /// Each recording replayed before (the input model) and after (the fitted one).
     pub before: Vec<Replay>,
     pub after: Vec<Replay>,
+    /// Joints no trial identified, given the median of their servo model's identified joints.
+    pub generalised: Vec<String>,
     /// Replays run, and how the optimiser ended.
     pub replays: usize,
     pub termination: String,
@@ -122,6 +124,8 @@ pub fn identify(
     let problem = fit::MotionFit::new(model, &suspended, joints.clone(), options.max_replays);
     let (problem, report) = levenberg_marquardt::LevenbergMarquardt::new()
         .with_patience(100)
+        .with_ftol(1e-3)
+        .with_xtol(1e-3)
         .minimize(problem);
     if let Some(e) = problem.error.borrow_mut().take() {
         return Err(e);
@@ -222,6 +226,7 @@ pub fn identify(
             });
         }
     }
+    let generalised = generalise(&mut fitted, &joints);
     fitted.name = format!("{}-identified", model.name);
     let after = suspended
         .iter()
@@ -243,6 +248,7 @@ pub fn identify(
         not_identified,
         before,
         after,
+        generalised,
         replays,
         termination,
     })
@@ -263,4 +269,54 @@ fn block_sd(block: &DMatrix<f64>, sigma2: f64) -> Vec<Option<f64>> {
             .collect(),
         None => vec![None; n],
     }
+}
+
+/// Gives every servo joint of `model` not in `identified` the median, field by field, of the
+/// identified joints with its servo model (as its own overrides); returns those joints' names.
+fn generalise(model: &mut Model, identified: &[usize]) -> Vec<String> {
+    let mut out = Vec::new();
+    for j in 0..model.joints.len() {
+        if identified.contains(&j) {
+            continue;
+        }
+        let Some(servo) = model.joints[j].servo.map(|s| s.model) else {
+            continue;
+        };
+        if model.servo_params(j).is_none() {
+            continue;
+        }
+        let peers: Vec<planner::model::ServoParamsEntry> = identified
+            .iter()
+            .filter(|&&i| model.joints[i].servo.map(|s| s.model) == Some(servo))
+            .map(|&i| fit::entry_of(model, i))
+            .collect();
+        if peers.is_empty() {
+            continue;
+        }
+        let median = |f: &dyn Fn(&planner::model::ServoParamsEntry) -> Option<f64>| {
+            let mut v: Vec<f64> = peers.iter().filter_map(f).collect();
+            v.sort_by(f64::total_cmp);
+            (!v.is_empty()).then(|| v[v.len() / 2])
+        };
+        let mut e = fit::entry_of(model, j);
+        for f in MOTION {
+            if let Some(v) = median(&|p| {
+                let mut probe = planner::model::ServoParams::defaults(servo);
+                probe = probe.with(p);
+                p.given().iter().any(|(n, _)| *n == f.name).then(|| (f.get)(&probe))
+            }) {
+                (f.set)(&mut e, v);
+            }
+        }
+        e.load_gain = median(&|p| p.load_gain).or(e.load_gain);
+        e.load_offset_nm = median(&|p| p.load_offset_nm).or(e.load_offset_nm);
+        e.load_noise_nm = median(&|p| p.load_noise_nm).or(e.load_noise_nm);
+        e.load_resolution_counts = median(&|p| p.load_resolution_counts.map(f64::from))
+            .map(|v| v as u16)
+            .or(e.load_resolution_counts);
+        let name = model.joints[j].name.clone();
+        model.servo_dynamics.set_joint(&name, e);
+        out.push(name);
+    }
+    out
 }

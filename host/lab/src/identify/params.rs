@@ -39,24 +39,14 @@ pub const MOTION: &[Fitted] = &[
         set: |e, v| e.p_gain_divisor = Some(v),
     },
     Fitted {
-        name: "i_gain",
-        unit: "register",
-        lo: 0.0,
-        hi: 1000.0,
-        scale: 100.0,
-        step: 4.0,
-        get: |p| f64::from(p.i_gain),
-        set: |e, v| e.i_gain = Some(v.round() as u16),
-    },
-    Fitted {
-        name: "d_gain",
-        unit: "register",
-        lo: 0.0,
-        hi: 2000.0,
-        scale: 100.0,
-        step: 8.0,
-        get: |p| f64::from(p.d_gain),
-        set: |e, v| e.d_gain = Some(v.round() as u16),
+        name: "stall_torque_nm",
+        unit: "N m",
+        lo: 0.2,
+        hi: 20.0,
+        scale: 1.0,
+        step: 0.05,
+        get: |p| p.stall_torque_nm,
+        set: |e, v| e.stall_torque_nm = Some(v),
     },
     Fitted {
         name: "damping_nm_s_per_rad",
@@ -113,15 +103,18 @@ pub const MOTION: &[Fitted] = &[
 /// The servo-dynamics fields not fitted from motion, and why.
 pub const NOT_FROM_MOTION: &[(&str, &str)] = &[
     (
-        "stall_torque_nm",
-        "the stall torque only shows when the PWM saturates, and the excitation keeps every move \
-         under half the no-load speed and every step's drive under the stall torque; with the P gain \
-         divisor it sets the stiffness, which is what the fitted divisor carries",
+        "i_gain, d_gain",
+        "registers the servo holds: read them (`dbot dxl read`) and give them in the model; they are \
+         used, not fitted. Fitted, the D gain's drive on the error's rate is indistinguishable from \
+         gear damping in the suspended excitation (the stand-in's fit put D at 0 and the damping at \
+         the sum). Given, their known registers carry the stall torque's scale (Ki and Kd are per \
+         unit of PWM), which is what makes the stall torque identifiable below saturation",
     ),
     (
         "no_load_speed_rad_s",
         "the torque-speed line's slope (stall / no-load speed) damps the joint exactly as the gear \
-         damping does while the PWM does not saturate: position and velocity see only their sum, \
-         which the fitted damping carries",
+         damping does while the PWM does not saturate, which the excitation avoids: position and \
+         velocity see only their sum, which the fitted damping carries (the slope is kept at the \
+         model's, the no-load speed following the fitted stall torque)",
     ),
 ];

@@ -16,7 +16,7 @@ use super::recording::Recording;
 use crate::error::{Context, Result};
 
 /// How long the first goals are held before the recording's first cycle, s.
-pub const PRE_ROLL_S: f64 = 1.5;
+pub const PRE_ROLL_S: f64 = 1.2;
 /// Height the suspended body hangs above its standing place, m.
 pub const SUSPEND_RAISE_M: f64 = 0.1;
 
