@@ -27,6 +27,12 @@ use crate::replay::{Replay, figures};
 use params::{MOTION, NOT_FROM_MOTION};
 use recording::Recording;
 
+/// What the gear damping's estimate means (beside its standard deviation, which assumes
+/// white residuals and is optimistic here).
+pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total (gear damping + the \
+    torque-speed slope + the D gain's Kd), which the fit recovers; alone it is a few % of that total \
+    and its own error can be several times its sd (the stand-in's short excitation: up to 21 %)";
+
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IdentifyOptions {
@@ -162,6 +168,7 @@ pub fn identify(
                     None,
                     Some("its effect on the readings is a combination of the others' (the joint's information matrix is singular)".to_owned()),
                 ),
+                Some(sd) if f.name == "damping_nm_s_per_rad" => (Some(sd * f.scale), Some(DAMPING_NOTE.to_owned())),
                 Some(sd) => (Some(sd * f.scale), None),
             };
             estimates.push(Estimate {

@@ -61,14 +61,59 @@ fn start_model(default: &Model) -> Model {
     m
 }
 
+/// `actual` within `rel` of `truth`.
+fn near(what: &str, actual: f64, truth: f64, rel: f64) {
+    assert!(
+        (actual - truth).abs() <= rel * truth.abs(),
+        "{what}: fitted {actual}, truth {truth} (more than {:.0} % off)",
+        rel * 100.0
+    );
+}
+
 #[test]
 fn the_stand_in_is_identified_from_a_suspended_excitation() {
     let default = planner::model::builtin("drosophibot2").unwrap();
-    let t0 = std::time::Instant::now();
+    let truth_model = stand_in::stand_in_model(&default);
     let rec = stand_in_recording(&default, &[("LF_CTr", "CTr"), ("LM_FTi", "FTi")]);
-    eprintln!("recorded {} cycles in {:?}", rec.len(), t0.elapsed());
-    let t0 = std::time::Instant::now();
-    let id = identify(&[rec], &start_model(&default), &IdentifyOptions::default()).unwrap();
-    eprintln!("identified in {:?}, {} replays, {}", t0.elapsed(), id.replays, id.termination);
+    let start = start_model(&default);
+    let id = identify(&[rec], &start, &IdentifyOptions::default()).unwrap();
     eprintln!("{}", lab::identify::report::markdown(&id));
+    let tick = std::f64::consts::TAU / 4096.0;
+    for name in ["LF_CTr", "LM_FTi"] {
+        let j = default.joint_index(name).unwrap();
+        let truth = truth_model.servo_params(j).unwrap();
+        let fit = id.model.servo_params(j).unwrap();
+        // The gains the servo makes of its registers: stiffness, I and D (the stall torque's scale).
+        let (kp_t, ki_t, kd_t) = lab::identify::rollout::gains(&truth_model, j, &truth);
+        let (kp_f, ki_f, kd_f) = lab::identify::rollout::gains(&id.model, j, &fit);
+        near(&format!("{name} Kp"), kp_f, kp_t, 0.10);
+        near(&format!("{name} Ki"), ki_f, ki_t, 0.10);
+        near(&format!("{name} Kd"), kd_f, kd_t, 0.10);
+        near(&format!("{name} P gain divisor"), fit.p_gain_divisor, truth.p_gain_divisor, 0.10);
+        near(&format!("{name} stall torque"), fit.stall_torque_nm, truth.stall_torque_nm, 0.10);
+        // Damping: the viscous total the joint feels (gear damping, torque-speed slope, Kd); the
+        // gear damping alone comes with the identification's note saying so.
+        let viscous = |p: &planner::model::ServoParams, kd: f64| {
+            p.damping_nm_s_per_rad + p.back_emf_nm_s_per_rad() + kd
+        };
+        near(&format!("{name} viscous total"), viscous(&fit, kd_f), viscous(&truth, kd_t), 0.10);
+        let damping = id.estimate(name, "damping_nm_s_per_rad").unwrap();
+        assert!(damping.why.as_deref().unwrap().contains("viscous total"));
+        near(&format!("{name} friction"), fit.friction_nm, truth.friction_nm, 0.10);
+        near(&format!("{name} armature"), fit.armature_kg_m2, truth.armature_kg_m2, 0.10);
+        for (what, f, t) in [
+            ("deadband", fit.deadband_rad, truth.deadband_rad),
+            ("backlash", fit.backlash_rad, truth.backlash_rad),
+        ] {
+            assert!((f - t).abs() <= tick, "{name} {what}: fitted {f}, truth {t}: more than a tick off");
+        }
+        near(&format!("{name} load gain"), fit.load_gain, truth.load_gain, 0.10);
+        near(&format!("{name} load offset"), fit.load_offset_nm, truth.load_offset_nm, 0.10);
+        assert_eq!(fit.load_resolution_counts, truth.load_resolution_counts);
+    }
+    // What the trials cannot give is named: the no-load speed (the torque-speed slope).
+    assert!(id.not_identified.iter().any(|(f, _)| f.contains("no_load_speed_rad_s")));
+    // The replay follows the recording: the position error falls more than tenfold.
+    let (b, a) = (id.before[0].position_rms_rad(), id.after[0].position_rms_rad());
+    assert!(a * 10.0 < b, "position RMS before {b}, after {a}");
 }
