@@ -34,6 +34,7 @@ pub mod replay;
 pub mod demo;
 pub mod doctor;
 pub mod error;
+pub mod excite_files;
 pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;

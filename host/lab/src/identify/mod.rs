@@ -18,6 +18,8 @@ pub mod report;
 pub mod rollout;
 pub mod stand_in;
 
+pub use report::write_outputs;
+
 use nalgebra_lm::DMatrix;
 use planner::model::Model;
 

@@ -79,3 +79,42 @@ pub fn markdown(id: &Identification) -> String {
     }
     s
 }
+
+/// Writes the fitted model of `id` to `out` (TOML, atomically) and its report into the folder
+/// beside it, `<out without .toml>-report/`; returns what to print: the files and, per
+/// recording, the position RMS before and after.
+pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
+    let notes = format!(
+        "Servo dynamics identified (lab::identify) from: {}. Each fitted joint's values are its \
+         servo_dynamics overrides; see the report beside this file.",
+        id.before.iter().map(|r| r.trial.as_str()).collect::<Vec<_>>().join(", ")
+    );
+    let text = planner::model::to_toml_string(&id.model, &notes, &|_| String::new());
+    board::files::write_bytes_atomically(out, text.as_bytes())
+        .with_context(|| format!("writing {}", out.display()))?;
+    let stem = out.with_extension("");
+    let dir = std::path::PathBuf::from(format!("{}-report", stem.display()));
+    let files = write_report(id, &dir)?;
+    let mut s = format!("fitted model: {}\n", out.display());
+    for f in files {
+        let _ = writeln!(s, "report: {}", f.display());
+    }
+    for (b, a) in id.before.iter().zip(&id.after) {
+        let _ = writeln!(
+            s,
+            "{}: position RMS {:.2} mrad before, {:.2} mrad after",
+            b.trial,
+            b.position_rms_rad() * 1e3,
+            a.position_rms_rad() * 1e3
+        );
+    }
+    for (f, _) in &id.not_identified {
+        let _ = writeln!(s, "not identified: {f} (why: report.md)");
+    }
+    let _ = writeln!(
+        s,
+        "load readings now calibrated (fitted gain and offset) for {} joint(s)",
+        id.estimates.iter().filter(|e| e.field == "load_gain").count()
+    );
+    Ok(s)
+}
