@@ -17,6 +17,7 @@ pub mod recording;
 pub mod report;
 pub mod rollout;
 pub mod stand_in;
+pub mod trial_write;
 
 pub use report::write_outputs;
 
@@ -38,14 +39,17 @@ pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total 
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IdentifyOptions {
-    /// Replays of the recordings the motion fit may run (each Jacobian costs one per fitted
-    /// parameter and recording).
-    pub max_replays: usize,
+    /// Replays the motion fit may run per recording (each Jacobian costs one replay of every
+    /// recording per fitted parameter, so the fit's iterations do not depend on how many trials
+    /// are given).
+    pub max_replays_per_recording: usize,
 }
 
 impl Default for IdentifyOptions {
     fn default() -> Self {
-        Self { max_replays: 200 }
+        Self {
+            max_replays_per_recording: 200,
+        }
     }
 }
 
@@ -129,7 +133,8 @@ pub fn identify(
         .map(|r| crate::replay::replay_recording(model, r))
         .collect::<Result<Vec<_>>>()?;
 
-    let problem = fit::MotionFit::new(model, &suspended, joints.clone(), options.max_replays);
+    let budget = options.max_replays_per_recording * suspended.len();
+    let problem = fit::MotionFit::new(model, &suspended, joints.clone(), budget);
     let (problem, report) = levenberg_marquardt::LevenbergMarquardt::new()
         .with_patience(100)
         .with_ftol(1e-3)

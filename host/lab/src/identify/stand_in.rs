@@ -146,3 +146,77 @@ fn standard_normal(state: &mut u64) -> f64 {
     let (u1, u2) = (uniform(), uniform());
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }
+
+/// The stand-in's trial folders ([`write_trials`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StandInTrials {
+    /// One per suspended excitation table that moves a chosen joint.
+    pub suspended: Vec<std::path::PathBuf>,
+    /// One step of the servo-safe walk on flat ground, every servo joint: held out.
+    pub walk: std::path::PathBuf,
+}
+
+/// The stand-in of `default` records, as trial folders under `out`: the suspended excitation
+/// (`options`) of the joints named in `joints` (every servo joint when empty), one trial per
+/// table, and a held-out step of the servo-safe walk.
+pub fn write_trials(
+    default: &Model,
+    options: &planner::excitation::ExcitationOptions,
+    joints: &[String],
+    out: &std::path::Path,
+) -> Result<StandInTrials> {
+    use planner::excitation::{ExcitationKind, excitation};
+    let truth = stand_in_model(default);
+    for name in joints {
+        if default.joint_index(name).and_then(|j| default.servo_params(j)).is_none() {
+            crate::bail!("stand-in: `{name}` is not a servo joint of the model {}", default.name);
+        }
+    }
+    let ex = excitation(default, ExcitationKind::Suspended, options)
+        .map_err(|e| crate::LabError::invalid(format!("the suspended excitation: {e}")))?;
+    let mut suspended = Vec::new();
+    for table in &ex.trials {
+        let moved: Vec<usize> = table
+            .segments
+            .iter()
+            .filter_map(|s| default.joint_index(&s.joint))
+            .filter(|&j| joints.is_empty() || joints.contains(&default.joints[j].name))
+            .fold(Vec::new(), |mut v, j| {
+                if !v.contains(&j) {
+                    v.push(j);
+                }
+                v
+            });
+        if moved.is_empty() {
+            continue;
+        }
+        let cycles = (table.period_s() / BUS_PERIOD_S) as usize;
+        let goals = goals(default, &table.q, table.dt_s, &moved, cycles);
+        let rec = record(&truth, &table.name, true, &moved, goals)?;
+        suspended.push(super::trial_write::write_trial(&rec, default, out)?);
+    }
+    let params = planner::gait::StepParams::preset("servo-safe", &default.name)
+        .ok_or_else(|| crate::LabError::invalid(format!("no servo-safe preset for {}", default.name)))?;
+    let plan = planner::plan::plan(default, &params)?;
+    let all: Vec<usize> = (0..default.joints.len())
+        .filter(|&j| default.servo_params(j).is_some())
+        .collect();
+    let cycles = (plan.period_s / BUS_PERIOD_S) as usize;
+    let walk = record(&truth, "walk", false, &all, goals(default, &plan.q, plan.dt, &all, cycles))?;
+    let walk = super::trial_write::write_trial(&walk, default, out)?;
+    Ok(StandInTrials { suspended, walk })
+}
+
+/// The model a lab identifying the stand-in starts from: `default` with the I and D gain
+/// registers read from the stand-in's servos (registers are given, not fitted:
+/// [`super::params::NOT_FROM_MOTION`]).
+pub fn start_model(default: &Model) -> Model {
+    let mut m = default.clone();
+    for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
+        let read = stand_in_entry(servo);
+        let mut e = m.servo_dynamics.of_model(servo).copied().unwrap_or_default();
+        (e.i_gain, e.d_gain) = (read.i_gain, read.d_gain);
+        m.servo_dynamics.set_model(servo, e);
+    }
+    m
+}

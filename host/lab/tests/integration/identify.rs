@@ -47,20 +47,6 @@ fn stand_in_recording(default: &Model, joints: &[(&str, &str)]) -> Recording {
     stand_in::record(&truth, "sus-composite", true, &index, goals).unwrap()
 }
 
-/// The default model with the stand-in's I and D gain registers, as a lab reads them from its
-/// servos (they are given, not fitted: `lab::identify::params::NOT_FROM_MOTION`).
-fn start_model(default: &Model) -> Model {
-    let mut m = default.clone();
-    for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
-        let truth = stand_in::stand_in_entry(servo);
-        let mut e = m.servo_dynamics.of_model(servo).copied().unwrap_or_default();
-        e.i_gain = truth.i_gain;
-        e.d_gain = truth.d_gain;
-        m.servo_dynamics.set_model(servo, e);
-    }
-    m
-}
-
 /// `actual` within `rel` of `truth`.
 fn near(what: &str, actual: f64, truth: f64, rel: f64) {
     assert!(
@@ -75,7 +61,7 @@ fn the_stand_in_is_identified_from_a_suspended_excitation() {
     let default = planner::model::builtin("drosophibot2").unwrap();
     let truth_model = stand_in::stand_in_model(&default);
     let rec = stand_in_recording(&default, &[("LF_CTr", "CTr"), ("LM_FTi", "FTi")]);
-    let start = start_model(&default);
+    let start = stand_in::start_model(&default);
     let id = identify(&[rec], &start, &IdentifyOptions::default()).unwrap();
     eprintln!("{}", lab::identify::report::markdown(&id));
     let tick = std::f64::consts::TAU / 4096.0;
