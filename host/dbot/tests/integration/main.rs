@@ -14,6 +14,7 @@ mod doc_examples;
 mod docs_commands;
 mod dxl_cli;
 mod dxl_sdk;
+mod identify_cli;
 mod paper_robot;
 mod plan_cli;
 mod plan_cli_springs;
