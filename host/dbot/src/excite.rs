@@ -1,9 +1,9 @@
 //! `dbot excite`: the excitation trials a lab plays on the robot to identify it
 //! (`planner::excitation`), as step tables built under the board's rules.
 
-use std::path::PathBuf;
 use anyhow::Result;
 use planner::excitation::ExcitationKind;
+use std::path::PathBuf;
 
 use crate::args::setup::ModelArgs;
 
@@ -36,7 +36,8 @@ pub struct Args {
 impl Args {
     pub fn run(self) -> Result<()> {
         let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
-        print!("{}", lab::excite_files::write_excitation(&model, self.kind, &self.out)?);
+        let said = lab::excite_files::write_excitation(&model, self.kind, &self.out)?;
+        print!("{said}");
         Ok(())
     }
 }

@@ -1,5 +1,4 @@
 //! `dbot identify`: the servo dynamics fitted to recorded trials (`lab::identify`).
-use crate::args::setup::ModelArgs;
 
 /// Fit the model's servo dynamics to suspended excitation trials (docs/identification.md): each
 /// trial's goals replayed on the physics robot; writes the fitted model and FITTED-report/.
@@ -14,13 +13,14 @@ pub struct Args {
     #[arg(long)]
     out: std::path::PathBuf,
     #[command(flatten)]
-    model: ModelArgs,
+    model: crate::args::setup::ModelArgs,
 }
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
         let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
         let id = lab::identify::identify_trials(&self.trials, &model, &Default::default())?;
-        Ok(print!("{}", lab::identify::write_outputs(&id, &self.out)?))
+        print!("{}", lab::identify::write_outputs(&id, &self.out)?);
+        Ok(())
     }
 }

@@ -10,7 +10,9 @@
 //! ```
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let out = std::env::args().nth(1).unwrap_or_else(|| "out/identify-stand-in".into());
+    let out = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "out/identify-stand-in".into());
     let out = std::path::PathBuf::from(out);
     let default = planner::model::builtin("drosophibot2")?;
     let options = planner::excitation::ExcitationOptions {
@@ -39,7 +41,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = lab::identify::stand_in::start_model(&default);
     let path = out.join("start.toml");
     let note = "drosophibot2 with the I and D gain registers read from the stand-in's servos";
-    std::fs::write(&path, planner::model::to_toml_string(&start, note, &|_| String::new()))?;
+    std::fs::write(
+        &path,
+        planner::model::to_toml_string(&start, note, &|_| String::new()),
+    )?;
     println!("the model to start from: {}", path.display());
     Ok(())
 }

@@ -85,7 +85,13 @@ impl Replay {
     /// RMS over every joint of the position error, rad.
     pub fn position_rms_rad(&self) -> f64 {
         let n = self.joints.len().max(1) as f64;
-        (self.joints.iter().map(|j| j.position_rms_rad.powi(2)).sum::<f64>() / n).sqrt()
+        (self
+            .joints
+            .iter()
+            .map(|j| j.position_rms_rad.powi(2))
+            .sum::<f64>()
+            / n)
+            .sqrt()
     }
 
     /// The figures as a text table, one joint a line.
@@ -94,7 +100,11 @@ impl Replay {
             "replay of {} on the model {} ({}):\njoint      pos RMS mrad  pos R^2  vel RMS rad/s  load RMS N m  load R^2  load reading\n",
             self.trial,
             self.model,
-            if self.suspended { "suspended" } else { "standing on flat ground" }
+            if self.suspended {
+                "suspended"
+            } else {
+                "standing on flat ground"
+            }
         );
         let r2 = |v: Option<f64>| v.map_or("-".to_owned(), |v| format!("{v:.3}"));
         for j in &self.joints {
@@ -142,12 +152,22 @@ pub fn figures(model: &Model, rec: &Recording, out: &Replayed) -> Replay {
         .iter()
         .enumerate()
         .map(|(k, jt)| {
-            let load_recorded: Vec<f64> =
-                jt.load_raw.iter().map(|&r| recorded_nm(model, jt.joint, r)).collect();
-            let load_replayed: Vec<f64> =
-                out.torque[k].iter().map(|&t| reading_nm(model, jt.joint, t)).collect();
+            let load_recorded: Vec<f64> = jt
+                .load_raw
+                .iter()
+                .map(|&r| recorded_nm(model, jt.joint, r))
+                .collect();
+            let load_replayed: Vec<f64> = out.torque[k]
+                .iter()
+                .map(|&t| reading_nm(model, jt.joint, t))
+                .collect();
             let pos: Vec<(f64, f64)> = jt.q.iter().copied().zip(out.q[k].iter().copied()).collect();
-            let vel: Vec<(f64, f64)> = jt.qd.iter().copied().zip(out.qd[k].iter().copied()).collect();
+            let vel: Vec<(f64, f64)> = jt
+                .qd
+                .iter()
+                .copied()
+                .zip(out.qd[k].iter().copied())
+                .collect();
             let load: Vec<(f64, f64)> = load_recorded
                 .iter()
                 .copied()

@@ -19,10 +19,10 @@ pub struct Panel {
     pub curves: Vec<(String, Vec<f64>)>,
 }
 
-/// Draws `panels` over times `t` (s) to a PNG at `path`, two panels a row.
+/// Draws `panels` over times `t` (s) to a PNG at `path`, at most two panels a row.
 pub fn plot_panels(path: &Path, title: &str, t: &[f64], panels: &[Panel]) -> PlotResult {
     register_font();
-    let cols = 2usize;
+    let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols).max(1);
     let (w, h) = (1100u32, 60 + 240 * rows as u32);
     let root = crate::Bitmap::new(path, (w, h)).into_drawing_area();
@@ -40,9 +40,18 @@ pub fn plot_panels(path: &Path, title: &str, t: &[f64], panels: &[Panel]) -> Plo
     let t0 = t.first().copied().unwrap_or(0.0);
     let t1 = t.last().copied().unwrap_or(1.0).max(t0 + 1e-3);
     for (p, area) in panels.iter().zip(body.split_evenly((rows, cols)).iter()) {
-        let all = p.recorded.iter().chain(p.curves.iter().flat_map(|c| c.1.iter()));
-        let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
-        let (lo, hi) = if lo.is_finite() { (lo, hi.max(lo + 1e-6)) } else { (-1.0, 1.0) };
+        let all = p
+            .recorded
+            .iter()
+            .chain(p.curves.iter().flat_map(|c| c.1.iter()));
+        let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+        let (lo, hi) = if lo.is_finite() {
+            (lo, hi.max(lo + 1e-6))
+        } else {
+            (-1.0, 1.0)
+        };
         let pad = 0.05 * (hi - lo);
         let mut chart = ChartBuilder::on(area)
             .caption(&p.title, ("sans-serif", 14))

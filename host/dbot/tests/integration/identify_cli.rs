@@ -32,16 +32,37 @@ fn replay_and_identify_read_the_stand_ins_trial_folders() {
     std::fs::write(&truth_file, text).unwrap();
     let trial = t.suspended[0].to_str().unwrap();
 
-    let own = run(dir.path(), &strings(&["replay", trial, "--model", truth_file.to_str().unwrap()]));
+    let own = run(
+        dir.path(),
+        &strings(&["replay", trial, "--model", truth_file.to_str().unwrap()]),
+    );
     assert!(own.status.success(), "{}{}", own.stdout, own.stderr);
     let tick_mrad = std::f64::consts::TAU / 4096.0 * 1e3;
-    assert!(position_mrad(&own.stdout, "RH_TrF1") <= 1.05 * tick_mrad / 12f64.sqrt(), "{}", own.stdout);
+    assert!(
+        position_mrad(&own.stdout, "RH_TrF1") <= 1.05 * tick_mrad / 12f64.sqrt(),
+        "{}",
+        own.stdout
+    );
     assert!(own.stdout.contains("ESTIMATE"), "{}", own.stdout);
-    let other = run(dir.path(), &strings(&["replay", trial, "--model", "drosophibot2"]));
-    assert!(position_mrad(&other.stdout, "RH_TrF1") > 5.0 * tick_mrad, "{}", other.stdout);
+    let other = run(
+        dir.path(),
+        &strings(&["replay", trial, "--model", "drosophibot2"]),
+    );
+    assert!(
+        position_mrad(&other.stdout, "RH_TrF1") > 5.0 * tick_mrad,
+        "{}",
+        other.stdout
+    );
 
     let walk = t.walk.to_str().unwrap();
-    let d = run(dir.path(), &strings(&["identify", walk, "--out", "fitted.toml"]));
-    fails_naming(&d, "identify a walk", &["no suspended trial among the 1 given"]);
+    let d = run(
+        dir.path(),
+        &strings(&["identify", walk, "--out", "fitted.toml"]),
+    );
+    fails_naming(
+        &d,
+        "identify a walk",
+        &["no suspended trial among the 1 given"],
+    );
     assert!(!dir.path().join("fitted.toml").exists());
 }

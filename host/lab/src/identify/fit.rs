@@ -23,6 +23,9 @@ pub const POSITION_SCALE: f64 = std::f64::consts::TAU / 4096.0;
 /// Residual scale of a velocity, rad/s: four of the register's 0.229 rev/min units.
 pub const VELOCITY_SCALE: f64 = 4.0 * 0.229 * std::f64::consts::TAU / 60.0;
 
+/// Each residual's identified-joint slot and row.
+type Owners = Vec<(usize, usize)>;
+
 /// The fit's problem: the model, the recordings, the identified joints (model indices) and the
 /// parameters now (scaled, joint-major).
 pub struct MotionFit<'a> {
@@ -32,7 +35,7 @@ pub struct MotionFit<'a> {
     x: DVector<f64>,
     residuals: Option<DVector<f64>>,
     /// Each residual's joint slot and row (with `residuals`).
-    owner: Vec<(usize, usize)>,
+    owner: Owners,
     /// Replays run so far, and the budget after which the fit stops.
     pub replays: std::cell::Cell<usize>,
     pub budget: usize,
@@ -57,21 +60,38 @@ impl std::fmt::Debug for MotionFit<'_> {
 
 impl<'a> MotionFit<'a> {
     /// The fit of `joints` from `model`'s present values.
-    pub fn new(model: &'a Model, recordings: &'a [Recording], joints: Vec<usize>, budget: usize) -> Self {
+    pub fn new(
+        model: &'a Model,
+        recordings: &'a [Recording],
+        joints: Vec<usize>,
+        budget: usize,
+    ) -> Self {
         let mut x = DVector::zeros(joints.len() * MOTION.len());
         for (k, &j) in joints.iter().enumerate() {
-            let p = model.servo_params(j).expect("identified joints have servos");
+            let p = model
+                .servo_params(j)
+                .expect("identified joints have servos");
             for (i, f) in MOTION.iter().enumerate() {
                 x[k * MOTION.len() + i] = (f.get)(&p) / f.scale;
             }
         }
         let kv = joints
             .iter()
-            .map(|&j| model.servo_params(j).expect("a servo joint").back_emf_nm_s_per_rad())
+            .map(|&j| {
+                model
+                    .servo_params(j)
+                    .expect("a servo joint")
+                    .back_emf_nm_s_per_rad()
+            })
             .collect();
         let stall0 = joints
             .iter()
-            .map(|&j| model.servo_params(j).expect("a servo joint").stall_torque_nm)
+            .map(|&j| {
+                model
+                    .servo_params(j)
+                    .expect("a servo joint")
+                    .stall_torque_nm
+            })
             .collect();
         let mut fit = Self {
             kv,
@@ -102,13 +122,12 @@ impl<'a> MotionFit<'a> {
         let mut m = self.model.clone();
         for (k, &j) in self.joints.iter().enumerate() {
             let name = &m.joints[j].name;
-            let mut e = m
-                .servo_dynamics
-                .of_joint(name)
-                .copied()
-                .unwrap_or_default();
+            let mut e = m.servo_dynamics.of_joint(name).copied().unwrap_or_default();
             for (i, f) in MOTION.iter().enumerate() {
-                (f.set)(&mut e, (x[k * MOTION.len() + i] * f.scale).clamp(f.lo, f.hi));
+                (f.set)(
+                    &mut e,
+                    (x[k * MOTION.len() + i] * f.scale).clamp(f.lo, f.hi),
+                );
             }
             if let Some(stall) = e.stall_torque_nm {
                 e.no_load_speed_rad_s = Some(stall / self.kv[k]);
@@ -124,7 +143,7 @@ impl<'a> MotionFit<'a> {
 
     /// The residuals of every recording replayed on `model`, one position and one velocity per
     /// identified joint and cycle, and where each joint's rows are: `(joint slot, row)`.
-    fn residuals_of(&self, model: &Model) -> Result<(DVector<f64>, Vec<(usize, usize)>)> {
+    fn residuals_of(&self, model: &Model) -> Result<(DVector<f64>, Owners)> {
         let mut r = Vec::new();
         let mut owner = Vec::new();
         for rec in self.recordings {

@@ -36,6 +36,12 @@ pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total 
     torque-speed slope + the D gain's Kd), which the fit recovers; alone it is a few % of that total \
     and its own error can be several times its sd (the stand-in's short excitation: up to 21 %)";
 
+/// What the stall torque's and the P gain divisor's estimates mean.
+pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is identified; the stall \
+    torque itself only through the I and D gains' scale (no saturation in the excitation), weakly: \
+    the fit can end along the valley of equal stiffness (the stand-in's full run: 2 of 5 joints \
+    24 % high with their stiffness within 2 %), with an error many times its sd";
+
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IdentifyOptions {
@@ -176,6 +182,9 @@ pub fn identify(
                     Some("its effect on the readings is a combination of the others' (the joint's information matrix is singular)".to_owned()),
                 ),
                 Some(sd) if f.name == "damping_nm_s_per_rad" => (Some(sd * f.scale), Some(DAMPING_NOTE.to_owned())),
+                Some(sd) if f.name == "stall_torque_nm" || f.name == "p_gain_divisor" => {
+                    (Some(sd * f.scale), Some(STALL_NOTE.to_owned()))
+                }
                 Some(sd) => (Some(sd * f.scale), None),
             };
             estimates.push(Estimate {
@@ -219,7 +228,13 @@ pub fn identify(
         fitted.servo_dynamics.set_joint(&name, e);
         for (field, unit, s, v, sd) in [
             ("load_gain", "", start.load_gain, l.gain, Some(l.gain_sd)),
-            ("load_offset_nm", "N m", start.load_offset_nm, sign * l.offset_nm, Some(l.offset_sd)),
+            (
+                "load_offset_nm",
+                "N m",
+                start.load_offset_nm,
+                sign * l.offset_nm,
+                Some(l.offset_sd),
+            ),
             (
                 "load_resolution_counts",
                 "counts",
@@ -227,7 +242,13 @@ pub fn identify(
                 f64::from(l.resolution_counts),
                 None,
             ),
-            ("load_noise_nm", "N m", start.load_noise_nm, l.noise_nm, None),
+            (
+                "load_noise_nm",
+                "N m",
+                start.load_noise_nm,
+                l.noise_nm,
+                None,
+            ),
         ] {
             estimates.push(Estimate {
                 joint: name.clone(),
@@ -317,7 +338,10 @@ fn generalise(model: &mut Model, identified: &[usize]) -> Vec<String> {
             if let Some(v) = median(&|p| {
                 let mut probe = planner::model::ServoParams::defaults(servo);
                 probe = probe.with(p);
-                p.given().iter().any(|(n, _)| *n == f.name).then(|| (f.get)(&probe))
+                p.given()
+                    .iter()
+                    .any(|(n, _)| *n == f.name)
+                    .then(|| (f.get)(&probe))
             }) {
                 (f.set)(&mut e, v);
             }

@@ -68,7 +68,10 @@ impl Recording {
                 );
             };
             if model.servo_params(j).is_none() {
-                bail!("trial {place}: joint `{name}` has no servo in the model {}", model.name);
+                bail!(
+                    "trial {place}: joint `{name}` has no servo in the model {}",
+                    model.name
+                );
             }
             joints.push(JointTrace {
                 name: name.clone(),

@@ -40,7 +40,13 @@ pub fn write_report(id: &Identification, dir: &Path) -> Result<Vec<std::path::Pa
 
 fn sanitise(s: &str) -> String {
     s.chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect()
 }
 
@@ -54,7 +60,10 @@ pub fn markdown(id: &Identification) -> String {
          Standard deviations from the Jacobian at the optimum.\n",
         id.replays, id.termination
     );
-    let _ = writeln!(s, "## Estimates\n\n| joint | field | start | fitted | sd | note |\n|---|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "## Estimates\n\n| joint | field | start | fitted | sd | note |\n|---|---|---|---|---|---|"
+    );
     for e in &id.estimates {
         let _ = writeln!(
             s,
@@ -87,7 +96,11 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
     let notes = format!(
         "Servo dynamics identified (lab::identify) from: {}. Each fitted joint's values are its \
          servo_dynamics overrides; see the report beside this file.",
-        id.before.iter().map(|r| r.trial.as_str()).collect::<Vec<_>>().join(", ")
+        id.before
+            .iter()
+            .map(|r| r.trial.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     let text = planner::model::to_toml_string(&id.model, &notes, &|_| String::new());
     board::files::write_bytes_atomically(out, text.as_bytes())
@@ -114,7 +127,10 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
     let _ = writeln!(
         s,
         "load readings now calibrated (fitted gain and offset) for {} joint(s)",
-        id.estimates.iter().filter(|e| e.field == "load_gain").count()
+        id.estimates
+            .iter()
+            .filter(|e| e.field == "load_gain")
+            .count()
     );
     Ok(s)
 }

@@ -103,7 +103,9 @@ pub fn plant(model: &Model, rec: &Recording) -> Result<(Plant, Vec<usize>)> {
 /// stiffness as the firmware writes it to the P gain register, and the model's I and D
 /// registers, through the model's servo dynamics (`physics::servo::gains_of_registers`).
 pub fn gains(model: &Model, j: usize, params: &planner::model::ServoParams) -> (f64, f64, f64) {
-    let map = model.joints[j].servo.expect("a servo joint has a servo map");
+    let map = model.joints[j]
+        .servo
+        .expect("a servo joint has a servo map");
     let stiffness = match model.joints[j].actuation {
         planner::model::Actuation::Actuated { stiffness, .. } => stiffness,
         planner::model::Actuation::Fixed { .. } => 0.0,

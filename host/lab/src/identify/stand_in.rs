@@ -61,7 +61,13 @@ pub fn stand_in_model(model: &Model) -> Model {
 /// The goals of a table of slices `q[slice][model joint]` `dt` s apart at the bus rate, linear
 /// between slices as the board interpolates, in whole ticks, for `joints` (model indices), over
 /// `cycles` bus cycles (from the start of the table, wrapping).
-pub fn goals(model: &Model, q: &[Vec<f64>], dt: f64, joints: &[usize], cycles: usize) -> Vec<Vec<f64>> {
+pub fn goals(
+    model: &Model,
+    q: &[Vec<f64>],
+    dt: f64,
+    joints: &[usize],
+    cycles: usize,
+) -> Vec<Vec<f64>> {
     let n = q.len();
     joints
         .iter()
@@ -121,7 +127,10 @@ pub fn record(
         let map = model.joints[jt.joint].servo.expect("a servo joint");
         let params = model.servo_params(jt.joint).expect("a servo joint");
         let sign = f64::from(map.sign);
-        jt.q = out.q[k].iter().map(|&q| quantise(model, jt.joint, q)).collect();
+        jt.q = out.q[k]
+            .iter()
+            .map(|&q| quantise(model, jt.joint, q))
+            .collect();
         jt.qd = out.qd[k]
             .iter()
             .map(|&v| (v / velocity_unit).round() * velocity_unit)
@@ -168,8 +177,15 @@ pub fn write_trials(
     use planner::excitation::{ExcitationKind, excitation};
     let truth = stand_in_model(default);
     for name in joints {
-        if default.joint_index(name).and_then(|j| default.servo_params(j)).is_none() {
-            crate::bail!("stand-in: `{name}` is not a servo joint of the model {}", default.name);
+        if default
+            .joint_index(name)
+            .and_then(|j| default.servo_params(j))
+            .is_none()
+        {
+            crate::bail!(
+                "stand-in: `{name}` is not a servo joint of the model {}",
+                default.name
+            );
         }
     }
     let ex = excitation(default, ExcitationKind::Suspended, options)
@@ -195,14 +211,22 @@ pub fn write_trials(
         let rec = record(&truth, &table.name, true, &moved, goals)?;
         suspended.push(super::trial_write::write_trial(&rec, default, out)?);
     }
-    let params = planner::gait::StepParams::preset("servo-safe", &default.name)
-        .ok_or_else(|| crate::LabError::invalid(format!("no servo-safe preset for {}", default.name)))?;
+    let params =
+        planner::gait::StepParams::preset("servo-safe", &default.name).ok_or_else(|| {
+            crate::LabError::invalid(format!("no servo-safe preset for {}", default.name))
+        })?;
     let plan = planner::plan::plan(default, &params)?;
     let all: Vec<usize> = (0..default.joints.len())
         .filter(|&j| default.servo_params(j).is_some())
         .collect();
     let cycles = (plan.period_s / BUS_PERIOD_S) as usize;
-    let walk = record(&truth, "walk", false, &all, goals(default, &plan.q, plan.dt, &all, cycles))?;
+    let walk = record(
+        &truth,
+        "walk",
+        false,
+        &all,
+        goals(default, &plan.q, plan.dt, &all, cycles),
+    )?;
     let walk = super::trial_write::write_trial(&walk, default, out)?;
     Ok(StandInTrials { suspended, walk })
 }
@@ -214,7 +238,11 @@ pub fn start_model(default: &Model) -> Model {
     let mut m = default.clone();
     for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
         let read = stand_in_entry(servo);
-        let mut e = m.servo_dynamics.of_model(servo).copied().unwrap_or_default();
+        let mut e = m
+            .servo_dynamics
+            .of_model(servo)
+            .copied()
+            .unwrap_or_default();
         (e.i_gain, e.d_gain) = (read.i_gain, read.d_gain);
         m.servo_dynamics.set_model(servo, e);
     }

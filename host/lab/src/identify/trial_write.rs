@@ -22,7 +22,10 @@ pub fn write_trial(rec: &Recording, model: &Model, parent: &Path) -> Result<Path
         for jt in &rec.joints {
             let map = model.joints[jt.joint].servo.expect("a servo joint");
             let torque = f64::from(map.sign)
-                * f64::from(dynamixel::units::load_to_torque_nm(map.model, jt.load_raw[c]));
+                * f64::from(dynamixel::units::load_to_torque_nm(
+                    map.model,
+                    jt.load_raw[c],
+                ));
             let _ = writeln!(
                 csv,
                 "{:.6},{c},0,0,{},,{:.6},{:.6},{:.6},{},{torque:.6},,0,0,10000",
@@ -69,7 +72,11 @@ pub fn write_trial(rec: &Recording, model: &Model, parent: &Path) -> Result<Path
         perturbation: None,
         notes: format!(
             "The stand-in robot's recording ({}), made by lab::identify::stand_in, not a board.",
-            if rec.suspended { "suspended" } else { "standing" }
+            if rec.suspended {
+                "suspended"
+            } else {
+                "standing"
+            }
         ),
         joints: rec.joints.iter().map(|j| j.name.clone()).collect(),
         cycles: rec.len(),

@@ -75,32 +75,77 @@ fn the_stand_in_is_identified_from_a_suspended_excitation() {
         near(&format!("{name} Kp"), kp_f, kp_t, 0.10);
         near(&format!("{name} Ki"), ki_f, ki_t, 0.10);
         near(&format!("{name} Kd"), kd_f, kd_t, 0.10);
-        near(&format!("{name} P gain divisor"), fit.p_gain_divisor, truth.p_gain_divisor, 0.10);
-        near(&format!("{name} stall torque"), fit.stall_torque_nm, truth.stall_torque_nm, 0.10);
+        near(
+            &format!("{name} P gain divisor"),
+            fit.p_gain_divisor,
+            truth.p_gain_divisor,
+            0.10,
+        );
+        near(
+            &format!("{name} stall torque"),
+            fit.stall_torque_nm,
+            truth.stall_torque_nm,
+            0.10,
+        );
         // Damping: the viscous total the joint feels (gear damping, torque-speed slope, Kd); the
         // gear damping alone comes with the identification's note saying so.
         let viscous = |p: &planner::model::ServoParams, kd: f64| {
             p.damping_nm_s_per_rad + p.back_emf_nm_s_per_rad() + kd
         };
-        near(&format!("{name} viscous total"), viscous(&fit, kd_f), viscous(&truth, kd_t), 0.10);
+        near(
+            &format!("{name} viscous total"),
+            viscous(&fit, kd_f),
+            viscous(&truth, kd_t),
+            0.10,
+        );
         let damping = id.estimate(name, "damping_nm_s_per_rad").unwrap();
         assert!(damping.why.as_deref().unwrap().contains("viscous total"));
-        near(&format!("{name} friction"), fit.friction_nm, truth.friction_nm, 0.10);
-        near(&format!("{name} armature"), fit.armature_kg_m2, truth.armature_kg_m2, 0.10);
+        near(
+            &format!("{name} friction"),
+            fit.friction_nm,
+            truth.friction_nm,
+            0.10,
+        );
+        near(
+            &format!("{name} armature"),
+            fit.armature_kg_m2,
+            truth.armature_kg_m2,
+            0.10,
+        );
         for (what, f, t) in [
             ("deadband", fit.deadband_rad, truth.deadband_rad),
             ("backlash", fit.backlash_rad, truth.backlash_rad),
         ] {
-            assert!((f - t).abs() <= tick, "{name} {what}: fitted {f}, truth {t}: more than a tick off");
+            assert!(
+                (f - t).abs() <= tick,
+                "{name} {what}: fitted {f}, truth {t}: more than a tick off"
+            );
         }
-        near(&format!("{name} load gain"), fit.load_gain, truth.load_gain, 0.10);
-        near(&format!("{name} load offset"), fit.load_offset_nm, truth.load_offset_nm, 0.10);
+        near(
+            &format!("{name} load gain"),
+            fit.load_gain,
+            truth.load_gain,
+            0.10,
+        );
+        near(
+            &format!("{name} load offset"),
+            fit.load_offset_nm,
+            truth.load_offset_nm,
+            0.10,
+        );
         assert_eq!(fit.load_resolution_counts, truth.load_resolution_counts);
     }
     // What the trials cannot give is named: the no-load speed (the torque-speed slope).
-    assert!(id.not_identified.iter().any(|(f, _)| f.contains("no_load_speed_rad_s")));
+    assert!(
+        id.not_identified
+            .iter()
+            .any(|(f, _)| f.contains("no_load_speed_rad_s"))
+    );
     // The replay follows the recording: the position error falls more than tenfold.
-    let (b, a) = (id.before[0].position_rms_rad(), id.after[0].position_rms_rad());
+    let (b, a) = (
+        id.before[0].position_rms_rad(),
+        id.after[0].position_rms_rad(),
+    );
     assert!(a * 10.0 < b, "position RMS before {b}, after {a}");
 
     // Held out: a step of the servo-safe walk, standing on flat ground, every servo joint (the
@@ -111,9 +156,22 @@ fn the_stand_in_is_identified_from_a_suspended_excitation() {
     let after = lab::replay::replay_recording(&id.model, &walk).unwrap();
     eprintln!("{}{}", before.table(), after.table());
     let (b, a) = (before.position_rms_rad(), after.position_rms_rad());
-    assert!(a * 3.0 <= b, "held-out walk: position RMS before {b}, after {a}");
-    assert!(after.joints.iter().all(|j| j.reading == lab::replay::Reading::Calibrated));
-    assert!(before.joints.iter().all(|j| j.reading == lab::replay::Reading::Estimate));
+    assert!(
+        a * 3.0 <= b,
+        "held-out walk: position RMS before {b}, after {a}"
+    );
+    assert!(
+        after
+            .joints
+            .iter()
+            .all(|j| j.reading == lab::replay::Reading::Calibrated)
+    );
+    assert!(
+        before
+            .joints
+            .iter()
+            .all(|j| j.reading == lab::replay::Reading::Estimate)
+    );
 }
 
 /// The stand-in walking one step of the servo-safe plan of the default model on flat ground.
@@ -139,9 +197,17 @@ fn a_replay_on_the_recording_robots_own_model_is_within_the_quantisation() {
     let own = lab::replay::replay_recording(&truth, &rec).unwrap();
     let j = &own.joints[0];
     let tick = std::f64::consts::TAU / 4096.0;
-    assert!(j.position_rms_rad <= 1.05 * tick / 12f64.sqrt(), "{}", own.table());
+    assert!(
+        j.position_rms_rad <= 1.05 * tick / 12f64.sqrt(),
+        "{}",
+        own.table()
+    );
     assert!(j.position_r2.unwrap() > 0.999, "{}", own.table());
     assert!(j.load_rms_nm < 0.02, "{}", own.table());
     let other = lab::replay::replay_recording(&default, &rec).unwrap();
-    assert!(other.joints[0].position_rms_rad > 5.0 * tick, "{}", other.table());
+    assert!(
+        other.joints[0].position_rms_rad > 5.0 * tick,
+        "{}",
+        other.table()
+    );
 }
