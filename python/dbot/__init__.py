@@ -9,6 +9,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`excitation` - the excitation trials that identify the robot (``"suspended"``: per-joint
   steps and chirps, feet in the air; ``"standing"``: slow posture changes), each with its step
   table checked by the rules of any gait, as ``dbot excite`` writes them.
+* :func:`identify` / :func:`replay` - the servo dynamics fitted to suspended excitation trials
+  (``dbot identify``), a trial replayed on the physics robot with per-joint R^2 and RMS
+  (``dbot replay``); :func:`stand_in_trials` - the stand-in robot's trials (docs/identification.md).
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
@@ -53,12 +56,15 @@ from ._native import (
     compare_strain,
     doctor,
     excitation,
+    identify,
     physics_walk,
     plan,
     plan_standing,
     read_plan_dir,
     read_trial,
     render_pose,
+    replay,
+    stand_in_trials,
     walk_figures,
     write_walk_gif,
 )
@@ -81,12 +87,15 @@ __all__ = [
     "compare_strain",
     "doctor",
     "excitation",
+    "identify",
     "physics_walk",
     "plan",
     "plan_standing",
     "read_plan_dir",
     "read_trial",
     "render_pose",
+    "replay",
+    "stand_in_trials",
     "walk_figures",
     "write_walk_gif",
 ]

@@ -738,3 +738,13 @@ class Bench:
         new_baud: int | None = None,
         return_delay_us: int | None = None,
     ) -> dict[str, Any]: ...
+
+def identify(
+    trials: list[str | PathLike[str]],
+    model: Model | None = None,
+    out: str | PathLike[str] | None = None,
+) -> Model: ...
+def replay(trial: str | PathLike[str], model: Model | None = None) -> dict[str, Any]: ...
+def stand_in_trials(
+    out: str | PathLike[str], joints: list[str] | None = None, short: bool = False
+) -> dict[str, Any]: ...

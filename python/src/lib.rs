@@ -11,6 +11,7 @@ mod compare;
 mod doctor;
 mod errors;
 mod excitation;
+mod identify;
 mod lab;
 mod model;
 mod names;
@@ -47,5 +48,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     render::register(m)?;
     standing::register(m)?;
     excitation::register(m)?;
+    identify::register(m)?;
     Ok(())
 }

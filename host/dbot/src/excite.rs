@@ -1,13 +1,11 @@
 //! `dbot excite`: the excitation trials a lab plays on the robot to identify it
 //! (`planner::excitation`), as step tables built under the board's rules.
 
+use anyhow::Result;
+use planner::excitation::ExcitationKind;
 use std::path::PathBuf;
 
-use anyhow::Result;
-use planner::excitation::{ExcitationKind, ExcitationOptions, excitation};
-
 use crate::args::setup::ModelArgs;
-use crate::common::output::replace;
 
 /// Write the excitation trials that identify the robot: step tables to upload and record.
 ///
@@ -38,24 +36,8 @@ pub struct Args {
 impl Args {
     pub fn run(self) -> Result<()> {
         let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
-        let exc = excitation(&model, self.kind, &ExcitationOptions::default())?;
-        std::fs::create_dir_all(&self.out)?;
-        for trial in &exc.trials {
-            let table = board::rules::build::excitation_table(&model, trial)?;
-            let file = format!("{}.dbgt", trial.name);
-            replace(&self.out, &file, |p| Ok(std::fs::write(p, table.bytes())?))?;
-            println!(
-                "{}: {} slices, period {:.1} s, {} bytes",
-                self.out.join(&file).display(),
-                trial.slices(),
-                trial.period_s(),
-                table.bytes().len()
-            );
-        }
-        let json = serde_json::to_string_pretty(&exc)?;
-        replace(&self.out, "excitation.json", |p| {
-            Ok(std::fs::write(p, json)?)
-        })?;
+        let said = lab::excite_files::write_excitation(&model, self.kind, &self.out)?;
+        print!("{said}");
         Ok(())
     }
 }

@@ -15,10 +15,12 @@ mod estop;
 mod excite;
 mod feasibility_args;
 mod gaits;
+mod identify;
 mod model;
 mod paper_robot;
 mod plan;
 mod record;
+mod replay;
 mod run;
 mod servos;
 mod set;
@@ -58,6 +60,8 @@ enum Cmd {
     Model(model::Args),
     Table(table::Args),
     Excite(excite::Args),
+    Identify(identify::Args),
+    Replay(replay::Args),
     Compare(compare::Args),
     Devices(devices::Args),
     Upload(upload::Args),
@@ -105,6 +109,8 @@ fn main() -> std::process::ExitCode {
         Cmd::Model(a) => a.run(),
         Cmd::Table(a) => a.run(),
         Cmd::Excite(a) => a.run(),
+        Cmd::Identify(a) => a.run(),
+        Cmd::Replay(a) => a.run(),
         Cmd::Compare(a) => a.run(),
         Cmd::Devices(a) => a.run(),
         Cmd::Upload(a) => a.run(),

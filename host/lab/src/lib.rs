@@ -27,11 +27,17 @@
 //! - [`trial_record`]: recording a trial folder from a board (`dbot record`, `Board.record_trial`).
 //! - [`plan_dir_write`]: the one writer of a plan directory (files, plots, the dynamics, strain).
 //! - [`validation`]: the run results of docs/validation.md.
+//! - [`identify`]: the servo dynamics fitted to suspended excitation trials replayed on the
+//!   physics robot's body, and the stand-in robot that checks it (`dbot identify`);
+//!   [`replay`]: a trial replayed on a model, per joint R^2 and RMS (`dbot replay`);
+//!   [`excite_files`]: the excitation's step tables written (`dbot excite`).
 //! - [`doctor`]: the bring-up check of a freshly wired robot (`dbot doctor`, `dbot.doctor()`).
 
 pub mod demo;
 pub mod doctor;
 pub mod error;
+pub mod excite_files;
+pub mod identify;
 pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;
@@ -41,6 +47,7 @@ pub mod physics_walk;
 pub mod plan_comparison;
 pub mod plan_dir_write;
 pub mod plan_walk;
+pub mod replay;
 pub mod simulated;
 pub mod steer_blend;
 pub mod strain_compare;

@@ -10,6 +10,7 @@ pub mod paper_robot;
 pub mod perturbation;
 pub mod plan;
 pub mod recording;
+pub mod replay;
 pub mod robot;
 pub mod strain;
 pub mod style;

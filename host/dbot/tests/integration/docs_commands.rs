@@ -6,8 +6,9 @@
 use std::path::Path;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-const CRATES: [&str; 10] = [
+const CRATES: [&str; 11] = [
     "host/planner",
+    "host/lab",
     "host/board",
     "host/report",
     "host/dbot",

@@ -2,6 +2,7 @@
 //! instead of one per file; nextest still runs each test in its own process).
 
 mod doctor;
+mod identify;
 mod perturbation;
 mod physics_serve;
 mod pinned_walk;

@@ -1,0 +1,26 @@
+//! `dbot identify`: the servo dynamics fitted to recorded trials (`lab::identify`).
+
+/// Fit the model's servo dynamics to suspended excitation trials (docs/identification.md): each
+/// trial's goals replayed on the physics robot; writes the fitted model and FITTED-report/.
+#[derive(Debug, clap::Args)]
+#[command(after_help = "Example:
+  dbot identify out/trials/sus-CTr out/trials/sus-FTi --model drosophibot2 --out fitted.toml")]
+pub struct Args {
+    /// Trial folders (`dbot record` of `dbot excite --kind suspended`'s sus-* tables).
+    #[arg(required = true)]
+    trials: Vec<std::path::PathBuf>,
+    /// The fitted model file to write.
+    #[arg(long)]
+    out: std::path::PathBuf,
+    #[command(flatten)]
+    model: crate::args::setup::ModelArgs,
+}
+
+impl Args {
+    pub fn run(self) -> anyhow::Result<()> {
+        let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
+        let id = lab::identify::identify_trials(&self.trials, &model, &Default::default())?;
+        print!("{}", lab::identify::write_outputs(&id, &self.out)?);
+        Ok(())
+    }
+}

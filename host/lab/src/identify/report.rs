@@ -1,0 +1,136 @@
+//! The identification's report: `report.md` (per joint the estimates with their standard
+//! deviations, what was not identified and why, and recorded against replayed before and after
+//! in numbers) and one plot per recording (`replay-<trial>.png`: recorded, replayed before and
+//! after, per joint).
+
+use std::fmt::Write;
+use std::path::Path;
+
+use super::Identification;
+use crate::error::{Context, Result};
+
+/// Writes the report of `id` into `dir` (created), returning the files written.
+pub fn write_report(id: &Identification, dir: &Path) -> Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut files = Vec::new();
+    for (b, a) in id.before.iter().zip(&id.after) {
+        let path = dir.join(format!("replay-{}.png", sanitise(&b.trial)));
+        let panels: Vec<report::replay::Panel> = b
+            .joints
+            .iter()
+            .zip(&a.joints)
+            .map(|(jb, ja)| report::replay::Panel {
+                title: jb.joint.clone(),
+                recorded: jb.q_recorded.clone(),
+                curves: vec![
+                    ("before".to_owned(), jb.q_replayed.clone()),
+                    ("after".to_owned(), ja.q_replayed.clone()),
+                ],
+            })
+            .collect();
+        report::replay::plot_panels(&path, &format!("{}: position, rad", b.trial), &b.t, &panels)
+            .map_err(|e| crate::LabError::invalid(format!("plotting {}: {e}", path.display())))?;
+        files.push(path);
+    }
+    let path = dir.join("report.md");
+    std::fs::write(&path, markdown(id)).with_context(|| format!("writing {}", path.display()))?;
+    files.push(path);
+    Ok(files)
+}
+
+fn sanitise(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The report's text.
+pub fn markdown(id: &Identification) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Identification: {}\n", id.model.name);
+    let _ = writeln!(
+        s,
+        "Optimiser: Levenberg-Marquardt (levenberg-marquardt 0.15), {} replays, ended {}. \
+         Standard deviations from the Jacobian at the optimum.\n",
+        id.replays, id.termination
+    );
+    let _ = writeln!(
+        s,
+        "## Estimates\n\n| joint | field | start | fitted | sd | note |\n|---|---|---|---|---|---|"
+    );
+    for e in &id.estimates {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.5} | {:.5} {} | {} | {} |",
+            e.joint,
+            e.field,
+            e.start,
+            e.value,
+            e.unit,
+            e.sd.map_or("-".to_owned(), |v| format!("{v:.2e}")),
+            e.why.as_deref().unwrap_or("")
+        );
+    }
+    let _ = writeln!(s, "\n## Not identified\n");
+    for (f, why) in &id.not_identified {
+        let _ = writeln!(s, "- `{f}`: {why}");
+    }
+    let _ = writeln!(s, "\n## Recorded against replayed\n");
+    for (b, a) in id.before.iter().zip(&id.after) {
+        let _ = writeln!(s, "Before (the model given):\n\n```\n{}```\n", b.table());
+        let _ = writeln!(s, "After (the fitted model):\n\n```\n{}```\n", a.table());
+    }
+    s
+}
+
+/// Writes the fitted model of `id` to `out` (TOML, atomically) and its report into the folder
+/// beside it, `<out without .toml>-report/`; returns what to print: the files and, per
+/// recording, the position RMS before and after.
+pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
+    let notes = format!(
+        "Servo dynamics identified (lab::identify) from: {}. Each fitted joint's values are its \
+         servo_dynamics overrides; see the report beside this file.",
+        id.before
+            .iter()
+            .map(|r| r.trial.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let text = planner::model::to_toml_string(&id.model, &notes, &|_| String::new());
+    board::files::write_bytes_atomically(out, text.as_bytes())
+        .with_context(|| format!("writing {}", out.display()))?;
+    let stem = out.with_extension("");
+    let dir = std::path::PathBuf::from(format!("{}-report", stem.display()));
+    let files = write_report(id, &dir)?;
+    let mut s = format!("fitted model: {}\n", out.display());
+    for f in files {
+        let _ = writeln!(s, "report: {}", f.display());
+    }
+    for (b, a) in id.before.iter().zip(&id.after) {
+        let _ = writeln!(
+            s,
+            "{}: position RMS {:.2} mrad before, {:.2} mrad after",
+            b.trial,
+            b.position_rms_rad() * 1e3,
+            a.position_rms_rad() * 1e3
+        );
+    }
+    for (f, _) in &id.not_identified {
+        let _ = writeln!(s, "not identified: {f} (why: report.md)");
+    }
+    let _ = writeln!(
+        s,
+        "load readings now calibrated (fitted gain and offset) for {} joint(s)",
+        id.estimates
+            .iter()
+            .filter(|e| e.field == "load_gain")
+            .count()
+    );
+    Ok(s)
+}
