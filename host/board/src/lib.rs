@@ -8,6 +8,7 @@
 
 pub mod bench;
 pub mod bus;
+pub mod counters;
 pub mod files;
 pub mod health;
 pub mod link;

@@ -77,16 +77,6 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
         set.joints.len()
     );
     println!("health    {}", board::health::limits_line(&set.health));
-    let c = st.counters;
-    println!(
-        "counters  {} cycles, {} missed deadlines, {} bus timeouts, {} CRC errors, {} rejected frames, {} telemetry dropped, {} goal moves rate-limited",
-        c.cycles,
-        c.missed_deadlines,
-        c.bus_timeouts,
-        c.crc_errors,
-        c.rejected_frames,
-        c.telemetry_dropped,
-        c.rate_limited
-    );
+    println!("counters  {}", board::counters::counters_line(&st.counters));
     s.close()
 }
