@@ -500,3 +500,17 @@ class DbotEnv(gym.Env):
             finally:
                 self.board.close()
                 self.board = None
+
+
+# N physics robots at once, stepped on Rust threads (python/dbot/vector_env.py), and the ids that
+# `gymnasium.make` / `gymnasium.make_vec` know: ``gymnasium.make_vec("dbot/Physics-v0",
+# num_envs=N)`` builds a :class:`VectorEnv`, ``gymnasium.make("dbot/Physics-v0")`` a
+# :class:`DbotEnv` on the physics robot.
+from .vector_env import ENV_ID, VectorEnv  # noqa: E402
+
+if ENV_ID not in gym.registry:
+    gym.register(
+        id=ENV_ID,
+        entry_point="dbot.env:DbotEnv",
+        vector_entry_point="dbot.vector_env:VectorEnv",
+    )

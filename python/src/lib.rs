@@ -22,6 +22,8 @@ mod standing;
 mod stream;
 mod trial;
 mod trial_record;
+mod vector;
+mod vector_sub;
 
 use pyo3::prelude::*;
 
@@ -40,6 +42,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
     m.add_class::<bench::Bench>()?;
+    m.add_class::<vector::VectorCore>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(doctor::doctor, m)?)?;
