@@ -21,9 +21,21 @@ noise, has a fixed seed), so the seed changes nothing the robots do. Reset optio
 (kept for later resets) and ``stiffness_nm_rad`` (this episode's), for every reset sub-
 environment, and ``reset_mask`` (N booleans: reset only those).
 
+Cheap resets (``cheap_reset=True``, the default): a reset opens a fresh robot and sends
+``DbotEnv``'s requests, but the settling after torque on (the gravity ramp's 1 s and
+``settle_s``), simulated in full at a sub-environment's first reset of a scene and stiffness, is
+afterwards skipped: the body stands still (MuJoCo is not stepped) while the firmware's bus cycles
+pass, then becomes the settled state stored at that first reset, two bus cycles before the
+settling's end (``physics::PhysicsRobot::skip_to_state``: MuJoCo's data in full, the servos'
+control-law memory, the gauges' recent samples, the load noise generator). The episode that
+follows is bit-identical to one after a full reset (python/tests/test_vector_env.py);
+``info["settle_skipped"]`` says which reset a sub-environment had. Not identical: what the
+firmware read from the servos during the skipped span (it holds its posture while standing and
+keeps none of it in what the environment observes).
+
 Infos (one dict of arrays, each key with its boolean mask ``_key`` as Gymnasium's vector
 environments give them): ``time_s`` (the proprioception clock, s), ``state`` (run state names),
-and ``body`` with ``thorax_position_m`` (N x 3) and ``thorax_orientation`` (N x 4, w x y z).
+``settle_skipped`` (the last reset was a cheap one) and ``body`` with ``thorax_position_m`` (N x 3) and ``thorax_orientation`` (N x 4, w x y z).
 
 Reward: forward progress (the thorax's world x advance in the step, m), as ``DbotEnv``'s
 default; termination and truncation as ``DbotEnv``'s (a firmware fault, a fall by its rule,
@@ -72,6 +84,7 @@ class VectorEnv(_GymVectorEnv):
         fall_height_fraction: float = 0.5,
         fall_tilt_rad: float = math.radians(30.0),
         torques: bool = False,
+        cheap_reset: bool = True,
     ) -> None:
         # The spaces, limits and table are DbotEnv's own: one single environment built without
         # a robot (DbotEnv opens its robot only at reset).
@@ -121,6 +134,7 @@ class VectorEnv(_GymVectorEnv):
             reply_timeout_s,
             fall_height_fraction,
             fall_tilt_rad,
+            cheap_reset,
         )
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._np_randoms: list[np.random.Generator] = [
@@ -223,6 +237,8 @@ class VectorEnv(_GymVectorEnv):
         return {
             "time_s": rows["time_s"],
             "_time_s": mask.copy(),
+            "settle_skipped": rows["settle_skipped"],
+            "_settle_skipped": mask.copy(),
             "state": np.array(rows["state"], dtype=object),
             "_state": mask.copy(),
             "body": body,

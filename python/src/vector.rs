@@ -174,6 +174,7 @@ impl VectorCore {
             mat(4, &|r| &r.orientation).to_pyarray(py),
         )?;
         d.set_item("rest_rad", mat(j, &|r| &r.rest).to_pyarray(py))?;
+        d.set_item("settle_skipped", flag(&|r| r.settle_skipped).to_pyarray(py))?;
         d.set_item("reward", col(&|r| r.reward).to_pyarray(py))?;
         d.set_item("terminated", flag(&|r| r.terminated).to_pyarray(py))?;
         d.set_item("truncated", flag(&|r| r.truncated).to_pyarray(py))?;
@@ -222,7 +223,7 @@ impl VectorCore {
     #[new]
     #[pyo3(signature = (num_envs, threads, table, scene, cycles_per_step, max_episode_steps,
         stiffness_nm_rad, settle_s, timeout_cycles, reply_timeout_s, fall_height_fraction,
-        fall_tilt_rad))]
+        fall_tilt_rad, cheap_reset = true))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         num_envs: usize,
@@ -237,6 +238,7 @@ impl VectorCore {
         reply_timeout_s: f64,
         fall_height_fraction: f64,
         fall_tilt_rad: f64,
+        cheap_reset: bool,
     ) -> PyResult<Self> {
         if num_envs == 0 {
             return Err(value_error("num_envs = 0: give 1 or more"));
@@ -261,6 +263,7 @@ impl VectorCore {
             reply_timeout_s,
             fall_height_fraction,
             fall_tilt_rad,
+            cheap_reset,
         )
         .map_err(value_error)?;
         let threads = threads.min(num_envs);

@@ -22,6 +22,9 @@ pub struct Options {
     stiffness_nm_rad: Option<f64>,
     /// Torque-on to streaming: the gravity ramp's 1 s plus the settling.
     settle: Duration,
+    /// Reset from the settled state stored at a first reset of the same scene and stiffness
+    /// instead of simulating the settling again (`physics::PhysicsRobot::skip_to_state`).
+    cheap_reset: bool,
     timeout_cycles: u16,
     reply_timeout: Duration,
     fall_height_fraction: f64,
@@ -47,6 +50,7 @@ impl Options {
         reply_timeout_s: f64,
         fall_height_fraction: f64,
         fall_tilt_rad: f64,
+        cheap_reset: bool,
     ) -> Result<Self, String> {
         Ok(Self {
             table,
@@ -59,6 +63,7 @@ impl Options {
             reply_timeout: seconds(reply_timeout_s, "reply_timeout_s")?,
             fall_height_fraction,
             fall_tilt_rad,
+            cheap_reset,
         })
     }
 }
@@ -82,6 +87,8 @@ pub struct Row {
     pub state: &'static str,
     /// The resting posture held at the episode's reset (its first setpoint), rad.
     pub rest: Vec<f64>,
+    /// Whether the episode's reset skipped to a stored settled state (a cheap reset).
+    pub settle_skipped: bool,
 }
 
 /// A physics robot as `DbotEnv` drives it.
@@ -95,7 +102,13 @@ pub struct SubEnv {
     steps: u32,
     start_height_m: f64,
     last: Row,
+    /// The settled state per (scene, stiffness in the board's unit) of a reset that simulated it.
+    settled: std::collections::HashMap<(String, Option<u32>), physics::PhysicsState>,
 }
+
+/// How long before the settling's end the settled state is kept (and a cheap reset becomes it),
+/// s: two bus cycles, so the cycle that keeps it surely falls inside the wait.
+const KEEP_BEFORE_END_S: f64 = 0.02;
 
 /// The wait between two looks at the cycle counter (`DbotEnv._wait_cycles`).
 const POLL_S: f64 = 0.01;
@@ -162,6 +175,7 @@ impl SubEnv {
             steps: 0,
             start_height_m: 0.0,
             last: Row::default(),
+            settled: std::collections::HashMap::new(),
         }
     }
 
@@ -199,7 +213,34 @@ impl SubEnv {
         }
         l.set_torque(ServoSelect::All, true)
             .map_err(|e| e.to_string())?;
+        // The settling: simulated once per scene and stiffness, then (cheap reset) skipped to.
+        let key = (self.scene.clone(), stiffness.map(|s| s.units()));
+        let keep_at = (l.now() + self.options.settle).as_secs_f64() - KEEP_BEFORE_END_S;
+        let body = l
+            .transport_mut()
+            .physics_mut()
+            .ok_or("the physics robot has no body")?;
+        let keeping = match self.settled.get(&key) {
+            Some(state) if self.options.cheap_reset => {
+                body.skip_to_state(keep_at, state.clone())
+                    .map_err(|e| e.to_string())?;
+                false
+            }
+            _ => {
+                body.keep_state_at(keep_at);
+                true
+            }
+        };
         l.wait(self.options.settle).map_err(|e| e.to_string())?;
+        if keeping
+            && self.options.cheap_reset
+            && let Some(state) = l
+                .transport_mut()
+                .physics_mut()
+                .and_then(physics::PhysicsRobot::take_kept_state)
+        {
+            self.settled.insert(key, state);
+        }
         let state = status(&mut l).map_err(|e| e.to_string())?.state.key();
         if state != "Standing" {
             return Err(format!(
@@ -229,6 +270,7 @@ impl SubEnv {
         let mut row = self.row(&rec)?;
         self.start_height_m = row.position[2];
         row.rest = rest;
+        row.settle_skipped = !keeping;
         self.last = row.clone();
         Ok(row)
     }
@@ -332,6 +374,7 @@ impl SubEnv {
             truncated: false,
             state: "Streaming",
             rest: self.last.rest.clone(),
+            settle_skipped: self.last.settle_skipped,
         })
     }
 }

@@ -5,7 +5,9 @@
 * it equals Gymnasium's `SyncVectorEnv` over the single `DbotEnv` (the independent truth: the
   Python environment driving `dbot.Board`), observation, reward and flags bit for bit, through a
   next-step autoreset;
-* results are bit-identical for 1 and 2 worker threads, and `gymnasium.make_vec` builds it.
+* results are bit-identical for 1 and 2 worker threads, and `gymnasium.make_vec` builds it;
+* a reset from the stored settled state (a cheap reset) gives the same episode, bit for bit, as
+  a reset that simulates the settling again.
 """
 
 from __future__ import annotations
@@ -88,3 +90,27 @@ def test_identical_for_one_and_two_threads_and_made_by_make_vec() -> None:
     assert isinstance(made.unwrapped, VectorEnv) and made.num_envs == 3
     assert made.observation_space["present_rad"].shape == (3, 22)
     made.close()
+
+
+def test_a_reset_from_the_stored_settled_state_equals_simulating_the_settling() -> None:
+    def episodes(cheap: bool) -> tuple[list, list[bool]]:
+        env = VectorEnv(1, threads=1, cheap_reset=cheap)
+        traces, skipped = [], []
+        for _ in range(2):
+            obs, info = env.reset()
+            skipped.append(bool(info["settle_skipped"][0]))
+            trace = [{**obs, "x": info["body"]["thorax_position_m"]}]
+            for act in actions(env.rest_rad, 20):
+                obs, reward, _, _, info = env.step(act)
+                trace.append({**obs, "x": info["body"]["thorax_position_m"], "r": reward})
+            traces.append(trace)
+        env.close()
+        return traces, skipped
+
+    full, full_skipped = episodes(cheap=False)
+    cheap, cheap_skipped = episodes(cheap=True)
+    # The first reset simulates the settling either way; the second skips it when allowed.
+    assert full_skipped == [False, False] and cheap_skipped == [False, True]
+    for a, b in zip(full[1], cheap[1], strict=True):
+        for key in a:
+            assert a[key].tobytes() == b[key].tobytes(), key
