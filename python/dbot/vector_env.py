@@ -6,7 +6,10 @@ Each sub-environment is a physics robot with the firmware in the loop, reset and
 python/src/vector_sub.rs), so sub-environment ``i`` equals ``DbotEnv`` bit for bit. The N robots
 step on ``threads`` Rust worker threads with the GIL released (python/src/vector.rs); robot ``i``
 lives on thread ``i % threads`` and shares nothing with the others, so results are identical
-whatever the thread count.
+whatever the thread count. ``threads=0`` steps them on the calling thread instead, the GIL held
+(no hand-over of each step to a worker: the cheapest for one robot, or for a process that
+parallelises otherwise, e.g. a process pool or Ray actors); default: one thread per robot up to
+the CPU count.
 
 Spaces: ``single_observation_space`` and ``single_action_space`` are ``DbotEnv``'s (the ``Dict``
 observation with the strain gauges; the 22 joint targets, or with ``torques=True`` the ``Dict``
@@ -56,7 +59,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector import VectorEnv as _GymVectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._native import Model, Plan, VectorCore, plan
+from ._native import InlineCore, Model, Plan, VectorCore
 
 #: The id under which ``gymnasium.make_vec`` builds :class:`VectorEnv` (``dbot.env`` registers it).
 ENV_ID = "dbot/Physics-v0"
@@ -121,9 +124,9 @@ class VectorEnv(_GymVectorEnv):
         self._low = self._single._angles_space.low
         self._high = self._single._angles_space.high
         self._stall = self._single.stall_nm
-        self._core = VectorCore(
-            self.num_envs,
-            self.threads,
+        if self.threads < 0:
+            raise ValueError(f"threads = {self.threads}: give 0 (the calling thread) or more")
+        core_args = (
             self._single._table,
             scene,
             cycles_per_step,
@@ -136,6 +139,12 @@ class VectorEnv(_GymVectorEnv):
             fall_tilt_rad,
             cheap_reset,
         )
+        self._core = (
+            InlineCore(self.num_envs, *core_args)
+            if self.threads == 0
+            else VectorCore(self.num_envs, self.threads, *core_args)
+        )
+        self._all = np.ones(self.num_envs, dtype=bool)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._np_randoms: list[np.random.Generator] = [
             np.random.default_rng() for _ in range(self.num_envs)
@@ -179,14 +188,18 @@ class VectorEnv(_GymVectorEnv):
         self, actions: Any
     ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         angles, torques = self._split(actions)
-        resetting = self._autoreset.copy()
-        rows = self._core.step(angles, torques, resetting)
-        reward = np.where(resetting, 0.0, rows["reward"])
-        terminated = np.where(resetting, False, rows["terminated"])
-        truncated = np.where(resetting, False, rows["truncated"])
-        self._note_rest(rows, resetting)
+        if self._autoreset.any():
+            resetting = self._autoreset
+            rows = self._core.step(angles, torques, resetting)
+            reward = np.where(resetting, 0.0, rows["reward"])
+            terminated = np.where(resetting, False, rows["terminated"])
+            truncated = np.where(resetting, False, rows["truncated"])
+            self._note_rest(rows, resetting)
+        else:
+            rows = self._core.step(angles, torques, None)
+            reward, terminated, truncated = rows["reward"], rows["terminated"], rows["truncated"]
         self._autoreset = terminated | truncated
-        return self._obs(rows), reward, terminated, truncated, self._infos(rows, np.ones(self.num_envs, bool))
+        return self._obs(rows), reward, terminated, truncated, self._infos(rows, self._all)
 
     def close_extras(self, **kwargs: Any) -> None:
         self._core.close()

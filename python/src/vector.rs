@@ -27,7 +27,7 @@ use crate::errors::{board_error, value_error};
 use crate::vector_sub::{Options, Row, SubEnv};
 
 /// What one sub-environment does in a batch.
-enum Job {
+pub(crate) enum Job {
     /// Reset (a scene replaces the kept one; a stiffness holds for this episode).
     Reset {
         scene: Option<String>,
@@ -72,11 +72,7 @@ fn worker(options: Options, batches: Receiver<Batch>, answers: Sender<Answer>) {
             let env = envs
                 .entry(i)
                 .or_insert_with(|| SubEnv::new(options.clone()));
-            let row = match job {
-                Job::Reset { scene, stiffness } => env.reset(scene, stiffness),
-                Job::Step { angles, torques } => env.step(&angles, torques.as_deref()),
-            };
-            out.push((i, row.map_err(|e| format!("sub-environment {i}: {e}"))));
+            out.push((i, run_job(env, i, job)));
         }
         if answers.send(out).is_err() {
             return;
@@ -136,54 +132,67 @@ impl VectorCore {
         }
         Ok(())
     }
-
-    /// Every sub-environment's latest row as a dict of arrays (first axis: sub-environment).
-    fn batch<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
-        let n = rows.len();
-        let d = PyDict::new(py);
-        let mat = |k: usize, g: &dyn Fn(&Row) -> &[f64]| {
-            Array2::from_shape_fn((n, k), |(i, j)| {
-                g(&rows[i]).get(j).copied().unwrap_or(f64::NAN)
-            })
-        };
-        let col = |g: &dyn Fn(&Row) -> f64| Array1::from_iter(rows.iter().map(g));
-        let flag = |g: &dyn Fn(&Row) -> bool| Array1::from_iter(rows.iter().map(g));
-        let j = self.joints;
-        d.set_item("present_rad", mat(j, &|r| &r.present).to_pyarray(py))?;
-        d.set_item("velocity_rad_s", mat(j, &|r| &r.velocity).to_pyarray(py))?;
-        d.set_item("load_raw", mat(j, &|r| &r.load).to_pyarray(py))?;
-        d.set_item(
-            "setpoint_age",
-            mat(1, &|r| std::slice::from_ref(&r.setpoint_age)).to_pyarray(py),
-        )?;
-        if self.gauges > 0 {
-            d.set_item(
-                "strain_microstrain",
-                mat(self.gauges, &|r| &r.strain).to_pyarray(py),
-            )?;
-            d.set_item(
-                "strain_age_s",
-                mat(1, &|r| std::slice::from_ref(&r.strain_age_s)).to_pyarray(py),
-            )?;
-        }
-        d.set_item("time_s", col(&|r| r.time_s).to_pyarray(py))?;
-        d.set_item("thorax_position_m", mat(3, &|r| &r.position).to_pyarray(py))?;
-        d.set_item(
-            "thorax_orientation",
-            mat(4, &|r| &r.orientation).to_pyarray(py),
-        )?;
-        d.set_item("rest_rad", mat(j, &|r| &r.rest).to_pyarray(py))?;
-        d.set_item("settle_skipped", flag(&|r| r.settle_skipped).to_pyarray(py))?;
-        d.set_item("reward", col(&|r| r.reward).to_pyarray(py))?;
-        d.set_item("terminated", flag(&|r| r.terminated).to_pyarray(py))?;
-        d.set_item("truncated", flag(&|r| r.truncated).to_pyarray(py))?;
-        d.set_item("state", rows.iter().map(|r| r.state).collect::<Vec<&str>>())?;
-        Ok(d)
-    }
 }
 
-fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> {
+/// Every sub-environment's latest row as a dict of arrays (first axis: sub-environment).
+pub(crate) fn batch<'py>(
+    py: Python<'py>,
+    rows: &[Row],
+    joints: usize,
+    gauges: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = rows.len();
+    let d = PyDict::new(py);
+    let mat = |k: usize, g: &dyn Fn(&Row) -> &[f64]| {
+        Array2::from_shape_fn((n, k), |(i, j)| {
+            g(&rows[i]).get(j).copied().unwrap_or(f64::NAN)
+        })
+    };
+    let col = |g: &dyn Fn(&Row) -> f64| Array1::from_iter(rows.iter().map(g));
+    let flag = |g: &dyn Fn(&Row) -> bool| Array1::from_iter(rows.iter().map(g));
+    let j = joints;
+    d.set_item("present_rad", mat(j, &|r| &r.present).to_pyarray(py))?;
+    d.set_item("velocity_rad_s", mat(j, &|r| &r.velocity).to_pyarray(py))?;
+    d.set_item("load_raw", mat(j, &|r| &r.load).to_pyarray(py))?;
+    d.set_item(
+        "setpoint_age",
+        mat(1, &|r| std::slice::from_ref(&r.setpoint_age)).to_pyarray(py),
+    )?;
+    if gauges > 0 {
+        d.set_item(
+            "strain_microstrain",
+            mat(gauges, &|r| &r.strain).to_pyarray(py),
+        )?;
+        d.set_item(
+            "strain_age_s",
+            mat(1, &|r| std::slice::from_ref(&r.strain_age_s)).to_pyarray(py),
+        )?;
+    }
+    d.set_item("time_s", col(&|r| r.time_s).to_pyarray(py))?;
+    d.set_item("thorax_position_m", mat(3, &|r| &r.position).to_pyarray(py))?;
+    d.set_item(
+        "thorax_orientation",
+        mat(4, &|r| &r.orientation).to_pyarray(py),
+    )?;
+    d.set_item("rest_rad", mat(j, &|r| &r.rest).to_pyarray(py))?;
+    d.set_item("settle_skipped", flag(&|r| r.settle_skipped).to_pyarray(py))?;
+    d.set_item("reward", col(&|r| r.reward).to_pyarray(py))?;
+    d.set_item("terminated", flag(&|r| r.terminated).to_pyarray(py))?;
+    d.set_item("truncated", flag(&|r| r.truncated).to_pyarray(py))?;
+    d.set_item("state", rows.iter().map(|r| r.state).collect::<Vec<&str>>())?;
+    Ok(d)
+}
+
+/// One job on one sub-environment, as a worker runs it.
+pub(crate) fn run_job(env: &mut SubEnv, i: usize, job: Job) -> Result<Row, String> {
+    match job {
+        Job::Reset { scene, stiffness } => env.reset(scene, stiffness),
+        Job::Step { angles, torques } => env.step(&angles, torques.as_deref()),
+    }
+    .map_err(|e| format!("sub-environment {i}: {e}"))
+}
+
+pub(crate) fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> {
     match m {
         None => Ok(vec![true; n]),
         Some(m) => {
@@ -199,7 +208,7 @@ fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> 
     }
 }
 
-fn rows_of(
+pub(crate) fn rows_of(
     a: &PyReadonlyArray2<'_, f64>,
     n: usize,
     j: usize,
@@ -213,6 +222,63 @@ fn rows_of(
         )));
     }
     Ok(a.outer_iter().map(|r| r.to_vec()).collect())
+}
+
+/// The jobs of a reset: the sub-environments `mask` selects (None: all).
+pub(crate) fn reset_jobs(
+    n: usize,
+    mask: Option<PyReadonlyArray1<'_, bool>>,
+    scene: Option<String>,
+    stiffness_nm_rad: Option<f64>,
+) -> PyResult<Vec<(usize, Job)>> {
+    let m = self::mask(mask, n)?;
+    Ok((0..n)
+        .filter(|&i| m[i])
+        .map(|i| {
+            let job = Job::Reset {
+                scene: scene.clone(),
+                stiffness: stiffness_nm_rad,
+            };
+            (i, job)
+        })
+        .collect())
+}
+
+/// The jobs of a step: each sub-environment's row of actions, or a reset where `reset` says.
+pub(crate) fn step_jobs(
+    n: usize,
+    joints: usize,
+    angles_rad: PyReadonlyArray2<'_, f64>,
+    torques_nm: Option<PyReadonlyArray2<'_, f64>>,
+    reset: Option<PyReadonlyArray1<'_, bool>>,
+) -> PyResult<Vec<(usize, Job)>> {
+    let angles = rows_of(&angles_rad, n, joints, "angles_rad")?;
+    let torques = torques_nm
+        .map(|t| rows_of(&t, n, joints, "torques_nm"))
+        .transpose()?;
+    let resets = match reset {
+        None => vec![false; n],
+        Some(_) => self::mask(reset, n)?,
+    };
+    let mut torques = torques.map(|t| t.into_iter().map(Some).collect::<Vec<_>>());
+    Ok(angles
+        .into_iter()
+        .enumerate()
+        .map(|(i, angles)| {
+            let job = if resets[i] {
+                Job::Reset {
+                    scene: None,
+                    stiffness: None,
+                }
+            } else {
+                Job::Step {
+                    angles,
+                    torques: torques.as_mut().and_then(|t| t[i].take()),
+                }
+            };
+            (i, job)
+        })
+        .collect())
 }
 
 #[pymethods]
@@ -314,21 +380,10 @@ impl VectorCore {
         scene: Option<String>,
         stiffness_nm_rad: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let m = self::mask(mask, self.num_envs)?;
-        let jobs = (0..self.num_envs)
-            .filter(|&i| m[i])
-            .map(|i| {
-                (
-                    i,
-                    Job::Reset {
-                        scene: scene.clone(),
-                        stiffness: stiffness_nm_rad,
-                    },
-                )
-            })
-            .collect();
+        let jobs = reset_jobs(self.num_envs, mask, scene, stiffness_nm_rad)?;
         self.run(py, jobs)?;
-        self.batch(py)
+        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
+        batch(py, &rows, self.joints, self.gauges)
     }
 
     /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad, clipped by the
@@ -347,36 +402,10 @@ impl VectorCore {
         torques_nm: Option<PyReadonlyArray2<'_, f64>>,
         reset: Option<PyReadonlyArray1<'_, bool>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let n = self.num_envs;
-        let angles = rows_of(&angles_rad, n, self.joints, "angles_rad")?;
-        let torques = torques_nm
-            .map(|t| rows_of(&t, n, self.joints, "torques_nm"))
-            .transpose()?;
-        let resets = match reset {
-            None => vec![false; n],
-            Some(_) => self::mask(reset, n)?,
-        };
-        let mut torques = torques.map(|t| t.into_iter().map(Some).collect::<Vec<_>>());
-        let jobs = angles
-            .into_iter()
-            .enumerate()
-            .map(|(i, angles)| {
-                let job = if resets[i] {
-                    Job::Reset {
-                        scene: None,
-                        stiffness: None,
-                    }
-                } else {
-                    Job::Step {
-                        angles,
-                        torques: torques.as_mut().and_then(|t| t[i].take()),
-                    }
-                };
-                (i, job)
-            })
-            .collect();
+        let jobs = step_jobs(self.num_envs, self.joints, angles_rad, torques_nm, reset)?;
         self.run(py, jobs)?;
-        self.batch(py)
+        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
+        batch(py, &rows, self.joints, self.gauges)
     }
 
     /// Stops the workers and closes every robot (idempotent).
