@@ -7,7 +7,8 @@ gait's phase plus
 
     residual(phase) = SCALE_RAD * tanh(b + A sin(2 pi phase) + B cos(2 pi phase))
 
-per joint (A, B, b: 22 values each, 66 parameters; all zero is the open-loop gait), with the
+per joint (A, B, b: 22 values each, 66 parameters; all zero is the open-loop gait;
+`dbot.vector_pool.residual`), with the
 plan's joint torques as the torque feed-forward; both blend in from the resting posture over the
 first 0.5 s, as `dbot.sweep.gait_rollout` starts its walks. The fitness of a parameter vector is
 the distance its walk covers along world x in one episode (`VectorEnv`'s reward, summed), less
@@ -32,92 +33,22 @@ gait's reward).
 from __future__ import annotations
 
 import argparse
-import math
 import pathlib
 import pickle
 import sys
-from dataclasses import dataclass
 
 import numpy as np
 
 import dbot
 from dbot.env import VectorEnv
+from dbot.vector_pool import FALL_PENALTY_M, SCALE_RAD, Gait, residual, residual_walks
 
-#: The largest residual, rad (tanh bounds it): small beside the joints' ranges, so the policy
-#: shapes the gait rather than replaces it.
-SCALE_RAD = 0.15
-#: The blend from the resting posture into the plan, s.
-BLEND_S = 0.5
-#: Bus cycle, s (`VectorEnv` steps one cycle per step).
-CYCLE_S = 0.01
-#: What a fall costs, m: more than any walk of an episode covers, so no lunge that ends in a
-#: fall beats walking.
-FALL_PENALTY_M = 1.0
+__all__ = ["FALL_PENALTY_M", "SCALE_RAD", "Gait", "residual", "rollouts", "train", "load", "main"]
 
-
-@dataclass
-class Gait:
-    """The planned gait, tabulated per slice over one period: servo joint angles and torques."""
-
-    angles: np.ndarray  # [slice, joint], rad
-    torques: np.ndarray  # [slice, joint], N m, clipped to the stall torques
-    period_s: float
-
-    @classmethod
-    def of(cls, model: dbot.Model, slices: int = 50) -> "Gait":
-        plan = dbot.plan(model, slices=slices)
-        cols = np.asarray(model.servo_joints)
-        stall = np.asarray(model.servo_stall_torques_nm)
-        return cls(
-            np.asarray(plan.angles)[:, cols],
-            np.clip(np.asarray(plan.torques)[:, cols], -stall, stall),
-            float(plan.period_s),
-        )
-
-    def at(self, k: int) -> tuple[float, np.ndarray, np.ndarray]:
-        """Phase (fraction of the period), planned angles and torques at step ``k``."""
-        t = k * CYCLE_S
-        phase = (t / self.period_s) % 1.0
-        s = int(phase * len(self.angles)) % len(self.angles)
-        return phase, self.angles[s], self.torques[s]
-
-
-def residual(theta: np.ndarray, phase: float) -> np.ndarray:
-    """The residual joint targets of parameters ``theta`` (66: A, B, b) at ``phase``, rad."""
-    a, b, c = np.split(np.asarray(theta, dtype=np.float64), 3)
-    w = 2.0 * math.pi * phase
-    return SCALE_RAD * np.tanh(c + a * math.sin(w) + b * math.cos(w))
-
-
-def rollouts(env: VectorEnv, gait: Gait, thetas: np.ndarray, steps: int) -> np.ndarray:
-    """Each row of ``thetas`` walked for ``steps`` steps on its own robot (at most
-    ``env.num_envs`` at once): its fitness, the distance covered along x, m, less
-    ``FALL_PENALTY_M`` if it fell."""
-    out = np.zeros(len(thetas))
-    n = env.num_envs
-    for first in range(0, len(thetas), n):
-        batch = thetas[first : first + n]
-        rows = np.zeros((n, batch.shape[1]))
-        rows[: len(batch)] = batch
-        env.reset()
-        rest = env.rest_rad.copy()
-        total = np.zeros(n)
-        alive = np.ones(n, dtype=bool)
-        fell = np.zeros(n, dtype=bool)
-        for k in range(steps):
-            phase, angles, torques = gait.at(k)
-            blend = min(1.0, k * CYCLE_S / BLEND_S)
-            target = (1 - blend) * rest + blend * (
-                angles[None, :] + np.stack([residual(t, phase) for t in rows])
-            )
-            action = {"angles_rad": target, "torques_nm": np.repeat(blend * torques[None], n, 0)}
-            _, reward, terminated, truncated, _ = env.step(action)
-            total += np.where(alive, reward, 0.0)
-            fell |= alive & terminated
-            alive &= ~(terminated | truncated)
-        fitness = total - FALL_PENALTY_M * fell
-        out[first : first + len(batch)] = fitness[: len(batch)]
-    return out
+def rollouts(env: VectorEnv, thetas: np.ndarray, steps: int) -> np.ndarray:
+    """Each row of ``thetas`` walked on its own robot (``dbot.vector_pool.residual_walks``, on
+    the default plan's gait): its fitness, distance along x less a fall's penalty, m."""
+    return np.asarray(residual_walks(env, list(thetas), steps))
 
 
 def train(
@@ -136,7 +67,6 @@ def train(
 
     out.mkdir(parents=True, exist_ok=True)
     model = dbot.Model.builtin("drosophibot2")
-    gait = Gait.of(model)
     # One episode is exactly the rollout: truncated after its last step.
     env = VectorEnv(envs, max_episode_steps=episode_steps, torques=True)
     dim = 3 * len(model.servo_joints)
@@ -151,13 +81,13 @@ def train(
         es = cma.CMAEvolutionStrategy(
             np.zeros(dim), sigma, {"popsize": popsize, "seed": seed, "verbose": -9}
         )
-        open_loop = float(rollouts(env, gait, np.zeros((1, dim)), episode_steps)[0])
+        open_loop = float(rollouts(env, np.zeros((1, dim)), episode_steps)[0])
         steps_done = episode_steps
         history = {"steps": [], "best": [], "mean": []}
         best = (np.zeros(dim), open_loop)
     for _ in range(generations):
         candidates = np.asarray(es.ask())
-        rewards = rollouts(env, gait, candidates, episode_steps)
+        rewards = rollouts(env, candidates, episode_steps)
         es.tell(list(candidates), list(-rewards))
         steps_done += len(candidates) * episode_steps
         history["steps"].append(steps_done)

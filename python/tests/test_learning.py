@@ -20,7 +20,6 @@ import sys
 import numpy as np
 import pytest
 
-import dbot
 from dbot.env import VectorEnv
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "learn_residual.py"
@@ -53,9 +52,8 @@ def test_trains_saves_reloads_and_resumes(learn, tmp_path) -> None:
     saved = learn.load(tmp_path / "policy.npz")
     assert np.array_equal(saved["theta"], curve["theta"])
     # Walking the saved parameters again gives the reward saved with them.
-    model = dbot.Model.builtin("drosophibot2")
     env = VectorEnv(1, max_episode_steps=steps, torques=True)
-    again = learn.rollouts(env, learn.Gait.of(model), saved["theta"][None], steps)
+    again = learn.rollouts(env, saved["theta"][None], steps)
     env.close()
     assert again[0] == float(saved["reward"])
     resumed = learn.train(tmp_path, envs=2, generations=1, popsize=popsize, episode_steps=steps,
