@@ -26,6 +26,7 @@ import functools  # noqa: E402
 import pathlib  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -105,32 +106,49 @@ def resets(repeats: int) -> dict[str, float]:
     return {k: float(np.median(v)) for k, v in out.items()}
 
 
-def pools(items: int, steps: int, workers: int) -> dict[str, float]:
-    """Wall time of the same rollouts in one process, over a process pool and over Ray actors
-    (each pool built and warmed by one call first: its start is reported apart)."""
+def pools(items: int, steps: int, workers: int, rounds: int) -> dict[str, float]:
+    """Wall time of the same rollouts in one process, over a process pool and over Ray actors:
+    every pool built and warmed by one call first (its start is reported apart), then ``rounds``
+    rounds of one call each, interleaved; the median round."""
+    import ray
+
     make_env = functools.partial(VectorEnv, 1, threads=0, max_episode_steps=steps, torques=True)
     walk = functools.partial(residual_walks, steps=steps)
     rng = np.random.default_rng(0)
     thetas = [rng.normal(0.0, 0.3, 66) for _ in range(items)]
     out: dict[str, float] = {"items": items, "steps": steps, "workers": workers}
-    rows = {}
+    built = {}
     for backend in ("serial", "processes", "ray"):
         t = time.perf_counter()
         if backend == "ray":
-            import ray
-
             ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
-        pool = RolloutPool(make_env, backend, workers=workers)
-        pool.map(walk, thetas[:workers])  # warm: every worker built its robot
+        built[backend] = RolloutPool(make_env, backend, workers=workers)
+        built[backend].map(walk, thetas[:workers])  # warm: every worker built its robot
         out[f"{backend}_start_s"] = time.perf_counter() - t
-        t = time.perf_counter()
-        rows[backend] = pool.map(walk, thetas)
-        out[f"{backend}_s"] = time.perf_counter() - t
+    times: dict[str, list[float]] = {b: [] for b in built}
+    rows = {}
+    for _ in range(rounds):
+        for backend, pool in built.items():
+            t = time.perf_counter()
+            rows[backend] = pool.map(walk, thetas)
+            times[backend].append(time.perf_counter() - t)
+    for backend, pool in built.items():
         pool.close()
-        if backend == "ray":
-            ray.shutdown()
+        out[f"{backend}_s"] = float(np.median(times[backend]))
+    ray.shutdown()
     assert rows["processes"] == rows["serial"] == rows["ray"], "a backend gave other rows"
     return out
+
+
+def median_of(
+    rounds: int, runs: dict[str, Callable[[], dict[str, float]]], key: str = "cpu_s"
+) -> dict[str, dict[str, float]]:
+    """Each of ``runs`` ``rounds`` times, interleaved; per run the round of median ``key``."""
+    got: dict[str, list[dict[str, float]]] = {k: [] for k in runs}
+    for _ in range(rounds):
+        for k, f in runs.items():
+            got[k].append(f())
+    return {k: sorted(v, key=lambda m: m[key])[len(v) // 2] for k, v in got.items()}
 
 
 def main() -> int:
@@ -142,24 +160,30 @@ def main() -> int:
     cpus = os.cpu_count() or 1
     print(f"load average at start: {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {cpus} cores")
 
-    # One core: the single-environment figures.
+    rounds = 1 if a.quick else 3
+    # One core: the single-environment figures, interleaved rounds, medians.
     affinity = os.sched_getaffinity(0)
     os.sched_setaffinity(0, {min(affinity)})
-    inline = vector_rate(1, 0, steps)
-    core = core_rate(steps)
-    worker1 = vector_rate(1, 1, steps)
-    single = dbot_env_rate(steps)
-    bare = bare_mujoco(steps)
+    one = median_of(rounds, {
+        "bare": lambda: {**bare_mujoco(steps), "robot_steps": steps},
+        "core": lambda: core_rate(steps),
+        "inline": lambda: vector_rate(1, 0, steps),
+        "worker1": lambda: vector_rate(1, 1, steps),
+        "single": lambda: dbot_env_rate(steps),
+    })
+    bare, core, inline, worker1, single = (one[k] for k in ("bare", "core", "inline", "worker1", "single"))
     r = resets(3 if a.quick else 10)
     os.sched_setaffinity(0, affinity)
 
-    # Every core: N = 1 and N = 2 side by side.
-    n1 = vector_rate(1, 1, steps)
-    n2 = vector_rate(2, 2, steps)
+    # Every core: N = 1 and N = 2 side by side, interleaved rounds, medians (of wall time).
+    both = median_of(rounds, {"n1": lambda: vector_rate(1, 1, steps),
+                              "n2": lambda: vector_rate(2, 2, steps)}, key="wall_s")
+    n1, n2 = both["n1"], both["n2"]
 
     per = lambda m: 1e6 * m["cpu_s"] / m["robot_steps"]  # noqa: E731
     bare_us = 1e6 * bare["cpu_s"] / bare["cycles"]
-    print("\n| what (one core, CPU time per step of 10 ms) | us per step | overhead against bare MuJoCo |")
+    print(f"\n| what (one core, CPU time per step of 10 ms; median of {rounds} interleaved runs of {steps} steps) "
+          "| us per step | overhead against bare MuJoCo |")
     print("|---|---|---|")
     print(f"| bare MuJoCo, same model, 10 x 1 ms | {bare_us:.0f} | - |")
     for name, m in (("its Rust core alone (InlineCore.step)", core),
@@ -167,12 +191,12 @@ def main() -> int:
                     ("DbotEnv", single)):
         print(f"| {name} | {per(m):.0f} | {100 * (1 - bare_us / per(m)):.0f} % |")
 
-    print("\n| vector throughput (every core, wall) | robot steps/s | x N = 1 |")
-    print("|---|---|---|")
+    print("\n| vector throughput (every core) | robot steps/s, wall | x N = 1 | CPU us per robot step |")
+    print("|---|---|---|---|")
     rate1 = n1["robot_steps"] / n1["wall_s"]
     rate2 = n2["robot_steps"] / n2["wall_s"]
-    print(f"| N = 1 (1 worker thread) | {rate1:.0f} | 1.00 |")
-    print(f"| N = 2 (2 worker threads) | {rate2:.0f} | {rate2 / rate1:.2f} |")
+    print(f"| N = 1 (1 worker thread) | {rate1:.0f} | 1.00 | {per(n1):.0f} |")
+    print(f"| N = 2 (2 worker threads) | {rate2:.0f} | {rate2 / rate1:.2f} | {per(n2):.0f} |")
 
     print("\n| reset (one core, CPU time, median) | s | against stepping the span |")
     print("|---|---|---|")
@@ -180,7 +204,7 @@ def main() -> int:
     print(f"| full reset (simulates the settling) | {r['full']:.4f} | {r['full'] / r['span']:.2f} |")
     print(f"| cheap reset (the stored settled state) | {r['cheap']:.4f} | {r['cheap'] / r['span']:.2f} |")
 
-    p = pools(4 if a.quick else 8, 50 if a.quick else 250, cpus)
+    p = pools(4 if a.quick else 8, 50 if a.quick else 250, cpus, rounds)
     print(f"\n| {p['items']} rollouts of {p['steps']} steps, {p['workers']} workers (wall) "
           "| s | rollouts/s | x process pool | start (built, warmed) |")
     print("|---|---|---|---|---|")
