@@ -288,13 +288,15 @@ impl SubEnv {
             // Streaming stopped: the firmware went safe. The last observation stays.
             let l = self.robot.as_mut().expect("checked above");
             let state = status(l).map_err(|e| e.to_string())?.state.key();
-            let body = l
+            let (position, orientation) = l
                 .transport()
-                .body()
-                .ok_or("the physics robot has no body")?;
+                .physics()
+                .ok_or("the physics robot has no body")?
+                .plant()
+                .thorax_pose();
             let mut row = self.last.clone();
-            row.position = body.thorax.position_m;
-            row.orientation = body.thorax.orientation;
+            row.position = position;
+            row.orientation = orientation;
             row.reward = 0.0;
             row.terminated = true;
             row.truncated = truncated;
@@ -343,8 +345,11 @@ impl SubEnv {
         let l = self.robot.as_ref().ok_or("no robot")?;
         let t = l.transport();
         let time_s = rec.time_us as f64 * 1e-6;
-        let body = t.body().ok_or("the physics robot has no body")?;
-        let (strain, strain_age_s) = match t.strain_at(time_s) {
+        // The thorax pose is all a step needs of the body (`Body` would also sum the foot
+        // contacts); the gauge sample by reference (`RobotLink::strain_at` clones its names).
+        let physics = t.physics().ok_or("the physics robot has no body")?;
+        let (position, orientation) = physics.plant().thorax_pose();
+        let (strain, strain_age_s) = match physics.strain_at(time_s) {
             Some(s) => (
                 s.readings.iter().map(|r| r.microstrain).collect(),
                 time_s - s.time_s,
@@ -367,8 +372,8 @@ impl SubEnv {
             strain,
             strain_age_s,
             time_s,
-            position: body.thorax.position_m,
-            orientation: body.thorax.orientation,
+            position,
+            orientation,
             reward: 0.0,
             terminated: false,
             truncated: false,
