@@ -202,7 +202,9 @@ class VectorEnv(_GymVectorEnv):
         return self._obs(rows), reward, terminated, truncated, self._infos(rows, self._all)
 
     def close_extras(self, **kwargs: Any) -> None:
-        self._core.close()
+        core = getattr(self, "_core", None)  # absent when __init__ failed
+        if core is not None:
+            core.close()
 
     @property
     def np_randoms(self) -> list[np.random.Generator]:
@@ -224,14 +226,20 @@ class VectorEnv(_GymVectorEnv):
     def _split(self, actions: Any) -> tuple[np.ndarray, np.ndarray | None]:
         """The clipped joint targets (N x 22) and, with ``torques=True``, the clipped torques."""
         if not self.torques:
-            a = np.asarray(actions, dtype=np.float64).reshape(self.num_envs, -1)
-            return np.ascontiguousarray(np.clip(a, self._low, self._high)), None
-        a = np.asarray(actions["angles_rad"], dtype=np.float64).reshape(self.num_envs, -1)
-        t = np.asarray(actions["torques_nm"], dtype=np.float64).reshape(self.num_envs, -1)
-        return (
-            np.ascontiguousarray(np.clip(a, self._low, self._high)),
-            np.ascontiguousarray(np.clip(t, -self._stall, self._stall)),
-        )
+            a = self._rows(actions, "actions")
+            return np.clip(a, self._low, self._high), None
+        a = self._rows(actions["angles_rad"], 'actions["angles_rad"]')
+        t = self._rows(actions["torques_nm"], 'actions["torques_nm"]')
+        return np.clip(a, self._low, self._high), np.clip(t, -self._stall, self._stall)
+
+    def _rows(self, v: Any, what: str) -> np.ndarray:
+        a = np.asarray(v, dtype=np.float64)
+        shape = (self.num_envs, len(self.joint_names))
+        if a.shape != shape:
+            raise ValueError(
+                f"{what}: shape {a.shape}, give {shape}: one row of joint values per sub-environment"
+            )
+        return a
 
     def _note_rest(self, rows: dict[str, Any], mask: np.ndarray) -> None:
         # The resting posture each robot held at reset: its first setpoint's targets.

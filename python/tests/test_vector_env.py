@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
+import pytest
 from gymnasium.utils.env_checker import check_env
 from gymnasium.vector import AutoresetMode, SyncVectorEnv
 
@@ -116,3 +117,10 @@ def test_a_reset_from_the_stored_settled_state_equals_simulating_the_settling() 
     for a, b in zip(full[1], cheap[1], strict=True):
         for key in a:
             assert a[key].tobytes() == b[key].tobytes(), key
+
+
+def test_an_action_of_the_wrong_shape_is_refused_by_name() -> None:
+    env = VectorEnv(2, threads=1)
+    with pytest.raises(ValueError, match=r"actions: shape \(22,\), give \(2, 22\)"):
+        env.step(np.zeros(22))
+    env.close()
