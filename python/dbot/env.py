@@ -60,6 +60,10 @@ fall: thorax below ``fall_height_fraction`` (default 0.5) of its height at reset
 than ``fall_tilt_rad`` (default 30 degrees; the rule of ``physics::Figures::verdict``). Truncation:
 ``max_episode_steps`` steps. Default reward: forward progress, the thorax's world x advance in this
 step, m (0 on a board, which cannot see its body); pass ``reward=`` to replace it.
+
+Many physics robots at once: :class:`VectorEnv` (python/dbot/vector_env.py, re-exported here), N
+of this class's physics robot stepped on Rust threads, each equal to ``DbotEnv`` bit for bit;
+``gymnasium.make_vec("dbot/Physics-v0", num_envs=N)`` builds one.
 """
 
 from __future__ import annotations

@@ -11,8 +11,10 @@
 //!
 //! The reset and the step are those of `dbot.env.DbotEnv` on the physics robot, call for call on
 //! the link (each `Board.status()` of the Python class is the same three requests here:
-//! `vector_reset::status`), so a sub-environment equals `DbotEnv` step by step
-//! (python/tests/test_vector_env.py checks it against `SyncVectorEnv`).
+//! `vector_sub::status`), so a sub-environment equals `DbotEnv` step by step
+//! (python/tests/test_vector_env.py checks it against `SyncVectorEnv`). The job builders and the
+//! batch of rows are shared with `InlineCore` (python/src/vector_inline.rs: the same robots on
+//! the calling thread).
 
 use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, Sender, channel};

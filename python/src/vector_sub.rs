@@ -1,6 +1,9 @@
 //! One sub-environment of `VectorCore` (python/src/vector.rs): a physics robot reset and stepped
 //! as `dbot.env.DbotEnv` does it on `physics:SCENE`, the same requests on the link in the same
-//! order, so its observations, rewards and flags equal the Python class's bit for bit.
+//! order, so its observations, rewards and flags equal the Python class's bit for bit. Its
+//! resets after the first of a scene and stiffness skip the settling to the state that first
+//! one stored (`physics::PhysicsRobot::skip_to_state`; `Options::cheap_reset`), with the same
+//! episode after them bit for bit.
 
 use std::time::Duration;
 
