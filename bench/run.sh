@@ -10,7 +10,8 @@
 #   (e.g. on a branch that has it) instead of running it here.
 #   --quick: the Rust half only, in the dev profile, into a scratch directory: bench_export and
 #   every criterion bench the docs cite, each run once (criterion's test mode), and the physics robot bench
-#   in both modes on one short walk, and bench/env_steps.py (DbotEnv steps/s, rollouts/s) briefly. No figures: it
+#   in both modes on one short walk, and bench/env_steps.py (DbotEnv steps/s, rollouts/s) and
+#   bench/vector_env.py (VectorEnv, resets, Ray against processes) briefly. No figures: it
 #   checks that the commands still run. scripts/test.sh runs it, so they cannot rot unseen (the
 #   removed bench_schur example broke this script for a while).
 set -euo pipefail
@@ -47,6 +48,8 @@ if [ "$QUICK" = 1 ]; then
   DT=0.001 CYCLES=1 cargo test --quiet --locked -p physics --bench physics_robot >/dev/null
   echo "== quick: the research environment's throughput, 200 steps and 2 rollouts (.venv/bin/python bench/env_steps.py --quick)" >&2
   .venv/bin/python bench/env_steps.py --quick >/dev/null
+  echo "== quick: many robots at once, 200 steps, 4 rollouts over a process pool and Ray (.venv/bin/python bench/vector_env.py --quick)" >&2
+  .venv/bin/python bench/vector_env.py --quick >/dev/null
   echo "bench/run.sh --quick: every reproduction command ran" >&2
   exit 0
 fi

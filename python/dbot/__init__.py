@@ -31,7 +31,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
 * :func:`render_pose` / :func:`write_walk_gif` - the walk drawing of a simulated pose as RGB
   pixels or a GIF (the environment's ``rgb_array``).
 * :mod:`dbot.env` - ``DbotEnv``, a Gymnasium environment over the physics robot or a board port
-  with the firmware in the loop (needs the ``gymnasium`` package; imported on its own).
+  with the firmware in the loop (needs the ``gymnasium`` package; imported on its own), and
+  ``VectorEnv``, N physics robots stepped on Rust threads (:mod:`dbot.vector_env`; rollouts on
+  Ray actors or a process pool holding one: :mod:`dbot.vector_pool`).
 * :class:`DescendingEnv` (:mod:`dbot.env_descending`) - the environment's descending action mode:
   (heading, speed) in, the board blending its stored steering family; ``dbot.DescendingEnv``
   imports gymnasium on first use only.

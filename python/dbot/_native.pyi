@@ -748,3 +748,78 @@ def replay(trial: str | PathLike[str], model: Model | None = None) -> dict[str, 
 def stand_in_trials(
     out: str | PathLike[str], joints: list[str] | None = None, short: bool = False
 ) -> dict[str, Any]: ...
+
+class VectorCore:
+    """N physics robots on worker threads, the GIL released (the engine of ``dbot.env.VectorEnv``;
+    python/src/vector.rs). Rows: a dict of arrays, first axis the sub-environment."""
+
+    def __init__(
+        self,
+        num_envs: int,
+        threads: int,
+        table: bytes,
+        scene: str,
+        cycles_per_step: int,
+        max_episode_steps: int,
+        stiffness_nm_rad: float | None,
+        settle_s: float,
+        timeout_cycles: int,
+        reply_timeout_s: float,
+        fall_height_fraction: float,
+        fall_tilt_rad: float,
+        cheap_reset: bool = True,
+    ) -> None: ...
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def threads(self) -> int: ...
+    def reset(
+        self,
+        mask: npt.NDArray[np.bool_] | None = None,
+        scene: str | None = None,
+        stiffness_nm_rad: float | None = None,
+    ) -> dict[str, Any]: ...
+    def step(
+        self,
+        angles_rad: npt.NDArray[np.float64],
+        torques_nm: npt.NDArray[np.float64] | None = None,
+        reset: npt.NDArray[np.bool_] | None = None,
+    ) -> dict[str, Any]: ...
+    def close(self) -> None: ...
+
+class InlineCore:
+    """``VectorCore``'s robots on the calling thread, the GIL held (``VectorEnv(threads=0)``;
+    python/src/vector_inline.rs)."""
+
+    def __init__(
+        self,
+        num_envs: int,
+        table: bytes,
+        scene: str,
+        cycles_per_step: int,
+        max_episode_steps: int,
+        stiffness_nm_rad: float | None,
+        settle_s: float,
+        timeout_cycles: int,
+        reply_timeout_s: float,
+        fall_height_fraction: float,
+        fall_tilt_rad: float,
+        cheap_reset: bool = True,
+    ) -> None: ...
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def threads(self) -> int: ...
+    def reset(
+        self,
+        mask: npt.NDArray[np.bool_] | None = None,
+        scene: str | None = None,
+        stiffness_nm_rad: float | None = None,
+    ) -> dict[str, Any]: ...
+    def step(
+        self,
+        angles_rad: npt.NDArray[np.float64],
+        torques_nm: npt.NDArray[np.float64] | None = None,
+        reset: npt.NDArray[np.bool_] | None = None,
+    ) -> dict[str, Any]: ...
+    def close(self) -> None: ...

@@ -60,6 +60,10 @@ fall: thorax below ``fall_height_fraction`` (default 0.5) of its height at reset
 than ``fall_tilt_rad`` (default 30 degrees; the rule of ``physics::Figures::verdict``). Truncation:
 ``max_episode_steps`` steps. Default reward: forward progress, the thorax's world x advance in this
 step, m (0 on a board, which cannot see its body); pass ``reward=`` to replace it.
+
+Many physics robots at once: :class:`VectorEnv` (python/dbot/vector_env.py, re-exported here), N
+of this class's physics robot stepped on Rust threads, each equal to ``DbotEnv`` bit for bit;
+``gymnasium.make_vec("dbot/Physics-v0", num_envs=N)`` builds one.
 """
 
 from __future__ import annotations
@@ -500,3 +504,17 @@ class DbotEnv(gym.Env):
             finally:
                 self.board.close()
                 self.board = None
+
+
+# N physics robots at once, stepped on Rust threads (python/dbot/vector_env.py), and the ids that
+# `gymnasium.make` / `gymnasium.make_vec` know: ``gymnasium.make_vec("dbot/Physics-v0",
+# num_envs=N)`` builds a :class:`VectorEnv`, ``gymnasium.make("dbot/Physics-v0")`` a
+# :class:`DbotEnv` on the physics robot.
+from .vector_env import ENV_ID, VectorEnv  # noqa: E402
+
+if ENV_ID not in gym.registry:
+    gym.register(
+        id=ENV_ID,
+        entry_point="dbot.env:DbotEnv",
+        vector_entry_point="dbot.vector_env:VectorEnv",
+    )

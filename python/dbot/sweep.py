@@ -119,6 +119,10 @@ def gait_rollout(params: dict[str, Any]) -> Row:
     return row
 
 
+def _each(rollout: Rollout, points: Sequence[dict[str, Any]]) -> list[Row]:
+    return [rollout(p) for p in points]
+
+
 def sweep(
     rollout: Rollout,
     points: Sequence[dict[str, Any]],
@@ -131,7 +135,8 @@ def sweep(
     """One row per point, in the points' order. ``backend``: ``serial`` (this process),
     ``processes`` (a pool of ``processes`` worker processes) or ``ray`` (``ray.init(address)``:
     ``None`` starts a local cluster with ``num_cpus`` CPUs, an address joins that cluster; a Ray
-    already initialised in this process is used as it is)."""
+    already initialised in this process is used as it is; one task per CPU of the cluster, each
+    a contiguous chunk of the points)."""
     if backend == "serial":
         return [rollout(p) for p in points]
     if backend == "processes":
@@ -143,8 +148,14 @@ def sweep(
         if not ray.is_initialized():
             ray.init(address=address, num_cpus=num_cpus, include_dashboard=False,
                      log_to_driver=False)
-        remote = ray.remote(rollout)
-        return list(ray.get([remote.remote(p) for p in points]))
+        # One task per CPU of the cluster, each a contiguous chunk of the points (Ray's own
+        # advice: batch tasks; docs/performance.md, "Many robots at once").
+        from .vector_pool import _chunks
+
+        cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
+        remote = ray.remote(_each)
+        done = ray.get([remote.remote(rollout, c) for c in _chunks(points, cpus)])
+        return [row for rows in done for row in rows]
     raise ValueError(f"backend {backend!r}: give serial, processes or ray")
 
 

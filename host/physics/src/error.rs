@@ -46,4 +46,6 @@ pub enum PhysicsError {
     },
     #[error("port `{spec}`: {problem} (expected physics or physics:SCENE)")]
     Port { spec: String, problem: String },
+    #[error("{what} is not supported")]
+    Unsupported { what: String },
 }

@@ -73,6 +73,25 @@ impl std::fmt::Debug for Plant {
     }
 }
 
+/// The plant's whole simulated state ([`Plant::state`]), to put back with [`Plant::set_state`]:
+/// MuJoCo's data in full (`mj_copyData`: state, warm start and every derived quantity), the
+/// servos' control-law memory and goals, and the gravity ramp.
+#[derive(Clone)]
+pub struct PlantState {
+    data: MjData<Box<MjModel>>,
+    joints: Vec<PlantJoint>,
+    held_since: Option<f64>,
+    gravity: [f64; 3],
+}
+
+impl std::fmt::Debug for PlantState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PlantState")
+            .field("time", &self.data.time())
+            .finish_non_exhaustive()
+    }
+}
+
 impl Plant {
     /// Loads `model` as [`to_mjcf`] writes it with `options`, in the stance of the options' keyframe,
     /// servo goals at the stance and torque off.
@@ -330,6 +349,28 @@ impl Plant {
     /// timestep is best changed through the MJCF options, which also place the stance.
     pub fn option_mut(&mut self) -> &mut MjOption {
         self.data.model_opt_mut()
+    }
+
+    /// A copy of the whole simulated state (see [`PlantState`]).
+    pub fn state(&self) -> PlantState {
+        PlantState {
+            data: self.data.clone(),
+            joints: self.joints.clone(),
+            held_since: self.held_since,
+            gravity: self.data.model_opt().gravity,
+        }
+    }
+
+    /// Puts back a state [`Self::state`] took of this plant (or of one built alike); time
+    /// included. Panics on a state of another model.
+    pub fn set_state(&mut self, state: &PlantState) {
+        state
+            .data
+            .copy_to(&mut self.data)
+            .expect("a state of a plant of the same model");
+        self.joints.clone_from(&state.joints);
+        self.held_since = state.held_since;
+        self.data.model_opt_mut().gravity = state.gravity;
     }
 
     /// Simulated time, s.

@@ -55,6 +55,31 @@ pub struct PhysicsRobot {
     platform: Option<PlatformRig>,
     /// The generator of the Present Load noise (fixed seed; drawn only for a servo with noise).
     load_rng: std::cell::Cell<u64>,
+    /// A settled state to keep, kept, or to skip to ([`Self::keep_state_at`],
+    /// [`Self::skip_to_state`]).
+    settle: Option<Settle>,
+}
+
+/// What the body does about a stored state at the next bus cycles.
+#[derive(Debug)]
+enum Settle {
+    /// Keep the state of the first cycle at or after this time, s.
+    Keep(f64),
+    Kept(Box<PhysicsState>),
+    /// Stand still (no MuJoCo step) until the first cycle at or after this time, s, then become
+    /// this state.
+    Skip(f64, Box<PhysicsState>),
+}
+
+/// The body's state at a bus cycle's start, as [`PhysicsRobot::keep_state_at`] keeps it and
+/// [`PhysicsRobot::skip_to_state`] puts it back: the plant's ([`crate::PlantState`]), the gauges'
+/// recent samples, the Present Load noise generator and the figures' monitor.
+#[derive(Debug, Clone)]
+pub struct PhysicsState {
+    plant: crate::plant::PlantState,
+    strain: std::collections::VecDeque<SimulatedStrain>,
+    load_rng: u64,
+    monitor: Monitor,
 }
 
 /// Seed of the Present Load noise.
@@ -158,6 +183,7 @@ impl PhysicsRobot {
             strain,
             platform: None,
             load_rng: std::cell::Cell::new(LOAD_NOISE_SEED),
+            settle: None,
         })
     }
 
@@ -204,6 +230,55 @@ impl PhysicsRobot {
             }),
             ..plain
         })
+    }
+
+    /// Keeps the body's state at the first bus cycle starting at or after `t_s` s of simulated
+    /// time, right after the plant stepped to it (take it with [`Self::take_kept_state`]).
+    pub fn keep_state_at(&mut self, t_s: f64) {
+        self.settle = Some(Settle::Keep(t_s));
+    }
+
+    /// The state [`Self::keep_state_at`] kept (None: not reached yet, or none asked).
+    pub fn take_kept_state(&mut self) -> Option<PhysicsState> {
+        match self.settle.take() {
+            Some(Settle::Kept(s)) => Some(*s),
+            other => {
+                self.settle = other;
+                None
+            }
+        }
+    }
+
+    /// From now on the body stands still (MuJoCo is not stepped; the servos keep showing the
+    /// present state) until the first bus cycle starting at or after `t_s`, where it becomes
+    /// `state` instead of stepping: a robot that went through the same requests as the one
+    /// that kept `state` at `t_s` then goes on as that one did, without simulating the span
+    /// (a reset from a stored settled state). Refused with the perturbation platform, whose
+    /// slide the state does not cover.
+    pub fn skip_to_state(&mut self, t_s: f64, state: PhysicsState) -> Result<(), PhysicsError> {
+        if self.platform.is_some() {
+            return Err(PhysicsError::Unsupported {
+                what: "skipping to a stored state with the perturbation platform".into(),
+            });
+        }
+        self.settle = Some(Settle::Skip(t_s, Box::new(state)));
+        Ok(())
+    }
+
+    fn state(&self) -> PhysicsState {
+        PhysicsState {
+            plant: self.plant.state(),
+            strain: self.strain.history.clone(),
+            load_rng: self.load_rng.get(),
+            monitor: self.monitor.clone(),
+        }
+    }
+
+    fn set_state(&mut self, s: &PhysicsState) {
+        self.plant.set_state(&s.plant);
+        self.strain.history.clone_from(&s.strain);
+        self.load_rng.set(s.load_rng);
+        self.monitor = s.monitor.clone();
     }
 
     /// The platform servo's Goal Position this cycle (ticks) and its top's height above the
@@ -493,9 +568,22 @@ impl ServoDynamics for PhysicsRobot {
                 self.plant.set_ki_kd(i, ki, kd);
             }
         }
-        let dt_s = now_us as f64 * 1e-6 - self.plant.time();
-        self.drive_platform(chain, dt_s);
-        self.plant.advance_to(now_us as f64 * 1e-6);
+        let now_s = now_us as f64 * 1e-6;
+        match self.settle.take() {
+            Some(Settle::Skip(t, state)) if now_s < t => self.settle = Some(Settle::Skip(t, state)),
+            Some(Settle::Skip(_, state)) => self.set_state(&state),
+            other => {
+                self.settle = other;
+                let dt_s = now_s - self.plant.time();
+                self.drive_platform(chain, dt_s);
+                self.plant.advance_to(now_s);
+                if let Some(Settle::Keep(t)) = self.settle
+                    && now_s >= t
+                {
+                    self.settle = Some(Settle::Kept(Box::new(self.state())));
+                }
+            }
+        }
         self.push_state(chain);
         self.monitor.sample(&self.plant);
         self.log_sample(controller);

@@ -11,6 +11,7 @@ mod firmware_in_the_loop;
 mod fly_timestep;
 mod mjcf_model_data;
 mod p_gain;
+mod plant_state;
 mod platform_servo;
 mod ports;
 mod set_stiffness;

@@ -1,0 +1,445 @@
+//! `dbot._native.VectorCore`: N physics robots (the firmware library over the simulated bus
+//! moving a MuJoCo body, each its own `physics::Robot`) stepped on worker threads with the GIL
+//! released; the engine under `dbot.env.VectorEnv` (python/dbot/vector_env.py, which keeps the
+//! Gymnasium side: spaces, autoreset, infos).
+//!
+//! A robot's link is not `Send` (its simulated wire is single-threaded), so each robot is opened
+//! on the worker that owns it and stays there: sub-environment `i` lives on worker
+//! `i % threads`. Every sub-environment runs the same calls in the same order on its own robot
+//! whatever the thread count, and nothing is shared between robots, so results are
+//! bit-identical for any thread count.
+//!
+//! The reset and the step are those of `dbot.env.DbotEnv` on the physics robot, call for call on
+//! the link (each `Board.status()` of the Python class is the same three requests here:
+//! `vector_sub::status`), so a sub-environment equals `DbotEnv` step by step
+//! (python/tests/test_vector_env.py checks it against `SyncVectorEnv`). The job builders and the
+//! batch of rows are shared with `InlineCore` (python/src/vector_inline.rs: the same robots on
+//! the calling thread).
+
+use std::sync::Mutex;
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::thread::JoinHandle;
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use crate::errors::{board_error, value_error};
+use crate::vector_sub::{Options, Row, SubEnv};
+
+/// What one sub-environment does in a batch.
+pub(crate) enum Job {
+    /// Reset (a scene replaces the kept one; a stiffness holds for this episode).
+    Reset {
+        scene: Option<String>,
+        stiffness: Option<f64>,
+    },
+    /// Step with these joint targets (rad, already clipped) and torques (N m).
+    Step {
+        angles: Vec<f64>,
+        torques: Option<Vec<f64>>,
+    },
+}
+
+/// A worker's share of a batch: (sub-environment, job).
+type Batch = Vec<(usize, Job)>;
+/// A worker's answer: (sub-environment, its row or what went wrong).
+type Answer = Vec<(usize, Result<Row, String>)>;
+
+/// The worker threads and their mailboxes.
+struct Workers {
+    to: Vec<Sender<Batch>>,
+    from: Receiver<Answer>,
+    handles: Vec<JoinHandle<()>>,
+}
+
+/// N physics robots on worker threads.
+#[pyclass(module = "dbot._native")]
+pub struct VectorCore {
+    workers: Mutex<Option<Workers>>,
+    num_envs: usize,
+    threads: usize,
+    /// Each sub-environment's latest row (what a batch that skips it returns).
+    rows: Mutex<Vec<Row>>,
+    joints: usize,
+    gauges: usize,
+}
+
+fn worker(options: Options, batches: Receiver<Batch>, answers: Sender<Answer>) {
+    let mut envs: std::collections::HashMap<usize, SubEnv> = std::collections::HashMap::new();
+    while let Ok(batch) = batches.recv() {
+        let mut out = Vec::with_capacity(batch.len());
+        for (i, job) in batch {
+            let env = envs
+                .entry(i)
+                .or_insert_with(|| SubEnv::new(options.clone()));
+            out.push((i, run_job(env, i, job)));
+        }
+        if answers.send(out).is_err() {
+            return;
+        }
+    }
+}
+
+impl std::fmt::Debug for VectorCore {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("VectorCore")
+            .field("num_envs", &self.num_envs)
+            .field("threads", &self.threads)
+            .finish_non_exhaustive()
+    }
+}
+
+impl VectorCore {
+    /// Runs `jobs` (at most one per sub-environment) on the workers, the GIL released, and keeps
+    /// the rows they give.
+    fn run(&self, py: Python<'_>, jobs: Vec<(usize, Job)>) -> PyResult<()> {
+        let threads = self.threads;
+        let answers = py.detach(|| -> Result<Vec<(usize, Row)>, String> {
+            let guard = self.workers.lock().unwrap_or_else(|e| e.into_inner());
+            let w = guard.as_ref().ok_or("the vector environment was closed")?;
+            let mut batches: Vec<Batch> = (0..threads).map(|_| Vec::new()).collect();
+            for (i, job) in jobs {
+                batches[i % threads].push((i, job));
+            }
+            let mut sent = 0;
+            for (t, batch) in batches.into_iter().enumerate() {
+                if !batch.is_empty() {
+                    w.to[t].send(batch).map_err(|_| "a worker thread stopped")?;
+                    sent += 1;
+                }
+            }
+            let mut rows = Vec::new();
+            let mut first_error = None;
+            for _ in 0..sent {
+                let answer = w.from.recv().map_err(|_| "a worker thread stopped")?;
+                for (i, r) in answer {
+                    match r {
+                        Ok(row) => rows.push((i, row)),
+                        Err(e) => first_error = first_error.or(Some((i, e))),
+                    }
+                }
+            }
+            // The lowest failing sub-environment, whatever the thread count.
+            if let Some((_, e)) = first_error {
+                return Err(e);
+            }
+            Ok(rows)
+        });
+        let answers = answers.map_err(board_error)?;
+        let mut rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
+        for (i, row) in answers {
+            rows[i] = row;
+        }
+        Ok(())
+    }
+}
+
+/// Every sub-environment's latest row as a dict of arrays (first axis: sub-environment).
+pub(crate) fn batch<'py>(
+    py: Python<'py>,
+    rows: &[Row],
+    joints: usize,
+    gauges: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = rows.len();
+    let d = PyDict::new(py);
+    let mat = |k: usize, g: &dyn Fn(&Row) -> &[f64]| {
+        Array2::from_shape_fn((n, k), |(i, j)| {
+            g(&rows[i]).get(j).copied().unwrap_or(f64::NAN)
+        })
+    };
+    let col = |g: &dyn Fn(&Row) -> f64| Array1::from_iter(rows.iter().map(g));
+    let flag = |g: &dyn Fn(&Row) -> bool| Array1::from_iter(rows.iter().map(g));
+    let j = joints;
+    d.set_item("present_rad", mat(j, &|r| &r.present).to_pyarray(py))?;
+    d.set_item("velocity_rad_s", mat(j, &|r| &r.velocity).to_pyarray(py))?;
+    d.set_item("load_raw", mat(j, &|r| &r.load).to_pyarray(py))?;
+    d.set_item(
+        "setpoint_age",
+        mat(1, &|r| std::slice::from_ref(&r.setpoint_age)).to_pyarray(py),
+    )?;
+    if gauges > 0 {
+        d.set_item(
+            "strain_microstrain",
+            mat(gauges, &|r| &r.strain).to_pyarray(py),
+        )?;
+        d.set_item(
+            "strain_age_s",
+            mat(1, &|r| std::slice::from_ref(&r.strain_age_s)).to_pyarray(py),
+        )?;
+    }
+    d.set_item("time_s", col(&|r| r.time_s).to_pyarray(py))?;
+    d.set_item("thorax_position_m", mat(3, &|r| &r.position).to_pyarray(py))?;
+    d.set_item(
+        "thorax_orientation",
+        mat(4, &|r| &r.orientation).to_pyarray(py),
+    )?;
+    d.set_item("rest_rad", mat(j, &|r| &r.rest).to_pyarray(py))?;
+    d.set_item("settle_skipped", flag(&|r| r.settle_skipped).to_pyarray(py))?;
+    d.set_item("reward", col(&|r| r.reward).to_pyarray(py))?;
+    d.set_item("terminated", flag(&|r| r.terminated).to_pyarray(py))?;
+    d.set_item("truncated", flag(&|r| r.truncated).to_pyarray(py))?;
+    d.set_item("state", rows.iter().map(|r| r.state).collect::<Vec<&str>>())?;
+    Ok(d)
+}
+
+/// One job on one sub-environment, as a worker runs it.
+pub(crate) fn run_job(env: &mut SubEnv, i: usize, job: Job) -> Result<Row, String> {
+    match job {
+        Job::Reset { scene, stiffness } => env.reset(scene, stiffness),
+        Job::Step { angles, torques } => env.step(&angles, torques.as_deref()),
+    }
+    .map_err(|e| format!("sub-environment {i}: {e}"))
+}
+
+pub(crate) fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> {
+    match m {
+        None => Ok(vec![true; n]),
+        Some(m) => {
+            let m = m.as_array().to_vec();
+            if m.len() != n {
+                return Err(value_error(format!(
+                    "mask: {} entries for {n} sub-environments",
+                    m.len()
+                )));
+            }
+            Ok(m)
+        }
+    }
+}
+
+pub(crate) fn rows_of(
+    a: &PyReadonlyArray2<'_, f64>,
+    n: usize,
+    j: usize,
+    what: &str,
+) -> PyResult<Vec<Vec<f64>>> {
+    let a = a.as_array();
+    if a.dim() != (n, j) {
+        return Err(value_error(format!(
+            "{what}: shape {:?}, give ({n}, {j}): one row of {j} joints per sub-environment",
+            a.dim()
+        )));
+    }
+    Ok(a.outer_iter().map(|r| r.to_vec()).collect())
+}
+
+/// The jobs of a reset: the sub-environments `mask` selects (None: all).
+pub(crate) fn reset_jobs(
+    n: usize,
+    mask: Option<PyReadonlyArray1<'_, bool>>,
+    scene: Option<String>,
+    stiffness_nm_rad: Option<f64>,
+) -> PyResult<Vec<(usize, Job)>> {
+    let m = self::mask(mask, n)?;
+    Ok((0..n)
+        .filter(|&i| m[i])
+        .map(|i| {
+            let job = Job::Reset {
+                scene: scene.clone(),
+                stiffness: stiffness_nm_rad,
+            };
+            (i, job)
+        })
+        .collect())
+}
+
+/// The jobs of a step: each sub-environment's row of actions, or a reset where `reset` says.
+pub(crate) fn step_jobs(
+    n: usize,
+    joints: usize,
+    angles_rad: PyReadonlyArray2<'_, f64>,
+    torques_nm: Option<PyReadonlyArray2<'_, f64>>,
+    reset: Option<PyReadonlyArray1<'_, bool>>,
+) -> PyResult<Vec<(usize, Job)>> {
+    let angles = rows_of(&angles_rad, n, joints, "angles_rad")?;
+    let torques = torques_nm
+        .map(|t| rows_of(&t, n, joints, "torques_nm"))
+        .transpose()?;
+    let resets = match reset {
+        None => vec![false; n],
+        Some(_) => self::mask(reset, n)?,
+    };
+    let mut torques = torques.map(|t| t.into_iter().map(Some).collect::<Vec<_>>());
+    Ok(angles
+        .into_iter()
+        .enumerate()
+        .map(|(i, angles)| {
+            let job = if resets[i] {
+                Job::Reset {
+                    scene: None,
+                    stiffness: None,
+                }
+            } else {
+                Job::Step {
+                    angles,
+                    torques: torques.as_mut().and_then(|t| t[i].take()),
+                }
+            };
+            (i, job)
+        })
+        .collect())
+}
+
+#[pymethods]
+impl VectorCore {
+    /// `num_envs` physics robots on `threads` worker threads. `table`: the step table uploaded at
+    /// every reset (it tells the board its joint map, calibration, limits and stiffness); the
+    /// other arguments as `dbot.env.DbotEnv` takes them.
+    #[new]
+    #[pyo3(signature = (num_envs, threads, table, scene, cycles_per_step, max_episode_steps,
+        stiffness_nm_rad, settle_s, timeout_cycles, reply_timeout_s, fall_height_fraction,
+        fall_tilt_rad, cheap_reset = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        num_envs: usize,
+        threads: usize,
+        table: &Bound<'_, PyBytes>,
+        scene: String,
+        cycles_per_step: u32,
+        max_episode_steps: u32,
+        stiffness_nm_rad: Option<f64>,
+        settle_s: f64,
+        timeout_cycles: u16,
+        reply_timeout_s: f64,
+        fall_height_fraction: f64,
+        fall_tilt_rad: f64,
+        cheap_reset: bool,
+    ) -> PyResult<Self> {
+        if num_envs == 0 {
+            return Err(value_error("num_envs = 0: give 1 or more"));
+        }
+        if threads == 0 {
+            return Err(value_error("threads = 0: give 1 or more"));
+        }
+        if cycles_per_step == 0 {
+            return Err(value_error("cycles_per_step = 0: give 1 or more"));
+        }
+        let model = planner::model::builtin("drosophibot2").map_err(value_error)?;
+        let joints = model.servo_chain().len();
+        let gauges = model.gauges.len();
+        let options = Options::new(
+            table.as_bytes().to_vec(),
+            scene,
+            cycles_per_step,
+            max_episode_steps,
+            stiffness_nm_rad,
+            settle_s,
+            timeout_cycles,
+            reply_timeout_s,
+            fall_height_fraction,
+            fall_tilt_rad,
+            cheap_reset,
+        )
+        .map_err(value_error)?;
+        let threads = threads.min(num_envs);
+        let (answer_to, from) = channel();
+        let mut to = Vec::new();
+        let mut handles = Vec::new();
+        for t in 0..threads {
+            let (tx, rx) = channel();
+            let answers = answer_to.clone();
+            let opts = options.clone();
+            let h = std::thread::Builder::new()
+                .name(format!("dbot-vector-{t}"))
+                .spawn(move || worker(opts, rx, answers))
+                .map_err(board_error)?;
+            to.push(tx);
+            handles.push(h);
+        }
+        Ok(Self {
+            workers: Mutex::new(Some(Workers { to, from, handles })),
+            num_envs,
+            threads,
+            rows: Mutex::new(vec![Row::default(); num_envs]),
+            joints,
+            gauges,
+        })
+    }
+
+    /// Sub-environments.
+    #[getter]
+    fn num_envs(&self) -> usize {
+        self.num_envs
+    }
+
+    /// Worker threads (at most one per sub-environment).
+    #[getter]
+    fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Resets the sub-environments `mask` selects (None: all) as `DbotEnv.reset` does; `scene`
+    /// (kept for later resets) and `stiffness_nm_rad` (this episode's) apply to each of them.
+    /// Returns every sub-environment's latest row (see `step`).
+    #[pyo3(signature = (mask = None, scene = None, stiffness_nm_rad = None))]
+    fn reset<'py>(
+        &self,
+        py: Python<'py>,
+        mask: Option<PyReadonlyArray1<'_, bool>>,
+        scene: Option<String>,
+        stiffness_nm_rad: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let jobs = reset_jobs(self.num_envs, mask, scene, stiffness_nm_rad)?;
+        self.run(py, jobs)?;
+        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
+        batch(py, &rows, self.joints, self.gauges)
+    }
+
+    /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad, clipped by the
+    /// caller to the joint limits) and `torques_nm` (N x 22, N m, or None), except those `reset`
+    /// selects (N booleans, or None), which are reset instead (Gymnasium's next-step autoreset:
+    /// their action is ignored). Returns a dict of arrays, first axis the sub-environment: the
+    /// observation's keys (`present_rad`, `velocity_rad_s`, `load_raw`, `setpoint_age` and, with
+    /// gauges, `strain_microstrain`, `strain_age_s`), `time_s`, `thorax_position_m`,
+    /// `thorax_orientation`, `reward` (forward progress, m; 0 after a reset), `terminated`,
+    /// `truncated` and `state` (run state names).
+    #[pyo3(signature = (angles_rad, torques_nm = None, reset = None))]
+    fn step<'py>(
+        &self,
+        py: Python<'py>,
+        angles_rad: PyReadonlyArray2<'_, f64>,
+        torques_nm: Option<PyReadonlyArray2<'_, f64>>,
+        reset: Option<PyReadonlyArray1<'_, bool>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let jobs = step_jobs(self.num_envs, self.joints, angles_rad, torques_nm, reset)?;
+        self.run(py, jobs)?;
+        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
+        batch(py, &rows, self.joints, self.gauges)
+    }
+
+    /// Stops the workers and closes every robot (idempotent).
+    fn close(&self, py: Python<'_>) {
+        let w = self
+            .workers
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .take();
+        if let Some(w) = w {
+            py.detach(move || {
+                drop(w.to);
+                for h in w.handles {
+                    let _ = h.join();
+                }
+            });
+        }
+    }
+}
+
+impl Drop for VectorCore {
+    fn drop(&mut self) {
+        if let Some(w) = self
+            .workers
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()
+        {
+            drop(w.to);
+            for h in w.handles {
+                let _ = h.join();
+            }
+        }
+    }
+}
