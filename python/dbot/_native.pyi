@@ -749,14 +749,12 @@ def stand_in_trials(
     out: str | PathLike[str], joints: list[str] | None = None, short: bool = False
 ) -> dict[str, Any]: ...
 
-class VectorCore:
-    """N physics robots on worker threads, the GIL released (the engine of ``dbot.env.VectorEnv``;
-    python/src/vector.rs). Rows: a dict of arrays, first axis the sub-environment."""
+class VectorOptions:
+    """What every sub-environment of ``VectorCore`` / ``InlineCore`` is built with, as
+    ``dbot.env.DbotEnv`` takes it (python/src/vector_sub.rs); ``table`` the step table's bytes."""
 
     def __init__(
         self,
-        num_envs: int,
-        threads: int,
         table: bytes,
         scene: str,
         cycles_per_step: int,
@@ -769,6 +767,12 @@ class VectorCore:
         fall_tilt_rad: float,
         cheap_reset: bool = True,
     ) -> None: ...
+
+class VectorCore:
+    """N physics robots on worker threads, the GIL released (the engine of ``dbot.env.VectorEnv``;
+    python/src/vector.rs). Rows: a dict of arrays, first axis the sub-environment."""
+
+    def __init__(self, num_envs: int, threads: int, options: VectorOptions) -> None: ...
     @property
     def num_envs(self) -> int: ...
     @property
@@ -791,21 +795,7 @@ class InlineCore:
     """``VectorCore``'s robots on the calling thread, the GIL held (``VectorEnv(threads=0)``;
     python/src/vector_inline.rs)."""
 
-    def __init__(
-        self,
-        num_envs: int,
-        table: bytes,
-        scene: str,
-        cycles_per_step: int,
-        max_episode_steps: int,
-        stiffness_nm_rad: float | None,
-        settle_s: float,
-        timeout_cycles: int,
-        reply_timeout_s: float,
-        fall_height_fraction: float,
-        fall_tilt_rad: float,
-        cheap_reset: bool = True,
-    ) -> None: ...
+    def __init__(self, num_envs: int, options: VectorOptions) -> None: ...
     @property
     def num_envs(self) -> int: ...
     @property

@@ -59,7 +59,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector import VectorEnv as _GymVectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._native import InlineCore, Model, Plan, VectorCore
+from ._native import InlineCore, Model, Plan, VectorCore, VectorOptions
 
 #: The id under which ``gymnasium.make_vec`` builds :class:`VectorEnv` (``dbot.env`` registers it).
 ENV_ID = "dbot/Physics-v0"
@@ -126,7 +126,7 @@ class VectorEnv(_GymVectorEnv):
         self._stall = self._single.stall_nm
         if self.threads < 0:
             raise ValueError(f"threads = {self.threads}: give 0 (the calling thread) or more")
-        core_args = (
+        options = VectorOptions(
             self._single._table,
             scene,
             cycles_per_step,
@@ -140,9 +140,9 @@ class VectorEnv(_GymVectorEnv):
             cheap_reset,
         )
         self._core = (
-            InlineCore(self.num_envs, *core_args)
+            InlineCore(self.num_envs, options)
             if self.threads == 0
-            else VectorCore(self.num_envs, self.threads, *core_args)
+            else VectorCore(self.num_envs, self.threads, options)
         )
         self._all = np.ones(self.num_envs, dtype=bool)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)

@@ -23,7 +23,7 @@ use std::thread::JoinHandle;
 use numpy::ndarray::{Array1, Array2};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict};
+use pyo3::types::PyDict;
 
 use crate::errors::{board_error, value_error};
 use crate::vector_sub::{Options, Row, SubEnv};
@@ -285,55 +285,23 @@ pub(crate) fn step_jobs(
 
 #[pymethods]
 impl VectorCore {
-    /// `num_envs` physics robots on `threads` worker threads. `table`: the step table uploaded at
-    /// every reset (it tells the board its joint map, calibration, limits and stiffness); the
-    /// other arguments as `dbot.env.DbotEnv` takes them.
+    /// `num_envs` physics robots on `threads` worker threads, each built with `options`
+    /// (`VectorOptions`: the step table uploaded at every reset, which tells the board its joint
+    /// map, calibration, limits and stiffness, and the other arguments as `dbot.env.DbotEnv`
+    /// takes them).
     #[new]
-    #[pyo3(signature = (num_envs, threads, table, scene, cycles_per_step, max_episode_steps,
-        stiffness_nm_rad, settle_s, timeout_cycles, reply_timeout_s, fall_height_fraction,
-        fall_tilt_rad, cheap_reset = true))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        num_envs: usize,
-        threads: usize,
-        table: &Bound<'_, PyBytes>,
-        scene: String,
-        cycles_per_step: u32,
-        max_episode_steps: u32,
-        stiffness_nm_rad: Option<f64>,
-        settle_s: f64,
-        timeout_cycles: u16,
-        reply_timeout_s: f64,
-        fall_height_fraction: f64,
-        fall_tilt_rad: f64,
-        cheap_reset: bool,
-    ) -> PyResult<Self> {
+    #[pyo3(signature = (num_envs, threads, options))]
+    fn new(num_envs: usize, threads: usize, options: &Options) -> PyResult<Self> {
         if num_envs == 0 {
             return Err(value_error("num_envs = 0: give 1 or more"));
         }
         if threads == 0 {
             return Err(value_error("threads = 0: give 1 or more"));
         }
-        if cycles_per_step == 0 {
-            return Err(value_error("cycles_per_step = 0: give 1 or more"));
-        }
         let model = planner::model::builtin("drosophibot2").map_err(value_error)?;
         let joints = model.servo_chain().len();
         let gauges = model.gauges.len();
-        let options = Options::new(
-            table.as_bytes().to_vec(),
-            scene,
-            cycles_per_step,
-            max_episode_steps,
-            stiffness_nm_rad,
-            settle_s,
-            timeout_cycles,
-            reply_timeout_s,
-            fall_height_fraction,
-            fall_tilt_rad,
-            cheap_reset,
-        )
-        .map_err(value_error)?;
+        let options = options.clone();
         let threads = threads.min(num_envs);
         let (answer_to, from) = channel();
         let mut to = Vec::new();

@@ -9,7 +9,7 @@ use std::cell::RefCell;
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict};
+use pyo3::types::PyDict;
 
 use crate::errors::{board_error, value_error};
 use crate::vector::{Job, batch, reset_jobs, run_job, step_jobs};
@@ -50,45 +50,13 @@ impl InlineCore {
 impl InlineCore {
     /// As `VectorCore`, without `threads`.
     #[new]
-    #[pyo3(signature = (num_envs, table, scene, cycles_per_step, max_episode_steps,
-        stiffness_nm_rad, settle_s, timeout_cycles, reply_timeout_s, fall_height_fraction,
-        fall_tilt_rad, cheap_reset = true))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        num_envs: usize,
-        table: &Bound<'_, PyBytes>,
-        scene: String,
-        cycles_per_step: u32,
-        max_episode_steps: u32,
-        stiffness_nm_rad: Option<f64>,
-        settle_s: f64,
-        timeout_cycles: u16,
-        reply_timeout_s: f64,
-        fall_height_fraction: f64,
-        fall_tilt_rad: f64,
-        cheap_reset: bool,
-    ) -> PyResult<Self> {
+    #[pyo3(signature = (num_envs, options))]
+    fn new(num_envs: usize, options: &Options) -> PyResult<Self> {
         if num_envs == 0 {
             return Err(value_error("num_envs = 0: give 1 or more"));
         }
-        if cycles_per_step == 0 {
-            return Err(value_error("cycles_per_step = 0: give 1 or more"));
-        }
         let model = planner::model::builtin("drosophibot2").map_err(value_error)?;
-        let options = Options::new(
-            table.as_bytes().to_vec(),
-            scene,
-            cycles_per_step,
-            max_episode_steps,
-            stiffness_nm_rad,
-            settle_s,
-            timeout_cycles,
-            reply_timeout_s,
-            fall_height_fraction,
-            fall_tilt_rad,
-            cheap_reset,
-        )
-        .map_err(value_error)?;
+        let options = options.clone();
         Ok(Self {
             envs: RefCell::new(Some(
                 (0..num_envs)

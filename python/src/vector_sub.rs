@@ -11,11 +11,16 @@ use ::board::link::LinkError;
 use ::board::rules::stiffness::Stiffness;
 use protocol::units::{ANGLE_PER_RAD, VELOCITY_PER_RAD_S};
 use protocol::{Proprioception, ServoSelect, Status, StreamConfig};
+use pyo3::prelude::*;
+
+use crate::errors::value_error;
 
 /// The link to one physics robot.
 type Robot = physics::Robot;
 
-/// What every sub-environment is built with (`DbotEnv`'s arguments).
+/// What every sub-environment is built with (`DbotEnv`'s arguments): Python's
+/// `dbot._native.VectorOptions`, given to `VectorCore` or `InlineCore`.
+#[pyclass(name = "VectorOptions", frozen, module = "dbot._native")]
 #[derive(Debug, Clone)]
 pub struct Options {
     table: Vec<u8>,
@@ -40,10 +45,16 @@ fn seconds(s: f64, what: &str) -> Result<Duration, String> {
         .map_err(|_| format!("{what} = {s} s: give a finite, non-negative time"))
 }
 
+#[pymethods]
 impl Options {
+    /// The arguments as `dbot.env.DbotEnv` takes them; `table` the step table's bytes.
+    #[new]
+    #[pyo3(signature = (table, scene, cycles_per_step, max_episode_steps, stiffness_nm_rad,
+        settle_s, timeout_cycles, reply_timeout_s, fall_height_fraction, fall_tilt_rad,
+        cheap_reset = true))]
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        table: Vec<u8>,
+        table: &[u8],
         scene: String,
         cycles_per_step: u32,
         max_episode_steps: u32,
@@ -54,16 +65,20 @@ impl Options {
         fall_height_fraction: f64,
         fall_tilt_rad: f64,
         cheap_reset: bool,
-    ) -> Result<Self, String> {
+    ) -> PyResult<Self> {
+        if cycles_per_step == 0 {
+            return Err(value_error("cycles_per_step = 0: give 1 or more"));
+        }
         Ok(Self {
-            table,
+            table: table.to_vec(),
             scene,
             cycles_per_step,
             max_episode_steps,
             stiffness_nm_rad,
-            settle: seconds(1.0 + settle_s, "1 s of gravity ramp + settle_s")?,
+            settle: seconds(1.0 + settle_s, "1 s of gravity ramp + settle_s")
+                .map_err(value_error)?,
             timeout_cycles,
-            reply_timeout: seconds(reply_timeout_s, "reply_timeout_s")?,
+            reply_timeout: seconds(reply_timeout_s, "reply_timeout_s").map_err(value_error)?,
             fall_height_fraction,
             fall_tilt_rad,
             cheap_reset,
