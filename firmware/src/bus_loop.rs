@@ -161,23 +161,27 @@ impl BusLoop {
 const HEALTH_READ_TX: usize = 14;
 const HEALTH_READ_RX: usize = 14;
 
-/// The longest a heat and supply read takes: the request's wire time and twice the reply's
-/// budget (its wire time and the reply slack; twice, because a garbled reply may hold the
-/// receive loop for one more budget before it gives up).
+/// The longest a heat and supply read takes ([`transaction_budget_us`]).
 pub fn health_read_budget_us(config: &MasterConfig) -> u64 {
-    let reply = u64::from(config.wire_time_us(HEALTH_READ_RX)) + u64::from(config.reply_slack_us);
-    u64::from(config.wire_time_us(HEALTH_READ_TX)) + 2 * reply
+    transaction_budget_us(config, HEALTH_READ_TX, HEALTH_READ_RX)
 }
 
-/// The longest the host's servo read `read` takes, as [`health_read_budget_us`] counts: a Read
+/// The longest one instruction of `tx` bytes and its status of `rx` bytes take: the request's wire
+/// time and twice the reply's budget (its wire time and the reply slack; twice, because a garbled
+/// reply may hold the receive loop for one more budget before it gives up).
+fn transaction_budget_us(config: &MasterConfig, tx: usize, rx: usize) -> u64 {
+    let reply = u64::from(config.wire_time_us(rx)) + u64::from(config.reply_slack_us);
+    u64::from(config.wire_time_us(tx)) + 2 * reply
+}
+
+/// The longest the host's servo read `read` takes ([`transaction_budget_us`]): a Read
 /// instruction (14 bytes) and its status (11 + `len`), or a Ping (10) and its status (14).
 pub fn servo_read_budget_us(config: &MasterConfig, read: protocol::ServoRead) -> u64 {
     let (tx, rx) = match read.len {
         0 => (10, 14),
         n => (14, 11 + usize::from(n)),
     };
-    let reply = u64::from(config.wire_time_us(rx)) + u64::from(config.reply_slack_us);
-    u64::from(config.wire_time_us(tx)) + 2 * reply
+    transaction_budget_us(config, tx, rx)
 }
 
 /// Does the host's servo read `read` (a Ping when its length is 0).
