@@ -484,7 +484,11 @@ impl Board {
         let overrides = ::board::rules::Overrides { allow_infeasible };
         let warning = self.with_rules(
             py,
-            |link| ::board::rules::steer::steer(link, heading, speed, &held, &model, overrides),
+            |link| {
+                use ::board::rules::steer::{check_steer, steer};
+                let checked = check_steer(link, heading, speed, &held, &model, overrides)?;
+                steer(link, checked)
+            },
             rule_error,
         )?;
         warn_overridden(py, warning.as_ref())

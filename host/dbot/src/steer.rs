@@ -60,7 +60,7 @@ impl Args {
         )?;
         let port = s.board.port().to_owned();
         let held = |slot| board::rules::period::table_of_port(&port, slot);
-        let warning = board::rules::steer::steer(
+        let warning = board::rules::steer::check_steer(
             &mut s.board,
             self.heading,
             self.speed,
@@ -68,6 +68,7 @@ impl Args {
             &model,
             self.feasibility.overrides(),
         )
+        .and_then(|checked| board::rules::steer::steer(&mut s.board, checked))
         .map_err(|e| match e {
             board::rules::RuleError::Link(e) => {
                 anyhow::Error::new(e).context(format!("steering at {} rad", self.heading))

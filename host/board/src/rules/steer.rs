@@ -93,16 +93,12 @@ fn check_speed<T: Transport>(
     Ok(None)
 }
 
-/// [`check_steer`], then steers at `heading_rad` and `speed`.
+/// Steers with a command [`check_steer`] passed (the only way to make one), returning the
+/// warning of what its override let through.
 pub fn steer<T: Transport>(
     board: &mut Board<T>,
-    heading_rad: f64,
-    speed: f64,
-    held: &dyn Fn(u8) -> Result<Option<Vec<u8>>, crate::robot::ImageError>,
-    model: &Model,
-    overrides: Overrides,
+    checked: CheckedSteer,
 ) -> Result<Option<Overridden>, RuleError> {
-    let checked = check_steer(board, heading_rad, speed, held, model, overrides)?;
     board.steer(&checked)?;
     Ok(checked.warning)
 }

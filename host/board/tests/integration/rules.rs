@@ -269,7 +269,8 @@ fn steering_faster_than_planned_checks_every_table_of_the_family() {
     assert!(matches!(e, RuleError::UnknownTable { slot: 0, .. }), "{e}");
     // The override: the refusal's lines as a warning, then the walk starts.
     b.set_steer_family(0, 1, 2, 0.06).unwrap();
-    let w = board::rules::steer::steer(&mut b, 0.0, 2.0, &held, &model, ALLOW)
+    let checked = check_steer(&mut b, 0.0, 2.0, &held, &model, ALLOW).unwrap();
+    let w = board::rules::steer::steer(&mut b, checked)
         .unwrap()
         .unwrap();
     assert!(
