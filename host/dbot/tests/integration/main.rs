@@ -15,6 +15,7 @@ mod docs_commands;
 mod docs_transcript;
 mod dxl_cli;
 mod dxl_sdk;
+mod figure_stamps;
 mod identify_cli;
 mod paper_robot;
 mod plan_cli;
