@@ -231,14 +231,15 @@ fn strain_counts(model: &Model, t: &[f64], strain: &[Vec<f64>], gains: &[f64]) -
     trace
 }
 
-/// The stand-in of `default` records the standing excitation (`options`) with every servo joint
-/// and the strain board beside it (gains [`gauge_gain`]), as the trial folder `out/stand`.
+/// `truth` records the standing excitation (`options`) of `default` with every servo joint and
+/// the strain board beside it (gains [`gauge_gain`]), as the trial folder `out/stand`.
 pub fn write_standing_trial(
+    truth: &Model,
     default: &Model,
     options: &planner::excitation::ExcitationOptions,
     out: &std::path::Path,
 ) -> Result<std::path::PathBuf> {
-    let rec = record_standing(&stand_in_model(default), default, options)?;
+    let rec = record_standing(truth, default, options)?;
     super::trial_write::write_trial(&rec, default, out)
 }
 
