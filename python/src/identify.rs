@@ -150,7 +150,7 @@ pub fn calibrate<'py>(
 /// A stand-in robot whose body moves as the default's but whose servos read Present Load as 0.8
 /// x torque + 0.05 N m (``lab::identify::stand_in::reading_stand_in_model``) and whose strain
 /// board's gain is 0.3 + 0.02 x column counts per microstrain records the standing excitation
-/// (``short``: 1.5 s posture changes and 0.2 s holds instead of ``dbot excite``'s 8 s and 1 s)
+/// (``short``: 3 s posture changes and 0.5 s holds instead of ``dbot excite``'s 8 s and 1 s)
 /// as the trial folder ``out/stand``. A dict: ``trial`` (path), ``model`` (the stand-in's Model:
 /// the truth) and ``gauge_gains`` (gauge name to its true counts per microstrain).
 #[pyfunction]
@@ -163,8 +163,8 @@ pub fn stand_in_standing_trial<'py>(
     let default = model_or_default(None)?;
     let mut options = planner::excitation::ExcitationOptions::default();
     if short {
-        options.hold_s = 0.2;
-        options.posture_s = 1.5;
+        options.hold_s = 0.5;
+        options.posture_s = 3.0;
     }
     let truth = lab::identify::stand_in::reading_stand_in_model(&default);
     let trial = py
