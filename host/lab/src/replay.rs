@@ -244,7 +244,10 @@ pub fn figures(model: &Model, rec: &Recording, out: &Replayed) -> Replay {
         .collect();
     Replay {
         trial: rec.name.clone(),
-        model: model.name.clone(),
+        model: match &model.calibration {
+            Some(c) => format!("{} (calibration {})", model.name, c.path.display()),
+            None => model.name.clone(),
+        },
         suspended: rec.suspended,
         t: rec.t.clone(),
         joints,
