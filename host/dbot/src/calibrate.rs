@@ -23,7 +23,7 @@ impl Args {
         let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
         let cal = lab::calibrate::calibrate_trial(&self.trial, &model)?;
         lab::calibrate::write(&cal, &model, &self.out)?;
-        print!("{}wrote {}\n", cal.table(), self.out.display());
+        println!("{}wrote {}", cal.table(), self.out.display());
         Ok(())
     }
 }

@@ -220,7 +220,7 @@ fn strain_counts(model: &Model, t: &[f64], strain: &[Vec<f64>], gains: &[f64]) -
                 let e = g.map_or(0.0, |g| strain[c][g]);
                 (BASELINE + gain * e)
                     .round()
-                    .clamp(0.0, f64::from(board::strain::line::MAX_COUNT))
+                    .clamp(0.0, board::strain::line::MAX_COUNT)
             })
             .collect();
         trace.t.push(tc);
