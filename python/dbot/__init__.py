@@ -11,7 +11,9 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   table checked by the rules of any gait, as ``dbot excite`` writes them.
 * :func:`identify` / :func:`replay` - the servo dynamics fitted to suspended excitation trials
   (``dbot identify``), a trial replayed on the physics robot with per-joint R^2 and RMS
-  (``dbot replay``); :func:`stand_in_trials` - the stand-in robot's trials (docs/identification.md).
+  (``dbot replay``); :func:`stand_in_trials` - the stand-in robot's trials (docs/identification.md);
+  :func:`calibrate` - calibrated readings from a standing trial (``dbot calibrate``);
+  :func:`stand_in_standing_trial` - a standing trial with strain of a stand-in of known gains.
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.
@@ -53,6 +55,7 @@ from ._native import (
     PlanDir,
     TrialFaulted,
     __version__,
+    calibrate,
     camera_half_extent,
     compare,
     compare_strain,
@@ -66,6 +69,7 @@ from ._native import (
     read_trial,
     render_pose,
     replay,
+    stand_in_standing_trial,
     stand_in_trials,
     walk_figures,
     write_walk_gif,
@@ -84,6 +88,7 @@ __all__ = [
     "PlanDir",
     "TrialFaulted",
     "__version__",
+    "calibrate",
     "camera_half_extent",
     "compare",
     "compare_strain",
@@ -97,6 +102,7 @@ __all__ = [
     "read_trial",
     "render_pose",
     "replay",
+    "stand_in_standing_trial",
     "stand_in_trials",
     "walk_figures",
     "write_walk_gif",

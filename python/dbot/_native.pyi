@@ -375,6 +375,9 @@ class Proprioception(Records):
     """[record]: physics: the record's time less that sample's (0 to 24 ms); attached board: the
     host's read less the instant the sample's line ended (host clock)."""
     strain_stopped: NotRequired[bool]
+    strain_reading: NotRequired[list[str]]
+    """Beside a strain board: per gauge ``"calibrated"`` (the model's calibration file's gain)
+    or ``"ESTIMATE"`` (``counts_per_microstrain``)."""
     """Attached strain board only: it failed or went away (the servo stream goes on)."""
 
 class SimulatedStrain(TypedDict):
@@ -611,13 +614,19 @@ class Board:
     def next_proprioception(self, timeout_s: float = 0.1) -> Proprioception | None: ...
     def drain_proprioception(self) -> Proprioception: ...
     def attach_strain(
-        self, port: str, strain_dir: str | PathLike[str], counts_per_microstrain: float
+        self,
+        port: str,
+        strain_dir: str | PathLike[str],
+        counts_per_microstrain: float | None = None,
+        model: Model | None = None,
     ) -> None:
         """Starts the strain board on ``port`` beside this board (calibrated first, its first
         sample the baseline; recorded into ``strain_dir``): every proprioception record then
-        carries ``strain_names``, ``strain_microstrain``, ``strain_age_s`` and
-        ``strain_stopped``. ValueError for the servo board's own port, a gain that is not
-        positive, the physics robot, or a board that will not calibrate."""
+        carries ``strain_names``, ``strain_microstrain``, ``strain_age_s``, ``strain_stopped``
+        and ``strain_reading``. Each gauge's gain is ``model``'s calibration file's when it has
+        the gauge, else ``counts_per_microstrain`` (an ESTIMATE). ValueError for the servo
+        board's own port, a gain that is not positive or missing, the physics robot, or a board
+        that will not calibrate."""
     def detach_strain(self) -> str | None:
         """Stops the attached strain board, aligns its strain.csv with this board's clock;
         None, or why the strain stream stopped early."""
@@ -682,6 +691,12 @@ class GaugeFit(TypedDict):
     gain: float | None
     """Counts per predicted microstrain, fitted through the origin (a calibration)."""
     rms_residual_counts: float | None
+    reading: str
+    """``"calibrated"``: the plan model's calibration file's gain; else ``"ESTIMATE"``."""
+    reading_gain: float
+    """The counts per microstrain the recorded strain was read through."""
+    rms_microstrain: float | None
+    """RMS of the recorded strain (through ``reading_gain``) against the prediction."""
 
 def compare_strain(trial: str | PathLike[str], plan_dir: str | PathLike[str]) -> list[GaugeFit]:
     """A trial's strain against ``plan_dir``'s prediction per gauge (``dbot compare --strain``)."""
@@ -744,7 +759,25 @@ def identify(
     model: Model | None = None,
     out: str | PathLike[str] | None = None,
 ) -> Model: ...
-def replay(trial: str | PathLike[str], model: Model | None = None) -> dict[str, Any]: ...
+def replay(trial: str | PathLike[str], model: Model | None = None) -> dict[str, Any]:
+    """``dbot replay``: per joint position, velocity and load figures (``load_reading``) and,
+    when the trial recorded strain, per gauge ``rms_microstrain``, ``r2``, ``reading`` and
+    ``counts_per_microstrain`` (``gauges``)."""
+
+def calibrate(
+    trial: str | PathLike[str],
+    model: Model | None = None,
+    out: str | PathLike[str] | None = None,
+) -> dict[str, Any]:
+    """``dbot calibrate``: per joint the Present Load gain and offset, per gauge its counts per
+    microstrain, fitted from a standing trial against the plan's prediction (``joints`` and
+    ``gauges``: ``name``, ``samples``, ``r2``, ``gain``, ``offset_nm``, ``kept``); with ``out``
+    writes the calibration file a model file names (``calibration = "FILE"``)."""
+
+def stand_in_standing_trial(out: str | PathLike[str], short: bool = False) -> dict[str, Any]:
+    """The reading stand-in (load 0.8 x torque + 0.05 N m, gauge gains 0.3 + 0.02 x column)
+    records the standing excitation with strain: ``trial``, ``model``, ``gauge_gains``."""
+
 def stand_in_trials(
     out: str | PathLike[str], joints: list[str] | None = None, short: bool = False
 ) -> dict[str, Any]: ...

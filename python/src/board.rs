@@ -36,7 +36,7 @@ pub struct Board {
     /// Names of the joints in records (the tables this `Board` uploaded, the model).
     naming: Mutex<JointNaming>,
     /// A strain board beside this board (`attach_strain`) and its counts per microstrain.
-    strain: Mutex<Option<(::board::strain::StrainBeside, f64)>>,
+    strain: Mutex<Option<(::board::strain::StrainBeside, StrainGains)>>,
 }
 
 /// A record as a dict, or None (none came).
@@ -71,12 +71,12 @@ impl Board {
             records::proprioception_strain(py, &d, recs, &s, &names)?;
         }
         let mut beside = self.strain.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((b, gain)) = beside.as_mut() {
+        if let Some((b, gains)) = beside.as_mut() {
             let now = std::time::Instant::now();
             for r in recs {
                 b.note(r.time_us as f64 * 1e-6);
             }
-            records::proprioception_strain_board(py, &d, recs.len(), b.latest(), now, *gain)?;
+            records::proprioception_strain_board(py, &d, recs.len(), b.latest(), now, gains)?;
             d.set_item("strain_stopped", b.failed())?;
         }
         Ok(d)
@@ -896,24 +896,31 @@ impl Board {
     /// port is refused) beside this board for streaming, recording it into `strain_dir` as
     /// `record(..., strain=)` does (`board::strain::StrainBeside`: calibrated first, its first
     /// sample the zero-strain baseline). From then on every proprioception record carries, as on
-    /// the physics robot, `strain_names`, `strain_microstrain` ((counts - baseline) /
-    /// `counts_per_microstrain`, the latest sample when the host read the record) and
-    /// `strain_age_s` (how long before that the sample's line ended, host clock), and
-    /// `strain_stopped` (the strain board failed or went away: the servo stream goes on, the
-    /// ages grow). Not on the physics robot (its records carry its simulated gauges).
-    #[pyo3(signature = (port, strain_dir, counts_per_microstrain))]
+    /// the physics robot, `strain_names`, `strain_microstrain` ((counts - baseline) / the gauge's
+    /// gain, the latest sample when the host read the record) and `strain_age_s` (how long
+    /// before that the sample's line ended, host clock), and `strain_stopped` (the strain board
+    /// failed or went away: the servo stream goes on, the ages grow), and `strain_reading` (per
+    /// gauge `"calibrated"` or `"ESTIMATE"`). A gauge's gain is `model`'s calibration file's
+    /// (docs/identification.md, "Calibrated readings") when it has the gauge, else
+    /// `counts_per_microstrain` (an ESTIMATE; needed for every gauge the calibration lacks).
+    /// Not on the physics robot (its records carry its simulated gauges).
+    #[pyo3(signature = (port, strain_dir, counts_per_microstrain = None, model = None))]
     fn attach_strain(
         &self,
         py: Python<'_>,
         port: &str,
         strain_dir: std::path::PathBuf,
-        counts_per_microstrain: f64,
+        counts_per_microstrain: Option<f64>,
+        model: Option<&crate::model::Model>,
     ) -> PyResult<()> {
-        if !(counts_per_microstrain.is_finite() && counts_per_microstrain > 0.0) {
+        if let Some(g) = counts_per_microstrain
+            && !(g.is_finite() && g > 0.0)
+        {
             return Err(value_error(format!(
-                "counts_per_microstrain = {counts_per_microstrain}: give the strain board's gain, a positive number of counts per microstrain"
+                "counts_per_microstrain = {g}: give the strain board's gain, a positive number of counts per microstrain"
             )));
         }
+        let gains = StrainGains::of(model.map(|m| &m.inner), counts_per_microstrain)?;
         let kind = self.with(py, |l| Ok(l.transport().kind()))?;
         if kind == "physics" {
             return Err(value_error(format!(
@@ -937,7 +944,7 @@ impl Board {
         let b = py
             .detach(|| ::board::strain::StrainBeside::start(port, &servo, &strain_dir))
             .map_err(|e| value_error(format!("strain port {port:?}: {e}")))?;
-        *self.strain.lock().unwrap_or_else(|e| e.into_inner()) = Some((b, counts_per_microstrain));
+        *self.strain.lock().unwrap_or_else(|e| e.into_inner()) = Some((b, gains));
         Ok(())
     }
 
@@ -987,6 +994,46 @@ impl Board {
 
     fn __repr__(&self) -> String {
         format!("Board(port={:?})", self.port)
+    }
+}
+
+/// Per strain board column the gain its counts are read through and whether it is calibrated.
+#[derive(Debug, Clone)]
+pub struct StrainGains {
+    pub gains: Vec<f64>,
+    pub readings: Vec<&'static str>,
+}
+
+impl StrainGains {
+    /// Each gauge's gain from `model`'s calibration, else `fallback` (an ESTIMATE).
+    fn of(model: Option<&planner::model::Model>, fallback: Option<f64>) -> PyResult<Self> {
+        let mut out = Self {
+            gains: Vec::new(),
+            readings: Vec::new(),
+        };
+        let mut missing = Vec::new();
+        for name in ::board::strain::channels::names() {
+            let cal = model
+                .and_then(|m| m.calibration.as_ref())
+                .and_then(|c| c.gauge_gain(&name));
+            match (cal, fallback) {
+                (Some(_), _) => out.readings.push("calibrated"),
+                (None, Some(_)) => out.readings.push("ESTIMATE"),
+                (None, None) => {
+                    missing.push(name);
+                    continue;
+                }
+            }
+            out.gains.push(cal.or(fallback).unwrap_or(f64::NAN));
+        }
+        if !missing.is_empty() {
+            return Err(value_error(format!(
+                "counts_per_microstrain = None: give the strain board's gain, a positive number of counts per microstrain, for the {} gauges the model's calibration has none for ({}, ...)",
+                missing.len(),
+                missing[0]
+            )));
+        }
+        Ok(out)
     }
 }
 

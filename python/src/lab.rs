@@ -124,7 +124,9 @@ pub fn walk_figures<'py>(py: Python<'py>, walk: &PhysicsWalk) -> PyResult<Bound<
 /// the plan directory `plan_dir`, per gauge, as `dbot compare --strain` computes it
 /// (`lab::strain_compare`): a list of dicts with `gauge`, `samples`, `r2` (over the step phase)
 /// and `gain` (counts per predicted microstrain) and `rms_residual_counts` (None where there is
-/// no value). ValueError naming the file.
+/// no value), `reading` (`calibrated`: the plan model's calibration file has the gauge, else
+/// `ESTIMATE`), `reading_gain` (its counts per microstrain) and `rms_microstrain` (the recorded
+/// strain through that gain against the prediction). ValueError naming the file.
 #[pyfunction]
 pub fn compare_strain<'py>(
     py: Python<'py>,
@@ -142,6 +144,9 @@ pub fn compare_strain<'py>(
             d.set_item("r2", f.r2)?;
             d.set_item("gain", f.gain)?;
             d.set_item("rms_residual_counts", f.rms_residual_counts)?;
+            d.set_item("reading", f.reading.word())?;
+            d.set_item("reading_gain", f.reading_gain)?;
+            d.set_item("rms_microstrain", f.rms_microstrain)?;
             Ok(d)
         })
         .collect()

@@ -298,7 +298,8 @@ pub fn proprioception_strain(
 
 /// With a strain board beside a board (`Board.attach_strain`), what each proprioception record
 /// knew of the gauges when the host read it: the same `strain_names`, `strain_microstrain`
-/// ([record, gauge]: (counts - baseline) / `gain`; NaN before the first sample) and
+/// ([record, gauge]: (counts - baseline) / the gauge's gain; NaN before the first sample),
+/// `strain_reading` (per gauge `calibrated` or `ESTIMATE`) and
 /// `strain_age_s` ([record]: `now` less the instant the sample's line ended) as on the physics
 /// robot, gauges in the strain board's order.
 pub fn proprioception_strain_board(
@@ -307,14 +308,15 @@ pub fn proprioception_strain_board(
     records: usize,
     latest: Option<::board::strain::recorder::LatestSample>,
     now: std::time::Instant,
-    gain: f64,
+    gains: &crate::board::StrainGains,
 ) -> PyResult<()> {
     let names = ::board::strain::channels::names();
     let m = Array2::from_shape_fn((records, names.len()), |(_, g)| {
         latest
             .as_ref()
-            .map_or(f64::NAN, |l| (l.counts[g] - l.baseline[g]) / gain)
+            .map_or(f64::NAN, |l| (l.counts[g] - l.baseline[g]) / gains.gains[g])
     });
+    d.set_item("strain_reading", gains.readings.clone())?;
     let age = latest.as_ref().map_or(f64::NAN, |l| {
         now.saturating_duration_since(l.host).as_secs_f64()
     });

@@ -2,7 +2,8 @@
 (the release firmware in the RP2040 emulator, conftest.py) streaming setpoints from Python, a
 virtual strain board (`dbot sim-strain`) on a pseudo-terminal beside it attached with
 `Board.attach_strain`. Each proprioception record carries the same fields as on the physics
-robot: `strain_names` (the board's order), `strain_microstrain` and `strain_age_s`.
+robot: `strain_names` (the board's order), `strain_microstrain` and `strain_age_s`, and
+`strain_reading` (per gauge: read through the model's calibration file, or the ESTIMATE gain).
 
 Independent truths: the virtual strain board's counts are 300 + 0.5 x its strain (a sine here,
 so they move) and the baseline is its first sample, so every streamed value times 0.5 plus the
@@ -24,8 +25,11 @@ import time
 import numpy as np
 import pytest
 
+import dbot
 from conftest import open_board, record_timeout, servo_rest, standing_board
 from dbot_cli import dbot_cli
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 GAIN = 0.5  # counts per microstrain, `dbot sim-strain`'s default
 #: Ages above this on a loaded machine (2 shared cores) would mean the latest line was not used.
@@ -57,9 +61,16 @@ def test_each_streamed_record_carries_the_latest_strain_sample_and_its_age(
     tripod_plan, model, emulator_port, tmp_path
 ) -> None:
     proc = sim_strain(tmp_path / "strain", "--strain", "200", "--sine-hz", "1")
+    # A model whose calibration file gives the first gauge 0.25 counts per microstrain: that
+    # gauge is read through it, the other 35 through GAIN.
+    (tmp_path / "cal.toml").write_text("[gauge.LH_troch_axial]\ncounts_per_microstrain = 0.25\n")
+    text = (ROOT / "host" / "planner" / "models" / "drosophibot2.toml").read_text()
+    (tmp_path / "m.toml").write_text(f'calibration = "cal.toml"\n{text}')
+    calibrated = dbot.Model.load(tmp_path / "m.toml")
+    gains = np.array([0.25] + [GAIN] * 35)
     try:
         board = standing_board(tripod_plan, port=emulator_port)
-        board.attach_strain(str(tmp_path / "strain"), tmp_path / "s", GAIN)
+        board.attach_strain(str(tmp_path / "strain"), tmp_path / "s", GAIN, model=calibrated)
         board.enter_streaming(timeout_cycles=50)
         recs = stream(board, servo_rest(tripod_plan, model), 60)
         board.leave_streaming()
@@ -72,7 +83,8 @@ def test_each_streamed_record_carries_the_latest_strain_sample_and_its_age(
     with open(tmp_path / "s" / "strain.csv", newline="") as f:
         rows = [[float(r[n]) for n in names] for r in csv.DictReader(f)]
     first = np.array(rows[0])
-    seen = {tuple(np.round((np.array(r) - first) / GAIN, 9)) for r in rows}
+    seen = {tuple(np.round((np.array(r) - first) / gains, 9)) for r in rows}
+    assert recs[0]["strain_reading"] == ["calibrated"] + ["ESTIMATE"] * 35
     ages = []
     for rec in recs:
         m = rec["strain_microstrain"]
@@ -125,6 +137,9 @@ def test_attach_strain_refuses_by_name(emulator_port, tmp_path) -> None:
         board.attach_strain(emulator_port, tmp_path / "s", GAIN)
     with pytest.raises(ValueError, match="counts_per_microstrain = 0"):
         board.attach_strain("virtual", tmp_path / "s", 0.0)
+    # No gain, and no calibration to give one.
+    with pytest.raises(ValueError, match="counts_per_microstrain = None: give the strain board's gain"):
+        board.attach_strain("virtual", tmp_path / "s")
     with pytest.raises(ValueError, match="no strain board is attached"):
         board.detach_strain()
     physics = open_board("physics")

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use lab::plan_comparison::{inertial_share, r2_cell, summed_in};
+use lab::plan_comparison::inertial_share;
 
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
@@ -44,7 +44,8 @@ pub struct Args {
     paper: bool,
     /// A trial recorded with `dbot record --strain`: its strain against the prediction of the one
     /// plan directory given, per gauge (R^2 over the step phase, a fitted gain in counts per
-    /// microstrain); writes strain_gains.csv to --out, a calibration a lab can keep.
+    /// microstrain, the RMS in microstrain through the plan model's calibration or the ESTIMATE
+    /// gain, saying which); writes strain_gains.csv to --out.
     #[arg(long, value_name = "TRIAL")]
     strain: Option<PathBuf>,
     /// Time slices per step for --paper.
@@ -91,21 +92,7 @@ impl Args {
 
 fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
     let rows = lab::plan_comparison::compare_dirs(a, b, out)?;
-    println!("| leg | DoF | R^2 angle | R^2 torque |\n|---|---|---|---|");
-    for r in &rows {
-        let summed = summed_in(r);
-        let label = if summed.is_empty() {
-            r.dof.clone()
-        } else {
-            format!("{} (sum in {summed})", r.dof)
-        };
-        println!(
-            "| {} | {label} | {} | {} |",
-            r.leg.name(),
-            r2_cell(r.r2_angle),
-            r2_cell(r.r2_torque)
-        );
-    }
+    print!("{}", lab::plan_comparison::table(&rows));
     println!(
         "wrote compare.csv compare_angles.png compare_torques.png to {}",
         out.display()
@@ -115,19 +102,7 @@ fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<()> {
 
 fn compare_strain(trial: &Path, plan: &Path, out: &Path) -> Result<()> {
     let fits = lab::strain_compare::compare_trial(trial, plan)?;
-    println!("| gauge | samples | R^2 | counts per microstrain | RMS residual (counts) |");
-    println!("|---|---|---|---|---|");
-    let num = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.4}", v + 0.0));
-    for f in &fits {
-        println!(
-            "| {} | {} | {} | {} | {} |",
-            f.gauge,
-            f.samples,
-            r2_cell(f.r2),
-            num(f.gain),
-            num(f.rms_residual_counts)
-        );
-    }
+    print!("{}", lab::strain_compare::table(&fits));
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let path = out.join(lab::strain_compare::GAINS_CSV);
     std::fs::write(&path, lab::strain_compare::gains_csv(&fits))

@@ -5,6 +5,7 @@
 //! flags: their `run(board)` takes those, and their help text is on their variant below).
 
 mod args;
+mod calibrate;
 mod common;
 mod compare;
 mod demo;
@@ -62,6 +63,7 @@ enum Cmd {
     Excite(excite::Args),
     Identify(identify::Args),
     Replay(replay::Args),
+    Calibrate(calibrate::Args),
     Compare(compare::Args),
     Devices(devices::Args),
     Upload(upload::Args),
@@ -111,6 +113,7 @@ fn main() -> std::process::ExitCode {
         Cmd::Excite(a) => a.run(),
         Cmd::Identify(a) => a.run(),
         Cmd::Replay(a) => a.run(),
+        Cmd::Calibrate(a) => a.run(),
         Cmd::Compare(a) => a.run(),
         Cmd::Devices(a) => a.run(),
         Cmd::Upload(a) => a.run(),

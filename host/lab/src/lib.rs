@@ -33,6 +33,7 @@
 //!   [`excite_files`]: the excitation's step tables written (`dbot excite`).
 //! - [`doctor`]: the bring-up check of a freshly wired robot (`dbot doctor`, `dbot.doctor()`).
 
+pub mod calibrate;
 pub mod demo;
 pub mod doctor;
 pub mod error;

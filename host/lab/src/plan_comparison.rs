@@ -72,6 +72,26 @@ pub fn summed_in(r: &ComparisonRow) -> &'static str {
     }
 }
 
+/// The rows as the markdown table `dbot compare` prints.
+pub fn table(rows: &[ComparisonRow]) -> String {
+    let mut s = String::from("| leg | DoF | R^2 angle | R^2 torque |\n|---|---|---|---|\n");
+    for r in rows {
+        let summed = summed_in(r);
+        let label = if summed.is_empty() {
+            r.dof.clone()
+        } else {
+            format!("{} (sum in {summed})", r.dof)
+        };
+        s.push_str(&format!(
+            "| {} | {label} | {} | {} |\n",
+            r.leg.name(),
+            r2_cell(r.r2_angle),
+            r2_cell(r.r2_torque)
+        ));
+    }
+    s
+}
+
 /// Compares `a` and `b` (plan directories or trial folders) DoF by DoF; writes `compare.csv`,
 /// `compare_angles.png` and `compare_torques.png` into `out` and returns the rows.
 pub fn compare_dirs(a: &Path, b: &Path, out: &Path) -> Result<Vec<ComparisonRow>> {

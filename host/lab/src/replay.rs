@@ -7,7 +7,10 @@
 //! torque through the model's Present Load reading (its gain and offset, no noise), both turned
 //! into N m by the register's nominal conversion (`dynamixel::units::load_to_torque_nm`, an
 //! ESTIMATE of torque). Whether the model's reading was calibrated ([`Reading`]) is said with
-//! every figure. Strain is not replayed yet.
+//! every figure. When the trial recorded strain, the physics robot's simulated gauges are
+//! replayed too ([`GaugeReplay`]): per gauge R^2 and RMS (microstrain) of the recorded strain,
+//! read through the model's calibration or the ESTIMATE gain (said beside each), against the
+//! replayed.
 
 use std::path::Path;
 
@@ -35,17 +38,37 @@ impl Reading {
         }
     }
 
-    /// How `model` reads joint `j`'s load: calibrated when the model file gives the joint its
-    /// own load gain (as the identification writes it), else the servo model's ESTIMATE.
+    /// How `model` reads joint `j`'s load: calibrated when the model's calibration file has the
+    /// joint or the model file gives the joint its own load gain (as the identification writes
+    /// it), else the servo model's ESTIMATE.
     pub fn of(model: &Model, j: usize) -> Self {
+        let name = &model.joints[j].name;
         let own = model
             .servo_dynamics
-            .of_joint(&model.joints[j].name)
-            .is_some_and(|e| e.load_gain.is_some());
+            .of_joint(name)
+            .is_some_and(|e| e.load_gain.is_some())
+            || model
+                .calibration
+                .as_ref()
+                .is_some_and(|c| c.joint(name).is_some());
         if own {
             Reading::Calibrated
         } else {
             Reading::Estimate
+        }
+    }
+
+    /// How `model` reads gauge `name`: its counts per microstrain from the model's calibration
+    /// file (calibrated), else the virtual strain board's invented
+    /// `board::strain::virtual_board::DEFAULT_GAIN` (an ESTIMATE: the lab's gain is not
+    /// published).
+    pub fn of_gauge(model: &Model, name: &str) -> (Self, f64) {
+        match model.calibration.as_ref().and_then(|c| c.gauge_gain(name)) {
+            Some(g) => (Reading::Calibrated, g),
+            None => (
+                Reading::Estimate,
+                board::strain::virtual_board::DEFAULT_GAIN,
+            ),
         }
     }
 }
@@ -70,6 +93,21 @@ pub struct JointReplay {
     pub load_replayed: Vec<f64>,
 }
 
+/// One gauge's replay against its recording: the recorded counts above the baseline through
+/// the model's reading of the gauge ([`Reading::of_gauge`]) against the physics robot's
+/// simulated gauge at the bus cycle nearest each sample (both relative to the trial's first
+/// sample when that was the baseline).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GaugeReplay {
+    pub gauge: String,
+    pub samples: usize,
+    pub rms_microstrain: f64,
+    pub r2: Option<f64>,
+    pub reading: Reading,
+    /// The reading's counts per microstrain.
+    pub gain: f64,
+}
+
 /// A recording replayed on a model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Replay {
@@ -79,6 +117,8 @@ pub struct Replay {
     /// Bus cycle times, s.
     pub t: Vec<f64>,
     pub joints: Vec<JointReplay>,
+    /// Per gauge of the model the trial recorded (none without strain).
+    pub gauges: Vec<GaugeReplay>,
 }
 
 impl Replay {
@@ -123,6 +163,20 @@ impl Replay {
             "all joints: position RMS {:.2} mrad\n",
             self.position_rms_rad() * 1e3
         ));
+        if !self.gauges.is_empty() {
+            s.push_str("gauge                RMS microstrain  R^2     samples  reading\n");
+        }
+        for g in &self.gauges {
+            s.push_str(&format!(
+                "{:<20} {:>15.2}  {:>6}  {:>7}  {} ({:.4} counts per microstrain)\n",
+                g.gauge,
+                g.rms_microstrain,
+                r2(g.r2),
+                g.samples,
+                g.reading.word(),
+                g.gain
+            ));
+        }
         s
     }
 }
@@ -190,11 +244,58 @@ pub fn figures(model: &Model, rec: &Recording, out: &Replayed) -> Replay {
         .collect();
     Replay {
         trial: rec.name.clone(),
-        model: model.name.clone(),
+        model: match &model.calibration {
+            Some(c) => format!("{} (calibration {})", model.name, c.path.display()),
+            None => model.name.clone(),
+        },
         suspended: rec.suspended,
         t: rec.t.clone(),
         joints,
+        gauges: gauge_figures(model, rec, out),
     }
+}
+
+/// Per gauge of `model` the trial recorded, its strain against the replay's (see
+/// [`GaugeReplay`]); none when either has no strain.
+fn gauge_figures(model: &Model, rec: &Recording, out: &Replayed) -> Vec<GaugeReplay> {
+    let Some(strain) = &rec.strain else {
+        return Vec::new();
+    };
+    if out.strain.is_empty() || strain.t.is_empty() {
+        return Vec::new();
+    }
+    let near = strain.nearest_cycles(&rec.t);
+    let mut gauges = Vec::new();
+    for (col, name) in strain.names.iter().enumerate() {
+        let Some(g) = model.gauges.iter().position(|m| &m.name == name) else {
+            continue;
+        };
+        let (reading, gain) = Reading::of_gauge(model, name);
+        let zero = if strain.baseline_first_sample {
+            out.strain[near[0]][g]
+        } else {
+            0.0
+        };
+        let pairs: Vec<(f64, f64)> = near
+            .iter()
+            .zip(&strain.counts)
+            .map(|(&c, counts)| {
+                (
+                    (counts[col] - strain.baseline[col]) / gain,
+                    out.strain[c][g] - zero,
+                )
+            })
+            .collect();
+        gauges.push(GaugeReplay {
+            gauge: name.clone(),
+            samples: pairs.len(),
+            rms_microstrain: rms_difference(&pairs).unwrap_or(0.0),
+            r2: prediction_r2(&pairs),
+            reading,
+            gain,
+        });
+    }
+    gauges
 }
 
 /// Replays `rec` on `model` and measures it.

@@ -7,8 +7,11 @@
 //! Per gauge: the R^2 over the step phase ([`regression_r2`]: blind to scale and offset, since
 //! the gain is what is unknown) of counts above the zero-strain baseline against predicted
 //! microstrain, and the gain, counts per predicted microstrain, fitted through the origin (the
-//! baseline is the zero: `sum(x y) / sum(x^2)`), which a lab can save as its calibration
-//! (`strain_gains.csv`).
+//! baseline is the zero: `sum(x y) / sum(x^2)`), which a lab can save (`strain_gains.csv`); and
+//! the RMS of the recorded microstrain against the prediction, the counts read through the plan
+//! model's calibration file where it names the gauge (calibrated), else through the virtual
+//! board's invented gain (ESTIMATE). The calibration itself is fitted from a standing trial
+//! (`crate::calibrate`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -17,8 +20,11 @@ use board::strain::beside::read_aligned;
 use board::strain::channels::{self, CHANNELS};
 use planner::analysis::fit::{regression_r2, rms};
 
+use board::strain::virtual_board::DEFAULT_GAIN;
+
 use crate::bail;
 use crate::error::{Context, Result};
+use crate::replay::Reading;
 
 /// The calibration file's name.
 pub const GAINS_CSV: &str = "strain_gains.csv";
@@ -35,6 +41,14 @@ pub struct GaugeFit {
     pub gain: Option<f64>,
     /// RMS of counts above baseline less gain x prediction, counts.
     pub rms_residual_counts: Option<f64>,
+    /// How the counts were read as microstrain: the gain of the plan model's calibration file
+    /// (calibrated) or the virtual board's invented default (ESTIMATE).
+    pub reading: Reading,
+    /// That reading's counts per microstrain.
+    pub reading_gain: f64,
+    /// RMS of the recorded microstrain (counts above baseline / `reading_gain`) less the
+    /// prediction.
+    pub rms_microstrain: Option<f64>,
 }
 
 /// Fits every gauge from `pairs[gauge]` = (predicted microstrain, counts above baseline).
@@ -53,6 +67,9 @@ pub fn fit_gauges(names: &[String], pairs: &[Vec<(f64, f64)>]) -> Vec<GaugeFit> 
                 r2: regression_r2(&x, &y),
                 gain,
                 rms_residual_counts: gain.and_then(|g| rms(p.iter().map(|(a, b)| b - g * a))),
+                reading: Reading::Estimate,
+                reading_gain: DEFAULT_GAIN,
+                rms_microstrain: rms(p.iter().map(|(a, b)| b / DEFAULT_GAIN - a)),
             }
         })
         .collect()
@@ -122,7 +139,8 @@ fn baseline(trial: &Path) -> Result<[f64; CHANNELS]> {
 }
 
 /// Compares the strain of the trial folder `trial` with the prediction of `plan_dir`: one fit per
-/// gauge the plan predicts, in the board's column order.
+/// gauge the plan predicts, in the board's column order, each read through the plan model's
+/// calibration (`model.toml` naming one) where it has the gauge.
 pub fn compare_trial(trial: &Path, plan_dir: &Path) -> Result<Vec<GaugeFit>> {
     let tr = board::trial::read_trial(trial)
         .map_err(|e| crate::LabError::invalid(format!("{}: {e}", trial.display())))?;
@@ -175,7 +193,38 @@ pub fn compare_trial(trial: &Path, plan_dir: &Path) -> Result<Vec<GaugeFit>> {
             plan_dir.display()
         );
     }
-    Ok(fit_gauges(&names, &pairs))
+    let mut fits = fit_gauges(&names, &pairs);
+    let model_toml = plan_dir.join(planner::plan_dir::columns::MODEL_TOML);
+    if model_toml.exists() {
+        let model = planner::model::load(&model_toml)?;
+        for (f, p) in fits.iter_mut().zip(&pairs) {
+            (f.reading, f.reading_gain) = Reading::of_gauge(&model, &f.gauge);
+            f.rms_microstrain = rms(p.iter().map(|(a, b)| b / f.reading_gain - a));
+        }
+    }
+    Ok(fits)
+}
+
+/// The fits as a markdown table, each gauge saying how its counts were read.
+pub fn table(fits: &[GaugeFit]) -> String {
+    let num = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.4}", v + 0.0));
+    let mut s = String::from(
+        "| gauge | samples | R^2 | counts per microstrain | RMS residual (counts) | RMS microstrain | reading |\n|---|---|---|---|---|---|---|\n",
+    );
+    for f in fits {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} ({:.4} counts per microstrain) |\n",
+            f.gauge,
+            f.samples,
+            f.r2.map_or("-".into(), |v| format!("{v:.3}")),
+            num(f.gain),
+            num(f.rms_residual_counts),
+            num(f.rms_microstrain),
+            f.reading.word(),
+            f.reading_gain
+        ));
+    }
+    s
 }
 
 /// `gauge,counts_per_microstrain,r2,samples`: the fitted gains as a calibration file (empty cells

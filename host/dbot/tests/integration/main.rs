@@ -7,6 +7,7 @@ mod cli_support;
 #[path = "sdk/sim_bus.rs"]
 mod sim_bus_support;
 
+mod calibrate_cli;
 mod cli_messages;
 mod compare_trials;
 mod demo_physics;

@@ -181,6 +181,33 @@ fn compare_fits_a_zero_gain_to_a_board_that_measures_no_strain() {
         assert!(samples > 0, "{l}");
         assert_eq!((c[1], c[2]), ("0.000000", ""), "{l}");
     }
+    // Without a calibration every gauge is read through the ESTIMATE gain; with the plan's model
+    // naming one, the gauge it has is read through it, and the table says so per gauge.
+    let line = |out: &str, gauge: &str| {
+        out.lines()
+            .find(|l| l.starts_with(&format!("| {gauge} |")))
+            .unwrap_or_else(|| panic!("no {gauge} in\n{out}"))
+            .to_owned()
+    };
+    assert!(line(&d.stdout, "LF_troch_axial").contains("ESTIMATE (0.5000 counts per microstrain)"));
+    std::fs::write(
+        plan.join("cal.toml"),
+        "[gauge.LF_troch_axial]\ncounts_per_microstrain = 0.25\n",
+    )
+    .unwrap();
+    let model_toml = plan.join("model.toml");
+    let text = std::fs::read_to_string(&model_toml).unwrap();
+    std::fs::write(&model_toml, format!("calibration = \"cal.toml\"\n{text}")).unwrap();
+    let args = ["compare", "--strain", trial.to_str().unwrap(), p, "--out"];
+    let d = run(
+        dir,
+        &strings(&[&args[..], &[cmp.to_str().unwrap()]].concat()),
+    );
+    assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
+    assert!(
+        line(&d.stdout, "LF_troch_axial").contains("calibrated (0.2500 counts per microstrain)")
+    );
+    assert!(line(&d.stdout, "LF_femur_axial").contains("ESTIMATE (0.5000 counts per microstrain)"));
     // One plan directory, not two, with --strain.
     let d = run(
         dir,

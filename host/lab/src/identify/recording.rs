@@ -1,6 +1,7 @@
 //! A trial as the identification reads it: per bus cycle the goal sent to each joint and what
 //! its servo reported (present position and velocity, the Present Load register), with the
-//! joints named by the model. Built from a trial folder ([`Recording::of_trial`]) or by the
+//! joints named by the model, and the strain board's record beside it when there is one
+//! ([`StrainTrace`]). Built from a trial folder ([`Recording::of_trial`]) or by the
 //! stand-in robot ([`super::stand_in`]).
 
 use board::trial::Trial;
@@ -42,6 +43,92 @@ pub struct Recording {
     /// Time of each bus cycle, s from the first.
     pub t: Vec<f64>,
     pub joints: Vec<JointTrace>,
+    /// The strain board's record beside it, when the trial recorded strain.
+    pub strain: Option<StrainTrace>,
+}
+
+/// A trial's strain record (`strain.csv` and `strain_baseline.csv`), gauges in the strain
+/// board's column order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StrainTrace {
+    /// The gauges' names (`LF_troch_axial`, ...).
+    pub names: Vec<String>,
+    /// Time of each sample on the telemetry's clock, s (samples without one are left out).
+    pub t: Vec<f64>,
+    /// `counts[sample][gauge]`.
+    pub counts: Vec<Vec<f64>>,
+    /// Zero-strain counts per gauge.
+    pub baseline: Vec<f64>,
+    /// Whether the baseline is the trial's first sample (its strain, not zero, then) rather
+    /// than the mean of samples taken with the robot held unloaded.
+    pub baseline_first_sample: bool,
+}
+
+impl StrainTrace {
+    /// The strain record of the trial folder `dir` (None: it recorded none).
+    pub fn read(dir: &std::path::Path) -> Result<Option<Self>> {
+        use board::strain::recorder::{BASELINE_CSV, STRAIN_CSV};
+        let csv = dir.join(STRAIN_CSV);
+        if !csv.exists() {
+            return Ok(None);
+        }
+        let aligned = board::strain::beside::read_aligned(&csv)
+            .map_err(|e| crate::LabError::invalid(e.to_string()))?;
+        let path = dir.join(BASELINE_CSV);
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("reading {} (written beside strain.csv)", path.display()))?;
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+        let row: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+        let names = board::strain::channels::names();
+        let mut baseline = Vec::with_capacity(names.len());
+        for name in &names {
+            let v = header
+                .iter()
+                .position(|h| h.trim() == name)
+                .and_then(|i| row.get(i))
+                .and_then(|v| v.trim().parse::<f64>().ok());
+            let Some(v) = v else {
+                bail!("{}: no baseline count for {name}", path.display());
+            };
+            baseline.push(v);
+        }
+        let method = header
+            .iter()
+            .position(|h| h.trim() == "method")
+            .and_then(|i| row.get(i))
+            .map_or("", |m| m.trim());
+        let mut out = Self {
+            names,
+            baseline,
+            baseline_first_sample: method
+                != board::strain::baseline::BaselineMethod::MeanOfUnloaded.name(),
+            ..Self::default()
+        };
+        for (t, c) in aligned.time_s.iter().zip(&aligned.counts) {
+            if let Some(t) = t {
+                out.t.push(*t);
+                out.counts.push(c.to_vec());
+            }
+        }
+        Ok(Some(out))
+    }
+
+    /// Index of the bus cycle of `t` (times in order) nearest in time to each sample.
+    pub fn nearest_cycles(&self, t: &[f64]) -> Vec<usize> {
+        self.t
+            .iter()
+            .map(|&s| {
+                let i = t.partition_point(|&c| c < s);
+                match (i.checked_sub(1), t.get(i)) {
+                    (Some(a), Some(&b)) if s - t[a] <= b - s => a,
+                    (_, Some(_)) => i,
+                    (Some(a), None) => a,
+                    (None, None) => 0,
+                }
+            })
+            .collect()
+    }
 }
 
 impl Recording {
@@ -121,6 +208,7 @@ impl Recording {
             suspended,
             t,
             joints,
+            strain: StrainTrace::read(&trial.path)?,
         })
     }
 

@@ -21,12 +21,16 @@ pub const PRE_ROLL_S: f64 = 1.2;
 pub const SUSPEND_RAISE_M: f64 = 0.1;
 
 /// What the replay gives per recorded joint and cycle: angle (rad), velocity (rad/s) and the
-/// actuator's torque on the joint (N m, joint direction).
+/// actuator's torque on the joint (N m, joint direction); and, when the recording has strain,
+/// per cycle every gauge of the model as the physics robot simulates it
+/// (`physics::SimulatedGauges`, microstrain, `model.gauges` order).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Replayed {
     pub q: Vec<Vec<f64>>,
     pub qd: Vec<Vec<f64>>,
     pub torque: Vec<Vec<f64>>,
+    /// `strain[cycle][gauge]`, empty when not simulated.
+    pub strain: Vec<Vec<f64>>,
 }
 
 /// The MJCF of `model` in `options`, hung in the air when `suspended`: no free joint, the thorax
@@ -114,15 +118,30 @@ pub fn gains(model: &Model, j: usize, params: &planner::model::ServoParams) -> (
     physics::servo::gains_of_registers(map.model, params, p, params.i_gain, params.d_gain)
 }
 
-/// Replays `rec`'s goals on `model`'s body (see the module's header).
+/// Replays `rec`'s goals on `model`'s body (see the module's header), simulating the gauges
+/// when `rec` recorded strain.
 pub fn replay(model: &Model, rec: &Recording) -> Result<Replayed> {
+    replay_gauges(model, rec, rec.strain.is_some())
+}
+
+/// [`replay`], simulating the model's gauges at every cycle when `gauges`.
+pub fn replay_gauges(model: &Model, rec: &Recording, gauges: bool) -> Result<Replayed> {
     let (mut plant, index) = plant(model, rec)?;
+    let gauges = if gauges && !model.gauges.is_empty() {
+        Some(
+            physics::SimulatedGauges::new(model, &plant)
+                .with_context(|| format!("the gauges of the model {}", model.name))?,
+        )
+    } else {
+        None
+    };
     let n = rec.len();
     let k = rec.joints.len();
     let mut out = Replayed {
         q: vec![Vec::with_capacity(n); k],
         qd: vec![Vec::with_capacity(n); k],
         torque: vec![Vec::with_capacity(n); k],
+        strain: Vec::new(),
     };
     plant.advance_to(PRE_ROLL_S);
     for c in 0..n {
@@ -131,6 +150,9 @@ pub fn replay(model: &Model, rec: &Recording) -> Result<Replayed> {
             out.q[j].push(q);
             out.qd[j].push(qd);
             out.torque[j].push(tau);
+        }
+        if let Some(g) = &gauges {
+            out.strain.push(g.read(&plant).microstrain());
         }
         for (jt, &i) in rec.joints.iter().zip(&index) {
             plant.set_goal(i, jt.goal[c], true);

@@ -10,7 +10,7 @@
 
 use planner::model::{Model, ServoParamsEntry};
 
-use super::recording::{JointTrace, Recording};
+use super::recording::{JointTrace, Recording, StrainTrace};
 use super::rollout;
 use crate::error::Result;
 
@@ -58,6 +58,28 @@ pub fn stand_in_model(model: &Model) -> Model {
     m
 }
 
+/// `model` (its servo dynamics as they are) with the stand-in's Present Load reading on both
+/// servo models: gain 0.8, offset 0.05 N m, steps of 2 counts, 0.01 N m of noise. The body
+/// moves as `model`'s; only what the servos report differs (the calibration's ground truth).
+pub fn reading_stand_in_model(model: &Model) -> Model {
+    let mut m = model.clone();
+    for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
+        let s = stand_in_entry(servo);
+        let mut e = m
+            .servo_dynamics
+            .of_model(servo)
+            .copied()
+            .unwrap_or_default();
+        e.load_gain = s.load_gain;
+        e.load_offset_nm = s.load_offset_nm;
+        e.load_resolution_counts = s.load_resolution_counts;
+        e.load_noise_nm = s.load_noise_nm;
+        m.servo_dynamics.set_model(servo, e);
+    }
+    m.name = format!("{}-reading-stand-in", model.name);
+    m
+}
+
 /// The goals of a table of slices `q[slice][model joint]` `dt` s apart at the bus rate, linear
 /// between slices as the board interpolates, in whole ticks, for `joints` (model indices), over
 /// `cycles` bus cycles (from the start of the table, wrapping).
@@ -102,11 +124,34 @@ pub fn record(
     joints: &[usize],
     goals: Vec<Vec<f64>>,
 ) -> Result<Recording> {
+    record_with_strain(model, name, suspended, joints, goals, None)
+}
+
+/// The stand-in's gain of the strain board's column `column`, counts per microstrain: 0.3 +
+/// 0.02 x column (0.3 to 1.0 over the 36 columns), every one away from the virtual board's
+/// default 0.5 but column 10's.
+pub fn gauge_gain(column: usize) -> f64 {
+    0.3 + 0.02 * column as f64
+}
+
+/// [`record`], and with `gauge_gains` (per strain board column, counts per microstrain) the
+/// strain board beside it: every [`physics::STRAIN_SAMPLE_S`] the model's simulated gauges as
+/// counts, 300 + gain x microstrain rounded to a whole count and held in 0..1023 (the virtual
+/// board's ADC, `board::strain::virtual_board`), its baseline the first sample.
+pub fn record_with_strain(
+    model: &Model,
+    name: &str,
+    suspended: bool,
+    joints: &[usize],
+    goals: Vec<Vec<f64>>,
+    gauge_gains: Option<&[f64]>,
+) -> Result<Recording> {
     let cycles = goals.first().map_or(0, Vec::len);
     let mut rec = Recording {
         name: name.to_owned(),
         suspended,
         t: (0..cycles).map(|c| c as f64 * BUS_PERIOD_S).collect(),
+        strain: None,
         joints: joints
             .iter()
             .zip(goals)
@@ -120,7 +165,10 @@ pub fn record(
             })
             .collect(),
     };
-    let out = rollout::replay(model, &rec)?;
+    let out = rollout::replay_gauges(model, &rec, gauge_gains.is_some())?;
+    if let Some(gains) = gauge_gains {
+        rec.strain = Some(strain_counts(model, &rec.t, &out.strain, gains));
+    }
     let mut rng = NOISE_SEED;
     let velocity_unit = f64::from(dynamixel::units::RAD_S_PER_VELOCITY_UNIT);
     for (k, jt) in rec.joints.iter_mut().enumerate() {
@@ -144,6 +192,83 @@ pub fn record(
             .collect();
     }
     Ok(rec)
+}
+
+/// The strain board's record of `strain[cycle][model gauge]` at cycle times `t`: a sample each
+/// time [`physics::STRAIN_SAMPLE_S`] has passed, counts through `gains` per column.
+fn strain_counts(model: &Model, t: &[f64], strain: &[Vec<f64>], gains: &[f64]) -> StrainTrace {
+    use board::strain::virtual_board::BASELINE;
+    let names = board::strain::channels::names();
+    let gauge_of: Vec<Option<usize>> = names
+        .iter()
+        .map(|n| model.gauges.iter().position(|g| &g.name == n))
+        .collect();
+    let mut trace = StrainTrace {
+        names,
+        ..StrainTrace::default()
+    };
+    let mut next = 0.0;
+    for (c, &tc) in t.iter().enumerate() {
+        if tc + 1e-9 < next {
+            continue;
+        }
+        next = tc + physics::STRAIN_SAMPLE_S;
+        let row = gauge_of
+            .iter()
+            .zip(gains)
+            .map(|(g, gain)| {
+                let e = g.map_or(0.0, |g| strain[c][g]);
+                (BASELINE + gain * e)
+                    .round()
+                    .clamp(0.0, board::strain::line::MAX_COUNT)
+            })
+            .collect();
+        trace.t.push(tc);
+        trace.counts.push(row);
+    }
+    trace.baseline = trace.counts.first().cloned().unwrap_or_default();
+    trace.baseline_first_sample = true;
+    trace
+}
+
+/// `truth` records the standing excitation (`options`) of `default` with every servo joint and
+/// the strain board beside it (gains [`gauge_gain`]), as the trial folder `out/stand`.
+pub fn write_standing_trial(
+    truth: &Model,
+    default: &Model,
+    options: &planner::excitation::ExcitationOptions,
+    out: &std::path::Path,
+) -> Result<std::path::PathBuf> {
+    let rec = record_standing(truth, default, options)?;
+    super::trial_write::write_trial(&rec, default, out)
+}
+
+/// What `truth` records playing the standing excitation (`options`) of `default` with every
+/// servo joint, the strain board beside it (gains [`gauge_gain`]).
+pub fn record_standing(
+    truth: &Model,
+    default: &Model,
+    options: &planner::excitation::ExcitationOptions,
+) -> Result<Recording> {
+    use planner::excitation::{ExcitationKind, excitation};
+    let ex = excitation(default, ExcitationKind::Standing, options)
+        .map_err(|e| crate::LabError::invalid(format!("the standing excitation: {e}")))?;
+    let table = &ex.trials[0];
+    let all: Vec<usize> = (0..default.joints.len())
+        .filter(|&j| default.servo_params(j).is_some())
+        .collect();
+    let cycles = (table.period_s() / BUS_PERIOD_S) as usize;
+    let gains: Vec<f64> = (0..board::strain::channels::CHANNELS)
+        .map(gauge_gain)
+        .collect();
+    record_with_strain(
+        truth,
+        &table.name,
+        false,
+        &all,
+        goals(default, &table.q, table.dt_s, &all, cycles),
+        Some(&gains),
+    )
 }
 
 /// A standard normal sample (Box-Muller on two uniforms of `planner::terrain::splitmix64`).

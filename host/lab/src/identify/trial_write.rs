@@ -1,4 +1,5 @@
-//! A [`Recording`] written as a trial folder (trial.json and telemetry.csv, the format
+//! A [`Recording`] written as a trial folder (trial.json and telemetry.csv, and strain.csv with
+//! strain_baseline.csv when it has strain, the format
 //! `board::trial::read_trial` reads; the telemetry without the later optional columns), so the
 //! stand-in's recordings go through `dbot identify`, `dbot replay` and Python as a lab's do.
 //! The trial.json says it is the stand-in's (port `stand-in`, firmware `0.0.0`, notes).
@@ -68,7 +69,7 @@ pub fn write_trial(rec: &Recording, model: &Model, parent: &Path) -> Result<Path
         period_scale: None,
         steps: None,
         substrate: board::trial::Substrate::Unspecified,
-        strain: false,
+        strain: rec.strain.is_some(),
         perturbation: None,
         notes: format!(
             "The stand-in robot's recording ({}), made by lab::identify::stand_in, not a board.",
@@ -84,10 +85,34 @@ pub fn write_trial(rec: &Recording, model: &Model, parent: &Path) -> Result<Path
         missing_records: 0,
         lost_records: Some(0),
     };
-    for (name, text) in [
+    let mut files = vec![
         (board::trial::TELEMETRY_CSV, csv),
         (board::trial::TRIAL_JSON, meta.to_json()),
-    ] {
+    ];
+    if let Some(s) = &rec.strain {
+        let mut csv = format!("time_s,{}\n", s.names.join(","));
+        for (t, row) in s.t.iter().zip(&s.counts) {
+            let cells: Vec<String> = row.iter().map(f64::to_string).collect();
+            let _ = writeln!(csv, "{t:.6},{}", cells.join(","));
+        }
+        files.push((board::strain::recorder::STRAIN_CSV, csv));
+        let method = if s.baseline_first_sample {
+            board::strain::baseline::BaselineMethod::FirstSample
+        } else {
+            board::strain::baseline::BaselineMethod::MeanOfUnloaded
+        };
+        let cells: Vec<String> = s.baseline.iter().map(f64::to_string).collect();
+        files.push((
+            board::strain::recorder::BASELINE_CSV,
+            format!(
+                "method,{}\n{},{}\n",
+                s.names.join(","),
+                method.name(),
+                cells.join(",")
+            ),
+        ));
+    }
+    for (name, text) in files {
         let path = dir.join(name);
         board::files::write_bytes_atomically(&path, text.as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;

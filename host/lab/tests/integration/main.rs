@@ -1,6 +1,7 @@
 //! The integration tests of `lab`, one module per topic, linked into one test binary (one link
 //! instead of one per file; nextest still runs each test in its own process).
 
+mod calibrate;
 mod doctor;
 mod identify;
 mod perturbation;

@@ -28,6 +28,10 @@ pub struct ModelFile {
     /// name; each field optional (docs/models.md, "Servo dynamics").
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub servo_dynamics: std::collections::BTreeMap<String, super::ServoParamsEntry>,
+    /// The calibrated readings' file (docs/identification.md, "Calibrated readings"), relative
+    /// to this file; optional.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -454,9 +458,13 @@ impl ModelFile {
             feet,
             gauges: Vec::new(),
             servo_dynamics: self.servo_dynamics(file)?,
+            calibration: None,
         };
         model.validate(file)?;
         model.gauges = super::gauge_file::gauges_from_entries(&self.gauges, &model, file)?;
+        if let Some(name) = &self.calibration {
+            model.calibration = Some(super::calibration::load_named(name, file, &model)?);
+        }
         Ok(model)
     }
 }

@@ -104,6 +104,10 @@ impl ModelFile {
                 .iter()
                 .map(|(m, e)| (m.key().to_owned(), *e))
                 .collect(),
+            calibration: model
+                .calibration
+                .as_ref()
+                .map(|c| c.path.display().to_string()),
         }
     }
 }

@@ -14,6 +14,7 @@ pub use types::*;
 
 mod aproj;
 mod builtin;
+pub mod calibration;
 mod error;
 mod file;
 mod file_write;
@@ -29,6 +30,7 @@ mod validate;
 
 pub use aproj::{ImportOptions, anim_to_rep, import_aproj, import_aproj_file, parse_joint_name};
 pub use builtin::{BUILTIN_NAMES, builtin};
+pub use calibration::{CalibrationFile, GaugeCalibration, JointCalibration, ReadingCalibration};
 pub use error::ModelError;
 pub use file::{ModelFile, from_toml_str, load};
 pub use file_write::{rpy_of, to_toml_string};

@@ -217,6 +217,10 @@ impl Model {
         if let Some(e) = self.servo_dynamics.of_joint(&j.name) {
             p = p.with(e);
         }
+        if let Some(c) = self.calibration.as_ref().and_then(|c| c.joint(&j.name)) {
+            p.load_gain = c.load_gain;
+            p.load_offset_nm = c.load_offset_nm;
+        }
         Some(p)
     }
 

@@ -302,4 +302,8 @@ pub struct Model {
     /// ([`Model::servo_params`] resolves a joint's; docs/models.md, "Servo dynamics").
     #[serde(default)]
     pub servo_dynamics: super::ServoDynamics,
+    /// The calibrated readings the model file names (`calibration = "cal.toml"`), if any:
+    /// per joint the Present Load reading (over `servo_dynamics`'), per gauge its gain.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<super::ReadingCalibration>,
 }

@@ -8,6 +8,7 @@ mod model_blocks;
 mod model_support;
 mod reliability_common;
 
+mod calibration_file;
 mod dynamics_analysis;
 mod dynamics_balance;
 mod dynamics_constraints;

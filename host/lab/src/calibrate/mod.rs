@@ -1,0 +1,276 @@
+//! Calibrated readings (docs/identification.md, "Calibrated readings"; `dbot calibrate`,
+//! `dbot.calibrate`): from a standing trial, per servo joint the Present Load reading's gain and
+//! offset against the plan's predicted joint torque, and per strain gauge its gain in counts per
+//! microstrain against the plan's predicted strain ([`predict`], at the recorded goals), each a
+//! least-squares line with its R^2 and sample count, written as the calibration file a model
+//! file names (`planner::model::calibration`).
+//!
+//! The load: the recorded Present Load through the register's nominal conversion (N m, joint
+//! direction) against the predicted torque: `gain x torque + offset` (`identify::load::fit`).
+//! The strain: counts above the trial's baseline against predicted microstrain, a line with an
+//! intercept (the baseline is often the trial's first sample, the robot already standing, not
+//! zero strain): its slope is the gain. A joint or gauge is calibrated only when its fit explains
+//! the recording ([`MIN_R2`]) with a gain in range; the others are listed with the reason and
+//! keep their ESTIMATE.
+
+pub mod predict;
+
+use std::path::Path;
+
+use planner::analysis::fit::{MIN_SAMPLES, regression_r2};
+use planner::model::{CalibrationFile, GaugeCalibration, JointCalibration, Model};
+
+use crate::bail;
+use crate::error::{Context, Result};
+use crate::identify::recording::Recording;
+use crate::replay::recorded_nm;
+
+/// Least R^2 of a fit kept as a calibration: below it the prediction explains too little of
+/// the recording for its scale to mean a gain (a joint or gauge the standing excitation barely
+/// loads, or one where the plan and the robot share the load among the feet differently).
+pub const MIN_R2: f64 = 0.8;
+
+/// Most cycles predicted (evenly spread): the static solve per cycle is the cost.
+pub const MAX_PREDICTED: usize = 2000;
+
+/// One joint's or gauge's fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// The joint's or gauge's name.
+    pub name: String,
+    pub samples: usize,
+    /// Regression R^2 of the reading against the prediction.
+    pub r2: Option<f64>,
+    /// Load: reading per N m of predicted torque; strain: counts per predicted microstrain.
+    pub gain: Option<f64>,
+    /// Load only: the offset, N m, servo direction (the model file's `load_offset_nm`).
+    pub offset_nm: Option<f64>,
+    /// Why it is not kept as a calibration (None: kept).
+    pub not_kept: Option<String>,
+}
+
+/// What a calibration found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Calibrated {
+    pub trial: String,
+    pub model: String,
+    pub joints: Vec<Fit>,
+    pub gauges: Vec<Fit>,
+}
+
+impl Calibrated {
+    /// The calibration file of the kept fits.
+    pub fn file(&self) -> CalibrationFile {
+        let mut f = CalibrationFile {
+            trial: self.trial.clone(),
+            ..CalibrationFile::default()
+        };
+        for j in self.joints.iter().filter(|j| j.not_kept.is_none()) {
+            f.joints.insert(
+                j.name.clone(),
+                JointCalibration {
+                    load_gain: j.gain.unwrap_or(1.0),
+                    load_offset_nm: j.offset_nm.unwrap_or(0.0),
+                    r2: j.r2,
+                    samples: j.samples,
+                },
+            );
+        }
+        for g in self.gauges.iter().filter(|g| g.not_kept.is_none()) {
+            f.gauges.insert(
+                g.name.clone(),
+                GaugeCalibration {
+                    counts_per_microstrain: g.gain.unwrap_or(1.0),
+                    r2: g.r2,
+                    samples: g.samples,
+                },
+            );
+        }
+        f
+    }
+
+    /// The fits as text, one joint or gauge a line, each saying whether it was kept.
+    pub fn table(&self) -> String {
+        let num = |v: Option<f64>, p: usize| v.map_or("-".to_owned(), |v| format!("{v:.p$}"));
+        let kept = |f: &Fit| {
+            f.not_kept
+                .as_ref()
+                .map_or("calibrated".to_owned(), |w| format!("ESTIMATE kept: {w}"))
+        };
+        let mut s = format!(
+            "calibration from {} on the model {}:\njoint      load gain  offset N m     R^2  samples  reading\n",
+            self.trial, self.model
+        );
+        for j in &self.joints {
+            s.push_str(&format!(
+                "{:<10} {:>9}  {:>10}  {:>6}  {:>7}  {}\n",
+                j.name,
+                num(j.gain, 3),
+                num(j.offset_nm, 4),
+                num(j.r2, 3),
+                j.samples,
+                kept(j)
+            ));
+        }
+        s.push_str("gauge                counts/microstrain     R^2  samples  reading\n");
+        for g in &self.gauges {
+            s.push_str(&format!(
+                "{:<20} {:>18}  {:>6}  {:>7}  {}\n",
+                g.name,
+                num(g.gain, 4),
+                num(g.r2, 3),
+                g.samples,
+                kept(g)
+            ));
+        }
+        let (nj, ng) = (
+            self.joints.iter().filter(|f| f.not_kept.is_none()).count(),
+            self.gauges.iter().filter(|f| f.not_kept.is_none()).count(),
+        );
+        s.push_str(&format!(
+            "calibrated: {nj} of {} joints, {ng} of {} gauges (R^2 at least {MIN_R2})\n",
+            self.joints.len(),
+            self.gauges.len()
+        ));
+        s
+    }
+}
+
+/// Why a fit of `r2` and `gain` is not kept (None: kept); `range` the gain's.
+fn judge(samples: usize, r2: Option<f64>, gain: Option<f64>, range: (f64, f64)) -> Option<String> {
+    match (r2, gain) {
+        _ if samples < MIN_SAMPLES => Some(format!("{samples} samples")),
+        (None, _) | (_, None) => Some("the prediction does not vary".into()),
+        (Some(r2), _) if r2 < MIN_R2 => Some(format!("R^2 {r2:.3} below {MIN_R2}")),
+        (_, Some(g)) if !(range.0..=range.1).contains(&g) => {
+            Some(format!("gain {g:.4} outside {} ..= {}", range.0, range.1))
+        }
+        _ => None,
+    }
+}
+
+/// Calibrates from the trial folder `dir` against `model`'s prediction.
+pub fn calibrate_trial(dir: &Path, model: &Model) -> Result<Calibrated> {
+    calibrate(&Recording::read(dir, model)?, model)
+}
+
+/// Calibrates from the standing recording `rec` against `model`'s prediction (see the header).
+pub fn calibrate(rec: &Recording, model: &Model) -> Result<Calibrated> {
+    if rec.suspended {
+        bail!(
+            "trial {}: a suspended trial (the feet in the air): calibrate needs a standing trial, \
+             every foot on flat ground (`dbot excite --kind standing`)",
+            rec.name
+        );
+    }
+    let n = rec.len();
+    let near = rec.strain.as_ref().map(|s| s.nearest_cycles(&rec.t));
+    let cycles: Vec<usize> = match &near {
+        Some(near) => {
+            let mut c = near.clone();
+            c.dedup();
+            c
+        }
+        None => (0..n).collect(),
+    };
+    let stride = cycles.len().div_ceil(MAX_PREDICTED).max(1);
+    let cycles: Vec<usize> = cycles.into_iter().step_by(stride).collect();
+    let pred = predict::predict(model, rec, cycles)?;
+    let load_range = range_of("load_gain");
+    let joints = rec
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(k, jt)| {
+            let torque: Vec<f64> = pred.torque.iter().map(|t| t[k]).collect();
+            let recorded: Vec<f64> = pred
+                .cycles
+                .iter()
+                .map(|&c| recorded_nm(model, jt.joint, jt.load_raw[c]))
+                .collect();
+            let raw: Vec<i16> = pred.cycles.iter().map(|&c| jt.load_raw[c]).collect();
+            let map = model.joints[jt.joint].servo.expect("a servo joint");
+            let unit = f64::from(dynamixel::units::load_to_torque_nm(map.model, 1));
+            let line = crate::identify::load::fit(&recorded, &torque, &raw, unit);
+            let r2 = regression_r2(&torque, &recorded);
+            let gain = line.map(|l| l.gain);
+            Fit {
+                name: jt.name.clone(),
+                samples: recorded.len(),
+                r2,
+                gain,
+                offset_nm: line.map(|l| f64::from(map.sign) * l.offset_nm),
+                not_kept: judge(recorded.len(), r2, gain, load_range),
+            }
+        })
+        .collect();
+    let mut gauges = Vec::new();
+    if let (Some(strain), Some(near)) = (&rec.strain, &near) {
+        for (col, name) in strain.names.iter().enumerate() {
+            let Some(g) = model.gauges.iter().position(|m| &m.name == name) else {
+                continue;
+            };
+            let (mut x, mut y) = (Vec::new(), Vec::new());
+            for (s, &c) in near.iter().enumerate() {
+                if let Ok(k) = pred.cycles.binary_search(&c) {
+                    x.push(pred.strain[k][g]);
+                    y.push(strain.counts[s][col] - strain.baseline[col]);
+                }
+            }
+            let gain = slope(&x, &y);
+            let r2 = regression_r2(&x, &y);
+            gauges.push(Fit {
+                name: name.clone(),
+                samples: x.len(),
+                r2,
+                gain,
+                offset_nm: None,
+                not_kept: judge(
+                    x.len(),
+                    r2,
+                    gain,
+                    (
+                        1e-6,
+                        planner::model::calibration::MAX_COUNTS_PER_MICROSTRAIN,
+                    ),
+                ),
+            });
+        }
+    }
+    Ok(Calibrated {
+        trial: rec.name.clone(),
+        model: model.name.clone(),
+        joints,
+        gauges,
+    })
+}
+
+/// The range the model file allows the servo field `name`.
+fn range_of(name: &str) -> (f64, f64) {
+    planner::model::SERVO_FIELDS
+        .iter()
+        .find(|r| r.name == name)
+        .map(|r| (r.min, r.max))
+        .expect("a declared servo field")
+}
+
+/// The least-squares slope of `y` on `x` with an intercept (None: `x` does not vary).
+fn slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let n = x.len() as f64;
+    if x.len() < 2 {
+        return None;
+    }
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxx: f64 = x.iter().map(|v| (v - mx).powi(2)).sum();
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    (sxx > 1e-12).then(|| sxy / sxx)
+}
+
+/// Writes `cal`'s file to `out` (atomically), checked against `model` as a model file naming it
+/// would be.
+pub fn write(cal: &Calibrated, model: &Model, out: &Path) -> Result<()> {
+    let file = cal.file();
+    file.check(&out.display().to_string(), model)?;
+    board::files::write_bytes_atomically(out, file.to_toml().as_bytes())
+        .with_context(|| format!("writing {}", out.display()))
+}
