@@ -175,6 +175,7 @@ fn one_leg(model: &Model, leg: Leg) -> Model {
         feet: vec![foot],
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
+        foot_friction: None,
     }
 }
 
@@ -433,6 +434,7 @@ fn scaling_study(model: &Model, params: &planner::gait::StepParams) -> Result<Va
             feet,
             gauges: Vec::new(),
             servo_dynamics: Default::default(),
+            foot_friction: None,
         };
         let input = SliceInput::still(&m, q);
         let t = time_per_call(7, 200, || {

@@ -346,6 +346,7 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         // AnimatLab has no strain gauges: add `[[gauge]]` entries to the written model file.
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
+        foot_friction: None,
     };
     model.validate(file)?;
     Ok(model)

@@ -28,6 +28,9 @@ pub struct ModelFile {
     /// name; each field optional (docs/models.md, "Servo dynamics").
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub servo_dynamics: std::collections::BTreeMap<String, super::ServoParamsEntry>,
+    /// Sliding friction coefficient of a foot on the ground (docs/models.md); optional.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub foot_friction: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -454,6 +457,7 @@ impl ModelFile {
             feet,
             gauges: Vec::new(),
             servo_dynamics: self.servo_dynamics(file)?,
+            foot_friction: self.foot_friction,
         };
         model.validate(file)?;
         model.gauges = super::gauge_file::gauges_from_entries(&self.gauges, &model, file)?;

@@ -104,6 +104,7 @@ impl ModelFile {
                 .iter()
                 .map(|(m, e)| (m.key().to_owned(), *e))
                 .collect(),
+            foot_friction: model.foot_friction,
         }
     }
 }

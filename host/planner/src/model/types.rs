@@ -302,4 +302,9 @@ pub struct Model {
     /// ([`Model::servo_params`] resolves a joint's; docs/models.md, "Servo dynamics").
     #[serde(default)]
     pub servo_dynamics: super::ServoDynamics,
+    /// Sliding friction coefficient between a foot and the ground the model stands on, when the
+    /// model file gives one (a fitted value: `lab::identify` from a walking trial); `None` is
+    /// [`super::DEFAULT_FOOT_FRICTION`], an ESTIMATE ([`Model::foot_friction`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub foot_friction: Option<f64>,
 }

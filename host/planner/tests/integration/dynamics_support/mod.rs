@@ -130,6 +130,7 @@ pub fn toy_hexapod() -> Model {
         feet,
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
+        foot_friction: None,
     }
 }
 
