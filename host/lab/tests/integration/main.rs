@@ -3,6 +3,7 @@
 
 mod doctor;
 mod identify;
+mod identify_friction;
 mod perturbation;
 mod physics_serve;
 mod pinned_walk;
