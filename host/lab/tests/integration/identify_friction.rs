@@ -59,6 +59,16 @@ fn the_ground_friction_is_identified_from_a_walk_on_a_slippery_floor() {
         id.after[0].position_rms_rad(),
     );
     assert!(a * 3.0 < b, "position RMS before {b}, after {a}");
+    // The fitted model file carries it, and reads back through the model's validation.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fitted.toml");
+    let printed = lab::identify::write_outputs(&id, &out).unwrap();
+    assert!(
+        printed.contains("ground friction (foot_friction): 0.50"),
+        "{printed}"
+    );
+    let back = planner::model::load(&out).unwrap();
+    assert_eq!(back.foot_friction, Some(fitted));
 }
 
 #[test]
