@@ -10,7 +10,7 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   steps and chirps, feet in the air; ``"standing"``: slow posture changes), each with its step
   table checked by the rules of any gait, as ``dbot excite`` writes them.
 * :func:`identify` / :func:`replay` - the servo dynamics fitted to suspended excitation trials
-  (``dbot identify``), a trial replayed on the physics robot with per-joint R^2 and RMS
+  and the ground friction to walks whose feet slip (``dbot identify``), a trial replayed on the physics robot with per-joint R^2 and RMS
   (``dbot replay``); :func:`stand_in_trials` - the stand-in robot's trials (docs/identification.md).
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
