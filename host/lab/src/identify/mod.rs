@@ -45,7 +45,8 @@ pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total 
 pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is identified; the stall \
     torque itself only through the I and D gains' scale (no saturation in the excitation), weakly: \
     the fit can end along the valley of equal stiffness (the stand-in's full run: 2 of 5 joints \
-    24 % high with their stiffness within 2 %), with an error many times its sd";
+    24 % high with their stiffness within 2 %), with an error many times its sd: the optimiser's \
+    trust region collapses there though the truth fits better (docs/identification.md)";
 
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
