@@ -10,10 +10,11 @@ Thin typed bindings over the Rust host libraries (``planner``, ``board`` crates)
   steps and chirps, feet in the air; ``"standing"``: slow posture changes), each with its step
   table checked by the rules of any gait, as ``dbot excite`` writes them.
 * :func:`identify` / :func:`replay` - the servo dynamics fitted to suspended excitation trials
-  (``dbot identify``), a trial replayed on the physics robot with per-joint R^2 and RMS
-  (``dbot replay``); :func:`stand_in_trials` - the stand-in robot's trials (docs/identification.md);
-  :func:`calibrate` - calibrated readings from a standing trial (``dbot calibrate``);
-  :func:`stand_in_standing_trial` - a standing trial with strain of a stand-in of known gains.
+  and the ground friction to walks whose feet slip (``dbot identify``), a trial replayed on the
+  physics robot with per-joint R^2 and RMS (``dbot replay``); :func:`stand_in_trials` - the
+  stand-in robot's trials (docs/identification.md); :func:`calibrate` - calibrated readings from
+  a standing trial (``dbot calibrate``); :func:`stand_in_standing_trial` - a standing trial with
+  strain of a stand-in of known gains.
 * :func:`read_plan_dir` - a plan directory written by ``dbot plan`` / ``dbot demo`` (:class:`PlanDir`),
   with the same step table bytes as ``dbot table --plan``.
 * :func:`read_trial` - a trial folder written by ``dbot record``: arrays with its trial.json.

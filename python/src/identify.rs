@@ -20,7 +20,8 @@ fn model_or_default(model: Option<&Model>) -> PyResult<planner::model::Model> {
 }
 
 /// Fits `model`'s servo dynamics (default: the built-in Drosophibot II) to the trial folders
-/// `trials` (the suspended excitation's, recorded with the feet in the air), as ``dbot identify``
+/// `trials` (the suspended excitation's, recorded with the feet in the air), then the ground's
+/// friction (``foot_friction``) to those that walked when their feet slip, as ``dbot identify``
 /// does, and returns the fitted Model. With `out` (a .toml path) also writes the fitted model
 /// there and the report beside it (``<out>-report/``: report.md, plots). ValueError naming the
 /// trial, joint or file.

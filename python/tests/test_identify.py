@@ -47,7 +47,14 @@ def test_the_stand_in_is_identified_from_python(tmp_path) -> None:
     assert {j["load_reading"] for j in after["joints"]} == {"calibrated"}
 
 
-def test_a_trial_that_did_not_hang_is_refused_in_the_cli_words(tmp_path) -> None:
+def test_a_walk_alone_fits_only_the_ground_friction(tmp_path) -> None:
+    # The stand-in's walk is on the default ground (friction 1.5, sand paper): its feet do not
+    # slip, so the friction is named as not identified and the fitted model keeps the default;
+    # without a suspended trial the servo dynamics are kept as given (lab::identify).
     t = dbot.stand_in_trials(tmp_path / "trials", joints=["LM_FTi"], short=True)
-    with pytest.raises(ValueError, match="no suspended trial among the 1 given"):
-        dbot.identify([t["walk"]])
+    out = tmp_path / "fitted.toml"
+    dbot.identify([t["walk"]], t["start"], out=out)
+    report = (tmp_path / "fitted-report" / "report.md").read_text()
+    assert "- `foot_friction`: the feet hardly slip" in report
+    assert "- `servo dynamics`: no suspended trial given" in report
+    assert "foot_friction" not in tomllib.loads(out.read_text())

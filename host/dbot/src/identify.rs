@@ -1,12 +1,16 @@
-//! `dbot identify`: the servo dynamics fitted to recorded trials (`lab::identify`).
+//! `dbot identify`: the servo dynamics and the ground friction fitted to recorded trials
+//! (`lab::identify`).
 
-/// Fit the model's servo dynamics to suspended excitation trials (docs/identification.md): each
-/// trial's goals replayed on the physics robot; writes the fitted model and FITTED-report/.
+/// Fit the model's servo dynamics to suspended excitation trials, then the ground's friction
+/// (`foot_friction`) to the trials that walked, when their feet slip (docs/identification.md):
+/// each trial's goals replayed on the physics robot; writes the fitted model and FITTED-report/.
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Example:
-  dbot identify out/trials/sus-CTr out/trials/sus-FTi --model drosophibot2 --out fitted.toml")]
+  dbot identify out/trials/sus-CTr out/trials/sus-FTi --model drosophibot2 --out fitted.toml
+  dbot identify out/trials/walk-floor --model fitted.toml --out fitted-floor.toml")]
 pub struct Args {
-    /// Trial folders (`dbot record` of `dbot excite --kind suspended`'s sus-* tables).
+    /// Trial folders: `dbot record` of `dbot excite --kind suspended`'s sus-* tables (the servo
+    /// dynamics), and walks on the ground (its friction; walks on one substrate).
     #[arg(required = true)]
     trials: Vec<std::path::PathBuf>,
     /// The fitted model file to write.

@@ -176,6 +176,7 @@ fn one_leg(model: &Model, leg: Leg) -> Model {
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
         calibration: None,
+        foot_friction: None,
     }
 }
 
@@ -435,6 +436,7 @@ fn scaling_study(model: &Model, params: &planner::gait::StepParams) -> Result<Va
             gauges: Vec::new(),
             servo_dynamics: Default::default(),
             calibration: None,
+            foot_friction: None,
         };
         let input = SliceInput::still(&m, q);
         let t = time_per_call(7, 200, || {

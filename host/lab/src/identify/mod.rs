@@ -7,10 +7,15 @@
 //! parameter no reading responds to, or whose block is singular, is named as not identified,
 //! with the reason, as are the fields never fitted from motion ([`params::NOT_FROM_MOTION`]).
 //!
+//! The trials that walked (not suspended) then give the ground's sliding friction
+//! ([`friction`]: a scan and a Levenberg-Marquardt refinement of `foot_friction`, the servo
+//! dynamics held as fitted), or say that the feet did not slip enough to identify it.
+//!
 //! `dbot identify` and Python's `dbot.identify` call [`identify_trials`]; [`stand_in`] is the
 //! robot with known parameters the procedure is checked on.
 
 pub mod fit;
+pub mod friction;
 pub mod load;
 pub mod params;
 pub mod recording;
@@ -40,7 +45,8 @@ pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total 
 pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is identified; the stall \
     torque itself only through the I and D gains' scale (no saturation in the excitation), weakly: \
     the fit can end along the valley of equal stiffness (the stand-in's full run: 2 of 5 joints \
-    24 % high with their stiffness within 2 %), with an error many times its sd";
+    24 % high with their stiffness within 2 %), with an error many times its sd: the optimiser's \
+    trust region collapses there though the truth fits better (docs/identification.md)";
 
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,6 +94,8 @@ pub struct Identification {
     /// Replays run, and how the optimiser ended.
     pub replays: usize,
     pub termination: String,
+    /// The ground friction's fit, when a trial walked.
+    pub friction: Option<friction::FrictionFit>,
 }
 
 impl Identification {
@@ -112,22 +120,81 @@ pub fn identify_trials(
     identify(&recs, model, options)
 }
 
-/// Identifies `model`'s servo dynamics from `recordings` (the suspended ones; see the header).
+/// Why the servo dynamics are not fitted when no trial hung.
+pub const NO_SUSPENDED: &str = "no suspended trial given: the servo dynamics are fitted from the \
+    suspended excitation (`dbot excite --kind suspended`, tables named sus-*), played with the feet \
+    in the air; kept as the model gives them";
+
+/// Identifies `model` from `recordings` (see the header): the servo dynamics from the suspended
+/// ones, then the ground friction from those that walked, on the fitted servo dynamics.
 pub fn identify(
     recordings: &[Recording],
     model: &Model,
     options: &IdentifyOptions,
 ) -> Result<Identification> {
-    let suspended: Vec<Recording> = recordings.iter().filter(|r| r.suspended).cloned().collect();
-    if suspended.is_empty() {
-        bail!(
-            "no suspended trial among the {} given: the servo dynamics are fitted from the suspended \
-             excitation (`dbot excite --kind suspended`, tables named sus-*), played with the feet in the air",
-            recordings.len()
-        );
+    if recordings.is_empty() {
+        bail!("no trial given: identification needs suspended excitation trials or walking trials");
     }
+    let (suspended, walks): (Vec<Recording>, Vec<Recording>) =
+        recordings.iter().cloned().partition(|r| r.suspended);
+    let mut id = if suspended.is_empty() {
+        Identification {
+            model: model.clone(),
+            estimates: Vec::new(),
+            not_identified: vec![("servo dynamics", NO_SUSPENDED.to_owned())],
+            before: Vec::new(),
+            after: Vec::new(),
+            generalised: Vec::new(),
+            replays: 0,
+            termination: "no servo fit (no suspended trial)".to_owned(),
+            friction: None,
+        }
+    } else {
+        identify_servos(&suspended, model, options)?
+    };
+    if suspended.is_empty() {
+        id.model.name = format!("{}-identified", model.name);
+    }
+    if walks.is_empty() {
+        return Ok(id);
+    }
+    let before = walks
+        .iter()
+        .map(|r| crate::replay::replay_recording(model, r))
+        .collect::<Result<Vec<_>>>()?;
+    let f = friction::fit(&id.model, &walks)?;
+    id.estimates.push(Estimate {
+        joint: "ground".to_owned(),
+        field: "foot_friction",
+        unit: "",
+        start: f.start,
+        value: f.value,
+        sd: f.sd,
+        why: f.why.clone(),
+    });
+    match &f.why {
+        None => id.model.foot_friction = Some(f.value),
+        Some(why) => id.not_identified.push(("foot_friction", why.clone())),
+    }
+    id.replays += f.replays + 2 * walks.len();
+    let after = walks
+        .iter()
+        .map(|r| crate::replay::replay_recording(&id.model, r))
+        .collect::<Result<Vec<_>>>()?;
+    id.before.extend(before);
+    id.after.extend(after);
+    id.friction = Some(f);
+    Ok(id)
+}
+
+/// The servo dynamics from the suspended recordings `suspended` (not empty).
+fn identify_servos(
+    suspended: &[Recording],
+    model: &Model,
+    options: &IdentifyOptions,
+) -> Result<Identification> {
     let mut joints: Vec<usize> = Vec::new();
-    for r in &suspended {
+    for r in suspended {
         for jt in &r.joints {
             if !joints.contains(&jt.joint) {
                 joints.push(jt.joint);
@@ -140,7 +207,7 @@ pub fn identify(
         .collect::<Result<Vec<_>>>()?;
 
     let budget = options.max_replays_per_recording * suspended.len();
-    let problem = fit::MotionFit::new(model, &suspended, joints.clone(), budget);
+    let problem = fit::MotionFit::new(model, suspended, joints.clone(), budget);
     let (problem, report) = levenberg_marquardt::LevenbergMarquardt::new()
         .with_patience(100)
         .with_ftol(1e-3)
@@ -154,7 +221,7 @@ pub fn identify(
         .as_ref()
         .map_or_else(|| problem.x().clone(), |(_, x)| x.clone());
     let termination = format!("{:?}", report.termination);
-    let mut at_best = fit::MotionFit::new(model, &suspended, joints.clone(), usize::MAX);
+    let mut at_best = fit::MotionFit::new(model, suspended, joints.clone(), usize::MAX);
     levenberg_marquardt::LeastSquaresProblem::set_params(&mut at_best, &best);
     let jac = at_best.jacobian_now()?;
     let cost = levenberg_marquardt::LeastSquaresProblem::residuals(&at_best)
@@ -201,7 +268,7 @@ pub fn identify(
 
     // The Present Load reading, per joint, against the fitted motion's torque.
     let mut load_fits = Vec::new();
-    for r in &suspended {
+    for r in suspended {
         let out = rollout::replay(&fitted, r)?;
         for (k, jt) in r.joints.iter().enumerate() {
             let map = fitted.joints[jt.joint].servo.expect("a servo joint");
@@ -286,6 +353,7 @@ pub fn identify(
         generalised,
         replays,
         termination,
+        friction: None,
     })
 }
 

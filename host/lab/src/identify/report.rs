@@ -94,8 +94,8 @@ pub fn markdown(id: &Identification) -> String {
 /// recording, the position RMS before and after.
 pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
     let notes = format!(
-        "Servo dynamics identified (lab::identify) from: {}. Each fitted joint's values are its \
-         servo_dynamics overrides; see the report beside this file.",
+        "Identified (lab::identify) from: {}. Each fitted joint's values are its servo_dynamics \
+         overrides, a fitted ground friction is foot_friction; see the report beside this file.",
         id.before
             .iter()
             .map(|r| r.trial.as_str())
@@ -119,6 +119,15 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
             b.trial,
             b.position_rms_rad() * 1e3,
             a.position_rms_rad() * 1e3
+        );
+    }
+    if let Some(f) = id.friction.as_ref().filter(|f| f.why.is_none()) {
+        let _ = writeln!(
+            s,
+            "ground friction (foot_friction): {:.3} (sd {:.1e}; started at {:.2})",
+            f.value,
+            f.sd.unwrap_or(f64::NAN),
+            f.start
         );
     }
     for (f, _) in &id.not_identified {

@@ -4,6 +4,7 @@
 mod calibrate;
 mod doctor;
 mod identify;
+mod identify_friction;
 mod perturbation;
 mod physics_serve;
 mod pinned_walk;

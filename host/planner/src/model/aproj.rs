@@ -347,6 +347,7 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
         calibration: None,
+        foot_friction: None,
     };
     model.validate(file)?;
     Ok(model)

@@ -32,6 +32,9 @@ pub struct ModelFile {
     /// to this file; optional.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<String>,
+    /// Sliding friction coefficient of a foot on the ground (docs/models.md); optional.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub foot_friction: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -459,6 +462,7 @@ impl ModelFile {
             gauges: Vec::new(),
             servo_dynamics: self.servo_dynamics(file)?,
             calibration: None,
+            foot_friction: self.foot_friction,
         };
         model.validate(file)?;
         model.gauges = super::gauge_file::gauges_from_entries(&self.gauges, &model, file)?;

@@ -108,6 +108,7 @@ impl ModelFile {
                 .calibration
                 .as_ref()
                 .map(|c| c.path.display().to_string()),
+            foot_friction: model.foot_friction,
         }
     }
 }

@@ -9,7 +9,8 @@
 //! Pure text, no MuJoCo needed: the `physics` crate loads it, and its tests check that MuJoCo's own
 //! model data equal the model's. Contact and solver settings are the ones measured to let a standing
 //! robot tell the truth (../shared/reference/host-crates.md): stiff contact (solref 0.002 s, solimp
-//! 0.999), elliptic cones, friction 1.5, no-slip iterations, 0.5 ms implicitfast steps.
+//! 0.999), elliptic cones, the feet's sliding friction the model's (`Model::foot_friction`,
+//! 1.5 unless the model file gives it), no-slip iterations, 0.5 ms implicitfast steps.
 
 use std::fmt::Write;
 
@@ -211,7 +212,8 @@ pub fn to_mjcf(model: &Model, options: &MjcfOptions) -> String {
     // Only feet touch the terrain (contype 1 / conaffinity 2 against the terrain's 2 / 1).
     let _ = writeln!(
         s,
-        r#"  <default><geom condim="3" friction="1.5 0.005 0.0001" solref="0.002 1" solimp="0.999 0.999 0.001 0.5 2"/></default>"#
+        r#"  <default><geom condim="3" friction="{} 0.005 0.0001" solref="0.002 1" solimp="0.999 0.999 0.001 0.5 2"/></default>"#,
+        model.foot_friction()
     );
     s.push_str("  <worldbody>\n");
     let floor = match options.scene {

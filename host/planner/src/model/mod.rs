@@ -40,6 +40,7 @@ pub use mjcf::{
     BALL_MASS_KG, DEFAULT_TIMESTEP_S, FOOT_RADIUS_M, MUJOCO_FLOOR, MjcfOptions, Scene,
     ServoActuator, hinge_order, joint_actuator, servo_actuator, to_mjcf,
 };
+pub use ranges::{DEFAULT_FOOT_FRICTION, FOOT_FRICTION};
 pub use servo_params::{FieldRange, SERVO_FIELDS, ServoDynamics, ServoParams, ServoParamsEntry};
 pub use spring::{SpringPreset, SpringSpec};
 pub use urdf::to_urdf;

@@ -17,6 +17,21 @@ pub const MAX_LENGTH_M: f64 = 10.0;
 /// Range of an actuated joint's stiffness (servo or muscle), N m/rad: below the lower bound the
 /// joint is no spring at all and the posture solve is singular.
 pub const STIFFNESS_NM_PER_RAD: (f64, f64) = (1e-12, 1e6);
+/// A foot's sliding friction coefficient: above 0 (a foot that cannot push does not walk) and at
+/// most 5 (beyond any dry elastomer on a hard surface; MuJoCo takes any non-negative value).
+pub const FOOT_FRICTION: (f64, f64) = (0.01, 5.0);
+/// A foot's sliding friction when the model gives none: the MJCF export's historical contact
+/// friction, with which a standing robot's feet were measured not to creep. ESTIMATE (sand
+/// paper's, `physics::substrate::SANDPAPER_MU`).
+pub const DEFAULT_FOOT_FRICTION: f64 = 1.5;
+
+impl Model {
+    /// The sliding friction coefficient between a foot and the ground: the model file's
+    /// `foot_friction`, else [`DEFAULT_FOOT_FRICTION`] (an ESTIMATE).
+    pub fn foot_friction(&self) -> f64 {
+        self.foot_friction.unwrap_or(DEFAULT_FOOT_FRICTION)
+    }
+}
 
 impl Model {
     /// Every mass, length and stiffness finite, of the right sign and within the ranges above.
@@ -38,6 +53,17 @@ impl Model {
             }
             if !b.inertia.iter().all(|x| x.is_finite()) {
                 return Err(field(file, place, "inertia", "not finite"));
+            }
+        }
+        if let Some(mu) = self.foot_friction {
+            let (lo, hi) = FOOT_FRICTION;
+            if !(mu.is_finite() && (lo..=hi).contains(&mu)) {
+                return Err(field(
+                    file,
+                    "model",
+                    "foot_friction",
+                    format!("{mu} is not a sliding friction coefficient in {lo} ..= {hi}"),
+                ));
             }
         }
         // Each mass is finite and >= 0 here, so the sum is too.

@@ -306,4 +306,9 @@ pub struct Model {
     /// per joint the Present Load reading (over `servo_dynamics`'), per gauge its gain.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<super::ReadingCalibration>,
+    /// Sliding friction coefficient between a foot and the ground the model stands on, when the
+    /// model file gives one (a fitted value: `lab::identify` from a walking trial); `None` is
+    /// [`super::DEFAULT_FOOT_FRICTION`], an ESTIMATE ([`Model::foot_friction`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub foot_friction: Option<f64>,
 }

@@ -93,6 +93,7 @@ fn pogo(big_m: f64, m1: f64, m2: f64, l1: f64, l2: f64) -> Model {
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
         calibration: None,
+        foot_friction: None,
     }
 }
 

@@ -4,6 +4,7 @@
 // Helpers shared by several modules.
 mod dynamics_support;
 mod excitation;
+mod foot_friction;
 mod model_blocks;
 mod model_support;
 mod reliability_common;

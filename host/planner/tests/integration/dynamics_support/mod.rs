@@ -131,6 +131,7 @@ pub fn toy_hexapod() -> Model {
         gauges: Vec::new(),
         servo_dynamics: Default::default(),
         calibration: None,
+        foot_friction: None,
     }
 }
 
