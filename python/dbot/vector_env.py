@@ -59,7 +59,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector import VectorEnv as _GymVectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._native import InlineCore, Model, Plan, VectorCore, VectorOptions
+from ._native import Model, Plan, VectorCore, VectorOptions
 
 #: The id under which ``gymnasium.make_vec`` builds :class:`VectorEnv` (``dbot.env`` registers it).
 ENV_ID = "dbot/Physics-v0"
@@ -139,11 +139,7 @@ class VectorEnv(_GymVectorEnv):
             fall_tilt_rad,
             cheap_reset,
         )
-        self._core = (
-            InlineCore(self.num_envs, options)
-            if self.threads == 0
-            else VectorCore(self.num_envs, self.threads, options)
-        )
+        self._core = VectorCore(self.num_envs, self.threads, options)
         self._all = np.ones(self.num_envs, dtype=bool)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._np_randoms: list[np.random.Generator] = [
