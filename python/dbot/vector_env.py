@@ -9,7 +9,9 @@ lives on thread ``i % threads`` and shares nothing with the others, so results a
 whatever the thread count. ``threads=0`` steps them on the calling thread instead, the GIL held
 (no hand-over of each step to a worker: the cheapest for one robot, or for a process that
 parallelises otherwise, e.g. a process pool or Ray actors); default: one thread per robot up to
-the CPU count.
+the CPU count. Either way a ``VectorEnv`` stays on the Python thread that made it (its Rust core
+is one ``unsendable`` class, as the robots of ``threads=0`` must be): a call from another thread
+raises ``PanicException`` ("... is unsendable, but sent to another thread").
 
 Spaces: ``single_observation_space`` and ``single_action_space`` are ``DbotEnv``'s (the ``Dict``
 observation with the strain gauges; the 22 joint targets, or with ``torques=True`` the ``Dict``
