@@ -56,7 +56,7 @@ def vector_rate(n: int, threads: int, steps: int) -> dict[str, float]:
 
 
 def core_rate(steps: int) -> dict[str, float]:
-    """`VectorEnv(1, threads=0)`'s Rust core alone (`InlineCore.step`): the step without the
+    """`VectorEnv(1, threads=0)`'s Rust core alone (`VectorCore.step`): the step without the
     Gymnasium wrapper's Python (clipping, the observation and info dicts)."""
     env = VectorEnv(1, threads=0, max_episode_steps=steps + 10)
     env.reset(seed=0)
@@ -186,7 +186,7 @@ def main() -> int:
           "| us per step | overhead against bare MuJoCo |")
     print("|---|---|---|")
     print(f"| bare MuJoCo, same model, 10 x 1 ms | {bare_us:.0f} | - |")
-    for name, m in (("its Rust core alone (InlineCore.step)", core),
+    for name, m in (("its Rust core alone (VectorCore.step)", core),
                     ("VectorEnv(1, threads=0)", inline), ("VectorEnv(1, threads=1)", worker1),
                     ("DbotEnv", single)):
         print(f"| {name} | {per(m):.0f} | {100 * (1 - bare_us / per(m)):.0f} % |")

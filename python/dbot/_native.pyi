@@ -783,7 +783,7 @@ def stand_in_trials(
 ) -> dict[str, Any]: ...
 
 class VectorOptions:
-    """What every sub-environment of ``VectorCore`` / ``InlineCore`` is built with, as
+    """What every sub-environment of ``VectorCore`` is built with, as
     ``dbot.env.DbotEnv`` takes it (python/src/vector_sub.rs); ``table`` the step table's bytes."""
 
     def __init__(
@@ -802,33 +802,11 @@ class VectorOptions:
     ) -> None: ...
 
 class VectorCore:
-    """N physics robots on worker threads, the GIL released (the engine of ``dbot.env.VectorEnv``;
-    python/src/vector.rs). Rows: a dict of arrays, first axis the sub-environment."""
+    """N physics robots on ``threads`` worker threads, the GIL released, or with ``threads=0`` on
+    the calling thread, the GIL held (the engine of ``dbot.env.VectorEnv``; python/src/vector.rs).
+    Rows: a dict of arrays, first axis the sub-environment."""
 
     def __init__(self, num_envs: int, threads: int, options: VectorOptions) -> None: ...
-    @property
-    def num_envs(self) -> int: ...
-    @property
-    def threads(self) -> int: ...
-    def reset(
-        self,
-        mask: npt.NDArray[np.bool_] | None = None,
-        scene: str | None = None,
-        stiffness_nm_rad: float | None = None,
-    ) -> dict[str, Any]: ...
-    def step(
-        self,
-        angles_rad: npt.NDArray[np.float64],
-        torques_nm: npt.NDArray[np.float64] | None = None,
-        reset: npt.NDArray[np.bool_] | None = None,
-    ) -> dict[str, Any]: ...
-    def close(self) -> None: ...
-
-class InlineCore:
-    """``VectorCore``'s robots on the calling thread, the GIL held (``VectorEnv(threads=0)``;
-    python/src/vector_inline.rs)."""
-
-    def __init__(self, num_envs: int, options: VectorOptions) -> None: ...
     @property
     def num_envs(self) -> int: ...
     @property

@@ -9,7 +9,9 @@ lives on thread ``i % threads`` and shares nothing with the others, so results a
 whatever the thread count. ``threads=0`` steps them on the calling thread instead, the GIL held
 (no hand-over of each step to a worker: the cheapest for one robot, or for a process that
 parallelises otherwise, e.g. a process pool or Ray actors); default: one thread per robot up to
-the CPU count.
+the CPU count. Either way a ``VectorEnv`` stays on the Python thread that made it (its Rust core
+is one ``unsendable`` class, as the robots of ``threads=0`` must be): a call from another thread
+raises ``PanicException`` ("... is unsendable, but sent to another thread").
 
 Spaces: ``single_observation_space`` and ``single_action_space`` are ``DbotEnv``'s (the ``Dict``
 observation with the strain gauges; the 22 joint targets, or with ``torques=True`` the ``Dict``
@@ -59,7 +61,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector import VectorEnv as _GymVectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._native import InlineCore, Model, Plan, VectorCore, VectorOptions
+from ._native import Model, Plan, VectorCore, VectorOptions
 
 #: The id under which ``gymnasium.make_vec`` builds :class:`VectorEnv` (``dbot.env`` registers it).
 ENV_ID = "dbot/Physics-v0"
@@ -139,11 +141,7 @@ class VectorEnv(_GymVectorEnv):
             fall_tilt_rad,
             cheap_reset,
         )
-        self._core = (
-            InlineCore(self.num_envs, options)
-            if self.threads == 0
-            else VectorCore(self.num_envs, self.threads, options)
-        )
+        self._core = VectorCore(self.num_envs, self.threads, options)
         self._all = np.ones(self.num_envs, dtype=bool)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._np_randoms: list[np.random.Generator] = [

@@ -135,26 +135,27 @@ impl Board {
         Ok((known, model))
     }
 
-    /// Runs a period rule's door (`period::play`, `period::queue`) on the table in `slot`
-    /// ([`Self::slot_table`]) with `allow_infeasible`, warning when it was overridden.
+    /// Runs a period rule's door (`period::play`, `period::queue`) with `command` on the table in
+    /// its slot ([`Self::slot_table`]) with `allow_infeasible`, warning when it was overridden.
     fn by_period_rule(
         &self,
         py: Python<'_>,
-        slot: u8,
+        command: PlayCommand,
         allow_infeasible: bool,
         door: impl FnOnce(
             &mut Link,
+            PlayCommand,
             Option<&[u8]>,
             &planner::model::Model,
             ::board::rules::Overrides,
         )
             -> Result<Option<::board::rules::Overridden>, ::board::rules::RuleError>,
     ) -> PyResult<()> {
-        let (known, model) = self.slot_table(slot)?;
+        let (known, model) = self.slot_table(command.slot)?;
         let overrides = ::board::rules::Overrides { allow_infeasible };
         let warning = self.with_rules(
             py,
-            |link| door(link, known.as_deref(), &model, overrides),
+            |link| door(link, command, known.as_deref(), &model, overrides),
             rule_error,
         )?;
         warn_overridden(py, warning.as_ref())
@@ -382,14 +383,7 @@ impl Board {
     ) -> PyResult<()> {
         let command = scaled_command(slot, steps, period_scale, backward)?;
         let stored = self.with(py, |l| l.gaits())?;
-        self.by_period_rule(
-            py,
-            slot,
-            allow_infeasible,
-            |link, known, model, overrides| {
-                ::board::rules::period::play(link, command, known, model, overrides)
-            },
-        )?;
+        self.by_period_rule(py, command, allow_infeasible, ::board::rules::period::play)?;
         self.naming().played(slot);
         if let Some(msg) = stored
             .iter()
@@ -422,15 +416,10 @@ impl Board {
         backward: bool,
         allow_infeasible: bool,
     ) -> PyResult<()> {
-        let command = protocol::QueueCommand(scaled_command(slot, steps, period_scale, backward)?);
-        self.by_period_rule(
-            py,
-            slot,
-            allow_infeasible,
-            |link, known, model, overrides| {
-                ::board::rules::period::queue(link, command, known, model, overrides)
-            },
-        )
+        let command = scaled_command(slot, steps, period_scale, backward)?;
+        self.by_period_rule(py, command, allow_infeasible, |link, c, known, model, o| {
+            ::board::rules::period::queue(link, protocol::QueueCommand(c), known, model, o)
+        })
     }
 
     /// Sets the gaits `steer` blends: slots `straight`, `left`, `right`, planned for headings 0,

@@ -24,7 +24,6 @@ mod stream;
 mod trial;
 mod trial_record;
 mod vector;
-mod vector_inline;
 mod vector_sub;
 
 use pyo3::prelude::*;
@@ -46,7 +45,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<bench::Bench>()?;
     m.add_class::<vector_sub::Options>()?;
     m.add_class::<vector::VectorCore>()?;
-    m.add_class::<vector_inline::InlineCore>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(doctor::doctor, m)?)?;

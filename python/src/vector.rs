@@ -1,21 +1,23 @@
 //! `dbot._native.VectorCore`: N physics robots (the firmware library over the simulated bus
-//! moving a MuJoCo body, each its own `physics::Robot`) stepped on worker threads with the GIL
-//! released; the engine under `dbot.env.VectorEnv` (python/dbot/vector_env.py, which keeps the
-//! Gymnasium side: spaces, autoreset, infos).
+//! moving a MuJoCo body, each its own `physics::Robot`), the engine under `dbot.env.VectorEnv`
+//! (python/dbot/vector_env.py, which keeps the Gymnasium side: spaces, autoreset, infos). They
+//! step on worker threads with the GIL released or, with `threads = 0`, on the calling thread
+//! with the GIL held (no hand-over of every step between threads: the cheapest for one robot or
+//! a process that parallelises elsewhere, a process pool or Ray actors).
 //!
 //! A robot's link is not `Send` (its simulated wire is single-threaded), so each robot is opened
-//! on the worker that owns it and stays there: sub-environment `i` lives on worker
-//! `i % threads`. Every sub-environment runs the same calls in the same order on its own robot
-//! whatever the thread count, and nothing is shared between robots, so results are
-//! bit-identical for any thread count.
+//! on the thread that owns it and stays there: sub-environment `i` lives on worker
+//! `i % threads`, or with `threads = 0` on the Python thread that made the core (`unsendable`:
+//! the core stays on that thread). Every sub-environment runs the same calls in the same order
+//! on its own robot whatever the thread count, and nothing is shared between robots, so results
+//! are bit-identical for any thread count, 0 included.
 //!
 //! The reset and the step are those of `dbot.env.DbotEnv` on the physics robot, call for call on
 //! the link (each `Board.status()` of the Python class is the same three requests here:
 //! `vector_sub::status`), so a sub-environment equals `DbotEnv` step by step
-//! (python/tests/test_vector_env.py checks it against `SyncVectorEnv`). The job builders and the
-//! batch of rows are shared with `InlineCore` (python/src/vector_inline.rs: the same robots on
-//! the calling thread).
+//! (python/tests/test_vector_env.py checks it against `SyncVectorEnv`).
 
+use std::cell::RefCell;
 use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
@@ -29,7 +31,7 @@ use crate::errors::{board_error, value_error};
 use crate::vector_sub::{Options, Row, SubEnv};
 
 /// What one sub-environment does in a batch.
-pub(crate) enum Job {
+enum Job {
     /// Reset (a scene replaces the kept one; a stiffness holds for this episode).
     Reset {
         scene: Option<String>,
@@ -54,16 +56,46 @@ struct Workers {
     handles: Vec<JoinHandle<()>>,
 }
 
-/// N physics robots on worker threads.
-#[pyclass(module = "dbot._native")]
+/// Where the robots run (None inside: closed).
+enum Engine {
+    /// On worker threads, the GIL released.
+    Threads(Mutex<Option<Workers>>),
+    /// One after another on the calling thread, the GIL held (`threads = 0`).
+    Inline(RefCell<Option<Vec<SubEnv>>>),
+}
+
+/// N physics robots on worker threads or on the calling thread.
+#[pyclass(module = "dbot._native", unsendable)]
 pub struct VectorCore {
-    workers: Mutex<Option<Workers>>,
+    engine: Engine,
     num_envs: usize,
     threads: usize,
     /// Each sub-environment's latest row (what a batch that skips it returns).
-    rows: Mutex<Vec<Row>>,
+    rows: RefCell<Vec<Row>>,
     joints: usize,
     gauges: usize,
+}
+
+/// The message when the core was closed.
+const CLOSED: &str = "the vector environment was closed";
+
+/// `threads` workers, each to build its sub-environments with `options`.
+fn spawn(threads: usize, options: &Options) -> PyResult<Workers> {
+    let (answer_to, from) = channel();
+    let mut to = Vec::new();
+    let mut handles = Vec::new();
+    for t in 0..threads {
+        let (tx, rx) = channel();
+        let answers = answer_to.clone();
+        let opts = options.clone();
+        let h = std::thread::Builder::new()
+            .name(format!("dbot-vector-{t}"))
+            .spawn(move || worker(opts, rx, answers))
+            .map_err(board_error)?;
+        to.push(tx);
+        handles.push(h);
+    }
+    Ok(Workers { to, from, handles })
 }
 
 fn worker(options: Options, batches: Receiver<Batch>, answers: Sender<Answer>) {
@@ -92,13 +124,25 @@ impl std::fmt::Debug for VectorCore {
 }
 
 impl VectorCore {
-    /// Runs `jobs` (at most one per sub-environment) on the workers, the GIL released, and keeps
-    /// the rows they give.
+    /// Runs `jobs` (at most one per sub-environment, in sub-environment order) and keeps the rows
+    /// they give: on the workers with the GIL released, or here.
     fn run(&self, py: Python<'_>, jobs: Vec<(usize, Job)>) -> PyResult<()> {
+        let workers = match &self.engine {
+            Engine::Threads(workers) => workers,
+            Engine::Inline(envs) => {
+                let mut envs = envs.borrow_mut();
+                let envs = envs.as_mut().ok_or_else(|| board_error(CLOSED))?;
+                let mut rows = self.rows.borrow_mut();
+                for (i, job) in jobs {
+                    rows[i] = run_job(&mut envs[i], i, job).map_err(board_error)?;
+                }
+                return Ok(());
+            }
+        };
         let threads = self.threads;
         let answers = py.detach(|| -> Result<Vec<(usize, Row)>, String> {
-            let guard = self.workers.lock().unwrap_or_else(|e| e.into_inner());
-            let w = guard.as_ref().ok_or("the vector environment was closed")?;
+            let guard = workers.lock().unwrap_or_else(|e| e.into_inner());
+            let w = guard.as_ref().ok_or(CLOSED)?;
             let mut batches: Vec<Batch> = (0..threads).map(|_| Vec::new()).collect();
             for (i, job) in jobs {
                 batches[i % threads].push((i, job));
@@ -128,7 +172,7 @@ impl VectorCore {
             Ok(rows)
         });
         let answers = answers.map_err(board_error)?;
-        let mut rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
+        let mut rows = self.rows.borrow_mut();
         for (i, row) in answers {
             rows[i] = row;
         }
@@ -137,7 +181,7 @@ impl VectorCore {
 }
 
 /// Every sub-environment's latest row as a dict of arrays (first axis: sub-environment).
-pub(crate) fn batch<'py>(
+fn batch<'py>(
     py: Python<'py>,
     rows: &[Row],
     joints: usize,
@@ -185,8 +229,8 @@ pub(crate) fn batch<'py>(
     Ok(d)
 }
 
-/// One job on one sub-environment, as a worker runs it.
-pub(crate) fn run_job(env: &mut SubEnv, i: usize, job: Job) -> Result<Row, String> {
+/// One job on one sub-environment, as a worker (or the inline engine) runs it.
+fn run_job(env: &mut SubEnv, i: usize, job: Job) -> Result<Row, String> {
     match job {
         Job::Reset { scene, stiffness } => env.reset(scene, stiffness),
         Job::Step { angles, torques } => env.step(&angles, torques.as_deref()),
@@ -194,7 +238,7 @@ pub(crate) fn run_job(env: &mut SubEnv, i: usize, job: Job) -> Result<Row, Strin
     .map_err(|e| format!("sub-environment {i}: {e}"))
 }
 
-pub(crate) fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> {
+fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> {
     match m {
         None => Ok(vec![true; n]),
         Some(m) => {
@@ -210,7 +254,7 @@ pub(crate) fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<
     }
 }
 
-pub(crate) fn rows_of(
+fn rows_of(
     a: &PyReadonlyArray2<'_, f64>,
     n: usize,
     j: usize,
@@ -227,7 +271,7 @@ pub(crate) fn rows_of(
 }
 
 /// The jobs of a reset: the sub-environments `mask` selects (None: all).
-pub(crate) fn reset_jobs(
+fn reset_jobs(
     n: usize,
     mask: Option<PyReadonlyArray1<'_, bool>>,
     scene: Option<String>,
@@ -247,7 +291,7 @@ pub(crate) fn reset_jobs(
 }
 
 /// The jobs of a step: each sub-environment's row of actions, or a reset where `reset` says.
-pub(crate) fn step_jobs(
+fn step_jobs(
     n: usize,
     joints: usize,
     angles_rad: PyReadonlyArray2<'_, f64>,
@@ -285,43 +329,32 @@ pub(crate) fn step_jobs(
 
 #[pymethods]
 impl VectorCore {
-    /// `num_envs` physics robots on `threads` worker threads, each built with `options`
-    /// (`VectorOptions`: the step table uploaded at every reset, which tells the board its joint
-    /// map, calibration, limits and stiffness, and the other arguments as `dbot.env.DbotEnv`
-    /// takes them).
+    /// `num_envs` physics robots on `threads` worker threads (0: on the calling thread), each
+    /// built with `options` (`VectorOptions`: the step table uploaded at every reset, which tells
+    /// the board its joint map, calibration, limits and stiffness, and the other arguments as
+    /// `dbot.env.DbotEnv` takes them).
     #[new]
     #[pyo3(signature = (num_envs, threads, options))]
     fn new(num_envs: usize, threads: usize, options: &Options) -> PyResult<Self> {
         if num_envs == 0 {
             return Err(value_error("num_envs = 0: give 1 or more"));
         }
-        if threads == 0 {
-            return Err(value_error("threads = 0: give 1 or more"));
-        }
         let model = planner::model::builtin("drosophibot2").map_err(value_error)?;
         let joints = model.servo_chain().len();
         let gauges = model.gauges.len();
         let options = options.clone();
         let threads = threads.min(num_envs);
-        let (answer_to, from) = channel();
-        let mut to = Vec::new();
-        let mut handles = Vec::new();
-        for t in 0..threads {
-            let (tx, rx) = channel();
-            let answers = answer_to.clone();
-            let opts = options.clone();
-            let h = std::thread::Builder::new()
-                .name(format!("dbot-vector-{t}"))
-                .spawn(move || worker(opts, rx, answers))
-                .map_err(board_error)?;
-            to.push(tx);
-            handles.push(h);
-        }
+        let engine = if threads == 0 {
+            let envs = (0..num_envs).map(|_| SubEnv::new(options.clone()));
+            Engine::Inline(RefCell::new(Some(envs.collect())))
+        } else {
+            Engine::Threads(Mutex::new(Some(spawn(threads, &options)?)))
+        };
         Ok(Self {
-            workers: Mutex::new(Some(Workers { to, from, handles })),
+            engine,
             num_envs,
             threads,
-            rows: Mutex::new(vec![Row::default(); num_envs]),
+            rows: RefCell::new(vec![Row::default(); num_envs]),
             joints,
             gauges,
         })
@@ -333,7 +366,7 @@ impl VectorCore {
         self.num_envs
     }
 
-    /// Worker threads (at most one per sub-environment).
+    /// Worker threads (at most one per sub-environment; 0: the calling thread).
     #[getter]
     fn threads(&self) -> usize {
         self.threads
@@ -352,8 +385,7 @@ impl VectorCore {
     ) -> PyResult<Bound<'py, PyDict>> {
         let jobs = reset_jobs(self.num_envs, mask, scene, stiffness_nm_rad)?;
         self.run(py, jobs)?;
-        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
-        batch(py, &rows, self.joints, self.gauges)
+        batch(py, &self.rows.borrow(), self.joints, self.gauges)
     }
 
     /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad, clipped by the
@@ -374,40 +406,39 @@ impl VectorCore {
     ) -> PyResult<Bound<'py, PyDict>> {
         let jobs = step_jobs(self.num_envs, self.joints, angles_rad, torques_nm, reset)?;
         self.run(py, jobs)?;
-        let rows = self.rows.lock().unwrap_or_else(|e| e.into_inner());
-        batch(py, &rows, self.joints, self.gauges)
+        batch(py, &self.rows.borrow(), self.joints, self.gauges)
     }
 
     /// Stops the workers and closes every robot (idempotent).
     fn close(&self, py: Python<'_>) {
-        let w = self
-            .workers
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .take();
-        if let Some(w) = w {
-            py.detach(move || {
-                drop(w.to);
-                for h in w.handles {
-                    let _ = h.join();
+        match &self.engine {
+            Engine::Threads(workers) => {
+                let w = workers.lock().unwrap_or_else(|e| e.into_inner()).take();
+                if let Some(w) = w {
+                    py.detach(move || w.stop());
                 }
-            });
+            }
+            Engine::Inline(envs) => drop(envs.borrow_mut().take()),
+        }
+    }
+}
+
+impl Workers {
+    /// Closes the mailboxes and waits for each worker to close its robots and end.
+    fn stop(self) {
+        drop(self.to);
+        for h in self.handles {
+            let _ = h.join();
         }
     }
 }
 
 impl Drop for VectorCore {
     fn drop(&mut self) {
-        if let Some(w) = self
-            .workers
-            .get_mut()
-            .unwrap_or_else(|e| e.into_inner())
-            .take()
+        if let Engine::Threads(workers) = &mut self.engine
+            && let Some(w) = workers.get_mut().unwrap_or_else(|e| e.into_inner()).take()
         {
-            drop(w.to);
-            for h in w.handles {
-                let _ = h.join();
-            }
+            w.stop();
         }
     }
 }

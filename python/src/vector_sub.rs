@@ -19,7 +19,7 @@ use crate::errors::value_error;
 type Robot = physics::Robot;
 
 /// What every sub-environment is built with (`DbotEnv`'s arguments): Python's
-/// `dbot._native.VectorOptions`, given to `VectorCore` or `InlineCore`.
+/// `dbot._native.VectorOptions`, given to `VectorCore`.
 #[pyclass(name = "VectorOptions", frozen, module = "dbot._native")]
 #[derive(Debug, Clone)]
 pub struct Options {
