@@ -168,16 +168,12 @@ fn one_leg(model: &Model, leg: Leg) -> Model {
     }
     let mut foot = model.foot(leg).expect("leg has a foot").clone();
     foot.body = map[foot.body];
-    Model {
-        name: format!("{}_{}", model.name, leg.name()),
+    Model::of_parts(
+        format!("{}_{}", model.name, leg.name()),
         bodies,
         joints,
-        feet: vec![foot],
-        gauges: Vec::new(),
-        servo_dynamics: Default::default(),
-        calibration: None,
-        foot_friction: None,
-    }
+        vec![foot],
+    )
 }
 
 /// Our recursive Newton-Euler of a fixed-base model: axis moment of every joint.
@@ -428,16 +424,7 @@ fn scaling_study(model: &Model, params: &planner::gait::StepParams) -> Result<Va
             feet.push(f);
             q.extend(model.leg_chain(*leg).iter().map(|&j| inputs[0].q[j]));
         }
-        let m = Model {
-            name: format!("{k} legs"),
-            bodies,
-            joints,
-            feet,
-            gauges: Vec::new(),
-            servo_dynamics: Default::default(),
-            calibration: None,
-            foot_friction: None,
-        };
+        let m = Model::of_parts(format!("{k} legs"), bodies, joints, feet);
         let input = SliceInput::still(&m, q);
         let t = time_per_call(7, 200, || {
             black_box(solve_slice(&m, black_box(&input), &fixed, 0).unwrap());

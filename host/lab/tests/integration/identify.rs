@@ -175,7 +175,7 @@ fn the_stand_in_is_identified_from_a_suspended_excitation() {
 }
 
 /// The stand-in walking one step of the servo-safe plan of the default model on flat ground.
-fn stand_in_walk(default: &Model, truth: &Model) -> Recording {
+pub(crate) fn stand_in_walk(default: &Model, truth: &Model) -> Recording {
     let params = planner::gait::StepParams::preset("servo-safe", &default.name).unwrap();
     let plan = planner::plan::plan(default, &params).unwrap();
     let joints: Vec<usize> = (0..default.joints.len())

@@ -3,44 +3,30 @@
 //! identification, started from the default friction (1.5, sand paper's ESTIMATE), recovers it
 //! when the feet slip, or says it cannot when they do not.
 
-use lab::identify::stand_in::{self, BUS_PERIOD_S};
-use lab::identify::{IdentifyOptions, identify, recording::Recording};
-use planner::model::Model;
+use lab::identify::stand_in;
+use lab::identify::{Identification, IdentifyOptions, identify};
 
 /// The stand-in (its servo dynamics, feet of friction `mu`) walking one step of the servo-safe
-/// plan of the default model on flat ground, every servo joint recorded.
-fn walk_on(default: &Model, mu: f64) -> Recording {
-    let mut truth = stand_in::stand_in_model(default);
+/// plan of the default model on flat ground, every servo joint recorded, then identified from
+/// its servo dynamics (what the suspended trials give,
+/// `identify::the_stand_in_is_identified_from_a_suspended_excitation`) and the default's friction.
+fn identify_walk_on(mu: f64) -> Identification {
+    let default = planner::model::builtin("drosophibot2").unwrap();
+    let mut truth = stand_in::stand_in_model(&default);
     truth.foot_friction = Some(mu);
-    let params = planner::gait::StepParams::preset("servo-safe", &default.name).unwrap();
-    let plan = planner::plan::plan(default, &params).unwrap();
-    let joints: Vec<usize> = (0..default.joints.len())
-        .filter(|&j| default.servo_params(j).is_some())
-        .collect();
-    let cycles = (plan.period_s / BUS_PERIOD_S) as usize;
-    let goals = stand_in::goals(default, &plan.q, plan.dt, &joints, cycles);
-    stand_in::record(&truth, "walk", false, &joints, goals).unwrap()
-}
-
-/// The model the friction is fitted on: the stand-in's servo dynamics (what the suspended
-/// trials give, `identify::the_stand_in_is_identified_from_a_suspended_excitation`), the
-/// default's friction.
-fn servos_identified(default: &Model) -> Model {
-    let m = stand_in::stand_in_model(default);
-    assert_eq!(m.foot_friction, None);
-    m
+    let walk = crate::identify::stand_in_walk(&default, &truth);
+    let start = stand_in::stand_in_model(&default);
+    assert_eq!(start.foot_friction, None);
+    let id = identify(&[walk], &start, &IdentifyOptions::default()).unwrap();
+    eprintln!("{}", lab::identify::report::markdown(&id));
+    eprintln!("{:?}", id.friction.as_ref().unwrap());
+    id
 }
 
 #[test]
 fn the_ground_friction_is_identified_from_a_walk_on_a_slippery_floor() {
-    let default = planner::model::builtin("drosophibot2").unwrap();
     let truth = physics::substrate::FLOOR_MU;
-    let walk = walk_on(&default, truth);
-    let start = servos_identified(&default);
-    let id = identify(&[walk], &start, &IdentifyOptions::default()).unwrap();
-    eprintln!("{}", lab::identify::report::markdown(&id));
-    let f = id.friction.as_ref().unwrap();
-    eprintln!("{f:?}");
+    let id = identify_walk_on(truth);
     let fitted = id.model.foot_friction.expect("identified");
     assert!(
         (fitted - truth).abs() <= 0.05 * truth,
@@ -73,14 +59,8 @@ fn the_ground_friction_is_identified_from_a_walk_on_a_slippery_floor() {
 
 #[test]
 fn a_walk_whose_feet_do_not_slip_leaves_the_friction_unidentified() {
-    let default = planner::model::builtin("drosophibot2").unwrap();
     let truth = physics::substrate::ANTI_SLIP_MAT_MU;
-    let walk = walk_on(&default, truth);
-    let start = servos_identified(&default);
-    let id = identify(&[walk], &start, &IdentifyOptions::default()).unwrap();
-    eprintln!("{}", lab::identify::report::markdown(&id));
-    let f = id.friction.as_ref().unwrap();
-    eprintln!("{f:?}");
+    let id = identify_walk_on(truth);
     assert_eq!(id.model.foot_friction, None);
     let e = id.estimate("ground", "foot_friction").unwrap();
     assert!(

@@ -338,17 +338,8 @@ pub fn import_aproj(text: &str, file: &str, opts: &ImportOptions) -> Result<Mode
             servo: None,
         });
     }
-    let model = Model {
-        name: opts.name.clone().unwrap_or(org_name),
-        bodies,
-        joints,
-        feet,
-        // AnimatLab has no strain gauges: add `[[gauge]]` entries to the written model file.
-        gauges: Vec::new(),
-        servo_dynamics: Default::default(),
-        calibration: None,
-        foot_friction: None,
-    };
+    // AnimatLab has no strain gauges: add `[[gauge]]` entries to the written model file.
+    let model = Model::of_parts(opts.name.clone().unwrap_or(org_name), bodies, joints, feet);
     model.validate(file)?;
     Ok(model)
 }

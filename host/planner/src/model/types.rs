@@ -312,3 +312,21 @@ pub struct Model {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub foot_friction: Option<f64>,
 }
+
+impl Model {
+    /// A model of these parts and nothing the model file adds: no strain gauges, the servos'
+    /// e-manual dynamics, no calibration, the default foot friction (an AnimatLab import, a
+    /// sub-model, a test's toy body).
+    pub fn of_parts(name: String, bodies: Vec<Body>, joints: Vec<Joint>, feet: Vec<Foot>) -> Self {
+        Self {
+            name,
+            bodies,
+            joints,
+            feet,
+            gauges: Vec::new(),
+            servo_dynamics: Default::default(),
+            calibration: None,
+            foot_friction: None,
+        }
+    }
+}

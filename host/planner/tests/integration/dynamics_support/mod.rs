@@ -123,16 +123,7 @@ pub fn toy_hexapod() -> Model {
             point: Vector3::new(0.05, 0.0, 0.0),
         });
     }
-    Model {
-        name: "toy hexapod".into(),
-        bodies,
-        joints,
-        feet,
-        gauges: Vec::new(),
-        servo_dynamics: Default::default(),
-        calibration: None,
-        foot_friction: None,
-    }
+    Model::of_parts("toy hexapod".into(), bodies, joints, feet)
 }
 
 /// Standing pose of the toy hexapod: coxa straight, femur raised 0.3 rad, tibia down.
