@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use lab::plan_comparison::inertial_share;
 
 /// Compare two plans DoF by DoF, or sweep the swing duration of one model.
 ///
@@ -117,22 +116,10 @@ fn sweep(model: &str, swings: &[f64], out: &Path) -> Result<()> {
     let swept = lab::plan_comparison::sweep(&model, swings, out, || bar.inc(1));
     bar.finish_and_clear();
     let (points, regime) = swept?;
-    println!("| period (s) | peak torque (N m) | inertial part (N m) | share |\n|---|---|---|---|");
-    for p in &points {
-        println!(
-            "| {:.3} | {:.4e} | {:.4e} | {:.3} |",
-            p.period,
-            p.peak_torque,
-            p.peak_inertial_torque,
-            inertial_share(p)
-        );
-    }
-    if let Some(r) = regime {
-        println!(
-            "inertial torque ~ T^{:.2} (-2 for pure inertia); quasi-static where the inertial share is below ~0.1",
-            r.inertial_exponent
-        );
-    }
+    print!(
+        "{}",
+        lab::plan_comparison::sweep_table(&points, regime.as_ref())
+    );
     println!("wrote sweep.csv to {}", out.display());
     Ok(())
 }

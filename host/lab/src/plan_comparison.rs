@@ -164,3 +164,58 @@ pub fn sweep(
 pub fn inertial_share(p: &SweepPoint) -> f64 {
     p.peak_inertial_torque / p.peak_torque
 }
+
+/// The speed sweep as a Markdown table, and the regime its points show, as `dbot compare --sweep`
+/// prints them.
+pub fn sweep_table(points: &[SweepPoint], regime: Option<&SweepRegime>) -> String {
+    let mut s = String::from(
+        "| period (s) | peak torque (N m) | inertial part (N m) | share |\n|---|---|---|---|\n",
+    );
+    for p in points {
+        s.push_str(&format!(
+            "| {:.3} | {:.4e} | {:.4e} | {:.3} |\n",
+            p.period,
+            p.peak_torque,
+            p.peak_inertial_torque,
+            inertial_share(p)
+        ));
+    }
+    if let Some(r) = regime {
+        s.push_str(&format!(
+            "inertial torque ~ T^{:.2} (-2 for pure inertia); quasi-static where the inertial share is below ~0.1\n",
+            r.inertial_exponent
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sweep_table_gives_each_points_share_and_the_regime() {
+        // By hand: 0.5 N m of a 2 N m peak is a share of 0.25; at twice the period a quarter of
+        // the inertial torque (T^-2) is 0.125 N m of 1.5 N m, 0.083.
+        let points = [
+            SweepPoint {
+                period: 1.0,
+                peak_torque: 2.0,
+                peak_inertial_torque: 0.5,
+            },
+            SweepPoint {
+                period: 2.0,
+                peak_torque: 1.5,
+                peak_inertial_torque: 0.125,
+            },
+        ];
+        let regime = classify_sweep(&points).unwrap();
+        assert!((regime.inertial_exponent + 2.0).abs() < 1e-12);
+        let t = sweep_table(&points, Some(&regime));
+        let lines: Vec<&str> = t.lines().collect();
+        assert_eq!(lines[2], "| 1.000 | 2.0000e0 | 5.0000e-1 | 0.250 |");
+        assert_eq!(lines[3], "| 2.000 | 1.5000e0 | 1.2500e-1 | 0.083 |");
+        assert!(lines[4].starts_with("inertial torque ~ T^-2.00 (-2 for pure inertia)"));
+        assert_eq!(sweep_table(&points, None).lines().count(), 4);
+    }
+}
