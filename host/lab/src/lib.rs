@@ -39,6 +39,7 @@ pub mod doctor;
 pub mod error;
 pub mod excite_files;
 pub mod identify;
+pub mod markdown;
 pub mod overlay;
 pub mod paper_comparison;
 pub mod paper_robot;

@@ -74,22 +74,23 @@ pub fn summed_in(r: &ComparisonRow) -> &'static str {
 
 /// The rows as the markdown table `dbot compare` prints.
 pub fn table(rows: &[ComparisonRow]) -> String {
-    let mut s = String::from("| leg | DoF | R^2 angle | R^2 torque |\n|---|---|---|---|\n");
-    for r in rows {
-        let summed = summed_in(r);
-        let label = if summed.is_empty() {
-            r.dof.clone()
-        } else {
-            format!("{} (sum in {summed})", r.dof)
-        };
-        s.push_str(&format!(
-            "| {} | {label} | {} | {} |\n",
-            r.leg.name(),
-            r2_cell(r.r2_angle),
-            r2_cell(r.r2_torque)
-        ));
-    }
-    s
+    crate::markdown::table(
+        &["leg", "DoF", "R^2 angle", "R^2 torque"],
+        rows.iter().map(|r| {
+            let summed = summed_in(r);
+            let label = if summed.is_empty() {
+                r.dof.clone()
+            } else {
+                format!("{} (sum in {summed})", r.dof)
+            };
+            vec![
+                r.leg.name().to_owned(),
+                label,
+                r2_cell(r.r2_angle),
+                r2_cell(r.r2_torque),
+            ]
+        }),
+    )
 }
 
 /// Compares `a` and `b` (plan directories or trial folders) DoF by DoF; writes `compare.csv`,
@@ -168,18 +169,22 @@ pub fn inertial_share(p: &SweepPoint) -> f64 {
 /// The speed sweep as a Markdown table, and the regime its points show, as `dbot compare --sweep`
 /// prints them.
 pub fn sweep_table(points: &[SweepPoint], regime: Option<&SweepRegime>) -> String {
-    let mut s = String::from(
-        "| period (s) | peak torque (N m) | inertial part (N m) | share |\n|---|---|---|---|\n",
+    let mut s = crate::markdown::table(
+        &[
+            "period (s)",
+            "peak torque (N m)",
+            "inertial part (N m)",
+            "share",
+        ],
+        points.iter().map(|p| {
+            vec![
+                format!("{:.3}", p.period),
+                format!("{:.4e}", p.peak_torque),
+                format!("{:.4e}", p.peak_inertial_torque),
+                format!("{:.3}", inertial_share(p)),
+            ]
+        }),
     );
-    for p in points {
-        s.push_str(&format!(
-            "| {:.3} | {:.4e} | {:.4e} | {:.3} |\n",
-            p.period,
-            p.peak_torque,
-            p.peak_inertial_torque,
-            inertial_share(p)
-        ));
-    }
     if let Some(r) = regime {
         s.push_str(&format!(
             "inertial torque ~ T^{:.2} (-2 for pure inertia); quasi-static where the inertial share is below ~0.1\n",

@@ -208,23 +208,32 @@ pub fn compare_trial(trial: &Path, plan_dir: &Path) -> Result<Vec<GaugeFit>> {
 /// The fits as a markdown table, each gauge saying how its counts were read.
 pub fn table(fits: &[GaugeFit]) -> String {
     let num = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.4}", v + 0.0));
-    let mut s = String::from(
-        "| gauge | samples | R^2 | counts per microstrain | RMS residual (counts) | RMS microstrain | reading |\n|---|---|---|---|---|---|---|\n",
-    );
-    for f in fits {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} ({:.4} counts per microstrain) |\n",
-            f.gauge,
-            f.samples,
-            f.r2.map_or("-".into(), |v| format!("{v:.3}")),
-            num(f.gain),
-            num(f.rms_residual_counts),
-            num(f.rms_microstrain),
-            f.reading.word(),
-            f.reading_gain
-        ));
-    }
-    s
+    crate::markdown::table(
+        &[
+            "gauge",
+            "samples",
+            "R^2",
+            "counts per microstrain",
+            "RMS residual (counts)",
+            "RMS microstrain",
+            "reading",
+        ],
+        fits.iter().map(|f| {
+            vec![
+                f.gauge.clone(),
+                f.samples.to_string(),
+                f.r2.map_or("-".into(), |v| format!("{v:.3}")),
+                num(f.gain),
+                num(f.rms_residual_counts),
+                num(f.rms_microstrain),
+                format!(
+                    "{} ({:.4} counts per microstrain)",
+                    f.reading.word(),
+                    f.reading_gain
+                ),
+            ]
+        }),
+    )
 }
 
 /// `gauge,counts_per_microstrain,r2,samples`: the fitted gains as a calibration file (empty cells
