@@ -2,7 +2,6 @@
 //! `dbot set --clear-fault` leaves it.
 
 use crate::args::board::BoardArgs;
-use crate::common::words::state_name;
 
 /// Runs the command on the board `board` names.
 pub fn run(board: BoardArgs) -> anyhow::Result<()> {
@@ -20,7 +19,7 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
     };
     println!(
         "emergency stop: the board is in state {} ({fault}); {next}",
-        state_name(st.state)
+        st.state.name()
     );
     s.close()
 }

@@ -12,7 +12,7 @@ use crate::args::board::BoardArgs;
 use crate::common::interrupt;
 use crate::common::playback::stop_walk;
 use crate::common::session::Session;
-use crate::common::words::{WalkReport, state_name};
+use crate::common::words::WalkReport;
 use lab::trial_record::playback::{announce, play_command, upload_table};
 
 /// Play a gait from a slot (ramping from the present posture to its first slice first).
@@ -262,7 +262,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
             }
             playing = Some(now);
         }
-        bar.set_message(state_name(st.state));
+        bar.set_message(st.state.name());
         match st.state {
             RunState::Ramping | RunState::Walking | RunState::Stopping => started = true,
             RunState::Standing | RunState::Idle if started || stopped.is_some() => break st,
@@ -292,7 +292,7 @@ pub fn follow(s: &mut Session, steps: Option<u32>) -> anyhow::Result<u32> {
         let what = format!("{}{step}", how.describe());
         bail!(
             "interrupted: {what}; the robot is {} (board clock {t:.2} s)",
-            state_name(state.state)
+            state.state.name()
         );
     }
     // The board stands again only at the end of a step, and a counted walk ends exactly after its

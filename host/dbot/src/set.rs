@@ -6,7 +6,6 @@ use board::link::LinkError;
 use protocol::{ProtocolError, RunState, ServoSelect};
 
 use crate::args::board::BoardArgs;
-use crate::common::words::state_name;
 
 /// Change run-time settings of the board (only while it is not walking, for the bus ones).
 #[derive(Debug, clap::Args)]
@@ -151,7 +150,7 @@ impl Args {
                 }) if state != RunState::Fault => {
                     did.push(format!(
                         "no fault to clear (the board is in state {})",
-                        state_name(state)
+                        state.name()
                     ));
                 }
                 Err(e) => return Err(anyhow::Error::new(e).context("clearing the fault")),

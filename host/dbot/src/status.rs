@@ -3,7 +3,6 @@
 //! counters.
 
 use crate::args::board::BoardArgs;
-use crate::common::words::state_name;
 use board::slot_health;
 
 /// Runs the command on the board `board` names.
@@ -21,7 +20,7 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
         i.protocol_version,
         i.table_format_version
     );
-    println!("state     {}", state_name(st.state));
+    println!("state     {}", st.state.name());
     // The slots as the board found them at start-up (DeviceInfo carries them).
     if let Some(line) = slot_health::store_line(&i.slots) {
         println!("store     {}", line.strip_prefix("store ").unwrap_or(&line));

@@ -9,7 +9,6 @@ use anyhow::{Context, bail};
 use protocol::RunState;
 
 use crate::args::board::BoardArgs;
-use crate::common::words::state_name;
 
 /// Walk at a heading: the board blends a straight and a turning gait at the heading's share.
 ///
@@ -108,7 +107,7 @@ impl Args {
                         .map_or("no fault recorded".to_owned(), |f| f.to_string())
                 ),
                 _ => {
-                    bail!("the board is in state {}", state_name(st.state))
+                    bail!("the board is in state {}", st.state.name())
                 }
             }
         }

@@ -4,7 +4,6 @@ use board::link::LinkError;
 use protocol::{ProtocolError, RunState};
 
 use crate::args::board::BoardArgs;
-use crate::common::words::state_name;
 
 /// Runs the command on the board `board` names.
 pub fn run(board: BoardArgs) -> anyhow::Result<()> {
@@ -17,16 +16,13 @@ pub fn run(board: BoardArgs) -> anyhow::Result<()> {
                 RunState::Idle | RunState::Standing => "nothing to stop",
                 _ => "stop accepted",
             };
-            println!("{verdict}: the board is in state {}", state_name(st.state));
+            println!("{verdict}: the board is in state {}", st.state.name());
         }
         // Stopping a robot that is not walking is not an error for the person asking.
         Err(LinkError::Device {
             error: ProtocolError::WrongState { state },
             ..
-        }) => println!(
-            "nothing to stop: the board is in state {}",
-            state_name(state)
-        ),
+        }) => println!("nothing to stop: the board is in state {}", state.name()),
         Err(LinkError::Faulted { fault, .. }) => println!(
             "nothing to stop: the board is in a fault ({})",
             fault.map_or_else(|| "fault unknown".to_owned(), |f| f.to_string())

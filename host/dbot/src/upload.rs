@@ -75,7 +75,22 @@ impl Args {
             ProgressStyle::with_template("uploading {bar:40} {bytes}/{total_bytes} {msg}")
                 .expect("template is valid"),
         );
-        let progress = |sent, _| bar.set_position(u64::from(sent));
+        // For tests: DBOT_TEST_HOLD_AFTER_CHUNK=N holds the upload after its Nth chunk until a
+        // signal comes, so a Ctrl-C or a kill lands mid-upload whatever the machine's load.
+        let hold: Option<u32> = std::env::var("DBOT_TEST_HOLD_AFTER_CHUNK")
+            .ok()
+            .and_then(|v| v.parse().ok());
+        let mut chunks = 0;
+        let progress = |sent, _| {
+            bar.set_position(u64::from(sent));
+            chunks += 1;
+            if hold == Some(chunks) {
+                eprintln!("held after chunk {chunks}");
+                while !interrupt::requested() {
+                    std::thread::sleep(std::time::Duration::from_millis(5));
+                }
+            }
+        };
         let report = board::rules::upload::upload_checked(
             &mut s.board,
             slot,

@@ -1,13 +1,5 @@
-//! The words `dbot` prints for the board's states (never Rust debug text; a direction's word is
-//! `protocol::Direction::name`), and the line `dbot run` ends with.
-
-use protocol::RunState;
-
-/// A run state as the user reads it: the firmware's state name, with what it means for the robot
-/// where that is not obvious.
-pub fn state_name(s: RunState) -> &'static str {
-    s.name()
-}
+//! The line `dbot run` ends with. The board's states and directions print as protocol words them
+//! (`RunState::name`, `Direction::name`: never Rust debug text).
 
 /// What a finished walk did, from the board's counters before and after it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,7 +30,7 @@ impl WalkReport {
 
 #[cfg(test)]
 mod tests {
-    use protocol::Direction;
+    use protocol::{Direction, RunState};
 
     use super::*;
 
@@ -78,7 +70,7 @@ mod tests {
             ),
         ];
         for (s, name) in want {
-            assert_eq!(state_name(s), name);
+            assert_eq!(s.name(), name);
         }
         assert_eq!(Direction::Backward.name(), "backward");
         assert_eq!(Direction::Forward.name(), "forward");

@@ -13,8 +13,8 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use board_fakes::cli::{
-    DEMO_FILES, HANG, fails_naming, run, spawn, strings, table, tree, wait_for, whole_csv_rows,
-    whole_output, with_port,
+    DEMO_FILES, HANG, fails_naming, run, spawn, spawn_with_env, strings, table, tree, wait_for,
+    whole_csv_rows, whole_output, with_port,
 };
 use board_fakes::{Answer, FakeBoard, RobotServer, host_messages, pty};
 use firmware::safety::State;
@@ -369,87 +369,72 @@ fn an_upload_interrupted_or_killed_midway_leaves_the_stored_gait_intact() {
     let dir = tempfile::tempdir().unwrap();
     let image = format!("virtual:{}", dir.path().join("robot.flash").display());
     let old = table(dir.path(), "old.dbgt", 50, 1.0);
-    // A large table (about 90 KB in 177 chunks), so that its chunks take a while to send even to
-    // the virtual robot.
+    // A large table (about 90 KB in 177 chunks).
     let new = table(dir.path(), "new.dbgt", 1000, 2.0);
     let up = |t: &str| {
         strings(&[
             "upload", "--table", t, "--slot", "1", "--port", &image, "--create",
         ])
     };
-    assert!(run(dir.path(), &up(&new)).status.success());
-    let new_line = slot1(dir.path(), &image);
-    // Timed over an existing flash image, as in the rounds below.
-    let d = run(dir.path(), &up(&old));
+    let d = run(dir.path(), &up(&new));
     assert!(d.status.success(), "{}", d.stderr);
-    let upload_time = d.took;
+    let chunks: u32 = d
+        .stdout
+        .split(" chunks")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("the upload's chunk count: {}", d.stdout));
+    assert!(chunks > 100, "{chunks} chunks");
+    let new_line = slot1(dir.path(), &image);
+    assert!(run(dir.path(), &up(&old)).status.success());
     let old_line = slot1(dir.path(), &image);
     assert_ne!(old_line, new_line);
 
-    // One upload of the new table over the old one, `sig` after `delay`. What the slot holds
-    // afterwards must be one of the two gaits, whole; returns whether the upload was still
-    // sending chunks (Some(true)), not yet (Some(false)) or had finished (None) when Ctrl-C came.
-    let round = |sig: Signal, delay: Duration| -> Option<bool> {
-        let r = spawn(dir.path(), "upload", &up(&new), None);
-        std::thread::sleep(delay);
+    // One upload of the new table over the old one, held after chunk `k` (the CLI's test hook
+    // DBOT_TEST_HOLD_AFTER_CHUNK: it waits there for a signal, so the signal lands mid-upload
+    // whatever the machine's load), then `sig`. The slot must still hold the old gait, whole.
+    let round = |sig: Signal, k: u32| {
+        let held = format!("held after chunk {k}");
+        let k_text = k.to_string();
+        let env = [("DBOT_TEST_HOLD_AFTER_CHUNK", k_text.as_str())];
+        let r = spawn_with_env(dir.path(), "upload", &up(&new), None, &env);
+        while !std::fs::read_to_string(&r.err)
+            .unwrap_or_default()
+            .contains(&held)
+        {
+            assert!(
+                r.started.elapsed() < HANG,
+                "the upload never held at chunk {k}"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
         r.signal(sig);
         let d = r.wait();
-        let now = slot1(dir.path(), &image);
-        assert!(
-            now == old_line || now == new_line,
-            "{sig:?} after {delay:?}: slot 1 is neither the old nor the new gait: {now}"
+        assert_eq!(
+            slot1(dir.path(), &image),
+            old_line,
+            "{sig:?} after chunk {k} of {chunks}: {}",
+            d.stderr
         );
-        let outcome = match (sig, d.status.code()) {
-            (Signal::SIGINT, Some(1)) => {
-                // Ctrl-C before the commit: aborted, said so, the old table stays.
-                fails_naming(
-                    &d,
-                    "upload after Ctrl-C",
-                    &["interrupted", "the slot keeps its previous table"],
-                );
-                assert_eq!(now, old_line, "{}", d.stderr);
-                Some(!d.stderr.contains("after 0 of"))
-            }
-            (Signal::SIGINT, Some(0)) => None,
-            // Ended by the signal itself (before the handler was installed, or SIGKILL).
-            _ => Some(false),
-        };
-        if now == new_line {
-            assert!(run(dir.path(), &up(&old)).status.success());
-        }
-        outcome
-    };
-    // SIGKILL and Ctrl-C at moments spread over an upload.
-    let mut midway = 0;
-    let (mut lo, mut hi) = (Duration::ZERO, upload_time * 2);
-    for k in 1..=10u32 {
-        let sig = if k % 2 == 0 {
-            Signal::SIGKILL
+        if sig == Signal::SIGINT {
+            // Ctrl-C before the commit: aborted, said so, naming how far it got.
+            assert_eq!(d.status.code(), Some(1), "{}", d.stderr);
+            fails_naming(
+                &d,
+                "upload after Ctrl-C",
+                &["interrupted", "the slot keeps its previous table"],
+            );
+            assert!(!d.stderr.contains("after 0 of"), "{}", d.stderr);
         } else {
-            Signal::SIGINT
-        };
-        let delay = upload_time * k / 10;
-        match round(sig, delay) {
-            Some(true) => midway += 1,
-            Some(false) if sig == Signal::SIGINT => lo = lo.max(delay),
-            None => hi = hi.min(delay),
-            _ => {}
+            assert_eq!(d.status.code(), None, "ended by the signal: {}", d.stderr);
         }
+    };
+    // Ctrl-C and SIGKILL after the first chunk, midway, and before the last one.
+    for k in [1, chunks / 2, chunks - 1] {
+        round(Signal::SIGINT, k);
+        round(Signal::SIGKILL, k);
     }
-    // On a busy machine the moments shift: look for the chunks between the last Ctrl-C that came
-    // too early and the first that came too late.
-    for _ in 0..8 {
-        if midway > 0 {
-            break;
-        }
-        let delay = (lo + hi) / 2;
-        match round(Signal::SIGINT, delay) {
-            Some(true) => midway += 1,
-            Some(false) => lo = delay,
-            None => hi = delay,
-        }
-    }
-    assert!(midway > 0, "no Ctrl-C landed while chunks were sent");
 }
 
 #[test]

@@ -30,6 +30,17 @@ pub struct Done {
 }
 
 pub fn spawn(dir: &Path, tag: &str, args: &[String], uid: Option<u32>) -> Run {
+    spawn_with_env(dir, tag, args, uid, &[])
+}
+
+/// [`spawn`] with these environment variables set as well.
+pub fn spawn_with_env(
+    dir: &Path,
+    tag: &str,
+    args: &[String],
+    uid: Option<u32>,
+    env: &[(&str, &str)],
+) -> Run {
     let out = dir.join(format!("{tag}.stdout"));
     let err = dir.join(format!("{tag}.stderr"));
     let mut c = Command::new(env!("CARGO_BIN_EXE_dbot"));
@@ -45,7 +56,8 @@ pub fn spawn(dir: &Path, tag: &str, args: &[String], uid: Option<u32>) -> Run {
         .env("RUST_BACKTRACE", "0")
         .stdin(Stdio::null())
         .stdout(std::fs::File::create(&out).unwrap())
-        .stderr(std::fs::File::create(&err).unwrap());
+        .stderr(std::fs::File::create(&err).unwrap())
+        .envs(env.iter().copied());
     if let Some(uid) = uid {
         use std::os::unix::process::CommandExt as _;
         c.uid(uid).gid(uid);
