@@ -217,7 +217,7 @@ pub fn calibrate(rec: &Recording, model: &Model) -> Result<Calibrated> {
                     y.push(strain.counts[s][col] - strain.baseline[col]);
                 }
             }
-            let gain = slope(&x, &y);
+            let gain = planner::analysis::fit::line(&x, &y).map(|l| l.slope);
             let r2 = regression_r2(&x, &y);
             gauges.push(Fit {
                 name: name.clone(),
@@ -252,18 +252,6 @@ fn range_of(name: &str) -> (f64, f64) {
         .find(|r| r.name == name)
         .map(|r| (r.min, r.max))
         .expect("a declared servo field")
-}
-
-/// The least-squares slope of `y` on `x` with an intercept (None: `x` does not vary).
-fn slope(x: &[f64], y: &[f64]) -> Option<f64> {
-    let n = x.len() as f64;
-    if x.len() < 2 {
-        return None;
-    }
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxx: f64 = x.iter().map(|v| (v - mx).powi(2)).sum();
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    (sxx > 1e-12).then(|| sxy / sxx)
 }
 
 /// Writes `cal`'s file to `out` (atomically), checked against `model` as a model file naming it

@@ -24,19 +24,8 @@ pub fn fit(recorded: &[f64], torque: &[f64], raw: &[i16], nm_per_count: f64) -> 
     if n < 3 {
         return None;
     }
-    let mx = torque[..n].iter().sum::<f64>() / n as f64;
-    let my = recorded[..n].iter().sum::<f64>() / n as f64;
-    let sxx: f64 = torque[..n].iter().map(|x| (x - mx).powi(2)).sum();
-    if sxx <= 1e-12 {
-        return None;
-    }
-    let sxy: f64 = torque[..n]
-        .iter()
-        .zip(&recorded[..n])
-        .map(|(x, y)| (x - mx) * (y - my))
-        .sum();
-    let gain = sxy / sxx;
-    let offset = my - gain * mx;
+    let l = planner::analysis::fit::line(&torque[..n], &recorded[..n])?;
+    let (gain, offset, mx, sxx) = (l.slope, l.intercept, l.mean_x, l.sxx);
     let ss: f64 = torque[..n]
         .iter()
         .zip(&recorded[..n])

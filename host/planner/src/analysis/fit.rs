@@ -27,6 +27,46 @@ fn mean(xs: impl Iterator<Item = f64>) -> f64 {
     sum / n.max(1) as f64
 }
 
+/// The least-squares line `y = slope x + intercept` through the first `n` pairs of `x` and `y`
+/// (`n` the shorter length), with the sums its standard errors need.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Line {
+    pub slope: f64,
+    pub intercept: f64,
+    /// The mean of `x`.
+    pub mean_x: f64,
+    /// The sum of squares of `x` about its mean.
+    pub sxx: f64,
+}
+
+/// Fits [`Line`]; `None` with fewer than two pairs or an `x` that does not vary (`sxx` at most
+/// 1e-12).
+pub fn line(x: &[f64], y: &[f64]) -> Option<Line> {
+    let n = x.len().min(y.len());
+    if n < 2 {
+        return None;
+    }
+    let (x, y) = (&x[..n], &y[..n]);
+    let mean_x = x.iter().sum::<f64>() / n as f64;
+    let mean_y = y.iter().sum::<f64>() / n as f64;
+    let sxx: f64 = x.iter().map(|v| (v - mean_x).powi(2)).sum();
+    if sxx <= 1e-12 {
+        return None;
+    }
+    let sxy: f64 = x
+        .iter()
+        .zip(y)
+        .map(|(a, b)| (a - mean_x) * (b - mean_y))
+        .sum();
+    let slope = sxy / sxx;
+    Some(Line {
+        slope,
+        intercept: mean_y - slope * mean_x,
+        mean_x,
+        sxx,
+    })
+}
+
 /// Squared Pearson correlation of `x` and `y` (the R^2 of the least-squares line y = a + b x).
 /// `None` if the lengths differ, there are fewer than [`MIN_SAMPLES`] points, or either trace is
 /// constant.
@@ -114,6 +154,19 @@ impl MeanSdSums {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_line_through_exact_points_is_found_and_a_flat_x_has_none() {
+        // y = 2 x + 1 at x = 0, 1, 2 (y longer than x: only the pairs count); by hand mean x 1,
+        // sxx 2.
+        let l = line(&[0.0, 1.0, 2.0], &[1.0, 3.0, 5.0, 99.0]).unwrap();
+        assert_eq!(
+            (l.slope, l.intercept, l.mean_x, l.sxx),
+            (2.0, 1.0, 1.0, 2.0)
+        );
+        assert_eq!(line(&[1.0, 1.0], &[0.0, 5.0]), None);
+        assert_eq!(line(&[1.0], &[0.0]), None);
+    }
 
     #[test]
     fn regression_r2_is_the_squared_correlation_of_a_hand_worked_case() {
