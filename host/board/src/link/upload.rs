@@ -41,7 +41,8 @@ impl<T: Transport> Board<T> {
 
     /// [`Board::upload`] that gives up before the next chunk once `interrupted()` is true (a
     /// Ctrl-C): the upload is aborted, the slot keeps its old table, and the error is
-    /// [`LinkError::UploadInterrupted`]. Once the commit is sent the upload runs to its end.
+    /// [`LinkError::UploadInterrupted`]. It is asked again after the last chunk, before the
+    /// commit; once the commit is sent the upload runs to its end.
     pub fn upload_unless(
         &mut self,
         slot: u8,
@@ -63,7 +64,20 @@ impl<T: Transport> Board<T> {
             header,
             total_len,
         })?;
-        let result = self.send_chunks(slot, table, &mut progress, &mut interrupted);
+        let result = self
+            .send_chunks(slot, table, &mut progress, &mut interrupted)
+            .and_then(|chunks| {
+                // A Ctrl-C after the last chunk still lands before the commit: nothing is stored.
+                if interrupted() {
+                    return Err(LinkError::UploadInterrupted {
+                        port: self.port().to_owned(),
+                        slot,
+                        sent: total_len,
+                        total: total_len,
+                    });
+                }
+                Ok(chunks)
+            });
         let chunks = match result {
             Ok(chunks) => chunks,
             Err(e) => {

@@ -430,8 +430,9 @@ fn an_upload_interrupted_or_killed_midway_leaves_the_stored_gait_intact() {
             assert_eq!(d.status.code(), None, "ended by the signal: {}", d.stderr);
         }
     };
-    // Ctrl-C and SIGKILL after the first chunk, midway, and before the last one.
-    for k in [1, chunks / 2, chunks - 1] {
+    // Ctrl-C and SIGKILL after the first chunk, midway, before the last one, and after the last
+    // one (before the commit).
+    for k in [1, chunks / 2, chunks - 1, chunks] {
         round(Signal::SIGINT, k);
         round(Signal::SIGKILL, k);
     }
