@@ -203,8 +203,8 @@ class DbotEnv(gym.Env):
 
     @staticmethod
     def _scene_of(port: str) -> str | None:
-        if port == "physics":
-            return "flat"
+        if port == "physics" or port.startswith("physics+"):
+            return "flat" + port[len("physics") :]
         if port.startswith("physics:"):
             return port.split(":", 1)[1]
         return None

@@ -14,8 +14,10 @@ use crate::errors::value_error;
 use crate::model::Model;
 use report::robot::{FRAME_SIZE, WalkPose};
 
+/// The terrain of `scene` (a physics port's scene: `flat+floor+model:FILE` draws `flat`).
 fn ground(scene: &str) -> PyResult<report::robot::Ground> {
-    let g = planner::terrain::Ground::parse(scene).map_err(|e| value_error(e.to_string()))?;
+    let terrain = scene.split('+').next().unwrap_or(scene);
+    let g = planner::terrain::Ground::parse(terrain).map_err(|e| value_error(e.to_string()))?;
     Ok(report::robot::scene_ground(&g))
 }
 

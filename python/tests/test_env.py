@@ -19,6 +19,8 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
@@ -26,6 +28,8 @@ from gymnasium.utils.env_checker import check_env
 import dbot
 from dbot.env import DbotEnv
 from traces import assert_bit_identical
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 STRAIN_KEYS = {"strain_microstrain", "strain_age_s"}
 
@@ -243,3 +247,30 @@ def test_torques_reach_the_emulated_board_as_a_bias(emulator_port) -> None:
     assert abs(shift[3] / 0.08 - 1) < 0.02, shift[3]
     assert np.max(np.abs(np.delete(shift, 3))) < 3e-4
     env.close()
+
+
+def test_a_physics_port_naming_a_model_file_stands_on_that_files_servos(tmp_path) -> None:
+    """``physics:SCENE+model:FILE`` runs the body of a model file (e.g. the one ``dbot identify``
+    fitted). Hooke's law is the truth: with every servo's P gain divisor doubled (256 for the
+    e-manual's 128: half the stiffness for the same register) the joints standing under the same
+    weight deflect about twice as far from the held posture as the built-in body's."""
+    text = (ROOT / "host/planner/models/drosophibot2.toml").read_text()
+    assert text.count("p_gain_divisor = 128.0") == 2
+    soft = tmp_path / "soft.toml"
+    soft.write_text(text.replace("p_gain_divisor = 128.0", "p_gain_divisor = 256.0"))
+
+    def standing_deflection(port: str) -> float:
+        env = DbotEnv(port, max_episode_steps=60, render_mode="rgb_array")
+        assert env.physics
+        obs, _ = env.reset(seed=0)
+        for _ in range(50):
+            obs, _, terminated, _, info = env.step(env.rest_rad)
+            assert not terminated, port
+        assert info["state"] == "Streaming"
+        assert env.render().shape[2] == 3
+        env.close()
+        return float(np.sum(np.abs(obs["present_rad"] - env.rest_rad)))
+
+    builtin = standing_deflection("physics:flat+floor")
+    fitted = standing_deflection(f"physics:flat+floor+model:{soft}")
+    assert 1.6 * builtin < fitted < 2.5 * builtin, (builtin, fitted)

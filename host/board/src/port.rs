@@ -31,13 +31,15 @@ pub enum PortSpec {
     Serial(String),
     /// `virtual` (no image) or `virtual:PATH`.
     Virtual { image: Option<PathBuf> },
-    /// `physics` (scene `flat`) or `physics:SCENE[+SUBSTRATE][+platform:LEG]` (any [`Ground`];
-    /// sand paper, the paper's substrate, unless `+floor`, `+wire-mesh` ... says otherwise; the
-    /// leg the perturbation platform stands under, if it has one).
+    /// `physics` (scene `flat`) or `physics:SCENE[+SUBSTRATE][+platform:LEG][+model:FILE]` (any
+    /// [`Ground`]; sand paper, the paper's substrate, unless `+floor`, `+wire-mesh` ... says
+    /// otherwise; the leg the perturbation platform stands under, if it has one; the body of a
+    /// model file, e.g. one `dbot identify` fitted, instead of the built-in Drosophibot II).
     Physics {
         scene: Ground,
         substrate: Substrate,
         platform: Option<Leg>,
+        model: Option<PathBuf>,
     },
 }
 
@@ -75,11 +77,19 @@ pub enum OpenError {
 impl PortSpec {
     /// Reads a port name; only a physics scene can be wrong (any other name is a device path).
     pub fn parse(s: &str) -> Result<Self, PortSpecError> {
+        // The model file comes last: its path may hold any character.
+        let (s, model) = match s.split_once("+model:") {
+            Some((rest, file)) if s.starts_with("physics") && !file.is_empty() => {
+                (rest, Some(PathBuf::from(file)))
+            }
+            _ => (s, None),
+        };
         if s == "physics" {
             return Ok(Self::Physics {
                 scene: Ground::Flat,
                 substrate: Substrate::Sandpaper,
                 platform: None,
+                model,
             });
         }
         if let Some(scene) = s.strip_prefix("physics:") {
@@ -97,6 +107,7 @@ impl PortSpec {
                 scene,
                 substrate,
                 platform,
+                model,
             });
         }
         Ok(match s.strip_prefix("virtual") {
@@ -158,13 +169,17 @@ pub fn platform_port_problem(port: &str, leg: Leg) -> Option<String> {
     let Ok(PortSpec::Physics { platform, .. }) = PortSpec::parse(port) else {
         return None;
     };
-    let plain = port.split("+platform:").next().unwrap_or(port);
+    let (rest, model) = match port.split_once("+model:") {
+        Some((rest, file)) => (rest, format!("+model:{file}")),
+        None => (port, String::new()),
+    };
+    let plain = rest.split("+platform:").next().unwrap_or(rest);
     let plain = if plain == "physics" {
         "physics:flat"
     } else {
         plain
     };
-    let want = format!("{plain}+platform:{}", leg.name());
+    let want = format!("{plain}+platform:{}{model}", leg.name());
     match platform {
         None => Some(format!(
             "port `{port}` has no perturbation platform: open `{want}` instead"
@@ -278,6 +293,7 @@ mod tests {
                 scene: Ground::Incline { angle_deg: 10.0 },
                 substrate: Substrate::Sandpaper,
                 platform: None,
+                model: None,
             })
         );
         assert_eq!(
@@ -286,6 +302,7 @@ mod tests {
                 scene: Ground::Flat,
                 substrate: Substrate::Sandpaper,
                 platform: None,
+                model: None,
             })
         );
         assert_eq!(
@@ -294,6 +311,26 @@ mod tests {
                 scene: Ground::Flat,
                 substrate: Substrate::Floor,
                 platform: Some(planner::model::Leg::RM),
+                model: None,
+            })
+        );
+        // The model file comes last, its path taken whole (a `+` in it included).
+        assert_eq!(
+            PortSpec::parse("physics:incline:5+floor+platform:RM+model:out/a+b/fitted.toml"),
+            Ok(PortSpec::Physics {
+                scene: Ground::Incline { angle_deg: 5.0 },
+                substrate: Substrate::Floor,
+                platform: Some(planner::model::Leg::RM),
+                model: Some("out/a+b/fitted.toml".into()),
+            })
+        );
+        assert_eq!(
+            PortSpec::parse("physics+model:m.toml"),
+            Ok(PortSpec::Physics {
+                scene: Ground::Flat,
+                substrate: Substrate::Sandpaper,
+                platform: None,
+                model: Some("m.toml".into()),
             })
         );
         assert_eq!(

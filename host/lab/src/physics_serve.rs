@@ -40,15 +40,18 @@ impl PhysicsServer {
     pub fn open(spec: &str, link: &Path, strain: Option<StrainLink>) -> Result<Self> {
         let parsed =
             board::port::PortSpec::parse(spec).map_err(|e| LabError::Library(Box::new(e)))?;
-        let (scene, substrate) = match parsed {
-            board::port::PortSpec::Physics {
-                scene, substrate, ..
-            } => (scene, substrate),
-            _ => crate::bail!(
-                "port `{spec}` is not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE]`"
-            ),
+        let board::port::PortSpec::Physics {
+            scene,
+            substrate,
+            platform,
+            model,
+        } = parsed
+        else {
+            crate::bail!(
+                "port `{spec}` is not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE][+platform:LEG][+model:FILE]`"
+            )
         };
-        let mut robot = PhysicsRobot::drosophibot_on(&scene, substrate)
+        let mut robot = physics::physics_body(&scene, substrate, platform, model.as_deref())
             .with_context(|| format!("port `{spec}`"))?;
         let strain = match strain {
             Some(s) => {

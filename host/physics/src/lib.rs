@@ -36,5 +36,5 @@ pub use robot::PlatformPlace;
 pub use robot::{PhysicsBoard, PhysicsRobot, PhysicsState, PhysicsTransport, TIMESTEP_S};
 pub use substrate::Substrate;
 pub use timestep::{Stiffest, stiffest_joint};
-pub use transport::{OpenError, Robot, RobotLink, open, open_physics, open_within};
+pub use transport::{OpenError, Robot, RobotLink, open, open_physics, open_within, physics_body};
 pub use walk_log::{WalkLog, WalkSample};

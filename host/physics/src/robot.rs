@@ -11,7 +11,7 @@
 //! the bus carries one more servo, the platform's, whose Goal Position the slide follows
 //! ([`crate::platform`]).
 
-use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport, robot_servos};
+use board::robot::{ServoDynamics, VirtualFlash, VirtualRobot, VirtualTransport};
 use dynamixel::control_table as ct;
 use dynamixel::sim::VirtualChain;
 use dynamixel::sim::physics::MotorState;
@@ -58,6 +58,12 @@ pub struct PhysicsRobot {
     /// A settled state to keep, kept, or to skip to ([`Self::keep_state_at`],
     /// [`Self::skip_to_state`]).
     settle: Option<Settle>,
+    /// The servos on the bus, `(id, model)`, as the model file maps them.
+    servos: Vec<(u8, dynamixel::ServoModel)>,
+    /// The model file's `foot_friction` (None: the substrate's ESTIMATE holds).
+    foot_friction: Option<f64>,
+    /// The model file the body was built from, named in the port (`+model:FILE`).
+    model_file: Option<String>,
 }
 
 /// What the body does about a stored state at the next bus cycles.
@@ -127,19 +133,29 @@ impl PhysicsRobot {
 
     /// Drosophibot II on `scene` and `substrate` (its friction: [`crate::substrate::friction`]).
     pub fn drosophibot_on(scene: &Ground, substrate: Substrate) -> Result<Self, PhysicsError> {
-        let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
-            model: "drosophibot2".into(),
-            message: e.to_string(),
-        })?;
-        Ok(Self::new(&model, scene)?.on_substrate(substrate))
+        Ok(Self::new(&drosophibot()?, scene)?.on_substrate(substrate))
     }
 
-    /// The same body on `substrate`: the feet's and the ground's friction become its
-    /// ([`crate::substrate::friction`], an ESTIMATE).
+    /// The same body on `substrate`: the feet's and the ground's friction become the model
+    /// file's `foot_friction` when it gives one (identified on the lab's ground:
+    /// docs/identification.md), else the substrate's ([`crate::substrate::friction`], an
+    /// ESTIMATE).
     pub fn on_substrate(mut self, substrate: Substrate) -> Self {
-        self.plant
-            .set_friction(crate::substrate::friction(substrate));
+        self.plant.set_friction(self.friction_on(substrate));
         self.substrate = substrate;
+        self
+    }
+
+    /// The feet's sliding friction on `substrate`: the model file's, else the substrate's.
+    pub fn friction_on(&self, substrate: Substrate) -> f64 {
+        self.foot_friction
+            .unwrap_or_else(|| crate::substrate::friction(substrate))
+    }
+
+    /// Names the model file the body was built from in its port (`physics:...+model:FILE`), so
+    /// a trial's port says which body it ran on.
+    pub fn from_model_file(mut self, file: &str) -> Self {
+        self.model_file = Some(file.to_owned());
         self
     }
 
@@ -169,7 +185,11 @@ impl PhysicsRobot {
         scene: &Ground,
     ) -> Result<Self, PhysicsError> {
         let mut plant = Plant::new(model, options)?;
-        plant.set_friction(crate::substrate::friction(Substrate::Sandpaper));
+        plant.set_friction(
+            model
+                .foot_friction
+                .unwrap_or_else(|| crate::substrate::friction(Substrate::Sandpaper)),
+        );
         let planned_height_m = plant.thorax_pose().0[2];
         let strain = StrainSampler::new(model, &plant)?;
         Ok(Self {
@@ -184,6 +204,9 @@ impl PhysicsRobot {
             platform: None,
             load_rng: std::cell::Cell::new(LOAD_NOISE_SEED),
             settle: None,
+            servos: model.servo_chain(),
+            foot_friction: model.foot_friction,
+            model_file: None,
         })
     }
 
@@ -196,19 +219,26 @@ impl PhysicsRobot {
         servo_id: u8,
         place: PlatformPlace,
     ) -> Result<Self, PhysicsError> {
+        Self::of_model_with_platform(&drosophibot()?, scene, substrate, servo_id, place)
+    }
+
+    /// [`Self::with_platform`] for the body of `model`.
+    pub fn of_model_with_platform(
+        model: &Model,
+        scene: &Ground,
+        substrate: Substrate,
+        servo_id: u8,
+        place: PlatformPlace,
+    ) -> Result<Self, PhysicsError> {
         let (at_xy, follow) = match place {
             PlatformPlace::At(xy) => (xy, None),
             PlatformPlace::UnderFootOf(leg) => (PARKED_XY, Some(leg)),
         };
-        let model = planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
-            model: "drosophibot2".into(),
-            message: e.to_string(),
-        })?;
-        let options = Self::options(&model, scene)?;
-        let plain = Self::with_options(&model, &options, scene)?.on_substrate(substrate);
-        let xml = crate::platform::with_platform(&planner::model::to_mjcf(&model, &options), at_xy);
-        let mut plant = Plant::from_mjcf(&model, &options, &xml)?;
-        plant.set_friction(crate::substrate::friction(plain.substrate));
+        let options = Self::options(model, scene)?;
+        let plain = Self::with_options(model, &options, scene)?.on_substrate(substrate);
+        let xml = crate::platform::with_platform(&planner::model::to_mjcf(model, &options), at_xy);
+        let mut plant = Plant::from_mjcf(model, &options, &xml)?;
+        plant.set_friction(plain.friction_on(plain.substrate));
         let (actuator, qpos, qvel) =
             plant
                 .platform_slide()
@@ -348,7 +378,7 @@ impl PhysicsRobot {
     /// The board's virtual robot (22 servos, and the platform's if it has one; erased gait
     /// store) with this body, its servos showing the body's state from power-on.
     pub fn into_board(self) -> PhysicsBoard {
-        let mut servos = robot_servos();
+        let mut servos = self.servos.clone();
         if let Some(r) = &self.platform {
             servos.push((r.servo_id, dynamixel::ServoModel::Mx28));
         }
@@ -389,6 +419,9 @@ impl PhysicsRobot {
         };
         if let Some(leg) = self.platform.as_ref().and_then(|r| r.follow) {
             name = format!("{name}+platform:{}", leg.name());
+        }
+        if let Some(file) = &self.model_file {
+            name = format!("{name}+model:{file}");
         }
         VirtualTransport::named(self.into_board(), &name)
     }
@@ -603,4 +636,12 @@ fn standard_normal(state: &std::cell::Cell<u64>) -> f64 {
     };
     let (u1, u2) = (uniform(), uniform());
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// The built-in Drosophibot II.
+fn drosophibot() -> Result<Model, PhysicsError> {
+    planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
+        model: "drosophibot2".into(),
+        message: e.to_string(),
+    })
 }

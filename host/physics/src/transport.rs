@@ -7,6 +7,7 @@
 //! On the physics robot time passes only while the host waits for bytes, in simulated time, as on
 //! `virtual`.
 
+use std::path::Path;
 use std::time::Duration;
 
 use board::link::{Board, DEFAULT_REPLY_TIMEOUT, SerialTransport, Transport, TransportError};
@@ -154,31 +155,62 @@ impl Transport for RobotLink {
     }
 }
 
-/// Opens the physics robot (Drosophibot II) on `scene` and `substrate`, with the perturbation
-/// platform under `platform`'s foot if given (`board::port`'s `+platform:LEG`).
+/// Opens the physics robot (Drosophibot II, or the body of the model file `model`) on `scene`
+/// and `substrate`, with the perturbation platform under `platform`'s foot if given
+/// (`board::port`'s `+platform:LEG` and `+model:FILE`).
 pub fn open_physics(
     scene: &Ground,
     substrate: Substrate,
     platform: Option<Leg>,
+    model: Option<&Path>,
 ) -> Result<PhysicsTransport, PhysicsError> {
+    physics_body(scene, substrate, platform, model).map(PhysicsRobot::into_transport)
+}
+
+/// The body [`open_physics`] opens, before it is put on the board's bus (e.g. to feed a strain
+/// board from it). Refused: a scene or substrate that cannot be, a model file that does not load
+/// (named, with the problem and where).
+pub fn physics_body(
+    scene: &Ground,
+    substrate: Substrate,
+    platform: Option<Leg>,
+    model: Option<&Path>,
+) -> Result<PhysicsRobot, PhysicsError> {
+    let spec = || match model {
+        None => format!("physics:{scene}"),
+        Some(m) => format!("physics:{scene}+model:{}", m.display()),
+    };
+    let body = match model {
+        None => planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
+            model: "drosophibot2".into(),
+            message: e.to_string(),
+        })?,
+        Some(path) => planner::model::load(path).map_err(|e| PhysicsError::Port {
+            spec: spec(),
+            problem: format!("model file {}: {e}", path.display()),
+        })?,
+    };
     let robot = match platform {
-        None => PhysicsRobot::drosophibot_on(scene, substrate),
-        Some(leg) => PhysicsRobot::with_platform(
+        None => PhysicsRobot::new(&body, scene).map(|r| r.on_substrate(substrate)),
+        Some(leg) => PhysicsRobot::of_model_with_platform(
+            &body,
             scene,
             substrate,
             board::platform::default_platform_id_for(None),
             crate::PlatformPlace::UnderFootOf(leg),
         ),
     };
-    robot
-        .map(PhysicsRobot::into_transport)
-        .map_err(|e| match e {
-            PhysicsError::Scene { .. } | PhysicsError::Substrate { .. } => PhysicsError::Port {
-                spec: format!("physics:{scene}"),
-                problem: e.to_string(),
-            },
-            other => other,
-        })
+    let robot = robot.map_err(|e| match e {
+        PhysicsError::Scene { .. } | PhysicsError::Substrate { .. } => PhysicsError::Port {
+            spec: spec(),
+            problem: e.to_string(),
+        },
+        other => other,
+    })?;
+    Ok(match model {
+        Some(path) => robot.from_model_file(&path.display().to_string()),
+        None => robot,
+    })
 }
 
 /// Opens `port` (see `board::port`) and connects, waiting [`DEFAULT_REPLY_TIMEOUT`] per reply.
@@ -199,7 +231,13 @@ pub fn open_within(port: &str, reply_timeout: Duration) -> Result<Robot, OpenErr
             scene,
             substrate,
             platform,
-        } => RobotLink::Physics(Box::new(open_physics(scene, *substrate, *platform)?)),
+            model,
+        } => RobotLink::Physics(Box::new(open_physics(
+            scene,
+            *substrate,
+            *platform,
+            model.as_deref(),
+        )?)),
     };
     Ok(port::connect(link, &spec, reply_timeout)?)
 }
