@@ -46,8 +46,11 @@ impl Drop for Served {
 }
 
 // Generous: every absent ID of a scan costs one slack, and a loaded machine can deschedule the
-// server thread for tens of milliseconds.
-const SLACK_US: u32 = 200_000;
+// server thread for a long time: 200 ms was once too little (a loaded run of the suite while a
+// venv was being copied beside it: the scan missed servo 3).
+const SLACK_US: u32 = 1_000_000;
+// Where only silence is expected a stall cannot fake an answer: a short slack keeps it quick.
+const SILENT_SLACK_US: u32 = 20_000;
 
 #[test]
 fn scan_finds_exactly_the_chain_with_its_e_manual_model_numbers() {
@@ -132,7 +135,7 @@ fn setup_changes_id_and_baud_and_the_servo_answers_only_there() {
         .collect();
     assert_eq!(ids, vec![8]);
     drop(at_new);
-    let mut at_old = Bench::new(&bus.link, BaudChoice::Rate(57_600), SLACK_US);
+    let mut at_old = Bench::new(&bus.link, BaudChoice::Rate(57_600), SILENT_SLACK_US);
     let e = at_old.scan(9, |_| {}).unwrap_err();
     assert!(
         matches!(
