@@ -106,3 +106,36 @@ fn an_unknown_part_is_refused_naming_the_parts() {
         "{e}"
     );
 }
+
+/// docs/strain.md quotes the standing comparison with the torque bias from docs/validation.md's
+/// `strain` block (which `the_strain_part_matches_a_fresh_run` holds to the code): the same RMS,
+/// worst gauge's error and largest prediction, so the quote cannot outlive a change of them.
+#[test]
+fn the_strain_guide_quotes_the_strain_block_of_the_validation() {
+    let validation = std::fs::read_to_string(repo().join("docs/validation.md")).unwrap();
+    let block = validation
+        .split("<!-- generated: strain -->")
+        .nth(1)
+        .and_then(|b| b.split("<!-- end generated -->").next())
+        .expect("docs/validation.md has a generated `strain` block");
+    let on = block
+        .lines()
+        .find(|l| l.starts_with("| on |"))
+        .expect("the strain block has a row `on` (torque bias on)");
+    // | on | 2.46 % | 0.999 | RF_troch_axial 15.0 microstrain | 470.6 microstrain |
+    let cells: Vec<&str> = on.split('|').map(str::trim).collect();
+    let rms = cells[2];
+    let worst = cells[4].split_whitespace().nth(1).unwrap();
+    let largest = cells[5].split_whitespace().next().unwrap();
+    let number = |s: &str| s.trim_end_matches(" %").parse::<f64>().unwrap();
+    let strain = std::fs::read_to_string(repo().join("docs/strain.md")).unwrap();
+    let quote = format!(
+        "Standing with the torque bias, simulated against predicted: {rms} RMS, no gauge off by more than\n{} microstrain of up to {}",
+        number(worst).round(),
+        number(largest).round()
+    );
+    assert!(
+        strain.contains(&quote),
+        "docs/strain.md should quote docs/validation.md's strain block as\n{quote}"
+    );
+}
