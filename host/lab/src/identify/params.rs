@@ -26,78 +26,32 @@ pub struct Fitted {
 /// Radians per tick of a 4096-tick servo.
 const TICK: f64 = std::f64::consts::TAU / 4096.0;
 
-/// The parameters fitted from motion, in this order.
+/// A [`Fitted`] of the model file's field `$field` (its name, getter and setter from the one
+/// identifier): unit, bounds, scale and step.
+macro_rules! fitted {
+    ($field:ident, $unit:expr, $lo:expr, $hi:expr, $scale:expr, $step:expr) => {
+        Fitted {
+            name: stringify!($field),
+            unit: $unit,
+            lo: $lo,
+            hi: $hi,
+            scale: $scale,
+            step: $step,
+            get: |p| p.$field,
+            set: |e, v| e.$field = Some(v),
+        }
+    };
+}
+
+/// The parameters fitted from motion, in this order: field, unit, bounds (lo, hi), scale, step.
 pub const MOTION: &[Fitted] = &[
-    Fitted {
-        name: "p_gain_divisor",
-        unit: "",
-        lo: 32.0,
-        hi: 1024.0,
-        scale: 100.0,
-        step: 2.0,
-        get: |p| p.p_gain_divisor,
-        set: |e, v| e.p_gain_divisor = Some(v),
-    },
-    Fitted {
-        name: "stall_torque_nm",
-        unit: "N m",
-        lo: 0.2,
-        hi: 20.0,
-        scale: 1.0,
-        step: 0.05,
-        get: |p| p.stall_torque_nm,
-        set: |e, v| e.stall_torque_nm = Some(v),
-    },
-    Fitted {
-        name: "damping_nm_s_per_rad",
-        unit: "N m s/rad",
-        lo: 0.0,
-        hi: 1.0,
-        scale: 0.01,
-        step: 0.002,
-        get: |p| p.damping_nm_s_per_rad,
-        set: |e, v| e.damping_nm_s_per_rad = Some(v),
-    },
-    Fitted {
-        name: "friction_nm",
-        unit: "N m",
-        lo: 0.0,
-        hi: 0.5,
-        scale: 0.01,
-        step: 0.003,
-        get: |p| p.friction_nm,
-        set: |e, v| e.friction_nm = Some(v),
-    },
-    Fitted {
-        name: "armature_kg_m2",
-        unit: "kg m^2",
-        lo: 0.0,
-        hi: 0.05,
-        scale: 1e-3,
-        step: 3e-4,
-        get: |p| p.armature_kg_m2,
-        set: |e, v| e.armature_kg_m2 = Some(v),
-    },
-    Fitted {
-        name: "deadband_rad",
-        unit: "rad",
-        lo: 0.0,
-        hi: 0.02,
-        scale: TICK,
-        step: 0.5 * TICK,
-        get: |p| p.deadband_rad,
-        set: |e, v| e.deadband_rad = Some(v),
-    },
-    Fitted {
-        name: "backlash_rad",
-        unit: "rad",
-        lo: 0.0,
-        hi: 0.02,
-        scale: TICK,
-        step: 0.5 * TICK,
-        get: |p| p.backlash_rad,
-        set: |e, v| e.backlash_rad = Some(v),
-    },
+    fitted!(p_gain_divisor, "", 32.0, 1024.0, 100.0, 2.0),
+    fitted!(stall_torque_nm, "N m", 0.2, 20.0, 1.0, 0.05),
+    fitted!(damping_nm_s_per_rad, "N m s/rad", 0.0, 1.0, 0.01, 0.002),
+    fitted!(friction_nm, "N m", 0.0, 0.5, 0.01, 0.003),
+    fitted!(armature_kg_m2, "kg m^2", 0.0, 0.05, 1e-3, 3e-4),
+    fitted!(deadband_rad, "rad", 0.0, 0.02, TICK, 0.5 * TICK),
+    fitted!(backlash_rad, "rad", 0.0, 0.02, TICK, 0.5 * TICK),
 ];
 
 /// The servo-dynamics fields not fitted from motion, and why.
