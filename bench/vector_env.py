@@ -60,16 +60,17 @@ def vector_rate(n: int, threads: int, steps: int) -> dict[str, float]:
 
 
 def core_rate(steps: int) -> dict[str, float]:
-    """`VectorEnv(1, threads=0)`'s Rust core alone (`VectorCore.step`): the step without the
-    Gymnasium wrapper's Python (clipping, the observation and info dicts)."""
+    """`VectorEnv(1, threads=0)`'s Rust core alone (`VectorCore.step_env`, which clips the
+    actions and builds the observation and info dicts): the step without the Gymnasium
+    wrapper's Python (the action's shape check, the resting posture after an autoreset)."""
     env = VectorEnv(1, threads=0, max_episode_steps=steps + 10)
     env.reset(seed=0)
     rest = env.rest_rad.copy()
-    acts = [np.clip(wiggle(rest, k), env._low, env._high) for k in range(steps)]
+    acts = [wiggle(rest, k) for k in range(steps)]
     core = env._core
     c0, w0 = time.process_time(), time.perf_counter()
     for a in acts:
-        core.step(a, None, None)
+        core.step_env(a, None)
     c1, w1 = time.process_time(), time.perf_counter()
     env.close()
     return {"robot_steps": steps, "cpu_s": c1 - c0, "wall_s": w1 - w0}
@@ -192,7 +193,7 @@ def main() -> int:
           "| us per step | overhead: (this - bare) / bare |")
     print("|---|---|---|")
     print(f"| bare MuJoCo, same model, 10 x 1 ms | {bare_us:.0f} | - |")
-    for name, m in (("its Rust core alone (VectorCore.step)", core),
+    for name, m in (("its Rust core alone (VectorCore.step_env)", core),
                     ("VectorEnv(1, threads=0)", inline), ("VectorEnv(1, threads=1)", worker1),
                     ("DbotEnv", single)):
         print(f"| {name} | {per(m):.0f} | {100 * (per(m) - bare_us) / bare_us:.0f} % |")
