@@ -444,7 +444,10 @@ impl VectorCore {
         }
         let obs_keys =
             obs_keys.unwrap_or_else(|| default_keys.iter().map(|k| (*k).to_owned()).collect());
-        if let Some(k) = obs_keys.iter().find(|k| !default_keys.contains(&k.as_str())) {
+        if let Some(k) = obs_keys
+            .iter()
+            .find(|k| !default_keys.contains(&k.as_str()))
+        {
             return Err(value_error(format!(
                 "obs_keys: {k} is not observed (give some of {})",
                 default_keys.join(", ")
