@@ -24,6 +24,7 @@ use std::thread::JoinHandle;
 
 use numpy::ndarray::ArrayView2;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -267,15 +268,27 @@ fn batch<'py>(
     for k in keys {
         d.set_item(k, observed(py, rows, k, joints, gauges))?;
     }
-    d.set_item("time_s", col(py, rows, |r| r.time_s))?;
-    d.set_item("thorax_position_m", mat(py, rows, 3, |r| &r.position))?;
-    d.set_item("thorax_orientation", mat(py, rows, 4, |r| &r.orientation))?;
-    d.set_item("rest_rad", mat(py, rows, joints, |r| &r.rest))?;
-    d.set_item("settle_skipped", col(py, rows, |r| r.settle_skipped))?;
-    d.set_item("reward", col(py, rows, |r| r.reward))?;
-    d.set_item("terminated", col(py, rows, |r| r.terminated))?;
-    d.set_item("truncated", col(py, rows, |r| r.truncated))?;
-    d.set_item("state", rows.iter().map(|r| r.state).collect::<Vec<&str>>())?;
+    d.set_item(intern!(py, "time_s"), col(py, rows, |r| r.time_s))?;
+    d.set_item(
+        intern!(py, "thorax_position_m"),
+        mat(py, rows, 3, |r| &r.position),
+    )?;
+    d.set_item(
+        intern!(py, "thorax_orientation"),
+        mat(py, rows, 4, |r| &r.orientation),
+    )?;
+    d.set_item(intern!(py, "rest_rad"), mat(py, rows, joints, |r| &r.rest))?;
+    d.set_item(
+        intern!(py, "settle_skipped"),
+        col(py, rows, |r| r.settle_skipped),
+    )?;
+    d.set_item(intern!(py, "reward"), col(py, rows, |r| r.reward))?;
+    d.set_item(intern!(py, "terminated"), col(py, rows, |r| r.terminated))?;
+    d.set_item(intern!(py, "truncated"), col(py, rows, |r| r.truncated))?;
+    d.set_item(
+        intern!(py, "state"),
+        rows.iter().map(|r| r.state).collect::<Vec<&str>>(),
+    )?;
     Ok(d)
 }
 
@@ -586,23 +599,32 @@ impl VectorCore {
             }
         }
         let body = PyDict::new(py);
-        body.set_item("thorax_position_m", mat(py, &rows, 3, |r| &r.position))?;
-        body.set_item("_thorax_position_m", flags(py, n, true))?;
-        body.set_item("thorax_orientation", mat(py, &rows, 4, |r| &r.orientation))?;
-        body.set_item("_thorax_orientation", flags(py, n, true))?;
+        body.set_item(
+            intern!(py, "thorax_position_m"),
+            mat(py, &rows, 3, |r| &r.position),
+        )?;
+        body.set_item(intern!(py, "_thorax_position_m"), flags(py, n, true))?;
+        body.set_item(
+            intern!(py, "thorax_orientation"),
+            mat(py, &rows, 4, |r| &r.orientation),
+        )?;
+        body.set_item(intern!(py, "_thorax_orientation"), flags(py, n, true))?;
         let infos = PyDict::new(py);
-        infos.set_item("time_s", col(py, &rows, |r| r.time_s))?;
-        infos.set_item("_time_s", flags(py, n, true))?;
-        infos.set_item("settle_skipped", col(py, &rows, |r| r.settle_skipped))?;
-        infos.set_item("_settle_skipped", flags(py, n, true))?;
+        infos.set_item(intern!(py, "time_s"), col(py, &rows, |r| r.time_s))?;
+        infos.set_item(intern!(py, "_time_s"), flags(py, n, true))?;
+        infos.set_item(
+            intern!(py, "settle_skipped"),
+            col(py, &rows, |r| r.settle_skipped),
+        )?;
+        infos.set_item(intern!(py, "_settle_skipped"), flags(py, n, true))?;
         let states: Vec<Py<PyAny>> = rows
             .iter()
             .map(|r| pyo3::types::PyString::new(py, r.state).into_any().unbind())
             .collect();
-        infos.set_item("state", PyArray1::from_vec(py, states))?;
-        infos.set_item("_state", flags(py, n, true))?;
-        infos.set_item("body", body)?;
-        infos.set_item("_body", flags(py, n, true))?;
+        infos.set_item(intern!(py, "state"), PyArray1::from_vec(py, states))?;
+        infos.set_item(intern!(py, "_state"), flags(py, n, true))?;
+        infos.set_item(intern!(py, "body"), body)?;
+        infos.set_item(intern!(py, "_body"), flags(py, n, true))?;
         let rest = if resetting.iter().any(|&r| r) {
             let mask = PyArray1::from_slice(py, &resetting);
             (mask, mat(py, &rows, self.joints, |r| &r.rest))
