@@ -378,7 +378,8 @@ class DbotEnv(gym.Env):
         low, high = self._angles_space.low, self._angles_space.high
         if not self.torques:
             return np.minimum(np.maximum(np.asarray(action, dtype=np.float64), low), high), None
-        angles = np.minimum(np.maximum(np.asarray(action["angles_rad"], dtype=np.float64), low), high)
+        angles = np.asarray(action["angles_rad"], dtype=np.float64)
+        angles = np.minimum(np.maximum(angles, low), high)
         torques = np.minimum(
             np.maximum(np.asarray(action["torques_nm"], dtype=np.float64), -self.stall_nm),
             self.stall_nm,
