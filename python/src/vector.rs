@@ -521,10 +521,11 @@ impl VectorCore {
         batch(py, &self.rows.borrow(), self.joints, self.gauges)
     }
 
-    /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad, clipped by the
-    /// caller to the joint limits) and `torques_nm` (N x 22, N m, or None), except those `reset`
-    /// selects (N booleans, or None), which are reset instead (Gymnasium's next-step autoreset:
-    /// their action is ignored). Returns a dict of arrays, first axis the sub-environment: the
+    /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad) and `torques_nm`
+    /// (N x 22, N m, or None), both clipped to the bounds given at construction (without them,
+    /// the caller clips to the joint limits), except those `reset` selects (N booleans, or
+    /// None), which are reset instead (Gymnasium's next-step autoreset: their action is
+    /// ignored). Returns a dict of arrays, first axis the sub-environment: the
     /// observation's keys (`present_rad`, `velocity_rad_s`, `load_raw`, `setpoint_age` and, with
     /// gauges, `strain_microstrain`, `strain_age_s`), `time_s`, `thorax_position_m`,
     /// `thorax_orientation`, `reward` (forward progress, m; 0 after a reset), `terminated`,
