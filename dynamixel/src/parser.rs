@@ -127,6 +127,25 @@ impl<const N: usize> Parser<N> {
         n
     }
 
+    /// Whether [`Self::next_frame`] would surely return `None` and change nothing now: what is
+    /// buffered is a header, or a prefix of one, or the start of one packet with a valid LEN
+    /// whose last byte has not come yet. A caller that feeds byte by byte (a simulated servo
+    /// hearing the wire) skips the call while this holds; the frames and errors it gets are the
+    /// same, found at the same byte.
+    pub fn awaiting_rest(&self) -> bool {
+        let b = &self.buf[self.consumed..self.len];
+        let n = b.len().min(HEADER.len());
+        if b.is_empty() || b[..n] != HEADER[..n] {
+            return false;
+        }
+        if b.len() < PRE_INST {
+            return true;
+        }
+        let length = u16::from_le_bytes([b[5], b[6]]);
+        let total = PRE_INST + length as usize;
+        length >= 3 && total <= N && b.len() < total
+    }
+
     /// Gives up on an incomplete packet at the front (after a timeout): drops its first byte so
     /// that packets hidden behind a false header are found by the next `next_frame`.
     pub fn abandon_partial(&mut self) {

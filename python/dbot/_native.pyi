@@ -806,7 +806,16 @@ class VectorCore:
     the calling thread, the GIL held (the engine of ``dbot.env.VectorEnv``; python/src/vector.rs).
     Rows: a dict of arrays, first axis the sub-environment."""
 
-    def __init__(self, num_envs: int, threads: int, options: VectorOptions) -> None: ...
+    def __init__(
+        self,
+        num_envs: int,
+        threads: int,
+        options: VectorOptions,
+        low: list[float] | None = None,
+        high: list[float] | None = None,
+        stall: list[float] | None = None,
+        obs_keys: list[str] | None = None,
+    ) -> None: ...
     @property
     def num_envs(self) -> int: ...
     @property
@@ -823,4 +832,16 @@ class VectorCore:
         torques_nm: npt.NDArray[np.float64] | None = None,
         reset: npt.NDArray[np.bool_] | None = None,
     ) -> dict[str, Any]: ...
+    def step_env(
+        self,
+        angles_rad: npt.NDArray[np.float64],
+        torques_nm: npt.NDArray[np.float64] | None = None,
+    ) -> tuple[
+        dict[str, npt.NDArray[np.float64]],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        dict[str, Any],
+        tuple[npt.NDArray[np.bool_], npt.NDArray[np.float64]] | None,
+    ]: ...
     def close(self) -> None: ...

@@ -101,7 +101,8 @@ def forward_progress(before: dict[str, Any], after: dict[str, Any], *_: object) 
 
 def tilt_rad(orientation: np.ndarray) -> float:
     """Angle between the thorax's z axis and the world's, rad (quaternion w, x, y, z)."""
-    _, x, y, _ = orientation
+    # As Python floats: the same doubles, without NumPy's per-scalar overhead on every step.
+    _, x, y, _ = np.asarray(orientation, dtype=np.float64).tolist()
     return math.acos(max(-1.0, min(1.0, 1.0 - 2.0 * (x * x + y * y))))
 
 
@@ -372,12 +373,16 @@ class DbotEnv(gym.Env):
 
     def _split(self, action: Any) -> tuple[np.ndarray, np.ndarray | None]:
         """The clipped joint targets and, with ``torques=True``, the clipped torques."""
+        # np.clip's own rule, minimum(maximum(x, low), high) (a NaN stays NaN), without its
+        # dispatch layers.
         low, high = self._angles_space.low, self._angles_space.high
         if not self.torques:
-            return np.clip(np.asarray(action, dtype=np.float64), low, high), None
-        angles = np.clip(np.asarray(action["angles_rad"], dtype=np.float64), low, high)
-        torques = np.clip(
-            np.asarray(action["torques_nm"], dtype=np.float64), -self.stall_nm, self.stall_nm
+            return np.minimum(np.maximum(np.asarray(action, dtype=np.float64), low), high), None
+        angles = np.asarray(action["angles_rad"], dtype=np.float64)
+        angles = np.minimum(np.maximum(angles, low), high)
+        torques = np.minimum(
+            np.maximum(np.asarray(action["torques_nm"], dtype=np.float64), -self.stall_nm),
+            self.stall_nm,
         )
         return angles, torques
 

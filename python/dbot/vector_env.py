@@ -141,9 +141,18 @@ class VectorEnv(_GymVectorEnv):
             fall_tilt_rad,
             cheap_reset,
         )
-        self._core = VectorCore(self.num_envs, self.threads, options)
-        self._all = np.ones(self.num_envs, dtype=bool)
-        self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        # The core clips the actions to the action space's bounds (np.clip's rule) and builds
+        # the step's observation and info dicts itself: the wrapper's per-step Python was about
+        # a tenth of the single step (docs/performance.md, issue 38).
+        self._core = VectorCore(
+            self.num_envs,
+            self.threads,
+            options,
+            low=[float(x) for x in self._low],
+            high=[float(x) for x in self._high],
+            stall=[float(x) for x in self._stall],
+            obs_keys=list(self.single_observation_space.spaces),
+        )
         self._np_randoms: list[np.random.Generator] = [
             np.random.default_rng() for _ in range(self.num_envs)
         ]
@@ -178,7 +187,6 @@ class VectorEnv(_GymVectorEnv):
             mask, None if scene is None else str(scene),
             None if stiffness is None else float(stiffness),
         )
-        self._autoreset[mask] = False
         self._note_rest(rows, mask)
         return self._obs(rows), self._infos(rows, mask)
 
@@ -186,18 +194,11 @@ class VectorEnv(_GymVectorEnv):
         self, actions: Any
     ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         angles, torques = self._split(actions)
-        if self._autoreset.any():
-            resetting = self._autoreset
-            rows = self._core.step(angles, torques, resetting)
-            reward = np.where(resetting, 0.0, rows["reward"])
-            terminated = np.where(resetting, False, rows["terminated"])
-            truncated = np.where(resetting, False, rows["truncated"])
-            self._note_rest(rows, resetting)
-        else:
-            rows = self._core.step(angles, torques, None)
-            reward, terminated, truncated = rows["reward"], rows["terminated"], rows["truncated"]
-        self._autoreset = terminated | truncated
-        return self._obs(rows), reward, terminated, truncated, self._infos(rows, self._all)
+        obs, reward, terminated, truncated, infos, rest = self._core.step_env(angles, torques)
+        if rest is not None:  # an autoreset: the resting posture of the robots reset
+            resetting, rest_rad = rest
+            self.rest_rad[resetting] = rest_rad[resetting]
+        return obs, reward, terminated, truncated, infos
 
     def close_extras(self, **kwargs: Any) -> None:
         core = getattr(self, "_core", None)  # absent when __init__ failed
@@ -222,13 +223,13 @@ class VectorEnv(_GymVectorEnv):
         return seeds
 
     def _split(self, actions: Any) -> tuple[np.ndarray, np.ndarray | None]:
-        """The clipped joint targets (N x 22) and, with ``torques=True``, the clipped torques."""
+        """The joint targets (N x 22) and, with ``torques=True``, the torques (the core clips
+        them to the action space's bounds)."""
         if not self.torques:
-            a = self._rows(actions, "actions")
-            return np.clip(a, self._low, self._high), None
+            return self._rows(actions, "actions"), None
         a = self._rows(actions["angles_rad"], 'actions["angles_rad"]')
         t = self._rows(actions["torques_nm"], 'actions["torques_nm"]')
-        return np.clip(a, self._low, self._high), np.clip(t, -self._stall, self._stall)
+        return a, t
 
     def _rows(self, v: Any, what: str) -> np.ndarray:
         a = np.asarray(v, dtype=np.float64)

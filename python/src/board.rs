@@ -58,17 +58,21 @@ impl Board {
         let d = records::proprioception_dict(py, recs, &self.naming())?;
         let strain = self.with(py, |l| {
             let t = l.transport();
+            // The samples by reference (`RobotLink::strain_at` clones each, its 36 names too).
             Ok(t.physics().map(|p| {
                 let names = p.gauge_names();
                 let s: Vec<_> = recs
                     .iter()
-                    .map(|r| t.strain_at(r.time_us as f64 * 1e-6))
+                    .map(|r| {
+                        p.strain_at(r.time_us as f64 * 1e-6)
+                            .map(|s| (s.time_s, s.microstrain()))
+                    })
                     .collect();
                 (names, s)
             }))
         })?;
         if let Some((names, s)) = strain {
-            records::proprioception_strain(py, &d, recs, &s, &names)?;
+            records::proprioception_strain(py, &d, recs, &s, names)?;
         }
         let mut beside = self.strain.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((b, gains)) = beside.as_mut() {

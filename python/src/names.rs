@@ -22,6 +22,10 @@ pub struct JointNaming {
     /// The board's own answer to `GetJointMap`: the slot it has selected and that table's servo
     /// IDs in joint-map order (used when this `Board` did not upload that table).
     board_map: Option<(u8, Vec<u8>)>,
+    /// The last answer of [`Self::names`], (count, names), until something above changes
+    /// (parsing the selected table again for every record was about a tenth of the host's work
+    /// in a physics robot's step, docs/performance.md).
+    memo: std::cell::RefCell<Option<(usize, Vec<String>)>>,
 }
 
 impl JointNaming {
@@ -32,15 +36,18 @@ impl JointNaming {
             tables: Default::default(),
             active: None,
             board_map: None,
+            memo: std::cell::RefCell::new(None),
         }
     }
 
     pub fn set_model(&mut self, model: Model) {
+        self.memo.get_mut().take();
         self.model = model;
     }
 
     /// `table` was committed into `slot`.
     pub fn uploaded(&mut self, slot: u8, table: Vec<u8>) {
+        self.memo.get_mut().take();
         if let Some(t) = self.tables.get_mut(usize::from(slot)) {
             *t = Some(table);
         }
@@ -61,11 +68,13 @@ impl JointNaming {
 
     /// The board accepted `Play` of `slot` (it selects that slot's table).
     pub fn played(&mut self, slot: u8) {
+        self.memo.get_mut().take();
         self.active = Some(slot);
     }
 
     /// The board reported `map` for its selected gait (`None`: nothing selected).
     pub fn board_reported(&mut self, map: Option<protocol::JointIds>) {
+        self.memo.get_mut().take();
         self.board_map = map.map(|m| (m.slot, m.servo_ids.to_vec()));
         if let Some((slot, _)) = &self.board_map {
             self.active = Some(*slot);
@@ -76,6 +85,17 @@ impl JointNaming {
     /// table this `Board` uploaded for the selected slot, else by those the board reported for it,
     /// else the model's servo joints in order.
     pub fn names(&self, count: usize) -> Vec<String> {
+        if let Some((c, names)) = self.memo.borrow().as_ref()
+            && *c == count
+        {
+            return names.clone();
+        }
+        let names = self.name_joints(count);
+        *self.memo.borrow_mut() = Some((count, names.clone()));
+        names
+    }
+
+    fn name_joints(&self, count: usize) -> Vec<String> {
         let table = self
             .active
             .and_then(|s| self.tables.get(usize::from(s))?.as_deref())

@@ -269,28 +269,29 @@ pub fn strain_items(
 }
 
 /// On the physics robot, what each proprioception record knew of the strain gauges: the latest
-/// simulated sample at or before its time (`physics::RobotLink::strain_at`). Adds
+/// simulated sample at or before its time (`physics::PhysicsRobot::strain_at`; `strain`: per
+/// record its sample's time, s, and microstrain per gauge, None if none). Adds
 /// `strain_names`, `strain_microstrain` ([record, gauge]; NaN where no sample was that old) and
 /// `strain_age_s` ([record]: the record's time less the sample's).
 pub fn proprioception_strain(
     py: Python<'_>,
     d: &Bound<'_, PyDict>,
     recs: &[Proprioception],
-    strain: &[Option<physics::SimulatedStrain>],
-    names: &[String],
+    strain: &[Option<(f64, Vec<f64>)>],
+    names: Vec<String>,
 ) -> PyResult<()> {
     let n = names.len();
     let m = Array2::from_shape_fn((recs.len(), n), |(i, g)| {
         strain[i]
             .as_ref()
-            .and_then(|s| s.readings.get(g))
-            .map_or(f64::NAN, |r| r.microstrain)
+            .and_then(|s| s.1.get(g).copied())
+            .unwrap_or(f64::NAN)
     });
     let age = Array1::from_iter(recs.iter().zip(strain).map(|(p, s)| {
         s.as_ref()
-            .map_or(f64::NAN, |s| p.time_us as f64 * 1e-6 - s.time_s)
+            .map_or(f64::NAN, |s| p.time_us as f64 * 1e-6 - s.0)
     }));
-    d.set_item("strain_names", names.to_vec())?;
+    d.set_item("strain_names", names)?;
     d.set_item("strain_microstrain", m.to_pyarray(py))?;
     d.set_item("strain_age_s", age.to_pyarray(py))?;
     Ok(())

@@ -22,10 +22,11 @@ use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 
-use numpy::ndarray::{Array1, Array2};
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use numpy::ndarray::ArrayView2;
+use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::errors::{board_error, value_error};
 use crate::vector_sub::{Options, Row, SubEnv};
@@ -74,6 +75,27 @@ pub struct VectorCore {
     rows: RefCell<Vec<Row>>,
     joints: usize,
     gauges: usize,
+    /// The bounds actions are clipped to (`np.clip`'s rule), when given.
+    limits: Option<Limits>,
+    /// The observation's keys in the observation space's order (`step_env`'s dict).
+    obs_keys: Vec<String>,
+    /// Which sub-environments ended at the last `step_env` (next-step autoreset: the next step
+    /// resets them).
+    autoreset: RefCell<Vec<bool>>,
+}
+
+/// The action space's bounds: joint targets in [low, high], torques in [-stall, stall].
+#[derive(Debug, Clone)]
+struct Limits {
+    low: Vec<f64>,
+    high: Vec<f64>,
+    stall: Vec<f64>,
+}
+
+/// `np.clip(x, lo, hi)` as NumPy computes it, `minimum(maximum(x, lo), hi)`: a NaN stays NaN.
+fn clip(x: f64, lo: f64, hi: f64) -> f64 {
+    let y = if x < lo { lo } else { x };
+    if y > hi { hi } else { y }
 }
 
 /// The message when the core was closed.
@@ -180,6 +202,57 @@ impl VectorCore {
     }
 }
 
+/// `k` values of each row side by side as an N x k array (a row short of `k`: NaN).
+fn mat<'py>(
+    py: Python<'py>,
+    rows: &[Row],
+    k: usize,
+    g: impl Fn(&Row) -> &[f64],
+) -> Bound<'py, PyArray2<f64>> {
+    let n = rows.len();
+    let mut flat = Vec::with_capacity(n * k);
+    for r in rows {
+        let v = g(r);
+        if v.len() == k {
+            flat.extend_from_slice(v);
+        } else {
+            flat.extend((0..k).map(|j| v.get(j).copied().unwrap_or(f64::NAN)));
+        }
+    }
+    ArrayView2::from_shape((n, k), &flat)
+        .expect("n x k values")
+        .to_pyarray(py)
+}
+
+/// One value of each row as an array of N.
+fn col<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: &[Row],
+    g: impl Fn(&Row) -> T,
+) -> Bound<'py, PyArray1<T>> {
+    let v: Vec<T> = rows.iter().map(g).collect();
+    PyArray1::from_slice(py, &v)
+}
+
+/// The observation's array under `key` (None: not an observation key).
+fn observed<'py>(
+    py: Python<'py>,
+    rows: &[Row],
+    key: &str,
+    joints: usize,
+    gauges: usize,
+) -> Option<Bound<'py, PyArray2<f64>>> {
+    Some(match key {
+        "present_rad" => mat(py, rows, joints, |r| &r.present),
+        "velocity_rad_s" => mat(py, rows, joints, |r| &r.velocity),
+        "load_raw" => mat(py, rows, joints, |r| &r.load),
+        "setpoint_age" => mat(py, rows, 1, |r| std::slice::from_ref(&r.setpoint_age)),
+        "strain_microstrain" => mat(py, rows, gauges, |r| &r.strain),
+        "strain_age_s" => mat(py, rows, 1, |r| std::slice::from_ref(&r.strain_age_s)),
+        _ => return None,
+    })
+}
+
 /// Every sub-environment's latest row as a dict of arrays (first axis: sub-environment).
 fn batch<'py>(
     py: Python<'py>,
@@ -187,45 +260,35 @@ fn batch<'py>(
     joints: usize,
     gauges: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let n = rows.len();
     let d = PyDict::new(py);
-    let mat = |k: usize, g: &dyn Fn(&Row) -> &[f64]| {
-        Array2::from_shape_fn((n, k), |(i, j)| {
-            g(&rows[i]).get(j).copied().unwrap_or(f64::NAN)
-        })
-    };
-    let col = |g: &dyn Fn(&Row) -> f64| Array1::from_iter(rows.iter().map(g));
-    let flag = |g: &dyn Fn(&Row) -> bool| Array1::from_iter(rows.iter().map(g));
-    let j = joints;
-    d.set_item("present_rad", mat(j, &|r| &r.present).to_pyarray(py))?;
-    d.set_item("velocity_rad_s", mat(j, &|r| &r.velocity).to_pyarray(py))?;
-    d.set_item("load_raw", mat(j, &|r| &r.load).to_pyarray(py))?;
-    d.set_item(
-        "setpoint_age",
-        mat(1, &|r| std::slice::from_ref(&r.setpoint_age)).to_pyarray(py),
-    )?;
+    let mut keys = vec!["present_rad", "velocity_rad_s", "load_raw", "setpoint_age"];
     if gauges > 0 {
-        d.set_item(
-            "strain_microstrain",
-            mat(gauges, &|r| &r.strain).to_pyarray(py),
-        )?;
-        d.set_item(
-            "strain_age_s",
-            mat(1, &|r| std::slice::from_ref(&r.strain_age_s)).to_pyarray(py),
-        )?;
+        keys.extend(["strain_microstrain", "strain_age_s"]);
     }
-    d.set_item("time_s", col(&|r| r.time_s).to_pyarray(py))?;
-    d.set_item("thorax_position_m", mat(3, &|r| &r.position).to_pyarray(py))?;
+    for k in keys {
+        d.set_item(k, observed(py, rows, k, joints, gauges))?;
+    }
+    d.set_item(intern!(py, "time_s"), col(py, rows, |r| r.time_s))?;
     d.set_item(
-        "thorax_orientation",
-        mat(4, &|r| &r.orientation).to_pyarray(py),
+        intern!(py, "thorax_position_m"),
+        mat(py, rows, 3, |r| &r.position),
     )?;
-    d.set_item("rest_rad", mat(j, &|r| &r.rest).to_pyarray(py))?;
-    d.set_item("settle_skipped", flag(&|r| r.settle_skipped).to_pyarray(py))?;
-    d.set_item("reward", col(&|r| r.reward).to_pyarray(py))?;
-    d.set_item("terminated", flag(&|r| r.terminated).to_pyarray(py))?;
-    d.set_item("truncated", flag(&|r| r.truncated).to_pyarray(py))?;
-    d.set_item("state", rows.iter().map(|r| r.state).collect::<Vec<&str>>())?;
+    d.set_item(
+        intern!(py, "thorax_orientation"),
+        mat(py, rows, 4, |r| &r.orientation),
+    )?;
+    d.set_item(intern!(py, "rest_rad"), mat(py, rows, joints, |r| &r.rest))?;
+    d.set_item(
+        intern!(py, "settle_skipped"),
+        col(py, rows, |r| r.settle_skipped),
+    )?;
+    d.set_item(intern!(py, "reward"), col(py, rows, |r| r.reward))?;
+    d.set_item(intern!(py, "terminated"), col(py, rows, |r| r.terminated))?;
+    d.set_item(intern!(py, "truncated"), col(py, rows, |r| r.truncated))?;
+    d.set_item(
+        intern!(py, "state"),
+        rows.iter().map(|r| r.state).collect::<Vec<&str>>(),
+    )?;
     Ok(d)
 }
 
@@ -254,11 +317,13 @@ fn mask(m: Option<PyReadonlyArray1<'_, bool>>, n: usize) -> PyResult<Vec<bool>> 
     }
 }
 
+/// Each row of `a` (N x j), clipped to [lo, hi] per joint when bounds are given.
 fn rows_of(
     a: &PyReadonlyArray2<'_, f64>,
     n: usize,
     j: usize,
     what: &str,
+    bounds: Option<(&[f64], &[f64])>,
 ) -> PyResult<Vec<Vec<f64>>> {
     let a = a.as_array();
     if a.dim() != (n, j) {
@@ -267,7 +332,16 @@ fn rows_of(
             a.dim()
         )));
     }
-    Ok(a.outer_iter().map(|r| r.to_vec()).collect())
+    Ok(a.outer_iter()
+        .map(|r| match bounds {
+            Some((lo, hi)) => r
+                .iter()
+                .zip(lo.iter().zip(hi))
+                .map(|(&x, (&lo, &hi))| clip(x, lo, hi))
+                .collect(),
+            None => r.to_vec(),
+        })
+        .collect())
 }
 
 /// The jobs of a reset: the sub-environments `mask` selects (None: all).
@@ -290,22 +364,25 @@ fn reset_jobs(
         .collect())
 }
 
-/// The jobs of a step: each sub-environment's row of actions, or a reset where `reset` says.
+/// The jobs of a step: each sub-environment's row of actions (clipped to `limits` when given),
+/// or a reset where `resets` says.
 fn step_jobs(
     n: usize,
     joints: usize,
     angles_rad: PyReadonlyArray2<'_, f64>,
     torques_nm: Option<PyReadonlyArray2<'_, f64>>,
-    reset: Option<PyReadonlyArray1<'_, bool>>,
+    resets: &[bool],
+    limits: Option<&Limits>,
 ) -> PyResult<Vec<(usize, Job)>> {
-    let angles = rows_of(&angles_rad, n, joints, "angles_rad")?;
+    let angle_bounds = limits.map(|l| (&l.low[..], &l.high[..]));
+    let angles = rows_of(&angles_rad, n, joints, "angles_rad", angle_bounds)?;
+    let minus_stall: Option<Vec<f64>> = limits.map(|l| l.stall.iter().map(|s| -s).collect());
+    let torque_bounds = limits
+        .zip(minus_stall.as_deref())
+        .map(|(l, lo)| (lo, &l.stall[..]));
     let torques = torques_nm
-        .map(|t| rows_of(&t, n, joints, "torques_nm"))
+        .map(|t| rows_of(&t, n, joints, "torques_nm", torque_bounds))
         .transpose()?;
-    let resets = match reset {
-        None => vec![false; n],
-        Some(_) => self::mask(reset, n)?,
-    };
     let mut torques = torques.map(|t| t.into_iter().map(Some).collect::<Vec<_>>());
     Ok(angles
         .into_iter()
@@ -327,21 +404,68 @@ fn step_jobs(
         .collect())
 }
 
+/// A fresh array of N booleans, all `v` (one per info key: Gymnasium's masks are not shared).
+fn flags<'py>(py: Python<'py>, n: usize, v: bool) -> Bound<'py, PyArray1<bool>> {
+    PyArray1::from_vec(py, vec![v; n])
+}
+
 #[pymethods]
 impl VectorCore {
     /// `num_envs` physics robots on `threads` worker threads (0: on the calling thread), each
     /// built with `options` (`VectorOptions`: the step table uploaded at every reset, which tells
     /// the board its joint map, calibration, limits and stiffness, and the other arguments as
-    /// `dbot.env.DbotEnv` takes them).
+    /// `dbot.env.DbotEnv` takes them). `low`, `high` (joint targets, rad) and `stall` (torques,
+    /// N m), when given, are the bounds every action is clipped to, as `np.clip` does it;
+    /// `obs_keys` the observation's keys in the order `step_env` gives them.
     #[new]
-    #[pyo3(signature = (num_envs, threads, options))]
-    fn new(num_envs: usize, threads: usize, options: &Options) -> PyResult<Self> {
+    #[pyo3(signature = (num_envs, threads, options, low = None, high = None, stall = None,
+        obs_keys = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        num_envs: usize,
+        threads: usize,
+        options: &Options,
+        low: Option<Vec<f64>>,
+        high: Option<Vec<f64>>,
+        stall: Option<Vec<f64>>,
+        obs_keys: Option<Vec<String>>,
+    ) -> PyResult<Self> {
         if num_envs == 0 {
             return Err(value_error("num_envs = 0: give 1 or more"));
         }
         let model = planner::model::builtin("drosophibot2").map_err(value_error)?;
         let joints = model.servo_chain().len();
         let gauges = model.gauges.len();
+        let limits = match (low, high, stall) {
+            (None, None, None) => None,
+            (Some(low), Some(high), Some(stall)) => {
+                for (what, v) in [("low", &low), ("high", &high), ("stall", &stall)] {
+                    if v.len() != joints {
+                        return Err(value_error(format!(
+                            "{what}: {} values, give {joints}: one per joint",
+                            v.len()
+                        )));
+                    }
+                }
+                Some(Limits { low, high, stall })
+            }
+            _ => return Err(value_error("low, high and stall: give all three or none")),
+        };
+        let mut default_keys = vec!["present_rad", "velocity_rad_s", "load_raw", "setpoint_age"];
+        if gauges > 0 {
+            default_keys.extend(["strain_microstrain", "strain_age_s"]);
+        }
+        let obs_keys =
+            obs_keys.unwrap_or_else(|| default_keys.iter().map(|k| (*k).to_owned()).collect());
+        if let Some(k) = obs_keys
+            .iter()
+            .find(|k| !default_keys.contains(&k.as_str()))
+        {
+            return Err(value_error(format!(
+                "obs_keys: {k} is not observed (give some of {})",
+                default_keys.join(", ")
+            )));
+        }
         let options = options.clone();
         let threads = threads.min(num_envs);
         let engine = if threads == 0 {
@@ -357,6 +481,9 @@ impl VectorCore {
             rows: RefCell::new(vec![Row::default(); num_envs]),
             joints,
             gauges,
+            limits,
+            obs_keys,
+            autoreset: RefCell::new(vec![false; num_envs]),
         })
     }
 
@@ -384,14 +511,21 @@ impl VectorCore {
         stiffness_nm_rad: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let jobs = reset_jobs(self.num_envs, mask, scene, stiffness_nm_rad)?;
+        {
+            let mut autoreset = self.autoreset.borrow_mut();
+            for (i, _) in &jobs {
+                autoreset[*i] = false;
+            }
+        }
         self.run(py, jobs)?;
         batch(py, &self.rows.borrow(), self.joints, self.gauges)
     }
 
-    /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad, clipped by the
-    /// caller to the joint limits) and `torques_nm` (N x 22, N m, or None), except those `reset`
-    /// selects (N booleans, or None), which are reset instead (Gymnasium's next-step autoreset:
-    /// their action is ignored). Returns a dict of arrays, first axis the sub-environment: the
+    /// Steps every sub-environment with its row of `angles_rad` (N x 22, rad) and `torques_nm`
+    /// (N x 22, N m, or None), both clipped to the bounds given at construction (without them,
+    /// the caller clips to the joint limits), except those `reset` selects (N booleans, or
+    /// None), which are reset instead (Gymnasium's next-step autoreset: their action is
+    /// ignored). Returns a dict of arrays, first axis the sub-environment: the
     /// observation's keys (`present_rad`, `velocity_rad_s`, `load_raw`, `setpoint_age` and, with
     /// gauges, `strain_microstrain`, `strain_age_s`), `time_s`, `thorax_position_m`,
     /// `thorax_orientation`, `reward` (forward progress, m; 0 after a reset), `terminated`,
@@ -404,9 +538,111 @@ impl VectorCore {
         torques_nm: Option<PyReadonlyArray2<'_, f64>>,
         reset: Option<PyReadonlyArray1<'_, bool>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let jobs = step_jobs(self.num_envs, self.joints, angles_rad, torques_nm, reset)?;
+        let resets = match reset {
+            None => vec![false; self.num_envs],
+            Some(_) => self::mask(reset, self.num_envs)?,
+        };
+        let jobs = step_jobs(
+            self.num_envs,
+            self.joints,
+            angles_rad,
+            torques_nm,
+            &resets,
+            self.limits.as_ref(),
+        )?;
         self.run(py, jobs)?;
         batch(py, &self.rows.borrow(), self.joints, self.gauges)
+    }
+
+    /// `gymnasium.vector.VectorEnv.step` in one call: the actions clipped to the bounds given at
+    /// construction, the sub-environments that ended at the previous call reset instead (next-
+    /// step autoreset: their action ignored, reward 0, both flags False). Returns `(obs, reward,
+    /// terminated, truncated, infos, rest)`: `obs` a dict of the `obs_keys`; `infos` with
+    /// `time_s`, `settle_skipped`, `state` (object array) and `body` (`thorax_position_m`,
+    /// `thorax_orientation`), each key beside its mask `_key` (all True); `rest` None, or after
+    /// an autoreset `(mask, rest_rad)`: which were reset and every sub-environment's resting
+    /// posture (N x 22, rad).
+    #[pyo3(signature = (angles_rad, torques_nm = None))]
+    fn step_env<'py>(
+        &self,
+        py: Python<'py>,
+        angles_rad: PyReadonlyArray2<'_, f64>,
+        torques_nm: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let n = self.num_envs;
+        let resetting = self.autoreset.borrow().clone();
+        let jobs = step_jobs(
+            n,
+            self.joints,
+            angles_rad,
+            torques_nm,
+            &resetting,
+            self.limits.as_ref(),
+        )?;
+        self.run(py, jobs)?;
+        let rows = self.rows.borrow();
+        let obs = PyDict::new(py);
+        for k in &self.obs_keys {
+            obs.set_item(k, observed(py, &rows, k, self.joints, self.gauges))?;
+        }
+        let mut reward: Vec<f64> = rows.iter().map(|r| r.reward).collect();
+        let mut terminated: Vec<bool> = rows.iter().map(|r| r.terminated).collect();
+        let mut truncated: Vec<bool> = rows.iter().map(|r| r.truncated).collect();
+        for i in (0..n).filter(|&i| resetting[i]) {
+            reward[i] = 0.0;
+            terminated[i] = false;
+            truncated[i] = false;
+        }
+        {
+            let mut autoreset = self.autoreset.borrow_mut();
+            for i in 0..n {
+                autoreset[i] = terminated[i] || truncated[i];
+            }
+        }
+        let body = PyDict::new(py);
+        body.set_item(
+            intern!(py, "thorax_position_m"),
+            mat(py, &rows, 3, |r| &r.position),
+        )?;
+        body.set_item(intern!(py, "_thorax_position_m"), flags(py, n, true))?;
+        body.set_item(
+            intern!(py, "thorax_orientation"),
+            mat(py, &rows, 4, |r| &r.orientation),
+        )?;
+        body.set_item(intern!(py, "_thorax_orientation"), flags(py, n, true))?;
+        let infos = PyDict::new(py);
+        infos.set_item(intern!(py, "time_s"), col(py, &rows, |r| r.time_s))?;
+        infos.set_item(intern!(py, "_time_s"), flags(py, n, true))?;
+        infos.set_item(
+            intern!(py, "settle_skipped"),
+            col(py, &rows, |r| r.settle_skipped),
+        )?;
+        infos.set_item(intern!(py, "_settle_skipped"), flags(py, n, true))?;
+        let states: Vec<Py<PyAny>> = rows
+            .iter()
+            .map(|r| pyo3::types::PyString::new(py, r.state).into_any().unbind())
+            .collect();
+        infos.set_item(intern!(py, "state"), PyArray1::from_vec(py, states))?;
+        infos.set_item(intern!(py, "_state"), flags(py, n, true))?;
+        infos.set_item(intern!(py, "body"), body)?;
+        infos.set_item(intern!(py, "_body"), flags(py, n, true))?;
+        let rest = if resetting.iter().any(|&r| r) {
+            let mask = PyArray1::from_slice(py, &resetting);
+            (mask, mat(py, &rows, self.joints, |r| &r.rest))
+                .into_pyobject(py)?
+                .into_any()
+        } else {
+            py.None().into_bound(py)
+        };
+        (
+            obs,
+            PyArray1::from_vec(py, reward),
+            PyArray1::from_vec(py, terminated),
+            PyArray1::from_vec(py, truncated),
+            infos,
+            rest,
+        )
+            .into_pyobject(py)
     }
 
     /// Stops the workers and closes every robot (idempotent).

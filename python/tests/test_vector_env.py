@@ -8,7 +8,9 @@
 * results are bit-identical for 1 and 2 worker threads and on the calling thread (`threads=0`),
   and `gymnasium.make_vec` builds it;
 * a reset from the stored settled state (a cheap reset) gives the same episode, bit for bit, as
-  a reset that simulates the settling again.
+  a reset that simulates the settling again;
+* actions beyond the action space's bounds step as the same actions clipped by `np.clip` (the
+  Rust core clips them).
 """
 
 from __future__ import annotations
@@ -124,3 +126,32 @@ def test_an_action_of_the_wrong_shape_is_refused_by_name() -> None:
     with pytest.raises(ValueError, match=r"actions: shape \(22,\), give \(2, 22\)"):
         env.step(np.zeros(22))
     env.close()
+
+
+def test_actions_beyond_the_bounds_are_clipped_as_np_clip_clips_them() -> None:
+    # Targets 4 rad beyond the joint limits (beyond what a setpoint can carry, +-3.2767 rad:
+    # unclipped, the step fails) and torques of 10 N m (unclipped, the firmware's torque bias
+    # would differ), both ways, give the very steps of the same actions clipped by NumPy (the
+    # core clips them in Rust now).
+    runs = []
+    for clip_here in (False, True):
+        env = VectorEnv(1, threads=0, torques=True, max_episode_steps=20)
+        obs, _ = env.reset(seed=0)
+        trace = [obs]
+        sign = np.where(np.arange(22) % 2 == 0, 1.0, -1.0)
+        for k in range(6):
+            up = sign * (-1) ** k > 0
+            angles = np.where(up, env._high + 4.0, env._low - 4.0)[None, :]
+            torques = 10.0 * sign[None, :] * (-1) ** (k // 2)
+            if clip_here:
+                angles = np.clip(angles, env._low, env._high)
+                torques = np.clip(torques, -env._stall, env._stall)
+            obs, reward, *_ = env.step({"angles_rad": angles, "torques_nm": torques})
+            trace.append({**obs, "reward": reward})
+        env.close()
+        runs.append(trace)
+    moved = runs[1][-1]["present_rad"] - runs[1][0]["present_rad"]
+    assert np.abs(moved).max() > 0.05  # the clipped targets moved the joints
+    for a, b in zip(*runs, strict=True):
+        for key in a:
+            assert a[key].tobytes() == b[key].tobytes(), key

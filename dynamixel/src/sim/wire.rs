@@ -220,6 +220,11 @@ impl State {
         }
         self.last_servo_byte_ns = at;
         self.servo_parser.feed(&[byte]);
+        // Inside a packet whose last byte is still to come nothing can complete: the parser is
+        // not asked (it was asked at every byte, a tenth of the simulated bus's time).
+        if self.servo_parser.awaiting_rest() {
+            return;
+        }
         let baud = self.config.baud;
         // Borrow dance: the parser's frame borrows `self.servo_parser`, the chain is separate.
         let mut planned = Vec::new();
