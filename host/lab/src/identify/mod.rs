@@ -1,9 +1,10 @@
 //! Identification of the servo dynamics (docs/identification.md): the recorded goals of
 //! suspended excitation trials replayed on the physics robot's body ([`rollout`]) and the
 //! model's servo parameters fitted per joint to the recorded present position and velocity
-//! ([`fit`]: Levenberg-Marquardt, bounds, a block-diagonal finite-difference Jacobian), then the
-//! Present Load reading per joint from the load ([`load`]). Every estimate carries a standard
-//! deviation from the Jacobian at the optimum (`sigma^2 (J^T J)^-1`, its joint's block); a
+//! ([`fit`]: Levenberg-Marquardt, bounds, a block-diagonal finite-difference Jacobian; then
+//! [`refine`]: Nelder-Mead on each joint's block from where it ended), then the Present Load
+//! reading per joint from the load ([`load`]). Every estimate carries a standard deviation from
+//! the Jacobian at the point kept (`sigma^2 (J^T J)^-1`, its joint's block); a
 //! parameter no reading responds to, or whose block is singular, is named as not identified,
 //! with the reason, as are the fields never fitted from motion ([`params::NOT_FROM_MOTION`]).
 //!
@@ -19,6 +20,7 @@ pub mod friction;
 pub mod load;
 pub mod params;
 pub mod recording;
+pub mod refine;
 pub mod report;
 pub mod rollout;
 pub mod stand_in;
@@ -55,12 +57,16 @@ pub struct IdentifyOptions {
     /// recording per fitted parameter, so the fit's iterations do not depend on how many trials
     /// are given).
     pub max_replays_per_recording: usize,
+    /// Replays the Nelder-Mead refinement after it may run per identified joint ([`refine`]; 0:
+    /// no refinement).
+    pub refine_replays_per_joint: usize,
 }
 
 impl Default for IdentifyOptions {
     fn default() -> Self {
         Self {
             max_replays_per_recording: 200,
+            refine_replays_per_joint: refine::REPLAYS_PER_JOINT,
         }
     }
 }
@@ -94,6 +100,9 @@ pub struct Identification {
     /// Replays run, and how the optimiser ended.
     pub replays: usize,
     pub termination: String,
+    /// What the refinement after Levenberg-Marquardt did, per identified joint (empty when
+    /// none ran).
+    pub refinement: Vec<refine::JointRefinement>,
     /// The ground friction's fit, when a trial walked.
     pub friction: Option<friction::FrictionFit>,
 }
@@ -147,6 +156,7 @@ pub fn identify(
             generalised: Vec::new(),
             replays: 0,
             termination: "no servo fit (no suspended trial)".to_owned(),
+            refinement: Vec::new(),
             friction: None,
         }
     } else {
@@ -221,12 +231,20 @@ fn identify_servos(
         .as_ref()
         .map_or_else(|| problem.x().clone(), |(_, x)| x.clone());
     let termination = format!("{:?}", report.termination);
+    let (best, refinement) = if options.refine_replays_per_joint > 0 {
+        refine::refine(&problem, &best, options.refine_replays_per_joint)?
+    } else {
+        (best, Vec::new())
+    };
+    // The standard deviations: the Jacobian at the point kept (after the refinement).
     let mut at_best = fit::MotionFit::new(model, suspended, joints.clone(), usize::MAX);
     levenberg_marquardt::LeastSquaresProblem::set_params(&mut at_best, &best);
     let jac = at_best.jacobian_now()?;
     let cost = levenberg_marquardt::LeastSquaresProblem::residuals(&at_best)
         .map_or(0.0, |r| r.norm_squared());
-    let replays = problem.replays.get() + at_best.replays.get();
+    let replays = problem.replays.get()
+        + at_best.replays.get()
+        + refinement.iter().map(|r| r.replays).sum::<usize>();
     let mut fitted = problem.model_at(&best);
 
     let mut estimates = Vec::new();
@@ -353,6 +371,7 @@ fn identify_servos(
         generalised,
         replays,
         termination,
+        refinement,
         friction: None,
     })
 }
