@@ -20,9 +20,10 @@ use super::params::MOTION;
 use super::rollout;
 use crate::error::Result;
 
-/// Replays the refinement may run per identified joint (each cost replays every recording that
-/// moves the joint once).
-pub const REPLAYS_PER_JOINT: usize = 120;
+/// Replays the refinement is given per identified joint when asked for (`dbot identify
+/// --refine-replays`; each cost replays every recording that moves the joint once): what the
+/// one-leg stand-in's run used (docs/identification.md).
+pub const REPLAYS_PER_JOINT: usize = 300;
 
 /// What the refinement did to one joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -93,6 +94,11 @@ impl CostFunction for JointCost<'_, '_> {
     type Output = f64;
 
     fn cost(&self, block: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        // A failed replay is kept for the caller and ends the search: every later point costs
+        // infinity (an error here would panic in the solver's first simplex).
+        if self.tally.error.borrow().is_some() {
+            return Ok(f64::INFINITY);
+        }
         if self.tally.replays.get() >= self.budget {
             return Err(argmin::core::Error::msg(BUDGET_SPENT));
         }
@@ -114,19 +120,25 @@ impl CostFunction for JointCost<'_, '_> {
             }
             Err(e) => {
                 *self.tally.error.borrow_mut() = Some(e);
-                Err(argmin::core::Error::msg("replay failed"))
+                Ok(f64::INFINITY)
             }
         }
     }
 }
 
-/// The starting simplex around `x0`: one vertex per parameter, moved by a tenth of its value
+/// How far the starting simplex reaches from where Levenberg-Marquardt ended, a fraction of
+/// each parameter's value: wide enough to span the valley it stops in (its estimates there
+/// were 10 to 25 % off) and to step over the cost's unevenness at the scale of a tick (a
+/// tenth stalled: see docs/identification.md).
+const SIMPLEX: f64 = 0.4;
+
+/// The starting simplex around `x0`: one vertex per parameter, moved by [`SIMPLEX`] of its value
 /// (at least twice its differencing step, and towards the inside of its bounds).
 fn simplex(x0: &[f64]) -> Vec<Vec<f64>> {
     let mut s = vec![x0.to_vec()];
     for (i, f) in MOTION.iter().enumerate() {
         let v = x0[i] * f.scale;
-        let d = (0.1 * v.abs()).max(2.0 * f.step);
+        let d = (SIMPLEX * v.abs()).max(2.0 * f.step);
         let moved = if v + d > f.hi { v - d } else { v + d };
         let mut p = x0.to_vec();
         p[i] = moved / f.scale;
@@ -157,20 +169,26 @@ pub fn refine(
         };
         let x0: Vec<f64> = (0..np).map(|i| x[slot * np + i]).collect();
         let before = problem.at(&x0)?;
-        let solver = NelderMead::new(simplex(&x0));
-        // The run ends on its tolerance, its iterations or the budget (an error the problem
-        // raises): what it found is in the tally either way.
-        let _ = Executor::new(problem, solver)
-            .configure(|s| s.max_iters(replays_per_joint as u64))
-            .run();
+        let n = np as f64;
+        // The adaptive parameters of Gao and Han (2012) for the expansion and the shrink, which
+        // keep the simplex from collapsing early in more than a few dimensions (argmin allows a
+        // contraction of at most 0.5: its default).
+        let solver = NelderMead::new(simplex(&x0))
+            .with_gamma(1.0 + 2.0 / n)
+            .and_then(|s| s.with_sigma(1.0 - 1.0 / n))
+            .expect("valid Nelder-Mead parameters");
+        // The run ends on its tolerance, its iterations or the budget (an error the cost raises):
+        // what it found is in the tally either way.
+        // The first simplex must fit in the budget (the solver cannot stop inside it).
+        if replays_per_joint > np + 1 {
+            let _ = Executor::new(problem, solver)
+                .configure(|s| s.max_iters(replays_per_joint as u64))
+                .run();
+        }
         if let Some(e) = tally.error.borrow_mut().take() {
             return Err(e);
         }
-        let (after, block) = tally
-            .best
-            .borrow()
-            .clone()
-            .unwrap_or((before, x0.clone()));
+        let (after, block) = tally.best.borrow().clone().unwrap_or((before, x0.clone()));
         let kept = after < before;
         if kept {
             for (i, v) in block.iter().enumerate() {
