@@ -56,10 +56,15 @@ pub fn markdown(id: &Identification) -> String {
     let _ = writeln!(s, "# Identification: {}\n", id.model.name);
     let _ = writeln!(
         s,
-        "Optimiser: Levenberg-Marquardt (levenberg-marquardt 0.15), ended {}, then per joint \
-         Nelder-Mead (argmin 0.11) from where it ended; {} replays in all. Standard deviations \
-         from the Jacobian at the point kept.\n",
-        id.termination, id.replays
+        "Optimiser: Levenberg-Marquardt (levenberg-marquardt 0.15), ended {}{}; {} replays in \
+         all. Standard deviations from the Jacobian at the point kept.\n",
+        id.termination,
+        if id.refinement.is_empty() {
+            ""
+        } else {
+            ", then per joint Nelder-Mead (argmin 0.11) from where it ended"
+        },
+        id.replays
     );
     if !id.refinement.is_empty() {
         let _ = writeln!(
