@@ -46,9 +46,10 @@ pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total 
 /// What the stall torque's and the P gain divisor's estimates mean.
 pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is identified; the stall \
     torque itself only through the I and D gains' scale (no saturation in the excitation), weakly: \
-    the fit can end along the valley of equal stiffness (the stand-in's full run: 2 of 5 joints \
-    24 % high with their stiffness within 2 %), with an error many times its sd: the optimiser's \
-    trust region collapses there though the truth fits better (docs/identification.md)";
+    the fit can end along the valley of equal stiffness (the stand-in's one-leg run: 2 of 5 joints \
+    23 to 25 % high with their stiffness within 2 %, 7.5 and 15.5 % after the refinement), with an \
+    error many times its sd: the optimisers stop short of the truth's lower cost, and on short \
+    trials the lowest cost can lie off the truth (docs/identification.md)";
 
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
