@@ -178,9 +178,11 @@ pub fn refine(
             .and_then(|s| s.with_sigma(1.0 - 1.0 / n))
             .expect("valid Nelder-Mead parameters");
         // The run ends on its tolerance, its iterations or the budget (an error the cost raises):
-        // what it found is in the tally either way.
-        // The first simplex must fit in the budget (the solver cannot stop inside it).
-        if replays_per_joint > np + 1 {
+        // what it found is in the tally either way. Its first simplex must fit in the budget
+        // (the solver cannot stop inside it): one cost per vertex, each as many replays as the
+        // joint's start cost took.
+        let per_cost = tally.replays.get().max(1);
+        if replays_per_joint >= per_cost * (np + 2) {
             let _ = Executor::new(problem, solver)
                 .configure(|s| s.max_iters(replays_per_joint as u64))
                 .run();
