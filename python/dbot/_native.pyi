@@ -758,6 +758,7 @@ def identify(
     trials: list[str | PathLike[str]],
     model: Model | None = None,
     out: str | PathLike[str] | None = None,
+    refine_replays: int = 0,
 ) -> Model: ...
 def replay(trial: str | PathLike[str], model: Model | None = None) -> dict[str, Any]:
     """``dbot replay``: per joint position, velocity and load figures (``load_reading``) and,

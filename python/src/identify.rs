@@ -23,20 +23,26 @@ fn model_or_default(model: Option<&Model>) -> PyResult<planner::model::Model> {
 /// `trials` (the suspended excitation's, recorded with the feet in the air), then the ground's
 /// friction (``foot_friction``) to those that walked when their feet slip, as ``dbot identify``
 /// does, and returns the fitted Model. With `out` (a .toml path) also writes the fitted model
-/// there and the report beside it (``<out>-report/``: report.md, plots). ValueError naming the
-/// trial, joint or file.
+/// there and the report beside it (``<out>-report/``: report.md, plots). `refine_replays`: as
+/// ``dbot identify --refine-replays`` (after Levenberg-Marquardt, Nelder-Mead on each joint with
+/// at most that many replays; 0, no refinement). ValueError naming the trial, joint or file.
 #[pyfunction]
-#[pyo3(signature = (trials, model = None, out = None))]
+#[pyo3(signature = (trials, model = None, out = None, refine_replays = 0))]
 pub fn identify(
     py: Python<'_>,
     trials: Vec<PathBuf>,
     model: Option<&Model>,
     out: Option<PathBuf>,
+    refine_replays: usize,
 ) -> PyResult<Model> {
     let m = model_or_default(model)?;
+    let options = lab::identify::IdentifyOptions {
+        refine_replays_per_joint: refine_replays,
+        ..Default::default()
+    };
     let fitted = py
         .detach(|| {
-            let id = lab::identify::identify_trials(&trials, &m, &Default::default())?;
+            let id = lab::identify::identify_trials(&trials, &m, &options)?;
             if let Some(out) = &out {
                 lab::identify::write_outputs(&id, out)?;
             }

@@ -7,6 +7,7 @@
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Example:
   dbot identify out/trials/sus-CTr out/trials/sus-FTi --model drosophibot2 --out fitted.toml
+  dbot identify out/trials/sus-* --model drosophibot2 --out fitted.toml --refine-replays 300
   dbot identify out/trials/walk-floor --model fitted.toml --out fitted-floor.toml")]
 pub struct Args {
     /// Trial folders: `dbot record` of `dbot excite --kind suspended`'s sus-* tables (the servo
@@ -18,12 +19,21 @@ pub struct Args {
     out: std::path::PathBuf,
     #[command(flatten)]
     model: crate::args::setup::ModelArgs,
+    /// After Levenberg-Marquardt, refine each identified joint by Nelder-Mead on its own cost
+    /// with at most this many replays (0: no refinement; 300 is what the one-leg stand-in used,
+    /// docs/identification.md).
+    #[arg(long, default_value_t = 0)]
+    refine_replays: usize,
 }
 
 impl Args {
     pub fn run(self) -> anyhow::Result<()> {
         let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
-        let id = lab::identify::identify_trials(&self.trials, &model, &Default::default())?;
+        let options = lab::identify::IdentifyOptions {
+            refine_replays_per_joint: self.refine_replays,
+            ..Default::default()
+        };
+        let id = lab::identify::identify_trials(&self.trials, &model, &options)?;
         print!("{}", lab::identify::write_outputs(&id, &self.out)?);
         Ok(())
     }

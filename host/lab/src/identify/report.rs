@@ -56,10 +56,31 @@ pub fn markdown(id: &Identification) -> String {
     let _ = writeln!(s, "# Identification: {}\n", id.model.name);
     let _ = writeln!(
         s,
-        "Optimiser: Levenberg-Marquardt (levenberg-marquardt 0.15), {} replays, ended {}. \
-         Standard deviations from the Jacobian at the optimum.\n",
-        id.replays, id.termination
+        "Optimiser: Levenberg-Marquardt (levenberg-marquardt 0.15), ended {}{}; {} replays in \
+         all. Standard deviations from the Jacobian at the point kept.\n",
+        id.termination,
+        if id.refinement.is_empty() {
+            ""
+        } else {
+            ", then per joint Nelder-Mead (argmin 0.11) from where it ended"
+        },
+        id.replays
     );
+    if !id.refinement.is_empty() {
+        let _ = writeln!(
+            s,
+            "## Refinement (Nelder-Mead per joint)\n\n| joint | cost after Levenberg-Marquardt | \
+             after Nelder-Mead | replays | kept |\n|---|---|---|---|---|"
+        );
+        for r in &id.refinement {
+            let _ = writeln!(s, "{}", refinement_row(r));
+        }
+        let _ = writeln!(
+            s,
+            "\nCost: the joint's squared residuals (position per tick, velocity per 4 units of \
+             0.229 rev/min) summed over the trials that move it.\n"
+        );
+    }
     let _ = writeln!(
         s,
         "## Estimates\n\n| joint | field | start | fitted | sd | note |\n|---|---|---|---|---|---|"
@@ -87,6 +108,18 @@ pub fn markdown(id: &Identification) -> String {
         let _ = writeln!(s, "After (the fitted model):\n\n```\n{}```\n", a.table());
     }
     s
+}
+
+/// One joint's line of the refinement's table.
+fn refinement_row(r: &super::refine::JointRefinement) -> String {
+    format!(
+        "| {} | {:.1} | {:.1} | {} | {} |",
+        r.joint,
+        r.cost_before,
+        r.cost_after,
+        r.replays,
+        if r.kept { "refined" } else { "as before" }
+    )
 }
 
 /// Writes the fitted model of `id` to `out` (TOML, atomically) and its report into the folder
@@ -119,6 +152,17 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
             b.trial,
             b.position_rms_rad() * 1e3,
             a.position_rms_rad() * 1e3
+        );
+    }
+    for r in &id.refinement {
+        let _ = writeln!(
+            s,
+            "{}: refinement cost {:.1} -> {:.1} ({} replays, {})",
+            r.joint,
+            r.cost_before,
+            r.cost_after,
+            r.replays,
+            if r.kept { "refined" } else { "kept as before" }
         );
     }
     if let Some(f) = id.friction.as_ref().filter(|f| f.why.is_none()) {

@@ -10,7 +10,7 @@ use planner::excitation::{ExcitationKind, ExcitationOptions, excitation};
 use planner::model::Model;
 
 /// A short suspended excitation: 0.3 s holds, a 3.5 s chirp.
-fn short() -> ExcitationOptions {
+pub(crate) fn short() -> ExcitationOptions {
     ExcitationOptions {
         hold_s: 0.3,
         chirp_s: 3.5,
@@ -22,7 +22,7 @@ fn short() -> ExcitationOptions {
 /// The stand-in's recording of joints played from suspended tables at once, each `(joint,
 /// table kind)`: the suspended legs move independently, so one recording stands for the
 /// tables played one after the other (and costs one replay instead of several).
-fn stand_in_recording(default: &Model, joints: &[(&str, &str)]) -> Recording {
+pub(crate) fn stand_in_recording(default: &Model, joints: &[(&str, &str)]) -> Recording {
     let truth = stand_in::stand_in_model(default);
     let ex = excitation(default, ExcitationKind::Suspended, &short()).unwrap();
     let table = |kind: &str| {

@@ -5,6 +5,7 @@ mod calibrate;
 mod doctor;
 mod identify;
 mod identify_friction;
+mod identify_refine;
 mod perturbation;
 mod physics_serve;
 mod pinned_walk;
