@@ -13,7 +13,7 @@ fn a_port_that_is_no_physics_robot_is_refused_by_name() {
     let e = PhysicsServer::open("virtual", &dir.path().join("board"), None).unwrap_err();
     assert_eq!(
         e.chain_text(),
-        "port `virtual` is not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE]`"
+        "port `virtual` is not a physics robot; give `physics` or `physics:SCENE[+SUBSTRATE][+platform:LEG][+model:FILE]`"
     );
     assert!(!dir.path().join("board").exists());
 }
