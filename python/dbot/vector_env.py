@@ -49,7 +49,6 @@ default; termination and truncation as ``DbotEnv``'s (a firmware fault, a fall b
 
 from __future__ import annotations
 
-import math
 import os
 from typing import Any, Sequence
 
@@ -78,44 +77,29 @@ class VectorEnv(_GymVectorEnv):
         *,
         threads: int | None = None,
         scene: str = "flat",
-        model: Model | None = None,
-        gait: Plan | None = None,
-        cycles_per_step: int = 1,
-        max_episode_steps: int = 1000,
-        stiffness_nm_rad: float | None = None,
-        settle_s: float = 0.5,
-        timeout_cycles: int = 50,
-        reply_timeout_s: float = 20.0,
-        fall_height_fraction: float = 0.5,
-        fall_tilt_rad: float = math.radians(30.0),
-        torques: bool = False,
         cheap_reset: bool = True,
+        **robot: Any,
     ) -> None:
+        """``robot``: :class:`dbot.env.DbotEnv`'s keyword arguments, with its defaults (``model``,
+        ``gait``, ``cycles_per_step``, ``max_episode_steps``, ``stiffness_nm_rad``, ``settle_s``,
+        ``timeout_cycles``, ``reply_timeout_s``, ``fall_height_fraction``, ``fall_tilt_rad``,
+        ``torques``), but ``reward`` and ``render_mode``: the reward is forward progress, and the
+        robots are not drawn."""
+        for fixed in ("reward", "render_mode"):
+            if fixed in robot:
+                raise TypeError(f"VectorEnv takes no {fixed!r}: see VectorEnv's docstring")
         # The spaces, limits and table are DbotEnv's own: one single environment built without
         # a robot (DbotEnv opens its robot only at reset).
         from .env import DbotEnv
 
-        self._single = DbotEnv(
-            f"physics:{scene}",
-            model=model,
-            gait=gait,
-            cycles_per_step=cycles_per_step,
-            max_episode_steps=max_episode_steps,
-            stiffness_nm_rad=stiffness_nm_rad,
-            settle_s=settle_s,
-            timeout_cycles=timeout_cycles,
-            reply_timeout_s=reply_timeout_s,
-            fall_height_fraction=fall_height_fraction,
-            fall_tilt_rad=fall_tilt_rad,
-            torques=torques,
-        )
+        self._single = one = DbotEnv(f"physics:{scene}", **robot)
         if self._single.model.name != "drosophibot2":
             raise ValueError(
                 f"model {self._single.model.name}: the physics robot is Drosophibot II"
             )
         self.num_envs = int(num_envs)
         self.threads = int(threads) if threads is not None else min(self.num_envs, os.cpu_count() or 1)
-        self.torques = torques
+        self.torques = one.torques
         self.single_observation_space = self._single.observation_space
         self.single_action_space = self._single.action_space
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
@@ -129,16 +113,16 @@ class VectorEnv(_GymVectorEnv):
         if self.threads < 0:
             raise ValueError(f"threads = {self.threads}: give 0 (the calling thread) or more")
         options = VectorOptions(
-            self._single._table,
+            one._table,
             scene,
-            cycles_per_step,
-            max_episode_steps,
-            stiffness_nm_rad,
-            settle_s,
-            timeout_cycles,
-            reply_timeout_s,
-            fall_height_fraction,
-            fall_tilt_rad,
+            one.cycles_per_step,
+            one.max_episode_steps,
+            one.stiffness_nm_rad,
+            one.settle_s,
+            one.timeout_cycles,
+            one.reply_timeout_s,
+            one.fall_height_fraction,
+            one.fall_tilt_rad,
             cheap_reset,
         )
         # The core clips the actions to the action space's bounds (np.clip's rule) and builds

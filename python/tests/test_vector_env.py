@@ -128,6 +128,22 @@ def test_an_action_of_the_wrong_shape_is_refused_by_name() -> None:
     env.close()
 
 
+def test_the_robots_take_dbot_envs_settings_and_refuse_its_reward_and_drawing() -> None:
+    # DbotEnv's keywords reach each robot (its episode ends at DbotEnv's max_episode_steps);
+    # a reward function and a render mode are DbotEnv's alone.
+    env = VectorEnv(1, threads=0, max_episode_steps=2, fall_tilt_rad=1.0)
+    assert env._single.fall_tilt_rad == 1.0
+    env.reset(seed=0)
+    truncated = [env.step(np.asarray([env.rest_rad[0]]))[3][0] for _ in range(2)]
+    assert truncated == [False, True]
+    env.close()
+    for fixed in ("reward", "render_mode"):
+        with pytest.raises(TypeError, match=f"VectorEnv takes no '{fixed}'"):
+            VectorEnv(1, **{fixed: None})
+    with pytest.raises(TypeError, match="settle"):
+        VectorEnv(1, settle=0.1)
+
+
 def test_actions_beyond_the_bounds_are_clipped_as_np_clip_clips_them() -> None:
     # Targets 4 rad beyond the joint limits (beyond what a setpoint can carry, +-3.2767 rad:
     # unclipped, the step fails) and torques of 10 N m (unclipped, the firmware's torque bias

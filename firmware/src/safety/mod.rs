@@ -1,6 +1,6 @@
 //! Safety state machine of the controller: which state the robot is in and which events move it.
 //! Pure data, no I/O: the controller feeds events and acts on the state (drive goals, torque off).
-//! The states are those of the protocol's `RunState`, plus `Boot`, with the fault split into
+//! The states are those of the protocol's `RunState`, with the fault split into
 //! `Safe(reason)` and `EStop`.
 //!
 //! ```text
@@ -52,27 +52,29 @@ pub enum SafeReason {
     Watchdog,
 }
 
-/// State of the controller.
+/// State of the controller. The host sees it as [`protocol::RunState`] (`link::convert`), whose
+/// variants say what each state means; here a fault keeps its reason, and the host's emergency
+/// stop is a state of its own.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum State {
-    /// Servos are being found and configured; nothing moves.
+    /// [`protocol::RunState::Boot`]: servos are being found and configured.
     Boot,
-    /// Torque off; feedback is still read.
+    /// [`protocol::RunState::Idle`]; feedback is still read.
     Idle,
-    /// Torque on, holding a posture.
+    /// [`protocol::RunState::Standing`].
     Standing,
-    /// Moving from the present positions to the first slice of the gait.
+    /// [`protocol::RunState::Ramping`].
     Ramping,
-    /// Playing the gait.
+    /// [`protocol::RunState::Walking`].
     Walking,
-    /// Playing on until the end of the current step, then Standing.
+    /// [`protocol::RunState::Stopping`].
     Stopping,
-    /// Following setpoints streamed by the host.
+    /// [`protocol::RunState::Streaming`].
     Streaming,
-    /// A fault stopped the robot: goals are no longer written, telemetry goes on.
+    /// [`protocol::RunState::Fault`]: goals are no longer written, telemetry goes on.
     Safe(SafeReason),
-    /// Torque off on every servo, by the host's order.
+    /// Torque off on every servo, by the host's order ([`protocol::RunState::Fault`] on the wire).
     EStop,
 }
 

@@ -52,9 +52,13 @@ pub struct Fit {
 /// What a calibration found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Calibrated {
+    /// The standing trial's name (the recording's).
     pub trial: String,
+    /// The model's name, whose plan predicted the torques and strain.
     pub model: String,
+    /// One fit per servo joint, kept or not.
     pub joints: Vec<Fit>,
+    /// One fit per strain gauge, kept or not.
     pub gauges: Vec<Fit>,
 }
 

@@ -73,7 +73,7 @@ pub fn markdown(id: &Identification) -> String {
              after Nelder-Mead | replays | kept |\n|---|---|---|---|---|"
         );
         for r in &id.refinement {
-            let _ = writeln!(s, "{}", refinement_row(r));
+            let _ = writeln!(s, "| {} |", refinement_cells(r).join(" | "));
         }
         let _ = writeln!(
             s,
@@ -110,16 +110,16 @@ pub fn markdown(id: &Identification) -> String {
     s
 }
 
-/// One joint's line of the refinement's table.
-fn refinement_row(r: &super::refine::JointRefinement) -> String {
-    format!(
-        "| {} | {:.1} | {:.1} | {} | {} |",
-        r.joint,
-        r.cost_before,
-        r.cost_after,
-        r.replays,
-        if r.kept { "refined" } else { "as before" }
-    )
+/// One joint's refinement as cells: the joint, its cost before and after, the replays, the
+/// outcome. The report's table and the command's summary both show these.
+fn refinement_cells(r: &super::refine::JointRefinement) -> [String; 5] {
+    [
+        r.joint.clone(),
+        format!("{:.1}", r.cost_before),
+        format!("{:.1}", r.cost_after),
+        r.replays.to_string(),
+        (if r.kept { "refined" } else { "as before" }).to_owned(),
+    ]
 }
 
 /// Writes the fitted model of `id` to `out` (TOML, atomically) and its report into the folder
@@ -155,14 +155,10 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
         );
     }
     for r in &id.refinement {
+        let [joint, before, after, replays, outcome] = refinement_cells(r);
         let _ = writeln!(
             s,
-            "{}: refinement cost {:.1} -> {:.1} ({} replays, {})",
-            r.joint,
-            r.cost_before,
-            r.cost_after,
-            r.replays,
-            if r.kept { "refined" } else { "kept as before" }
+            "{joint}: refinement cost {before} -> {after} ({replays} replays, {outcome})"
         );
     }
     if let Some(f) = id.friction.as_ref().filter(|f| f.why.is_none()) {
