@@ -639,7 +639,7 @@ fn standard_normal(state: &std::cell::Cell<u64>) -> f64 {
 }
 
 /// The built-in Drosophibot II.
-fn drosophibot() -> Result<Model, PhysicsError> {
+pub(crate) fn drosophibot() -> Result<Model, PhysicsError> {
     planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
         model: "drosophibot2".into(),
         message: e.to_string(),

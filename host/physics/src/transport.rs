@@ -181,10 +181,7 @@ pub fn physics_body(
         Some(m) => format!("physics:{scene}+model:{}", m.display()),
     };
     let body = match model {
-        None => planner::model::builtin("drosophibot2").map_err(|e| PhysicsError::Load {
-            model: "drosophibot2".into(),
-            message: e.to_string(),
-        })?,
+        None => crate::robot::drosophibot()?,
         Some(path) => planner::model::load(path).map_err(|e| PhysicsError::Port {
             spec: spec(),
             problem: format!("model file {}: {e}", path.display()),
