@@ -42,6 +42,9 @@ pub fn identify(
     };
     let fitted = py
         .detach(|| {
+            if let Some(out) = &out {
+                lab::identify::prepare_out(out)?;
+            }
             let id = lab::identify::identify_trials(&trials, &m, &options)?;
             if let Some(out) = &out {
                 lab::identify::write_outputs(&id, out)?;

@@ -14,7 +14,7 @@ pub struct Args {
     /// dynamics), and walks on the ground (its friction; walks on one substrate).
     #[arg(required = true)]
     trials: Vec<std::path::PathBuf>,
-    /// The fitted model file to write.
+    /// The fitted model file to write (its folder is made if missing).
     #[arg(long)]
     out: std::path::PathBuf,
     #[command(flatten)]
@@ -33,6 +33,7 @@ impl Args {
             refine_replays_per_joint: self.refine_replays,
             ..Default::default()
         };
+        lab::identify::prepare_out(&self.out)?;
         let id = lab::identify::identify_trials(&self.trials, &model, &options)?;
         print!("{}", lab::identify::write_outputs(&id, &self.out)?);
         Ok(())

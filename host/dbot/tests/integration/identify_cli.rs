@@ -58,9 +58,10 @@ fn replay_and_identify_read_the_stand_ins_trial_folders() {
     let walk = t.walk.to_str().unwrap();
     // A walk alone: only the ground friction is fitted, and the stand-in's walk on the default
     // ground (1.5) does not slip, so it is named as not identified (with the servo dynamics).
+    // The folder of --out does not exist yet: it is made.
     let d = run(
         dir.path(),
-        &strings(&["identify", walk, "--out", "fitted.toml"]),
+        &strings(&["identify", walk, "--out", "fits/fitted.toml"]),
     );
     assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
     for line in [
@@ -69,6 +70,6 @@ fn replay_and_identify_read_the_stand_ins_trial_folders() {
     ] {
         assert!(d.stdout.contains(line), "{line}: {}", d.stdout);
     }
-    let fitted = planner::model::load(&dir.path().join("fitted.toml")).unwrap();
+    let fitted = planner::model::load(&dir.path().join("fits/fitted.toml")).unwrap();
     assert_eq!(fitted.foot_friction, None);
 }

@@ -122,6 +122,22 @@ fn refinement_cells(r: &super::refine::JointRefinement) -> [String; 5] {
     ]
 }
 
+/// Makes the folder the fitted model `out` goes into (with its parents): called before a fit
+/// too, so that a location that cannot be written fails at once and not after the minutes of
+/// fitting (`dbot identify`, `dbot.identify`).
+pub fn prepare_out(out: &Path) -> Result<()> {
+    match out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) => std::fs::create_dir_all(dir).with_context(|| {
+            format!(
+                "--out {}: making its folder {}",
+                out.display(),
+                dir.display()
+            )
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Writes the fitted model of `id` to `out` (TOML, atomically) and its report into the folder
 /// beside it, `<out without .toml>-report/`; returns what to print: the files and, per
 /// recording, the position RMS before and after.
@@ -136,6 +152,7 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
             .join(", ")
     );
     let text = planner::model::to_toml_string(&id.model, &notes, &|_| String::new());
+    prepare_out(out)?;
     board::files::write_bytes_atomically(out, text.as_bytes())
         .with_context(|| format!("writing {}", out.display()))?;
     let stem = out.with_extension("");
