@@ -1,6 +1,5 @@
 //! The motion fit: Levenberg-Marquardt (the `levenberg-marquardt` crate, MINPACK's trust-region
-//! algorithm) over the [`MOTION`] parameters of a group of identified joints at once (the
-//! caller runs one fit per group of joints recorded together: `identify`), the residuals each
+//! algorithm) over every identified joint's [`MOTION`] parameters at once, the residuals each
 //! recorded joint's present position (per tick) and velocity (per [`VELOCITY_SCALE`]) against
 //! the replay.
 //!

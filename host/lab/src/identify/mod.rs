@@ -1,8 +1,7 @@
 //! Identification of the servo dynamics (docs/identification.md): the recorded goals of
 //! suspended excitation trials replayed on the physics robot's body ([`rollout`]) and the
 //! model's servo parameters fitted per joint to the recorded present position and velocity
-//! ([`fit`]: Levenberg-Marquardt per group of joints recorded together, bounds, a
-//! block-diagonal finite-difference Jacobian; then
+//! ([`fit`]: Levenberg-Marquardt, bounds, a block-diagonal finite-difference Jacobian; then
 //! [`refine`]: Nelder-Mead on each joint's block from where it ended), then the Present Load
 //! reading per joint from the load ([`load`]). Every estimate carries a standard deviation from
 //! the Jacobian at the point kept (`sigma^2 (J^T J)^-1`, its joint's block); a
@@ -29,7 +28,7 @@ pub mod trial_write;
 
 pub use report::{prepare_out, write_outputs};
 
-use nalgebra_lm::{DMatrix, DVector};
+use nalgebra_lm::DMatrix;
 use planner::model::Model;
 
 use crate::bail;
@@ -47,9 +46,10 @@ pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total 
 /// What the stall torque's and the P gain divisor's estimates mean.
 pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is identified; the stall \
     torque itself only through the I and D gains' scale (no saturation in the excitation), weakly: \
-    the fit can end along the valley of equal stiffness, and a trial's lowest cost can lie off the \
-    truth (the stand-in's one-leg run: FTi 13 % high with its stiffness within 1 %, at a cost below \
-    the truth's), with an error many times its sd (docs/identification.md)";
+    the fit can end along the valley of equal stiffness (the stand-in's one-leg run: 2 of 5 joints \
+    23 to 25 % high with their stiffness within 2 %, 7.5 and 15.5 % after the refinement), with an \
+    error many times its sd: the optimisers stop short of the truth's lower cost, and a trial's \
+    lowest cost can lie off the truth (on the one-leg run's sus-FTi, 25 % high; docs/identification.md)";
 
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -199,32 +199,6 @@ pub fn identify(
     Ok(id)
 }
 
-/// The identified joints in groups that share no recording (each in `joints`' order): the
-/// joints a recording moves are in one group, with every joint recorded with any of them.
-fn recorded_together(suspended: &[Recording], joints: &[usize]) -> Vec<Vec<usize>> {
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    for r in suspended {
-        let moved: Vec<usize> = r.joints.iter().map(|jt| jt.joint).collect();
-        let (shared, mut rest): (Vec<_>, Vec<_>) = groups
-            .into_iter()
-            .partition(|g| g.iter().any(|j| moved.contains(j)));
-        let mut group = shared.concat();
-        for j in moved {
-            if !group.contains(&j) {
-                group.push(j);
-            }
-        }
-        rest.push(group);
-        groups = rest;
-    }
-    let at = |j: &usize| joints.iter().position(|i| i == j).unwrap_or(usize::MAX);
-    for g in &mut groups {
-        g.sort_by_key(at);
-    }
-    groups.sort_by_key(|g| g.first().map_or(usize::MAX, at));
-    groups
-}
-
 /// The servo dynamics from the suspended recordings `suspended` (not empty).
 fn identify_servos(
     suspended: &[Recording],
@@ -244,50 +218,21 @@ fn identify_servos(
         .map(|r| crate::replay::replay_recording(model, r))
         .collect::<Result<Vec<_>>>()?;
 
-    // Levenberg-Marquardt per group of joints recorded together: a joint's residuals depend on
-    // its own parameters and on those of the joints moved in the same recordings only (the
-    // block-diagonal Jacobian), so each group has its own trust region and its own end, and a
-    // joint whose fit stalls does not stop the others' (docs/identification.md).
-    let np = MOTION.len();
-    let mut best = DVector::zeros(joints.len() * np);
-    let mut lm_replays = 0;
-    let mut ends = Vec::new();
-    for group in recorded_together(suspended, &joints) {
-        let recordings: Vec<Recording> = suspended
-            .iter()
-            .filter(|r| r.joints.iter().any(|jt| group.contains(&jt.joint)))
-            .cloned()
-            .collect();
-        let budget = options.max_replays_per_recording * recordings.len();
-        let problem = fit::MotionFit::new(model, &recordings, group.clone(), budget);
-        let (problem, report) = levenberg_marquardt::LevenbergMarquardt::new()
-            .with_patience(100)
-            .with_ftol(1e-3)
-            .with_xtol(1e-3)
-            .minimize(problem);
-        if let Some(e) = problem.error.borrow_mut().take() {
-            return Err(e);
-        }
-        let x = problem
-            .best
-            .as_ref()
-            .map_or_else(|| problem.x().clone(), |(_, x)| x.clone());
-        for (g, j) in group.iter().enumerate() {
-            let k = joints.iter().position(|i| i == j).expect("a fitted joint");
-            for i in 0..np {
-                best[k * np + i] = x[g * np + i];
-            }
-        }
-        lm_replays += problem.replays.get();
-        let names: Vec<&str> = group
-            .iter()
-            .map(|&j| model.joints[j].name.as_str())
-            .collect();
-        ends.push(format!("{}: {:?}", names.join(", "), report.termination));
+    let budget = options.max_replays_per_recording * suspended.len();
+    let problem = fit::MotionFit::new(model, suspended, joints.clone(), budget);
+    let (problem, report) = levenberg_marquardt::LevenbergMarquardt::new()
+        .with_patience(100)
+        .with_ftol(1e-3)
+        .with_xtol(1e-3)
+        .minimize(problem);
+    if let Some(e) = problem.error.borrow_mut().take() {
+        return Err(e);
     }
-    let termination = ends.join("; ");
-    // Every joint at once, for the refinement and the standard deviations (no replay here).
-    let problem = fit::MotionFit::new(model, suspended, joints.clone(), 0);
+    let best = problem
+        .best
+        .as_ref()
+        .map_or_else(|| problem.x().clone(), |(_, x)| x.clone());
+    let termination = format!("{:?}", report.termination);
     let (best, refinement) = if options.refine_replays_per_joint > 0 {
         refine::refine(&problem, &best, options.refine_replays_per_joint)?
     } else {
@@ -299,8 +244,9 @@ fn identify_servos(
     let jac = at_best.jacobian_now()?;
     let cost = levenberg_marquardt::LeastSquaresProblem::residuals(&at_best)
         .map_or(0.0, |r| r.norm_squared());
-    let replays =
-        lm_replays + at_best.replays.get() + refinement.iter().map(|r| r.replays).sum::<usize>();
+    let replays = problem.replays.get()
+        + at_best.replays.get()
+        + refinement.iter().map(|r| r.replays).sum::<usize>();
     let mut fitted = problem.model_at(&best);
 
     let mut estimates = Vec::new();
@@ -500,41 +446,4 @@ fn generalise(model: &mut Model, identified: &[usize]) -> Vec<String> {
         out.push(name);
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::recording::{JointTrace, Recording};
-
-    fn moving(joints: &[usize]) -> Recording {
-        Recording {
-            name: format!("{joints:?}"),
-            suspended: true,
-            t: Vec::new(),
-            joints: joints
-                .iter()
-                .map(|&joint| JointTrace {
-                    name: format!("J{joint}"),
-                    joint,
-                    goal: Vec::new(),
-                    q: Vec::new(),
-                    qd: Vec::new(),
-                    load_raw: Vec::new(),
-                })
-                .collect(),
-            strain: None,
-        }
-    }
-
-    #[test]
-    fn joints_recorded_together_are_fitted_together_and_the_others_alone() {
-        // 4 and 9 share the second recording, 9 and 2 the fourth: one group of three, in the
-        // joints' order; 7 and 5 were each recorded alone.
-        let recs = [moving(&[7]), moving(&[4, 9]), moving(&[5]), moving(&[2, 9])];
-        let joints = [7, 4, 9, 5, 2];
-        assert_eq!(
-            super::recorded_together(&recs, &joints),
-            vec![vec![7], vec![4, 9, 2], vec![5]]
-        );
-    }
 }
