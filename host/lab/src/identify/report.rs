@@ -122,20 +122,21 @@ fn refinement_cells(r: &super::refine::JointRefinement) -> [String; 5] {
     ]
 }
 
-/// Makes the folder the fitted model `out` goes into (with its parents): called before a fit
-/// too, so that a location that cannot be written fails at once and not after the minutes of
-/// fitting (`dbot identify`, `dbot.identify`).
+/// Makes the folder the fitted model `out` goes into (with its parents) and refuses an `out`
+/// that cannot be replaced (`board::files::check_writable`, as the write itself would): called
+/// before a fit too, so that such a location fails at once and not after the minutes of fitting
+/// (`dbot identify`, `dbot.identify`).
 pub fn prepare_out(out: &Path) -> Result<()> {
-    match out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => std::fs::create_dir_all(dir).with_context(|| {
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| {
             format!(
                 "--out {}: making its folder {}",
                 out.display(),
                 dir.display()
             )
-        }),
-        None => Ok(()),
+        })?;
     }
+    board::files::check_writable(out).with_context(|| format!("--out {}", out.display()))
 }
 
 /// Writes the fitted model of `id` to `out` (TOML, atomically) and its report into the folder
@@ -199,4 +200,18 @@ pub fn write_outputs(id: &Identification, out: &Path) -> Result<String> {
             .count()
     );
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn an_out_that_cannot_be_written_is_refused_before_the_fit_and_a_missing_folder_is_made() {
+        let dir = tempfile::tempdir().unwrap();
+        let nested = dir.path().join("a/b/fitted.toml");
+        super::prepare_out(&nested).unwrap();
+        assert!(dir.path().join("a/b").is_dir());
+        // A folder where the file should go: the write would fail after the fit.
+        let e = super::prepare_out(dir.path().join("a").as_path()).unwrap_err();
+        assert!(e.to_string().contains("--out"), "{e}");
+    }
 }
