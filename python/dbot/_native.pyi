@@ -769,11 +769,14 @@ def calibrate(
     trial: str | PathLike[str],
     model: Model | None = None,
     out: str | PathLike[str] | None = None,
+    against: str = "plan",
 ) -> dict[str, Any]:
     """``dbot calibrate``: per joint the Present Load gain and offset, per gauge its counts per
-    microstrain, fitted from a standing trial against the plan's prediction (``joints`` and
-    ``gauges``: ``name``, ``samples``, ``r2``, ``gain``, ``offset_nm``, ``kept``); with ``out``
-    writes the calibration file a model file names (``calibration = "FILE"``)."""
+    microstrain, fitted from a standing trial against the plan's prediction (``against="plan"``)
+    or the trial replayed on the model's body (``"replay"``: a model ``identify`` fitted)
+    (``joints`` and ``gauges``: ``name``, ``samples``, ``r2``, ``gain``, ``offset_nm``,
+    ``kept``; ``against``); with ``out`` writes the calibration file a model file names
+    (``calibration = "FILE"``)."""
 
 def stand_in_standing_trial(out: str | PathLike[str], short: bool = False) -> dict[str, Any]:
     """The reading stand-in (load 0.8 x torque + 0.05 N m, gauge gains 0.3 + 0.02 x column)

@@ -110,24 +110,30 @@ pub fn replay<'py>(
 /// Calibrated readings from the standing trial folder `trial` against `model`'s prediction
 /// (default: the built-in Drosophibot II), as ``dbot calibrate`` does (``lab::calibrate``): per
 /// servo joint the Present Load gain and offset, per strain gauge its counts per microstrain.
+/// ``against``: ``"plan"`` (the plan's static prediction) or ``"replay"`` (the trial replayed on
+/// the model's body, for a model ``identify`` fitted), as ``dbot calibrate --against``.
 /// With `out` (a .toml path) writes the calibration file a model file names
 /// (``calibration = "FILE"``). A dict: ``trial``, ``model``, ``table`` (what ``dbot calibrate``
 /// prints), ``joints`` and ``gauges``: one dict each with ``name``, ``samples``, ``r2``,
 /// ``gain`` (load: reading per N m; gauge: counts per microstrain), ``offset_nm`` (load, servo
-/// direction; None for a gauge) and ``kept`` (None, or why the fit stays an ESTIMATE).
-/// ValueError naming the trial or file, in the CLI's words.
+/// direction; None for a gauge) and ``kept`` (None, or why the fit stays an ESTIMATE); and
+/// ``against`` (what they were fitted against, as the file says). ValueError naming the trial,
+/// the file or ``against``, in the CLI's words.
 #[pyfunction]
-#[pyo3(signature = (trial, model = None, out = None))]
+#[pyo3(signature = (trial, model = None, out = None, against = "plan"))]
 pub fn calibrate<'py>(
     py: Python<'py>,
     trial: PathBuf,
     model: Option<&Model>,
     out: Option<PathBuf>,
+    against: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = model_or_default(model)?;
+    let against =
+        lab::calibrate::Against::parse(against).map_err(|e| value_error(e.chain_text()))?;
     let c = py
         .detach(|| {
-            let c = lab::calibrate::calibrate_trial(&trial, &m)?;
+            let c = lab::calibrate::calibrate_trial(&trial, &m, against)?;
             if let Some(out) = &out {
                 lab::calibrate::write(&c, &m, out)?;
             }
@@ -137,6 +143,7 @@ pub fn calibrate<'py>(
     let d = PyDict::new(py);
     d.set_item("trial", &c.trial)?;
     d.set_item("model", &c.model)?;
+    d.set_item("against", c.against.describe(&c.model))?;
     d.set_item("table", c.table())?;
     let fits = |fits: &[lab::calibrate::Fit]| -> PyResult<Vec<Bound<'py, PyDict>>> {
         fits.iter()

@@ -2,7 +2,9 @@
 //! (`lab::identify::stand_in::write_standing_trial`: servos reading 0.8 x torque + 0.05 N m, a
 //! strain board of known gains): the calibration is written and a model file naming it makes
 //! `dbot replay` read the load and the gauges through it, saying so beside each figure; a
-//! calibration file with a bad gauge gain is refused naming the file and the gauge.
+//! calibration file with a bad gauge gain is refused naming the file and the gauge. With
+//! `--against replay` the file says what it was fitted against; an unknown `--against` is
+//! refused in Python's words.
 
 use crate::board_fakes;
 use board_fakes::cli::{fails_naming, run, strings};
@@ -21,23 +23,47 @@ fn calibrate_writes_a_calibration_a_model_names_and_replay_reads_through_it() {
         lab::identify::stand_in::write_standing_trial(&truth, &default, &options, dir.path())
             .unwrap();
     let trial = trial.to_str().unwrap();
-    let d = run(
-        dir.path(),
-        &strings(&[
-            "calibrate",
-            trial,
-            "--model",
-            "drosophibot2",
-            "--out",
-            "cal.toml",
-        ]),
-    );
-    assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
+    // `dbot calibrate TRIAL --model drosophibot2 --out OUT` with `extra`: what it printed, and the
+    // file's `against` line.
+    let calibrate = |extra: &[&str], out: &str| {
+        let mut args = vec!["calibrate", trial, "--model", "drosophibot2", "--out", out];
+        args.extend_from_slice(extra);
+        let d = run(dir.path(), &strings(&args));
+        assert!(d.status.success(), "{}{}", d.stdout, d.stderr);
+        let cal = std::fs::read_to_string(dir.path().join(out)).unwrap();
+        let against = cal
+            .lines()
+            .find(|l| l.starts_with("against = "))
+            .map(str::to_owned);
+        (
+            d.stdout,
+            against.unwrap_or_else(|| panic!("no against line in\n{cal}")),
+        )
+    };
+    let (printed, against) = calibrate(&[], "cal.toml");
     assert!(
-        d.stdout.contains("calibrated:") && d.stdout.contains("wrote cal.toml"),
-        "{}",
-        d.stdout
+        printed.contains("calibrated:") && printed.contains("wrote cal.toml"),
+        "{printed}"
     );
+    assert_eq!(
+        against,
+        "against = \"the plan's static prediction of the model drosophibot2\""
+    );
+    let (_, against) = calibrate(&["--against", "replay"], "cal-replay.toml");
+    assert_eq!(
+        against,
+        "against = \"the trial replayed on the body of the model drosophibot2\""
+    );
+    let bogus = run(
+        dir.path(),
+        &strings(&["calibrate", trial, "--against", "sim", "--out", "x.toml"]),
+    );
+    fails_naming(
+        &bogus,
+        "an unknown --against",
+        &["against: \"sim\" is neither \"plan\"", "\"replay\""],
+    );
+    assert!(!dir.path().join("x.toml").exists());
     let text = planner::model::to_toml_string(&default, "", &|_| String::new());
     std::fs::write(
         dir.path().join("m.toml"),

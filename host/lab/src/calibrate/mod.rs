@@ -1,9 +1,12 @@
 //! Calibrated readings (docs/identification.md, "Calibrated readings"; `dbot calibrate`,
 //! `dbot.calibrate`): from a standing trial, per servo joint the Present Load reading's gain and
-//! offset against the plan's predicted joint torque, and per strain gauge its gain in counts per
-//! microstrain against the plan's predicted strain ([`predict`], at the recorded goals), each a
-//! least-squares line with its R^2 and sample count, written as the calibration file a model
-//! file names (`planner::model::calibration`).
+//! offset against the predicted joint torque, and per strain gauge its gain in counts per
+//! microstrain against the predicted strain, each a least-squares line with its R^2 and sample
+//! count, written as the calibration file a model file names (`planner::model::calibration`).
+//! The prediction ([`Against`]) is the plan's static one at the recorded goals
+//! ([`predict::predict`], the default) or the trial replayed on the model's body
+//! ([`predict::replayed`]: its servo dynamics, MuJoCo's contacts, the posture changes' own
+//! dynamics), for a model whose servo dynamics were identified.
 //!
 //! The load: the recorded Present Load through the register's nominal conversion (N m, joint
 //! direction) against the predicted torque: `gain x torque + offset` (`identify::load::fit`).
@@ -33,6 +36,49 @@ pub const MIN_R2: f64 = 0.8;
 /// Most cycles predicted (evenly spread): the static solve per cycle is the cost.
 pub const MAX_PREDICTED: usize = 2000;
 
+/// What the readings are fitted against (`dbot calibrate --against`, Python `against=`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Against {
+    /// The plan's static prediction at the recorded goals ([`predict::predict`]): needs only the
+    /// model's geometry and masses, and maps the readings onto what the plan predicts.
+    #[default]
+    Plan,
+    /// The trial's goals replayed on the model's body ([`predict::replayed`]): the torque and
+    /// strain its servo dynamics and contacts give, for a model whose servo dynamics were
+    /// identified (`dbot identify`); maps the readings onto torque and strain themselves.
+    Replay,
+}
+
+impl Against {
+    /// The word `dbot calibrate --against` and Python's `against=` take.
+    pub const fn word(self) -> &'static str {
+        match self {
+            Against::Plan => "plan",
+            Against::Replay => "replay",
+        }
+    }
+
+    /// The choice named `word`; an error in the words the CLI and Python both give.
+    pub fn parse(word: &str) -> Result<Self> {
+        match word {
+            "plan" => Ok(Against::Plan),
+            "replay" => Ok(Against::Replay),
+            other => bail!(
+                "against: {other:?} is neither \"plan\" (the plan's static prediction) nor \"replay\" \
+                 (the trial replayed on the model's body)"
+            ),
+        }
+    }
+
+    /// What the prediction was, for the printout and the calibration file.
+    pub fn describe(self, model: &str) -> String {
+        match self {
+            Against::Plan => format!("the plan's static prediction of the model {model}"),
+            Against::Replay => format!("the trial replayed on the body of the model {model}"),
+        }
+    }
+}
+
 /// One joint's or gauge's fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fit {
@@ -54,8 +100,10 @@ pub struct Fit {
 pub struct Calibrated {
     /// The standing trial's name (the recording's).
     pub trial: String,
-    /// The model's name, whose plan predicted the torques and strain.
+    /// The model's name, whose plan or body predicted the torques and strain.
     pub model: String,
+    /// What the readings were fitted against.
+    pub against: Against,
     /// One fit per servo joint, kept or not.
     pub joints: Vec<Fit>,
     /// One fit per strain gauge, kept or not.
@@ -67,6 +115,7 @@ impl Calibrated {
     pub fn file(&self) -> CalibrationFile {
         let mut f = CalibrationFile {
             trial: self.trial.clone(),
+            against: self.against.describe(&self.model),
             ..CalibrationFile::default()
         };
         for j in self.joints.iter().filter(|j| j.not_kept.is_none()) {
@@ -102,8 +151,9 @@ impl Calibrated {
                 .map_or("calibrated".to_owned(), |w| format!("ESTIMATE kept: {w}"))
         };
         let mut s = format!(
-            "calibration from {} on the model {}:\njoint      load gain  offset N m     R^2  samples  reading\n",
-            self.trial, self.model
+            "calibration from {} against {}:\njoint      load gain  offset N m     R^2  samples  reading\n",
+            self.trial,
+            self.against.describe(&self.model)
         );
         for j in &self.joints {
             s.push_str(&format!(
@@ -153,13 +203,19 @@ fn judge(samples: usize, r2: Option<f64>, gain: Option<f64>, range: (f64, f64)) 
     }
 }
 
-/// Calibrates from the trial folder `dir` against `model`'s prediction.
-pub fn calibrate_trial(dir: &Path, model: &Model) -> Result<Calibrated> {
-    calibrate(&Recording::read(dir, model)?, model)
+/// Calibrates from the trial folder `dir` against `model`'s prediction (`against`).
+pub fn calibrate_trial(dir: &Path, model: &Model, against: Against) -> Result<Calibrated> {
+    calibrate_against(&Recording::read(dir, model)?, model, against)
 }
 
-/// Calibrates from the standing recording `rec` against `model`'s prediction (see the header).
+/// Calibrates from the standing recording `rec` against `model`'s plan (see the header).
 pub fn calibrate(rec: &Recording, model: &Model) -> Result<Calibrated> {
+    calibrate_against(rec, model, Against::Plan)
+}
+
+/// Calibrates from the standing recording `rec` against `model`'s prediction `against` (see the
+/// header).
+pub fn calibrate_against(rec: &Recording, model: &Model, against: Against) -> Result<Calibrated> {
     if rec.suspended {
         bail!(
             "trial {}: a suspended trial (the feet in the air): calibrate needs a standing trial, \
@@ -179,7 +235,10 @@ pub fn calibrate(rec: &Recording, model: &Model) -> Result<Calibrated> {
     };
     let stride = cycles.len().div_ceil(MAX_PREDICTED).max(1);
     let cycles: Vec<usize> = cycles.into_iter().step_by(stride).collect();
-    let pred = predict::predict(model, rec, cycles)?;
+    let pred = match against {
+        Against::Plan => predict::predict(model, rec, cycles)?,
+        Against::Replay => predict::replayed(model, rec, cycles)?,
+    };
     let load_range = range_of("load_gain");
     let joints = rec
         .joints
@@ -244,6 +303,7 @@ pub fn calibrate(rec: &Recording, model: &Model) -> Result<Calibrated> {
     Ok(Calibrated {
         trial: rec.name.clone(),
         model: model.name.clone(),
+        against,
         joints,
         gauges,
     })

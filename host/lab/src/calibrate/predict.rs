@@ -2,7 +2,9 @@
 //! dynamics (`planner::dynamics::solve_slice`, every foot in stance, the QP's share of the load
 //! among the feet) at the posture the board commanded, and the strain it predicts at every gauge
 //! (`planner::strain::slice_readings`). Gravity is taken normal to the plane of the six feet at
-//! that posture (they stand on flat ground), so a tilted thorax sees gravity tilted.
+//! that posture (they stand on flat ground), so a tilted thorax sees gravity tilted. Or
+//! ([`replayed`]) what the trial's goals replayed on the model's body give
+//! (`identify::rollout`): the actuators' torques and the simulated gauges.
 
 use nalgebra::{Matrix3, Vector3};
 use planner::dynamics::{DynamicsOptions, SliceInput, solve_slice};
@@ -98,4 +100,36 @@ pub fn predict(model: &Model, rec: &Recording, cycles: Vec<usize>) -> Result<Pre
         out.cycles.push(c);
     }
     Ok(out)
+}
+
+/// The replay of `rec`'s goals on `model`'s body (`identify::rollout::replay_gauges`, standing on
+/// flat ground) at `cycles`: each traced joint's actuator torque (N m, joint direction) and every
+/// gauge's simulated strain.
+///
+/// The replay starts in the trial's first *goals*, not its first recorded positions, and the
+/// body settles from there as gravity ramps in. On servos with friction, deadband and backlash
+/// how six feet share the weight depends on how the body took it (each servo rests anywhere in
+/// its deadband, held by its friction): a robot that settled onto its goals under its weight,
+/// as the trial's robot did, shares it much as this replay does; a replay started in the
+/// sagged recorded posture lifts the body first and shares it otherwise (measured on the full
+/// stand-in, docs/identification.md: 16 of 22 joints' loads calibrated from the goals, 6 to 9
+/// from the recorded posture).
+pub fn replayed(model: &Model, rec: &Recording, cycles: Vec<usize>) -> Result<Predicted> {
+    let mut settled = rec.clone();
+    for jt in &mut settled.joints {
+        jt.q[0] = jt.goal[0];
+    }
+    let out = crate::identify::rollout::replay_gauges(model, &settled, rec.strain.is_some())
+        .with_context(|| format!("replaying trial {} on the model {}", rec.name, model.name))?;
+    Ok(Predicted {
+        torque: cycles
+            .iter()
+            .map(|&c| out.torque.iter().map(|t| t[c]).collect())
+            .collect(),
+        strain: cycles
+            .iter()
+            .map(|&c| out.strain.get(c).cloned().unwrap_or_default())
+            .collect(),
+        cycles,
+    })
 }

@@ -146,3 +146,62 @@ fn a_strain_trial_replays_its_gauges_read_through_the_calibration() {
         "RMS over the gauges: {e} ESTIMATE, {c} calibrated"
     );
 }
+
+/// The full stand-in's body (`stand_in::stand_in_model`: softer servos with friction, deadband
+/// and backlash) with the default model's Present Load reading: what `dbot identify` gives a lab
+/// before the readings are calibrated (the servo dynamics fitted, the reading still ESTIMATE).
+fn stand_in_body(default: &planner::model::Model) -> planner::model::Model {
+    let mut m = stand_in::stand_in_model(default);
+    for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
+        let d = default
+            .servo_dynamics
+            .of_model(servo)
+            .copied()
+            .unwrap_or_default();
+        let mut e = m.servo_dynamics.of_model(servo).copied().unwrap();
+        e.load_gain = d.load_gain;
+        e.load_offset_nm = d.load_offset_nm;
+        e.load_resolution_counts = d.load_resolution_counts;
+        e.load_noise_nm = d.load_noise_nm;
+        m.servo_dynamics.set_model(servo, e);
+    }
+    m
+}
+
+/// On the full stand-in (its servos 20 % softer, with friction, deadband and backlash, the load
+/// read at 0.8 x torque + 0.05 N m) the plan's static prediction explains its Present Load too
+/// poorly to calibrate (how six feet share the weight depends on where each servo rests in its
+/// deadband: measured 0 of 22 joints kept, R^2 0.02 to 0.63). Written as a trial folder, read
+/// back and replayed on its body as identification gives it (the servo dynamics, the reading
+/// still the default's ESTIMATE), the trial calibrates the load: measured 16 of 22 joints kept,
+/// gains 0.77 to 0.83 (truth 0.8) and offsets 0.037 to 0.069 N m (truth 0.05); the joints left
+/// are the front legs' ThC1, ThC3 and TrF1, which the standing excitation barely loads. (Its
+/// gauges do not calibrate either way: docs/identification.md, "Against the replay".)
+#[test]
+fn the_full_stand_in_calibrates_its_load_against_its_replay_and_not_against_the_plan() {
+    use lab::calibrate::{Against, calibrate_against};
+    let default = planner::model::builtin("drosophibot2").unwrap();
+    let truth = stand_in::stand_in_model(&default);
+    let dir = tempfile::tempdir().unwrap();
+    let trial = stand_in::write_standing_trial(&truth, &default, &short(), dir.path()).unwrap();
+    let rec = lab::identify::recording::Recording::read(&trial, &default).unwrap();
+    let kept =
+        |c: &lab::calibrate::Calibrated| c.joints.iter().filter(|j| j.not_kept.is_none()).count();
+    let plan = calibrate_against(&rec, &default, Against::Plan).unwrap();
+    assert!(kept(&plan) <= 3, "{}", plan.table());
+    let cal = calibrate_against(&rec, &stand_in_body(&default), Against::Replay).unwrap();
+    assert!(
+        cal.table()
+            .contains("against the trial replayed on the body")
+    );
+    assert_eq!(
+        cal.file().against,
+        Against::Replay.describe(&format!("{}-stand-in", default.name))
+    );
+    assert!(kept(&cal) >= 14, "{}", cal.table());
+    for f in cal.joints.iter().filter(|f| f.not_kept.is_none()) {
+        let (g, o) = (f.gain.unwrap(), f.offset_nm.unwrap());
+        assert!((g / 0.8 - 1.0).abs() <= 0.1, "{}: gain {g}", f.name);
+        assert!((o - 0.05).abs() <= 0.025, "{}: offset {o}", f.name);
+    }
+}

@@ -5,6 +5,7 @@
 //!
 //! ```toml
 //! trial = "out/trials/stand 2026-12-06 10-00-00"   # where it was fitted from (free text)
+//! against = "the plan's static prediction of the model drosophibot2"   # what it was fitted against (free text)
 //! [joint.LF_CTr]
 //! load_gain = 0.81         # the model file's servo_dynamics.load_gain: reading = gain x torque + offset
 //! load_offset_nm = 0.049   # servo direction, as servo_dynamics.load_offset_nm
@@ -65,6 +66,9 @@ pub struct CalibrationFile {
     /// Where it was fitted from (free text).
     #[serde(default)]
     pub trial: String,
+    /// What the readings were fitted against (free text; empty in files written before it).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub against: String,
     #[serde(default, rename = "joint")]
     pub joints: BTreeMap<String, JointCalibration>,
     #[serde(default, rename = "gauge")]
