@@ -103,23 +103,13 @@ pub fn predict(model: &Model, rec: &Recording, cycles: Vec<usize>) -> Result<Pre
 }
 
 /// The replay of `rec`'s goals on `model`'s body (`identify::rollout::replay_gauges`, standing on
-/// flat ground) at `cycles`: each traced joint's actuator torque (N m, joint direction) and every
-/// gauge's simulated strain.
-///
-/// The replay starts in the trial's first *goals*, not its first recorded positions, and the
-/// body settles from there as gravity ramps in. On servos with friction, deadband and backlash
-/// how six feet share the weight depends on how the body took it (each servo rests anywhere in
-/// its deadband, held by its friction): a robot that settled onto its goals under its weight,
-/// as the trial's robot did, shares it much as this replay does; a replay started in the
-/// sagged recorded posture lifts the body first and shares it otherwise (measured on the full
-/// stand-in, docs/identification.md: 16 of 22 joints' loads calibrated from the goals, 6 to 9
-/// from the recorded posture).
+/// flat ground, settled from the first goals as the robot did) at `cycles`: each traced joint's
+/// actuator torque (N m, joint direction) and every gauge's simulated strain. On servos with
+/// friction, deadband and backlash how six feet share the weight depends on how the body took it
+/// (each servo rests anywhere in its deadband, held by its friction); the replay's settling from
+/// the goals is what makes the load calibrate (docs/identification.md, "Against the replay").
 pub fn replayed(model: &Model, rec: &Recording, cycles: Vec<usize>) -> Result<Predicted> {
-    let mut settled = rec.clone();
-    for jt in &mut settled.joints {
-        jt.q[0] = jt.goal[0];
-    }
-    let out = crate::identify::rollout::replay_gauges(model, &settled, rec.strain.is_some())
+    let out = crate::identify::rollout::replay_gauges(model, rec, rec.strain.is_some())
         .with_context(|| format!("replaying trial {} on the model {}", rec.name, model.name))?;
     Ok(Predicted {
         torque: cycles

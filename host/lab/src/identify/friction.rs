@@ -30,9 +30,12 @@ use crate::error::Result;
 /// elastomer's (the model file's range is [`FOOT_FRICTION`]).
 pub const GRID: [f64; 10] = [0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.85, 1.1, 2.0];
 /// The smallest RMS change of the replayed joint angles between the estimate and the grid's top
-/// for which friction counts as identified, rad: two servo ticks. The stand-in's standing replay
-/// on its own model leaves 2.8 mrad (its start posture rounded to ticks, carried by the
-/// contacts); a friction whose whole effect is below that cannot be told from it.
+/// for which friction counts as identified, rad: two servo ticks. A standing replay's start is
+/// not the recorded robot's state: started in the recorded posture the stand-in's walk replays
+/// 2.8 mrad off on its own model, and the physics robot's own recorded step 14.4 mrad (its
+/// start ramp not replayed); a friction whose whole effect is below two ticks cannot be told from
+/// that on a real robot (the stand-in's replays from its goals, 0.44 mrad off, are its best
+/// case: docs/identification.md).
 pub const MIN_EFFECT_RAD: f64 = 2.0 * POSITION_SCALE;
 /// Forward-difference step of the refinement's Jacobian.
 const STEP: f64 = 0.005;

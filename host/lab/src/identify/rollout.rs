@@ -4,9 +4,18 @@
 //! cycle are held until the next. A suspended recording hangs the body in the air (the
 //! thorax fixed 0.1 m above where it would stand); any other stands on flat ground.
 //!
-//! The replay starts in the recording's first posture and holds its first goals for
-//! [`PRE_ROLL_S`] first, while gravity ramps in ([`physics::GRAVITY_RAMP_S`]): a recorded trial
-//! starts with the robot already held and settled.
+//! The replay holds the recording's first goals for [`PRE_ROLL_S`] first, while gravity ramps in
+//! ([`physics::GRAVITY_RAMP_S`]): a recorded trial starts with the robot already held and
+//! settled. Where it starts depends on what determines the body's state:
+//! - **suspended**: in the recording's first posture. A hung leg carries only its own
+//!   segments, so its posture gives its state.
+//! - **standing**: in the first *goals*, the body settling into the recorded posture as gravity
+//!   ramps in, as the robot did when it took its weight. Six planted feet share the weight in a
+//!   way no posture fixes: on servos with friction, deadband and backlash it depends on how the
+//!   body took it (where each servo rests in its deadband). Started in the recorded (sagged)
+//!   posture, the servos would first lift the body towards their goals and share it otherwise.
+//!   Measured on the stand-in, the held-out walk's replay on its own model: 2.79 mrad RMS from
+//!   the recorded posture, 0.44 from the goals (docs/identification.md).
 
 use physics::Plant;
 use planner::model::{MjcfOptions, Model, to_mjcf};
@@ -68,14 +77,15 @@ pub fn mjcf(model: &Model, options: &MjcfOptions, suspended: bool) -> String {
     out
 }
 
-/// The plant of `model` for `rec`: in its first posture, every servo holding (the traced joints
-/// their first goals, the others the stance), with the gains the board's registers give.
+/// The plant of `model` for `rec`: in its first posture if suspended, else in its first goals
+/// (the joints it does not trace in the stance; see the module's header), every servo holding
+/// its first goal, with the gains the board's registers give.
 pub fn plant(model: &Model, rec: &Recording) -> Result<(Plant, Vec<usize>)> {
     let mut options = MjcfOptions::stance(model, &Ground::Flat)
         .with_context(|| format!("the stance of the model {}", model.name))?;
     options.timestep_s = physics::TIMESTEP_S;
     for jt in &rec.joints {
-        options.stance_q[jt.joint] = jt.q[0];
+        options.stance_q[jt.joint] = if rec.suspended { jt.q[0] } else { jt.goal[0] };
     }
     let xml = mjcf(model, &options, rec.suspended);
     let mut plant = Plant::from_mjcf(model, &options, &xml)

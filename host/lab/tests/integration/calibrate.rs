@@ -136,10 +136,11 @@ fn a_strain_trial_replays_its_gauges_read_through_the_calibration() {
             assert!((e.rms_microstrain - c.rms_microstrain).abs() < 1e-9);
         }
     }
-    // Read through the true gains the recorded strain is the replayed one but for the replay's
-    // floor (it starts from the recorded posture rounded to ticks: 2.9 mrad position RMS here),
-    // measured 1 to 7 microstrain per gauge, 3.2 over all; through the ESTIMATE's 0.5 counts per
-    // microstrain, gauges of gain 0.3 read 1.7x too little and of 1.0 2x too much: 12.4 over all.
+    // Read through the true gains the recorded strain is the replayed one but for the board's
+    // rounding to whole counts (the replay settles from the recorded goals as the recording did:
+    // 0.44 mrad position RMS, the tick rounding), measured 0.3 to 1.4 microstrain per gauge, 0.72
+    // over all; through the ESTIMATE's 0.5 counts per microstrain, gauges of gain 0.3 read 1.7x
+    // too little and of 1.0 2x too much: 11.3 over all.
     let (e, c) = (mean_square(&estimate), mean_square(&calibrated));
     assert!(
         c * 2.0 < e,
