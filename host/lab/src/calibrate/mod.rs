@@ -151,31 +151,41 @@ impl Calibrated {
                 .map_or("calibrated".to_owned(), |w| format!("ESTIMATE kept: {w}"))
         };
         let mut s = format!(
-            "calibration from {} against {}:\njoint      load gain  offset N m     R^2  samples  reading\n",
+            "calibration from {} against {}:\n",
             self.trial,
             self.against.describe(&self.model)
         );
-        for j in &self.joints {
-            s.push_str(&format!(
-                "{:<10} {:>9}  {:>10}  {:>6}  {:>7}  {}\n",
-                j.name,
-                num(j.gain, 3),
-                num(j.offset_nm, 4),
-                num(j.r2, 3),
-                j.samples,
-                kept(j)
-            ));
-        }
-        s.push_str("gauge                counts/microstrain     R^2  samples  reading\n");
-        for g in &self.gauges {
-            s.push_str(&format!(
-                "{:<20} {:>18}  {:>6}  {:>7}  {}\n",
-                g.name,
-                num(g.gain, 4),
-                num(g.r2, 3),
-                g.samples,
-                kept(g)
-            ));
+        // One row format for both: the name, the gain (width, decimals), a load's offset.
+        for (heading, fits, (nw, gw, gp), load) in [
+            (
+                "joint      load gain  offset N m     R^2  samples  reading\n",
+                &self.joints,
+                (10, 9, 3),
+                true,
+            ),
+            (
+                "gauge                counts/microstrain     R^2  samples  reading\n",
+                &self.gauges,
+                (20, 18, 4),
+                false,
+            ),
+        ] {
+            s.push_str(heading);
+            for f in fits {
+                let offset = if load {
+                    format!("  {:>10}", num(f.offset_nm, 4))
+                } else {
+                    String::new()
+                };
+                s.push_str(&format!(
+                    "{:<nw$} {:>gw$}{offset}  {:>6}  {:>7}  {}\n",
+                    f.name,
+                    num(f.gain, gp),
+                    num(f.r2, 3),
+                    f.samples,
+                    kept(f)
+                ));
+            }
         }
         let (nj, ng) = (
             self.joints.iter().filter(|f| f.not_kept.is_none()).count(),
