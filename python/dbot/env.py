@@ -138,6 +138,14 @@ class DbotEnv(gym.Env):
         self.port = port
         self.model = model if model is not None else Model.builtin("drosophibot2")
         self.scene = self._scene_of(port)
+        if self.scene is not None and "+model:" in self.scene:
+            # The body's model file is read when the robot opens (at reset); a file that cannot
+            # be read or is not a valid model is refused now, named, not at the first reset.
+            file = self.scene.split("+model:", 1)[1]
+            try:
+                Model.load(file)
+            except ValueError as e:
+                raise ValueError(f"port {port}: model file {file}: {e}") from None
         # The table only tells the board its joint map, calibration, limits and stiffness.
         base = gait if gait is not None else plan(self.model, slices=20)
         self._table = base.step_table()

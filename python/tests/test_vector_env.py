@@ -10,10 +10,14 @@
 * a reset from the stored settled state (a cheap reset) gives the same episode, bit for bit, as
   a reset that simulates the settling again;
 * actions beyond the action space's bounds step as the same actions clipped by `np.clip` (the
-  Rust core clips them).
+  Rust core clips them);
+* ``scene="SCENE+model:FILE"`` runs that file's body (Hooke's law against the built-in one), and
+  a file that cannot be read is refused when the environment is made, named.
 """
 
 from __future__ import annotations
+
+import pathlib
 
 import gymnasium as gym
 import numpy as np
@@ -171,3 +175,30 @@ def test_actions_beyond_the_bounds_are_clipped_as_np_clip_clips_them() -> None:
     for a, b in zip(*runs, strict=True):
         for key in a:
             assert a[key].tobytes() == b[key].tobytes(), key
+
+
+def test_a_scene_naming_a_model_file_runs_that_files_body(tmp_path) -> None:
+    # ``scene="SCENE+model:FILE"`` (docs/usage.md) runs the body of a model file, as DbotEnv's
+    # port does (test_env.py's Hooke's-law test: every servo's P gain divisor doubled, so the
+    # joints deflect about twice as far standing under the same weight); a missing file is
+    # refused naming it.
+    root = pathlib.Path(__file__).resolve().parents[2]
+    text = (root / "host/planner/models/drosophibot2.toml").read_text()
+    soft = tmp_path / "soft.toml"
+    soft.write_text(text.replace("p_gain_divisor = 128.0", "p_gain_divisor = 256.0"))
+
+    def standing_deflection(scene: str) -> float:
+        env = VectorEnv(1, threads=0, scene=scene, max_episode_steps=60)
+        obs, _ = env.reset(seed=0)
+        for _ in range(50):
+            obs, _, terminated, _, _ = env.step(np.asarray([env.rest_rad[0]]))
+            assert not terminated[0], scene
+        env.close()
+        return float(np.sum(np.abs(obs["present_rad"][0] - env.rest_rad[0])))
+
+    builtin = standing_deflection("flat+floor")
+    fitted = standing_deflection(f"flat+floor+model:{soft}")
+    assert 1.6 * builtin < fitted < 2.5 * builtin, (builtin, fitted)
+    missing = tmp_path / "missing.toml"
+    with pytest.raises(ValueError, match=f"model file {missing}: {missing}: cannot read"):
+        VectorEnv(1, threads=0, scene=f"flat+model:{missing}")
