@@ -19,14 +19,22 @@ use common::golden_table::GOLDEN_TABLE;
 use protocol::gait::GaitTable;
 use protocol::*;
 
+/// The bytes of a dump written as the e-manual writes them: hex pairs separated by spaces.
+fn hex(dump: &str) -> Vec<u8> {
+    dump.split_whitespace()
+        .map(|b| u8::from_str_radix(b, 16).unwrap_or_else(|_| panic!("{b:?} in {dump:?}")))
+        .collect()
+}
+
 fn frame_of<T: serde::Serialize>(msg: &T) -> Vec<u8> {
     protocol::frame::encode_frame_vec(msg).unwrap()
 }
 
-fn assert_golden<T>(msg: T, postcard_bytes: &[u8], frame: &[u8])
+fn assert_golden<T>(msg: T, postcard_bytes: &str, frame: &str)
 where
     T: serde::Serialize + serde::de::DeserializeOwned + PartialEq + core::fmt::Debug,
 {
+    let (postcard_bytes, frame) = (hex(postcard_bytes), hex(frame));
     assert_eq!(
         postcard::to_allocvec(&msg).unwrap(),
         postcard_bytes,
@@ -34,7 +42,7 @@ where
     );
     assert_eq!(frame_of(&msg), frame, "frame of {msg:?}");
     let mut acc = FrameAccumulator::new();
-    let decoded: Vec<_> = acc.messages::<T>(frame).collect();
+    let decoded: Vec<_> = acc.messages::<T>(&frame).collect();
     assert_eq!(decoded, vec![Ok(msg)]);
 }
 
@@ -78,8 +86,8 @@ fn get_status_with_seq_300() {
             seq: 300,
             request: Request::GetStatus,
         },
-        &[0x00, 0xAC, 0x02, 0x01],
-        &[0x01, 0x08, 0xAC, 0x02, 0x01, 0x0C, 0x29, 0x17, 0xB4, 0x00],
+        "00 AC 02 01",
+        "01 08 AC 02 01 0C 29 17 B4 00",
     );
 }
 
@@ -98,10 +106,8 @@ fn steer_right_150_mrad_at_half_speed() {
                 speed_permille: 500,
             }),
         },
-        &[0x00, 0x07, 0x1A, 0xAB, 0x02, 0xF4, 0x03],
-        &[
-            0x01, 0x0B, 0x07, 0x1A, 0xAB, 0x02, 0xF4, 0x03, 0x8C, 0x5F, 0x0E, 0xDA, 0x00,
-        ],
+        "00 07 1A AB 02 F4 03",
+        "01 0B 07 1A AB 02 F4 03 8C 5F 0E DA 00",
     );
 }
 
@@ -119,14 +125,8 @@ fn set_platform_the_labs_rise_at_step_3() {
             seq: 9,
             request: Request::SetPlatform(PlatformSetup::lab(PlatformMove::Rise, 3)),
         },
-        &[
-            0x00, 0x09, 0x1B, 0x16, 0xE4, 0x0F, 0x9A, 0x12, 0xA2, 0x0C, 0xF0, 0x01, 0x00, 0x03,
-            0x02,
-        ],
-        &[
-            0x01, 0x0C, 0x09, 0x1B, 0x16, 0xE4, 0x0F, 0x9A, 0x12, 0xA2, 0x0C, 0xF0, 0x01, 0x07,
-            0x03, 0x02, 0x77, 0xDF, 0xF1, 0x5C, 0x00,
-        ],
+        "00 09 1B 16 E4 0F 9A 12 A2 0C F0 01 00 03 02",
+        "01 0C 09 1B 16 E4 0F 9A 12 A2 0C F0 01 07 03 02 77 DF F1 5C 00",
     );
 }
 
@@ -165,10 +165,8 @@ fn set_steer_family_0_1_2_over_300_mrad() {
                 range_mrad: 300,
             }),
         },
-        &[0x00, 0x08, 0x19, 0x00, 0x01, 0x02, 0xAC, 0x02],
-        &[
-            0x01, 0x03, 0x08, 0x19, 0x09, 0x01, 0x02, 0xAC, 0x02, 0x9F, 0xE3, 0x90, 0x25, 0x00,
-        ],
+        "00 08 19 00 01 02 AC 02",
+        "01 03 08 19 09 01 02 AC 02 9F E3 90 25 00",
     );
 }
 
@@ -188,11 +186,8 @@ fn play_backward_ten_steps_at_1_5_period() {
                 steps: Steps::Count(10),
             }),
         },
-        &[0x00, 0x05, 0x08, 0x02, 0x01, 0xDC, 0x0B, 0x01, 0x0A],
-        &[
-            0x01, 0x0D, 0x05, 0x08, 0x02, 0x01, 0xDC, 0x0B, 0x01, 0x0A, 0x89, 0xED, 0xB7, 0x74,
-            0x00,
-        ],
+        "00 05 08 02 01 DC 0B 01 0A",
+        "01 0D 05 08 02 01 DC 0B 01 0A 89 ED B7 74 00",
     );
 }
 
@@ -210,11 +205,8 @@ fn out_of_order_chunk_error_reply() {
                 expected: 512,
             })),
         },
-        &[0x00, 0x07, 0x07, 0x07, 0x09, 0x80, 0x08, 0x80, 0x04],
-        &[
-            0x01, 0x0D, 0x07, 0x07, 0x07, 0x09, 0x80, 0x08, 0x80, 0x04, 0x21, 0xCA, 0xDA, 0xE6,
-            0x00,
-        ],
+        "00 07 07 07 09 80 08 80 04",
+        "01 0D 07 07 07 09 80 08 80 04 21 CA DA E6 00",
     );
 }
 
@@ -243,14 +235,8 @@ fn slots_reply_with_a_lost_copy() {
                 .unwrap(),
             ),
         },
-        &[
-            0x00, 0x05, 0x04, 0x01, 0x00, 0x00, 0x01, 0x01, 0x07, 0x01, 0xC4, 0xE6, 0x88, 0x89,
-            0x01, 0x00, 0x00,
-        ],
-        &[
-            0x01, 0x04, 0x05, 0x04, 0x01, 0x01, 0x0A, 0x01, 0x01, 0x07, 0x01, 0xC4, 0xE6, 0x88,
-            0x89, 0x01, 0x01, 0x05, 0xC5, 0x5A, 0x08, 0xCA, 0x00,
-        ],
+        "00 05 04 01 00 00 01 01 07 01 C4 E6 88 89 01 00 00",
+        "01 04 05 04 01 01 0A 01 01 07 01 C4 E6 88 89 01 01 05 C5 5A 08 CA 00",
     );
 }
 
@@ -264,8 +250,8 @@ fn get_joint_map_request_and_reply() {
             seq: 1,
             request: Request::GetJointMap { slot: None },
         },
-        &[0x00, 0x01, 0x16, 0x00],
-        &[0x01, 0x03, 0x01, 0x16, 0x02, 0xFC, 0x03, 0x1E, 0x3C, 0x00],
+        "00 01 16 00",
+        "01 03 01 16 02 FC 03 1E 3C 00",
     );
     // DeviceMessage::Reply = 00, seq 2 -> 02, Response::JointMap = variant 8 -> 08, Some -> 01,
     // slot 1 -> 01, 2 servo IDs -> 02, 11 -> 0B, 12 -> 0C. CRC-32 = 0x72F44376 -> 76 43 F4 72;
@@ -278,10 +264,8 @@ fn get_joint_map_request_and_reply() {
                 servo_ids: heapless::Vec::from_slice(&[11, 12]).unwrap(),
             })),
         },
-        &[0x00, 0x02, 0x08, 0x01, 0x01, 0x02, 0x0B, 0x0C],
-        &[
-            0x01, 0x0C, 0x02, 0x08, 0x01, 0x01, 0x02, 0x0B, 0x0C, 0x76, 0x43, 0xF4, 0x72, 0x00,
-        ],
+        "00 02 08 01 01 02 0B 0C",
+        "01 0C 02 08 01 01 02 0B 0C 76 43 F4 72 00",
     );
 }
 
@@ -309,13 +293,8 @@ fn streaming_setpoint_with_negative_angle_and_feed_forward() {
             .into_iter()
             .collect(),
         }),
-        &[
-            0x01, 0x01, 0x02, 0x01, 0x00, 0xB8, 0xF5, 0x01, 0x01, 0xD7, 0x04,
-        ],
-        &[
-            0x05, 0x01, 0x01, 0x02, 0x01, 0x0B, 0xB8, 0xF5, 0x01, 0x01, 0xD7, 0x04, 0xAC, 0xF9,
-            0xB0, 0xA1, 0x00,
-        ],
+        "01 01 02 01 00 B8 F5 01 01 D7 04",
+        "05 01 01 02 01 0B B8 F5 01 01 D7 04 AC F9 B0 A1 00",
     );
 }
 
