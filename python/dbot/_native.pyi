@@ -1,7 +1,7 @@
 """Type stubs of the native module ``dbot._native`` (PyO3). See the package docstring."""
 
 from os import PathLike
-from typing import Any, Literal, NotRequired, TypedDict
+from typing import Any, Literal, NotRequired, TypedDict, final
 
 import numpy as np
 import numpy.typing as npt
@@ -21,6 +21,7 @@ class TrialFaulted(DbotError):
     ``"faulted"`` (trial.json's ``fault`` names the fault, joint and bus cycle), and the message
     names the trial folder."""
 
+@final
 class Model:
     """An organism model: bodies, joints, feet and the servo map."""
 
@@ -59,6 +60,7 @@ class Model:
     @property
     def mass_kg(self) -> float: ...
 
+@final
 class Plan:
     """A planned step cycle; arrays are indexed [slice, joint] / [slice, leg]."""
 
@@ -177,6 +179,7 @@ def plan_standing(model: Model) -> Standing:
     physics robot starts in: the prediction docs/validation.md's ``strain`` block compares the
     simulated gauges with. ValueError naming the model if it cannot stand or its gauges are bad."""
 
+@final
 class PlanDir:
     """A plan directory written by ``dbot plan`` or ``dbot demo``; arrays are indexed [slice, joint] /
     [slice, leg]."""
@@ -421,6 +424,7 @@ class Body(TypedDict):
     foot_slip_m_s: npt.NDArray[np.float64]
     """Speed of each foot's contact point along the surface, relative to it, m/s (0 in the air)."""
 
+@final
 class Board:
     """A board, the RP2040 emulator's pseudo-terminal, the in-process virtual robot or the
     physics robot."""
@@ -540,6 +544,18 @@ class Board:
     def set_telemetry(self, every: int) -> None:
         """Telemetry every ``every`` bus cycles (0: off) outside streaming; streaming's
         proprioception follows ``enter_streaming(feedback_every=...)`` instead."""
+    def set_health_limits(
+        self,
+        warn_temp_c: float | None = None,
+        stop_temp_c: float | None = None,
+        warn_low_v: float | None = None,
+        stop_low_v: float | None = None,
+        warn_high_v: float | None = None,
+        stop_high_v: float | None = None,
+    ) -> str:
+        """The servos' heat and supply limits (warn, and stop a walk at the end of its step);
+        unnamed limits keep the board's; refused (ValueError) in ``dbot set``'s words. Returns
+        the limits as set."""
     def set_bus(self, baud: int, cycle_hz: int) -> None:
         """Bus baud (bit/s) and cycle rate (Hz). A baud change is undone and refused
         (ValueError, ``dbot set --baud``'s words) unless every servo answers at the new baud: the
@@ -631,6 +647,7 @@ class Board:
         """Stops the attached strain board, aligns its strain.csv with this board's clock;
         None, or why the strain stream stopped early."""
 
+@final
 class PhysicsWalk:
     """A recorded walk of a plan directory's gait on the physics robot (:func:`physics_walk`)."""
     @property
@@ -722,6 +739,7 @@ def write_walk_gif(
     """Writes ``poses`` as a looping GIF, the camera following the thorax; returns the frame count."""
 
 # --- servo bench (python/src/bench.rs, board::bench; `dbot dxl`) ---
+@final
 class Bench:
     """Dynamixel servos on a USB serial adapter (U2D2) or `dbot sim-bus`, as `dbot dxl` reaches them."""
 
@@ -765,6 +783,11 @@ def replay(trial: str | PathLike[str], model: Model | None = None) -> dict[str, 
     when the trial recorded strain, per gauge ``rms_microstrain``, ``r2``, ``reading`` and
     ``counts_per_microstrain`` (``gauges``)."""
 
+def excitation(kind: str, model: Model | None = None) -> list[dict[str, Any]]:
+    """The excitation trials of ``kind`` (``"suspended"`` or ``"standing"``) for ``model``, as
+    ``dbot excite --kind KIND`` writes them: one dict per step table (``name``, ``kind``,
+    ``dt_s``, ``period_s``, ``joint_names``, ``goals_rad``, ``segments``, ``table``)."""
+
 def calibrate(
     trial: str | PathLike[str],
     model: Model | None = None,
@@ -786,12 +809,13 @@ def stand_in_trials(
     out: str | PathLike[str], joints: list[str] | None = None, short: bool = False
 ) -> dict[str, Any]: ...
 
+@final
 class VectorOptions:
     """What every sub-environment of ``VectorCore`` is built with, as
     ``dbot.env.DbotEnv`` takes it (python/src/vector_sub.rs); ``table`` the step table's bytes."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         table: bytes,
         scene: str,
         cycles_per_step: int,
@@ -803,15 +827,16 @@ class VectorOptions:
         fall_height_fraction: float,
         fall_tilt_rad: float,
         cheap_reset: bool = True,
-    ) -> None: ...
+    ) -> VectorOptions: ...
 
+@final
 class VectorCore:
     """N physics robots on ``threads`` worker threads, the GIL released, or with ``threads=0`` on
     the calling thread, the GIL held (the engine of ``dbot.env.VectorEnv``; python/src/vector.rs).
     Rows: a dict of arrays, first axis the sub-environment."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         num_envs: int,
         threads: int,
         options: VectorOptions,
@@ -819,7 +844,7 @@ class VectorCore:
         high: list[float] | None = None,
         stall: list[float] | None = None,
         obs_keys: list[str] | None = None,
-    ) -> None: ...
+    ) -> VectorCore: ...
     @property
     def num_envs(self) -> int: ...
     @property

@@ -738,7 +738,7 @@ impl Board {
     /// `crate::trial_record`.
     #[pyo3(signature = (out, *, table = None, plan = None, play = None, steps = None,
         backward = false, period = None, allow_infeasible = false, seconds = None,
-        notes = String::new(), trial = None, substrate = None, strain = None, perturb = None,
+        notes = "", trial = None, substrate = None, strain = None, perturb = None,
         platform_id = None, every = 1))]
     #[allow(clippy::too_many_arguments)]
     fn record_trial(
@@ -753,7 +753,7 @@ impl Board {
         period: Option<f64>,
         allow_infeasible: bool,
         seconds: Option<f64>,
-        notes: String,
+        notes: &str,
         trial: Option<String>,
         substrate: Option<String>,
         strain: Option<String>,
@@ -771,7 +771,7 @@ impl Board {
             period,
             allow_infeasible,
             seconds,
-            notes,
+            notes: notes.to_owned(),
             trial,
             substrate,
             strain,

@@ -14,10 +14,11 @@ fi
 # it imports torch at module level, see examples/README.md. ray (dbot.sweep's rollouts over a
 # cluster): a 79 MB wheel, 240 MB installed, about 20 s to install here (measured 18 s). cma
 # (pycma, CMA-ES with NumPy only: python/examples/learn_residual.py; torch is not installed, its
-# wheels here are the multi-GB CUDA build).
+# wheels here are the multi-GB CUDA build). mypy: its stubtest checks python/dbot/_native.pyi
+# against the built module (python/tests/test_stubs.py).
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
     maturin==1.16.0 numpy==2.4.6 pytest==9.2.0 matplotlib==3.11.2 gymnasium==1.4.0 ray==2.60.0 \
-    cma==4.5.0
+    cma==4.5.0 mypy==2.4.1
 
 # The quick-release profile (Cargo.toml): optimised like release without LTO, and shared with
 # scripts/demo.sh's build of dbot. A debug build of the package ran the tests 4.4 times slower
