@@ -1,11 +1,7 @@
 //! `dbot excite`: the excitation trials a lab plays on the robot to identify it
 //! (`planner::excitation`), as step tables built under the board's rules.
 
-use anyhow::Result;
 use planner::excitation::ExcitationKind;
-use std::path::PathBuf;
-
-use crate::args::setup::ModelArgs;
 
 /// Write the excitation trials that identify the robot: step tables to upload and record.
 ///
@@ -28,13 +24,13 @@ pub struct Args {
     kind: ExcitationKind,
     /// Output directory.
     #[arg(long)]
-    out: PathBuf,
+    out: std::path::PathBuf,
     #[command(flatten)]
-    model: ModelArgs,
+    model: crate::args::setup::ModelArgs,
 }
 
 impl Args {
-    pub fn run(self) -> Result<()> {
+    pub fn run(self) -> anyhow::Result<()> {
         let model = crate::common::model_spec::load_model(&self.model.spec()?)?;
         let said = lab::excite_files::write_excitation(&model, self.kind, &self.out)?;
         print!("{said}");
