@@ -50,14 +50,6 @@ pub enum Against {
 }
 
 impl Against {
-    /// The word `dbot calibrate --against` and Python's `against=` take.
-    pub const fn word(self) -> &'static str {
-        match self {
-            Against::Plan => "plan",
-            Against::Replay => "replay",
-        }
-    }
-
     /// The choice named `word`; an error in the words the CLI and Python both give.
     pub fn parse(word: &str) -> Result<Self> {
         match word {

@@ -102,14 +102,14 @@ pub fn predict(model: &Model, rec: &Recording, cycles: Vec<usize>) -> Result<Pre
     Ok(out)
 }
 
-/// The replay of `rec`'s goals on `model`'s body (`identify::rollout::replay_gauges`, standing on
+/// The replay of `rec`'s goals on `model`'s body (`identify::rollout::replay`, standing on
 /// flat ground, settled from the first goals as the robot did) at `cycles`: each traced joint's
 /// actuator torque (N m, joint direction) and every gauge's simulated strain. On servos with
 /// friction, deadband and backlash how six feet share the weight depends on how the body took it
 /// (each servo rests anywhere in its deadband, held by its friction); the replay's settling from
 /// the goals is what makes the load calibrate (docs/identification.md, "Against the replay").
 pub fn replayed(model: &Model, rec: &Recording, cycles: Vec<usize>) -> Result<Predicted> {
-    let out = crate::identify::rollout::replay_gauges(model, rec, rec.strain.is_some())
+    let out = crate::identify::rollout::replay(model, rec)
         .with_context(|| format!("replaying trial {} on the model {}", rec.name, model.name))?;
     Ok(Predicted {
         torque: cycles
