@@ -629,6 +629,16 @@ class Board:
         away is reached over several cycles, not in one."""
     def next_proprioception(self, timeout_s: float = 0.1) -> Proprioception | None: ...
     def drain_proprioception(self) -> Proprioception: ...
+    def stream_step(
+        self,
+        angles_rad: npt.ArrayLike,
+        torques_nm: npt.ArrayLike | None = None,
+        cycles: int = 1,
+        timeout_s: float = 0.1,
+    ) -> tuple[dict[str, npt.NDArray[np.float64]], float] | None:
+        """``DbotEnv.step``'s exchange in one call: the setpoint for each of ``cycles`` bus
+        cycles, the last record's observation and its time (s); None if streaming stopped."""
+    def last_stream_record(self) -> Proprioception | None: ...
     def attach_strain(
         self,
         port: str,

@@ -204,6 +204,7 @@ class DbotEnv(gym.Env):
             )
         self.observation_space = spaces.Dict(observed)
         self.board: Board | None = None
+        self._last_record: dict[str, Any] | None = None
         self._steps = 0
         self._info: dict[str, Any] = {}
         self._start_height = 0.0
@@ -249,9 +250,9 @@ class DbotEnv(gym.Env):
         got = self._cycles(self.rest_rad, 1)
         if got is None:
             raise RuntimeError(f"{self.port}: streaming stopped at once: {board.status()}")
-        obs, rec = got
-        self._t0 = float(rec["time_s"][0])
-        return self._begin_episode(obs, self._make_info(rec))
+        obs, time_s = got
+        self._t0 = time_s
+        return self._begin_episode(obs, self._make_info(time_s))
 
     def _prepare_board(self, options: dict[str, Any] | None, uploads: list) -> Board:
         """A fresh board with each ``(slot, table)`` of ``uploads`` uploaded, the reset
@@ -366,8 +367,8 @@ class DbotEnv(gym.Env):
             self._info = info
             obs = self._last_obs
             return obs, 0.0, True, truncated, dict(info)
-        obs, rec = got
-        info = self._make_info(rec)
+        obs, time_s = got
+        info = self._make_info(time_s)
         self._info = info
         if self.render_mode is not None:
             self._poses.append(self._pose(obs))
@@ -396,25 +397,33 @@ class DbotEnv(gym.Env):
 
     def _cycles(
         self, target: np.ndarray, n: int, torque: np.ndarray | None = None
-    ) -> tuple[dict[str, np.ndarray], dict] | None:
+    ) -> tuple[dict[str, np.ndarray], float] | None:
+        """The setpoint sent for each of `n` bus cycles: the last cycle's observation and its
+        time (s), None if streaming stopped (`Board.stream_step`, one call)."""
         assert self.board is not None
-        rec = None
-        for _ in range(n):
-            if torque is None:
-                self.board.send_setpoint(target)
-            else:
-                self.board.send_setpoint(target, torque)
-            rec = self._next(self.board)
-            if rec is None:
-                return None
-        assert rec is not None
-        self.last_record = rec
-        obs = self._joints_observed(rec, np.asarray(rec["setpoint_age"][:1], dtype=np.float64))
-        if self.strain_names:
-            obs["strain_microstrain"] = np.asarray(rec["strain_microstrain"][0], dtype=np.float64)
-            obs["strain_age_s"] = np.asarray(rec["strain_age_s"][:1], dtype=np.float64)
+        timeout = 1.0 if self.physics else self.reply_timeout_s
+        got = self.board.stream_step(target, torque, cycles=n, timeout_s=timeout)
+        self._last_record = None
+        if got is None:
+            return None
+        obs, time_s = got
+        if not self.strain_names:
+            obs.pop("strain_microstrain", None)
+            obs.pop("strain_age_s", None)
         self._last_obs = obs
-        return obs, rec
+        return obs, time_s
+
+    @property
+    def last_record(self) -> dict[str, Any] | None:
+        """The last step's proprioception record whole (a dict of arrays with one row, as
+        ``Board.next_proprioception`` gives it), built when asked."""
+        if self._last_record is None and self.board is not None:
+            self._last_record = self.board.last_stream_record()
+        return self._last_record
+
+    @last_record.setter
+    def last_record(self, rec: dict[str, Any] | None) -> None:
+        self._last_record = rec
 
     @staticmethod
     def _joints_observed(rec: dict, setpoint_age: np.ndarray) -> dict[str, np.ndarray]:
@@ -427,9 +436,9 @@ class DbotEnv(gym.Env):
             "setpoint_age": setpoint_age,
         }
 
-    def _make_info(self, rec: dict) -> dict[str, Any]:
+    def _make_info(self, time_s: float) -> dict[str, Any]:
         assert self.board is not None
-        info: dict[str, Any] = {"time_s": float(rec["time_s"][0]), "state": "Streaming"}
+        info: dict[str, Any] = {"time_s": time_s, "state": "Streaming"}
         if self.physics:
             info["body"] = self.board.body()
         if self._predicted is not None:

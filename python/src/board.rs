@@ -37,6 +37,8 @@ pub struct Board {
     naming: Mutex<JointNaming>,
     /// A strain board beside this board (`attach_strain`) and its counts per microstrain.
     strain: Mutex<Option<(::board::strain::StrainBeside, StrainGains)>>,
+    /// The record the last `stream_step` took.
+    last_step: Mutex<Option<protocol::Proprioception>>,
 }
 
 /// A record as a dict, or None (none came).
@@ -51,6 +53,27 @@ impl Board {
     /// Proprioception records as a dict; on the physics robot with the strain each record knew
     /// (`records::proprioception_strain`).
     fn proprioception<'py>(
+        &self,
+        py: Python<'py>,
+        recs: &[protocol::Proprioception],
+    ) -> PyResult<Bound<'py, PyDict>> {
+        self.note_beside(recs);
+        self.proprioception_unnoted(py, recs)
+    }
+
+    /// Tells a strain board beside this board (if any) the board time of each record as it
+    /// arrives (`StrainBeside::note`: the clock alignment of its `strain.csv`).
+    fn note_beside(&self, recs: &[protocol::Proprioception]) {
+        let mut beside = self.strain.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((b, _)) = beside.as_mut() {
+            for r in recs {
+                b.note(r.time_us as f64 * 1e-6);
+            }
+        }
+    }
+
+    /// [`Self::proprioception`] without noting the records' arrival.
+    fn proprioception_unnoted<'py>(
         &self,
         py: Python<'py>,
         recs: &[protocol::Proprioception],
@@ -74,12 +97,9 @@ impl Board {
         if let Some((names, s)) = strain {
             records::proprioception_strain(py, &d, recs, &s, names)?;
         }
-        let mut beside = self.strain.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((b, gains)) = beside.as_mut() {
+        let beside = self.strain.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((b, gains)) = beside.as_ref() {
             let now = std::time::Instant::now();
-            for r in recs {
-                b.note(r.time_us as f64 * 1e-6);
-            }
             records::proprioception_strain_board(py, &d, recs.len(), b.latest(), now, gains)?;
             d.set_item("strain_stopped", b.failed())?;
         }
@@ -165,6 +185,14 @@ impl Board {
         warn_overridden(py, warning.as_ref())
     }
 
+    /// The next setpoint's sequence number (taken).
+    fn take_seq(&self) -> u32 {
+        let mut s = self.next_seq.lock().unwrap_or_else(|e| e.into_inner());
+        let v = *s;
+        *s = s.wrapping_add(1);
+        v
+    }
+
     fn naming(&self) -> std::sync::MutexGuard<'_, JointNaming> {
         self.naming.lock().unwrap_or_else(|e| e.into_inner())
     }
@@ -194,6 +222,7 @@ impl Board {
             next_seq: Mutex::new(1),
             naming: Mutex::new(naming),
             strain: Mutex::new(None),
+            last_step: Mutex::new(None),
         })
     }
 
@@ -856,12 +885,7 @@ impl Board {
         angles_rad: &Bound<'_, PyAny>,
         torques_nm: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<u32> {
-        let seq = {
-            let mut s = self.next_seq.lock().unwrap_or_else(|e| e.into_inner());
-            let v = *s;
-            *s = s.wrapping_add(1);
-            v
-        };
+        let seq = self.take_seq();
         let sp = stream::setpoint(seq, angles_rad, torques_nm)?;
         self.with(py, move |l| l.send_setpoint(&sp))?;
         Ok(seq)
@@ -877,6 +901,66 @@ impl Board {
             |l, d| l.proprioception(d),
             |p| self.proprioception(py, &[p]),
         )
+    }
+
+    /// `DbotEnv.step`'s exchange in one call: for each of `cycles` bus cycles, sends
+    /// `angles_rad` (and `torques_nm`) as `send_setpoint` does and takes that cycle's record as
+    /// `next_proprioception(timeout_s)` does. Returns the last record's observation, a dict of
+    /// float arrays (`present_rad`, `velocity_rad_s`, `load_raw`, `setpoint_age` of shape (1,)
+    /// and, on the physics robot, `strain_microstrain` and `strain_age_s` of shape (1,)), with
+    /// its `time_s`; None if a record did not come (streaming stopped).
+    /// `last_stream_record()` gives that record whole.
+    #[pyo3(signature = (angles_rad, torques_nm = None, cycles = 1, timeout_s = 0.1))]
+    fn stream_step<'py>(
+        &self,
+        py: Python<'py>,
+        angles_rad: &Bound<'_, PyAny>,
+        torques_nm: Option<&Bound<'_, PyAny>>,
+        cycles: u32,
+        timeout_s: f64,
+    ) -> PyResult<Option<(Bound<'py, PyDict>, f64)>> {
+        if cycles == 0 {
+            return Err(value_error("cycles = 0: give 1 or more"));
+        }
+        let wait = seconds(timeout_s, "timeout_s")?;
+        let (angles, torques) = stream::vectors(angles_rad, torques_nm)?;
+        let mut rec = None;
+        for _ in 0..cycles {
+            let sp = ::board::link::setpoint_from_si(self.take_seq(), &angles, torques.as_deref())
+                .map_err(value_error)?;
+            self.with(py, |l| l.send_setpoint(&sp))?;
+            match self.with(py, |l| l.proprioception(wait))? {
+                Some(p) => {
+                    self.note_beside(std::slice::from_ref(&p));
+                    rec = Some(p);
+                }
+                None => return Ok(None),
+            }
+        }
+        let rec = rec.expect("cycles >= 1");
+        let obs = self.with(py, |l| {
+            Ok(crate::stream::observation(
+                py,
+                &rec,
+                l.transport().physics(),
+            ))
+        })??;
+        let time_s = rec.time_us as f64 * 1e-6;
+        *self.last_step.lock().unwrap_or_else(|e| e.into_inner()) = Some(rec);
+        Ok(Some((obs, time_s)))
+    }
+
+    /// The record the last `stream_step` took, whole, as `next_proprioception` gives it (its
+    /// strain as the physics robot kept it for that record's time; a strain board's latest
+    /// sample as of now); None before the first.
+    fn last_stream_record<'py>(&self, py: Python<'py>) -> MaybeDict<'py> {
+        let rec = self
+            .last_step
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone();
+        rec.map(|r| self.proprioception_unnoted(py, &[r]))
+            .transpose()
     }
 
     /// Every proprioception record received so far, without waiting: a dict of arrays.

@@ -2,6 +2,7 @@
 
 * Gymnasium's own conformance checker (`gymnasium.utils.env_checker.check_env`, an external
   reference) passes on the physics robot;
+* a step's observation is the row of the record it took, after one setpoint per bus cycle;
 * deterministic: the same seed and actions give bit-identical observations (two environments,
   each its own physics robot);
 * reset leaves the robot standing in its resting posture, streaming, no step played, and a
@@ -66,6 +67,25 @@ def test_a_torque_in_the_action_biases_the_commanded_angle_by_torque_over_stiffn
     # as the servo's nearest Position P Gain (host/physics/src/servo.rs), about 1 % off here.
     assert abs(shift[0] / 0.05 - 1) < 0.02 and abs(shift[5] / -0.12 - 1) < 0.02, shift[[0, 5]]
     assert np.max(np.abs(np.delete(shift, [0, 5]))) < 3e-4
+    env.close()
+
+
+def test_a_step_observes_the_record_it_took_and_sends_one_setpoint_per_cycle() -> None:
+    """`Board.stream_step`, `DbotEnv.step`'s one call: its observation is the last record's row
+    as `next_proprioception` gives it (`last_stream_record`), each value the same double, after
+    one setpoint per cycle (the sequence numbers the record echoes count them)."""
+    env = DbotEnv("physics", max_episode_steps=20, cycles_per_step=3)
+    env.reset(seed=0)
+    seq0 = int(env.last_record["setpoint_seq"][0])
+    obs, *_ = env.step(env.rest_rad)
+    rec = env.last_record
+    assert int(rec["setpoint_seq"][0]) == seq0 + 3
+    for key in ("present_rad", "velocity_rad_s", "load_raw", "strain_microstrain"):
+        assert np.array_equal(obs[key], np.asarray(rec[key][0], dtype=np.float64)), key
+    assert obs["setpoint_age"].tolist() == [float(rec["setpoint_age"][0])]
+    assert obs["strain_age_s"].tolist() == [float(rec["strain_age_s"][0])]
+    with pytest.raises(ValueError, match="cycles = 0: give 1 or more"):
+        env.board.stream_step(env.rest_rad, cycles=0)
     env.close()
 
 
