@@ -69,13 +69,16 @@ of this class's physics robot stepped on Rust threads, each equal to ``DbotEnv``
 from __future__ import annotations
 
 import math
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
 from ._native import Board, Model, Plan, camera_half_extent, plan, render_pose, write_walk_gif
+
+if TYPE_CHECKING:  # the records' TypedDicts exist only in the stubs
+    from ._native import Proprioception
 
 #: Reward function: (info before the step, info after it, observation, action) -> reward.
 Reward = Callable[[dict[str, Any], dict[str, Any], dict[str, np.ndarray], np.ndarray], float]
@@ -204,7 +207,7 @@ class DbotEnv(gym.Env):
             )
         self.observation_space = spaces.Dict(observed)
         self.board: Board | None = None
-        self._last_record: dict[str, Any] | None = None
+        self._last_record: Mapping[str, Any] | None = None
         self._steps = 0
         self._info: dict[str, Any] = {}
         self._start_height = 0.0
@@ -350,7 +353,7 @@ class DbotEnv(gym.Env):
     # -- step --------------------------------------------------------------------------------
 
     def step(
-        self, action: np.ndarray
+        self, action: Any
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         if self.board is None:
             raise RuntimeError("call reset() before step()")
@@ -376,7 +379,7 @@ class DbotEnv(gym.Env):
         reward = float(self.reward_fn(before, info, obs, target))
         return obs, reward, terminated, truncated, dict(info)
 
-    def _next(self, board: Board) -> dict | None:
+    def _next(self, board: Board) -> Proprioception | None:
         timeout = 1.0 if self.physics else self.reply_timeout_s
         return board.next_proprioception(timeout_s=timeout)
 
@@ -414,7 +417,7 @@ class DbotEnv(gym.Env):
         return obs, time_s
 
     @property
-    def last_record(self) -> dict[str, Any] | None:
+    def last_record(self) -> Mapping[str, Any] | None:
         """The last step's proprioception record whole (a dict of arrays with one row, as
         ``Board.next_proprioception`` gives it), built when asked."""
         if self._last_record is None and self.board is not None:
@@ -422,11 +425,11 @@ class DbotEnv(gym.Env):
         return self._last_record
 
     @last_record.setter
-    def last_record(self, rec: dict[str, Any] | None) -> None:
+    def last_record(self, rec: Mapping[str, Any] | None) -> None:
         self._last_record = rec
 
     @staticmethod
-    def _joints_observed(rec: dict, setpoint_age: np.ndarray) -> dict[str, np.ndarray]:
+    def _joints_observed(rec: Mapping[str, Any], setpoint_age: np.ndarray) -> dict[str, np.ndarray]:
         """The observation's joint keys from the one row of a record (proprioception or
         telemetry), with ``setpoint_age``."""
         return {

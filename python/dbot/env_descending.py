@@ -39,13 +39,16 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 from gymnasium import spaces
 
 from ._native import Board, Model, plan
 from .env import STRAIN_AGE_BOUND_S, DbotEnv
+
+if TYPE_CHECKING:  # the records' TypedDicts exist only in the stubs
+    from ._native import Status, Telemetry
 
 #: The family's default turn, rad of yaw per stance: about the largest whose first slice the
 #: board's switch rule admits beside the straight gait's at 20 slices (python/tests/test_steer.py:
@@ -95,11 +98,12 @@ class DescendingEnv(DbotEnv):
         )
         self.range_rad = float(range_rad)
         self._tables = [p.step_table() for p in family]
-        self.action_space = spaces.Box(
+        self._commands = spaces.Box(
             np.array([-self.range_rad, SPEED_MIN]),
             np.array([self.range_rad, SPEED_MAX]),
             dtype=np.float64,
         )
+        self.action_space = self._commands
         self._command: tuple[float, float] | None = None
         self._cycle = 0
 
@@ -130,7 +134,7 @@ class DescendingEnv(DbotEnv):
 
     def _wait_state(
         self, board: Board, states: tuple[str, ...], cycles: int, what: str
-    ) -> dict[str, Any]:
+    ) -> Status:
         """Polls the status until the board is in one of `states`, for at most `cycles` of its
         own bus cycles; returns that status. A board whose cycle counter stands still for
         `reply_timeout_s` of wall time (a wedged emulator, a lost link) ends the wait too: the
@@ -167,7 +171,7 @@ class DescendingEnv(DbotEnv):
         a = np.asarray(action, dtype=np.float64)
         if a.shape != (2,):
             raise ValueError(f"action of shape {a.shape}: give (heading rad, speed)")
-        a = np.clip(a, self.action_space.low, self.action_space.high)
+        a = np.clip(a, self._commands.low, self._commands.high)
         command = (float(a[0]), float(a[1]))
         before = self._info
         state = before.get("state")
@@ -185,7 +189,7 @@ class DescendingEnv(DbotEnv):
         reward = float(self.reward_fn(before, info, obs, a))
         return obs, reward, terminated, truncated, dict(info)
 
-    def _advance(self, cycles: int) -> tuple[dict[str, np.ndarray], dict]:
+    def _advance(self, cycles: int) -> tuple[dict[str, np.ndarray], Telemetry]:
         """Lets `cycles` bus cycles pass, counted by their telemetry records (one per cycle:
         `set_telemetry(1)`), and returns the observation of the last one with its record.
         Records older than the last step's are skipped. A record that does not come within one
@@ -235,7 +239,7 @@ class DescendingEnv(DbotEnv):
             "strain_age_s": np.array([age], dtype=np.float64),
         }
 
-    def _info_of(self, rec: dict) -> dict[str, Any]:
+    def _info_of(self, rec: Mapping[str, Any]) -> dict[str, Any]:
         assert self.board is not None
         info: dict[str, Any] = {
             "time_s": float(rec["time_s"][0]),

@@ -101,6 +101,9 @@ class VectorEnv(_GymVectorEnv):
         self.threads = int(threads) if threads is not None else min(self.num_envs, os.cpu_count() or 1)
         self.torques = one.torques
         self.single_observation_space = self._single.observation_space
+        assert isinstance(self.single_observation_space, spaces.Dict)
+        #: The observation's keys, in the order the core gives them.
+        self._obs_keys: list[str] = list(self.single_observation_space.spaces)
         self.single_action_space = self._single.action_space
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
@@ -135,7 +138,7 @@ class VectorEnv(_GymVectorEnv):
             low=[float(x) for x in self._low],
             high=[float(x) for x in self._high],
             stall=[float(x) for x in self._stall],
-            obs_keys=list(self.single_observation_space.spaces),
+            obs_keys=list(self._obs_keys),
         )
         self._np_randoms: list[np.random.Generator] = [
             np.random.default_rng() for _ in range(self.num_envs)
@@ -229,7 +232,7 @@ class VectorEnv(_GymVectorEnv):
         self.rest_rad[mask] = rows["rest_rad"][mask]
 
     def _obs(self, rows: dict[str, Any]) -> dict[str, np.ndarray]:
-        return {k: rows[k] for k in self.single_observation_space.spaces}
+        return {k: rows[k] for k in self._obs_keys}
 
     def _infos(self, rows: dict[str, Any], mask: np.ndarray) -> dict[str, Any]:
         body = {

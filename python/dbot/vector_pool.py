@@ -84,13 +84,13 @@ def residual_walks(env: Any, thetas: Sequence[np.ndarray], steps: int) -> list[f
     planned angles plus the residual, the plan's torques as feed-forward, both blended in from
     the resting posture over ``BLEND_S``. Returns each one's fitness: the distance covered along
     x, m, less ``FALL_PENALTY_M`` if it fell."""
-    thetas = np.asarray(thetas, dtype=np.float64).reshape(len(thetas), -1)
+    params = np.asarray(thetas, dtype=np.float64).reshape(len(thetas), -1)
     gait = _gait()
     out = np.zeros(len(thetas))
     n = env.num_envs
     for first in range(0, len(thetas), n):
-        batch = thetas[first : first + n]
-        rows = np.zeros((n, thetas.shape[1]))
+        batch = params[first : first + n]
+        rows = np.zeros((n, params.shape[1]))
         rows[: len(batch)] = batch
         env.reset()
         rest = env.rest_rad.copy()
@@ -187,7 +187,8 @@ class RolloutPool:
                 ray.init(address=address, include_dashboard=False, log_to_driver=False)
             self.workers = workers or int(ray.cluster_resources().get("CPU", 1))
             holder = ray.remote(num_cpus=1)(_EnvHolder)
-            self._actors = [holder.remote(make_env) for _ in range(self.workers)]
+            #: Ray actor handles (Ray's types do not follow `ray.remote` on a class).
+            self._actors: list[Any] = [holder.remote(make_env) for _ in range(self.workers)]
         else:
             raise ValueError(f"backend {backend!r}: give ray, processes or serial")
 

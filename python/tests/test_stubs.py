@@ -2,7 +2,9 @@
 see) against the compiled module itself, by mypy's stubtest (an external checker): every
 function, class, method and parameter the module has is in the stubs with the same name, kind
 and default, and the stubs declare nothing the module lacks but the names of
-stubtest-allowlist.txt, each with its reason (an entry no longer needed fails too)."""
+stubtest-allowlist.txt, each with its reason (an entry no longer needed fails too). And the
+package's own Python (python/dbot) type-checks against those stubs with mypy: what the package
+passes to and expects from the module is what the stubs promise a user's code."""
 
 from __future__ import annotations
 
@@ -35,5 +37,23 @@ def test_the_native_stubs_match_the_module(tmp_path) -> None:
         timeout=600,
         cwd=tmp_path,
         env={**os.environ, "MYPYPATH": str(tmp_path)},
+    )
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_the_package_type_checks_against_its_stubs(tmp_path) -> None:
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mypy",
+            "--cache-dir",
+            str(tmp_path / "cache"),
+            str(HERE.parent / "dbot"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=tmp_path,
     )
     assert run.returncode == 0, run.stdout + run.stderr
