@@ -5,7 +5,8 @@ against a process pool (`dbot.vector_pool.RolloutPool`).
 
 The overhead column is issue 38's: (environment - bare MuJoCo) / bare MuJoCo, CPU time per step
 of one environment against bare MuJoCo stepping the same model for the same 10 ms, what the
-firmware, bus, link and Python add as a share of the physics (target: at most 15 %).
+firmware, bus, link and Python add as a share of the physics (target: at most 15 %), the median over
+interleaved rounds of each round's pair (the machine's speed drifts within a run).
 
     .venv/bin/python bench/vector_env.py            # the figures of docs/performance.md
     .venv/bin/python bench/vector_env.py --quick    # a short run that checks it still works
@@ -145,14 +146,22 @@ def pools(items: int, steps: int, workers: int, rounds: int) -> dict[str, float]
     return out
 
 
-def median_of(
-    rounds: int, runs: dict[str, Callable[[], dict[str, float]]], key: str = "cpu_s"
-) -> dict[str, dict[str, float]]:
-    """Each of ``runs`` ``rounds`` times, interleaved; per run the round of median ``key``."""
+def rounds_of(
+    rounds: int, runs: dict[str, Callable[[], dict[str, float]]]
+) -> dict[str, list[dict[str, float]]]:
+    """Each of ``runs`` ``rounds`` times, interleaved: per run its rounds in order."""
     got: dict[str, list[dict[str, float]]] = {k: [] for k in runs}
     for _ in range(rounds):
         for k, f in runs.items():
             got[k].append(f())
+    return got
+
+
+def median_of(
+    rounds: int, runs: dict[str, Callable[[], dict[str, float]]], key: str = "cpu_s"
+) -> dict[str, dict[str, float]]:
+    """Each of ``runs`` ``rounds`` times, interleaved; per run the round of median ``key``."""
+    got = rounds_of(rounds, runs)
     return {k: sorted(v, key=lambda m: m[key])[len(v) // 2] for k, v in got.items()}
 
 
@@ -166,17 +175,21 @@ def main() -> int:
     print(f"load average at start: {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {cpus} cores")
 
     rounds = 1 if a.quick else 3
-    # One core: the single-environment figures, interleaved rounds, medians.
+    # One core: the single-environment figures, interleaved rounds of a third of the steps each,
+    # three times as many; each environment's overhead is the median over the rounds of its
+    # round against bare MuJoCo's in the same round (paired: the machine's speed drifts over a
+    # run by more than the differences measured here).
     affinity = os.sched_getaffinity(0)
     os.sched_setaffinity(0, {min(affinity)})
-    one = median_of(rounds, {
-        "bare": lambda: {**bare_mujoco(steps), "robot_steps": steps},
-        "core": lambda: core_rate(steps),
-        "inline": lambda: vector_rate(1, 0, steps),
-        "worker1": lambda: vector_rate(1, 1, steps),
-        "single": lambda: dbot_env_rate(steps),
+    short = max(1, steps // 3)
+    one = rounds_of(3 * rounds, {
+        "bare": lambda: {**bare_mujoco(short), "robot_steps": short},
+        "core": lambda: core_rate(short),
+        "inline": lambda: vector_rate(1, 0, short),
+        "worker1": lambda: vector_rate(1, 1, short),
+        "single": lambda: dbot_env_rate(short),
     })
-    bare, core, inline, worker1, single = (one[k] for k in ("bare", "core", "inline", "worker1", "single"))
+    us = {k: [1e6 * m["cpu_s"] / m["robot_steps"] for m in v] for k, v in one.items()}
     r = resets(3 if a.quick else 10)
     os.sched_setaffinity(0, affinity)
 
@@ -186,17 +199,17 @@ def main() -> int:
     n1, n2 = both["n1"], both["n2"]
 
     per = lambda m: 1e6 * m["cpu_s"] / m["robot_steps"]  # noqa: E731
-    bare_us = 1e6 * bare["cpu_s"] / bare["cycles"]
     # The overhead as issue 38 defines it: what the firmware, bus, link and Python add, as a
     # share of bare MuJoCo stepping the same model, (env - bare) / bare (target: at most 15 %).
-    print(f"\n| what (one core, CPU time per step of 10 ms; median of {rounds} interleaved runs of {steps} steps) "
-          "| us per step | overhead: (this - bare) / bare |")
+    print(f"\n| what (one core, CPU time per step of 10 ms; {3 * rounds} interleaved rounds of {short} steps) "
+          "| us per step (median) | overhead: (this - bare) / bare, median of the rounds' pairs |")
     print("|---|---|---|")
-    print(f"| bare MuJoCo, same model, 10 x 1 ms | {bare_us:.0f} | - |")
-    for name, m in (("its Rust core alone (VectorCore.step_env)", core),
-                    ("VectorEnv(1, threads=0)", inline), ("VectorEnv(1, threads=1)", worker1),
-                    ("DbotEnv", single)):
-        print(f"| {name} | {per(m):.0f} | {100 * (per(m) - bare_us) / bare_us:.0f} % |")
+    print(f"| bare MuJoCo, same model, 10 x 1 ms | {np.median(us['bare']):.0f} | - |")
+    for name, k in (("its Rust core alone (VectorCore.step_env)", "core"),
+                    ("VectorEnv(1, threads=0)", "inline"), ("VectorEnv(1, threads=1)", "worker1"),
+                    ("DbotEnv", "single")):
+        paired = np.median([e / b - 1 for e, b in zip(us[k], us["bare"])])
+        print(f"| {name} | {np.median(us[k]):.0f} | {100 * paired:.0f} % |")
 
     print("\n| vector throughput (every core) | robot steps/s, wall | x N = 1 | CPU us per robot step |")
     print("|---|---|---|---|")
