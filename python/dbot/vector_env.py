@@ -138,7 +138,7 @@ class VectorEnv(_GymVectorEnv):
             low=[float(x) for x in self._low],
             high=[float(x) for x in self._high],
             stall=[float(x) for x in self._stall],
-            obs_keys=list(self._obs_keys),
+            obs_keys=self._obs_keys,
         )
         self._np_randoms: list[np.random.Generator] = [
             np.random.default_rng() for _ in range(self.num_envs)

@@ -10,6 +10,17 @@ use pyo3::types::PyDict;
 
 use crate::names::JointNaming;
 
+/// A joint's present angle, rad: the one conversion every record and observation of it makes
+/// (`Board`'s records, `Board.stream_step`, `VectorEnv`'s rows), so all hold the same double.
+pub fn present_rad(x: &JointFeedback) -> f64 {
+    f64::from(x.present) / protocol::units::ANGLE_PER_RAD
+}
+
+/// A joint's present velocity, rad/s, as [`present_rad`] converts the angle.
+pub fn velocity_rad_s(x: &JointFeedback) -> f64 {
+    f64::from(x.velocity) / protocol::units::VELOCITY_PER_RAD_S
+}
+
 /// Per-joint columns of a batch of records, converted to SI where a unit exists, and the name of
 /// each column.
 fn joint_columns<'py>(
@@ -26,19 +37,12 @@ fn joint_columns<'py>(
         Array2::from_shape_fn((n, j), |(i, k)| get(i, k).map_or(f64::NAN, |x| conv(&x)))
     };
     let angle = protocol::units::ANGLE_PER_RAD;
-    let vel = protocol::units::VELOCITY_PER_RAD_S;
     d.set_item(
         "commanded_rad",
         f(&|x| f64::from(x.commanded) / angle).to_pyarray(py),
     )?;
-    d.set_item(
-        "present_rad",
-        f(&|x| f64::from(x.present) / angle).to_pyarray(py),
-    )?;
-    d.set_item(
-        "velocity_rad_s",
-        f(&|x| f64::from(x.velocity) / vel).to_pyarray(py),
-    )?;
+    d.set_item("present_rad", f(&present_rad).to_pyarray(py))?;
+    d.set_item("velocity_rad_s", f(&velocity_rad_s).to_pyarray(py))?;
     let raw = |g: &dyn Fn(&JointFeedback) -> i32| {
         Array2::from_shape_fn((n, j), |(i, k)| get(i, k).map_or(0, |x| g(&x)))
     };

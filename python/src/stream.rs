@@ -3,12 +3,12 @@
 //! `DbotEnv`'s observation (`Board.stream_step`).
 
 use numpy::{PyArray1, PyReadonlyArray1};
-use protocol::units::{ANGLE_PER_RAD, VELOCITY_PER_RAD_S};
 use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::value_error;
+use crate::records;
 
 fn vector(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
     if let Ok(a) = v.extract::<PyReadonlyArray1<'_, f64>>() {
@@ -39,7 +39,7 @@ pub fn setpoint(
 }
 
 /// `DbotEnv`'s observation of `rec`: the row `next_proprioception` gives, each value the same
-/// double (`records::proprioception_dict`'s conversions), as float arrays; with the physics
+/// double (`records::present_rad` and `velocity_rad_s`, as `next_proprioception`'s), as float arrays; with the physics
 /// robot's gauges (`physics`) its strain sample kept for the record's time and the sample's age
 /// (NaN without one).
 pub fn observation<'py>(
@@ -51,14 +51,8 @@ pub fn observation<'py>(
     let j = &rec.joints;
     let col =
         |f: &dyn Fn(&protocol::JointFeedback) -> f64| PyArray1::from_iter(py, j.iter().map(f));
-    d.set_item(
-        intern!(py, "present_rad"),
-        col(&|x| f64::from(x.present) / ANGLE_PER_RAD),
-    )?;
-    d.set_item(
-        intern!(py, "velocity_rad_s"),
-        col(&|x| f64::from(x.velocity) / VELOCITY_PER_RAD_S),
-    )?;
+    d.set_item(intern!(py, "present_rad"), col(&records::present_rad))?;
+    d.set_item(intern!(py, "velocity_rad_s"), col(&records::velocity_rad_s))?;
     d.set_item(intern!(py, "load_raw"), col(&|x| f64::from(x.load)))?;
     d.set_item(
         intern!(py, "setpoint_age"),

@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use ::board::link::LinkError;
 use ::board::rules::stiffness::Stiffness;
-use protocol::units::{ANGLE_PER_RAD, VELOCITY_PER_RAD_S};
+use protocol::units::ANGLE_PER_RAD;
 use protocol::{Proprioception, ServoSelect, Status, StreamConfig};
 use pyo3::prelude::*;
 
@@ -375,15 +375,11 @@ impl SubEnv {
             None => (Vec::new(), f64::NAN),
         };
         Ok(Row {
-            present: rec
-                .joints
-                .iter()
-                .map(|j| f64::from(j.present) / ANGLE_PER_RAD)
-                .collect(),
+            present: rec.joints.iter().map(crate::records::present_rad).collect(),
             velocity: rec
                 .joints
                 .iter()
-                .map(|j| f64::from(j.velocity) / VELOCITY_PER_RAD_S)
+                .map(crate::records::velocity_rad_s)
                 .collect(),
             load: rec.joints.iter().map(|j| f64::from(j.load)).collect(),
             setpoint_age: f64::from(rec.setpoint_age),
