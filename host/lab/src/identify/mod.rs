@@ -51,6 +51,14 @@ pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is ident
     error many times its sd: the optimisers stop short of the truth's lower cost, and a trial's \
     lowest cost can lie off the truth (on the one-leg run's sus-FTi, 25 % high; docs/identification.md)";
 
+/// What the Coulomb friction's and the deadband's estimates mean.
+pub const FRICTION_NOTE: &str = "identified together with the deadband, the gear damping and the \
+    stiffness, which make up for one another along a shallow valley: on the stand-in's one-leg run \
+    LF_TrF1's friction ended 14.5 % low (deadband 13 % high, gear damping 26 % high) at a cost only \
+    2.9 above the truth's 55.0, where the cost is uneven by up to 1.5 between points 5 % apart at \
+    the tick scale; moved alone by as much, the friction or the deadband raises the cost to about \
+    101 (docs/identification.md)";
+
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IdentifyOptions {
@@ -271,6 +279,9 @@ fn identify_servos(
                 Some(sd) if f.name == "damping_nm_s_per_rad" => (Some(sd * f.scale), Some(DAMPING_NOTE.to_owned())),
                 Some(sd) if f.name == "stall_torque_nm" || f.name == "p_gain_divisor" => {
                     (Some(sd * f.scale), Some(STALL_NOTE.to_owned()))
+                }
+                Some(sd) if f.name == "friction_nm" || f.name == "deadband_rad" => {
+                    (Some(sd * f.scale), Some(FRICTION_NOTE.to_owned()))
                 }
                 Some(sd) => (Some(sd * f.scale), None),
             };

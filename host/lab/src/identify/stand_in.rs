@@ -62,21 +62,33 @@ pub fn stand_in_model(model: &Model) -> Model {
 /// servo models: gain 0.8, offset 0.05 N m, steps of 2 counts, 0.01 N m of noise. The body
 /// moves as `model`'s; only what the servos report differs (the calibration's ground truth).
 pub fn reading_stand_in_model(model: &Model) -> Model {
+    let mut m = with_reading_of(model, &stand_in_model(model));
+    m.name = format!("{}-reading-stand-in", model.name);
+    m
+}
+
+/// `model` with `reading`'s Present Load reading (gain, offset, resolution, noise) on both servo
+/// models, its servo dynamics otherwise as they are: e.g. the full stand-in's body read as the
+/// default model reads it (what identification gives a lab before any calibration).
+pub fn with_reading_of(model: &Model, reading: &Model) -> Model {
     let mut m = model.clone();
     for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
-        let s = stand_in_entry(servo);
+        let r = reading
+            .servo_dynamics
+            .of_model(servo)
+            .copied()
+            .unwrap_or_default();
         let mut e = m
             .servo_dynamics
             .of_model(servo)
             .copied()
             .unwrap_or_default();
-        e.load_gain = s.load_gain;
-        e.load_offset_nm = s.load_offset_nm;
-        e.load_resolution_counts = s.load_resolution_counts;
-        e.load_noise_nm = s.load_noise_nm;
+        e.load_gain = r.load_gain;
+        e.load_offset_nm = r.load_offset_nm;
+        e.load_resolution_counts = r.load_resolution_counts;
+        e.load_noise_nm = r.load_noise_nm;
         m.servo_dynamics.set_model(servo, e);
     }
-    m.name = format!("{}-reading-stand-in", model.name);
     m
 }
 

@@ -152,21 +152,7 @@ fn a_strain_trial_replays_its_gauges_read_through_the_calibration() {
 /// and backlash) with the default model's Present Load reading: what `dbot identify` gives a lab
 /// before the readings are calibrated (the servo dynamics fitted, the reading still ESTIMATE).
 fn stand_in_body(default: &planner::model::Model) -> planner::model::Model {
-    let mut m = stand_in::stand_in_model(default);
-    for servo in [protocol::ServoModel::Mx28, protocol::ServoModel::Mx64] {
-        let d = default
-            .servo_dynamics
-            .of_model(servo)
-            .copied()
-            .unwrap_or_default();
-        let mut e = m.servo_dynamics.of_model(servo).copied().unwrap();
-        e.load_gain = d.load_gain;
-        e.load_offset_nm = d.load_offset_nm;
-        e.load_resolution_counts = d.load_resolution_counts;
-        e.load_noise_nm = d.load_noise_nm;
-        m.servo_dynamics.set_model(servo, e);
-    }
-    m
+    stand_in::with_reading_of(&stand_in::stand_in_model(default), default)
 }
 
 /// On the full stand-in (its servos 20 % softer, with friction, deadband and backlash, the load

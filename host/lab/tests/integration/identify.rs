@@ -100,6 +100,14 @@ fn the_stand_in_is_identified_from_a_suspended_excitation() {
         );
         let damping = id.estimate(name, "damping_nm_s_per_rad").unwrap();
         assert!(damping.why.as_deref().unwrap().contains("viscous total"));
+        // Friction and deadband make up for each other (and for the damping): the note says so.
+        for field in ["friction_nm", "deadband_rad"] {
+            let why = id.estimate(name, field).unwrap().why.as_deref().unwrap();
+            assert!(
+                why.contains("together with the deadband"),
+                "{name} {field}: {why}"
+            );
+        }
         near(
             &format!("{name} friction"),
             fit.friction_nm,
