@@ -7,19 +7,37 @@
 //!
 //! ```sh
 //! cargo run -p lab --example identify_stand_in -- out/identify-stand-in
+//! cargo run -p lab --example identify_stand_in -- out/identify-full --full-length
 //! ```
+//!
+//! The document's figure uses short tables (0.4 s holds, 4 s chirps); `--full-length` records
+//! the tables a lab is told to record (the planner's defaults: 1 s holds, 20 s chirps).
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let out = std::env::args()
-        .nth(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let full = args.iter().any(|a| a == "--full-length");
+    let out = args
+        .iter()
+        .find(|a| !a.starts_with("--"))
+        .cloned()
         .unwrap_or_else(|| "out/identify-stand-in".into());
+    if let Some(bad) = args
+        .iter()
+        .find(|a| a.starts_with("--") && *a != "--full-length")
+    {
+        return Err(format!("unknown option {bad} (known: --full-length)").into());
+    }
     let out = std::path::PathBuf::from(out);
     let default = planner::model::builtin("drosophibot2")?;
-    let options = planner::excitation::ExcitationOptions {
-        hold_s: 0.4,
-        chirp_s: 4.0,
-        chirp_taper_s: 0.3,
-        ..Default::default()
+    let options = if full {
+        planner::excitation::ExcitationOptions::default()
+    } else {
+        planner::excitation::ExcitationOptions {
+            hold_s: 0.4,
+            chirp_s: 4.0,
+            chirp_taper_s: 0.3,
+            ..Default::default()
+        }
     };
     let joints: Vec<String> = ["LF_ThC1", "LF_ThC3", "LF_CTr", "LF_TrF1", "LF_FTi"]
         .map(String::from)
