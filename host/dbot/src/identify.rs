@@ -7,7 +7,7 @@
 #[derive(Debug, clap::Args)]
 #[command(after_help = "Example:
   dbot identify out/trials/sus-CTr out/trials/sus-FTi --model drosophibot2 --out fitted.toml
-  dbot identify out/trials/sus-* --model drosophibot2 --out fitted.toml --refine-replays 300
+  dbot identify out/trials/sus-* --model drosophibot2 --out fitted.toml --refine-replays 600
   dbot identify out/trials/walk-floor --model fitted.toml --out fitted-floor.toml")]
 pub struct Args {
     /// Trial folders: `dbot record` of `dbot excite --kind suspended`'s sus-* tables (the servo
@@ -20,7 +20,8 @@ pub struct Args {
     #[command(flatten)]
     model: crate::args::setup::ModelArgs,
     /// After Levenberg-Marquardt, refine each identified joint by Nelder-Mead on its own cost
-    /// with at most this many replays (0: no refinement; 300 is what the one-leg stand-in used,
+    /// with at most this many replays (0: no refinement; on the one-leg stand-in 300 with short
+    /// tables, 600 with the full-length ones brought every field within 10 %,
     /// docs/identification.md).
     #[arg(long, default_value_t = 0)]
     refine_replays: usize,

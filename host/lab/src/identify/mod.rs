@@ -41,7 +41,8 @@ use recording::Recording;
 /// white residuals and is optimistic here).
 pub const DAMPING_NOTE: &str = "identified as part of the joint's viscous total (gear damping + the \
     torque-speed slope + the D gain's Kd), which the fit recovers; alone it is a few % of that total \
-    and its own error can be several times its sd (the stand-in's short excitation: up to 21 %)";
+    and its own error can be several times its sd (the stand-in's short excitation: up to 21 %; \
+    from the full-length tables with 600 refinement replays per joint, within 7 %)";
 
 /// What the stall torque's and the P gain divisor's estimates mean.
 pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is identified; the stall \
@@ -49,7 +50,9 @@ pub const STALL_NOTE: &str = "the stiffness (stall torque over divisor) is ident
     the fit can end along the valley of equal stiffness (the stand-in's one-leg run: 2 of 5 joints \
     23 to 25 % high with their stiffness within 2 %, 7.5 and 15.5 % after the refinement), with an \
     error many times its sd: the optimisers stop short of the truth's lower cost, and a trial's \
-    lowest cost can lie off the truth (on the one-leg run's sus-FTi, 25 % high; docs/identification.md)";
+    lowest cost can lie off the truth (on the one-leg run's sus-FTi, 25 % high). From the \
+    full-length tables (1 s holds, 20 s chirps) with 600 refinement replays per joint, every stall \
+    torque and divisor of that run came within 5 % (docs/identification.md)";
 
 /// What the Coulomb friction's and the deadband's estimates mean.
 pub const FRICTION_NOTE: &str = "identified together with the deadband, the gear damping and the \
@@ -57,7 +60,8 @@ pub const FRICTION_NOTE: &str = "identified together with the deadband, the gear
     LF_TrF1's friction ended 14.5 % low (deadband 13 % high, gear damping 26 % high) at a cost only \
     2.9 above the truth's 55.0, where the cost is uneven by up to 1.5 between points 5 % apart at \
     the tick scale; moved alone by as much, the friction or the deadband raises the cost to about \
-    101 (docs/identification.md)";
+    101. From the full-length tables (1 s holds, 20 s chirps) with 600 refinement replays per \
+    joint, every joint's friction came within 6 % (docs/identification.md)";
 
 /// How long the fit may run.
 #[derive(Debug, Clone, Copy, PartialEq)]
