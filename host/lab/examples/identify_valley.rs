@@ -13,7 +13,7 @@
 //! cargo run --release -p lab --example identify_valley -- out/identify-stand-in
 //! ```
 
-use lab::identify::fit::{POSITION_SCALE, VELOCITY_SCALE};
+use lab::identify::fit;
 use lab::identify::params::MOTION;
 use lab::identify::recording::Recording;
 use lab::identify::rollout;
@@ -32,12 +32,8 @@ fn cost(model: &Model, rec: &Recording, j: usize) -> Result<f64, Box<dyn std::er
         .iter()
         .position(|jt| jt.joint == j)
         .ok_or("the trial does not trace the joint")?;
-    let jt = &rec.joints[t];
-    Ok((0..rec.len())
-        .map(|c| {
-            ((out.q[t][c] - jt.q[c]) / POSITION_SCALE).powi(2)
-                + ((out.qd[t][c] - jt.qd[c]) / VELOCITY_SCALE).powi(2)
-        })
+    Ok(fit::residuals(&out, t, &rec.joints[t])
+        .map(|(position, velocity)| position.powi(2) + velocity.powi(2))
         .sum())
 }
 

@@ -14,7 +14,7 @@ use nalgebra_lm::{DMatrix, DVector, Dyn, Owned};
 use planner::model::{Model, ServoParamsEntry};
 
 use super::params::MOTION;
-use super::recording::Recording;
+use super::recording::{JointTrace, Recording};
 use super::rollout::{self, Replayed};
 use crate::error::Result;
 
@@ -22,6 +22,22 @@ use crate::error::Result;
 pub const POSITION_SCALE: f64 = std::f64::consts::TAU / 4096.0;
 /// Residual scale of a velocity, rad/s: four of the register's 0.229 rev/min units.
 pub const VELOCITY_SCALE: f64 = 4.0 * 0.229 * std::f64::consts::TAU / 60.0;
+
+/// The fit's residuals of traced joint `t` of a recording, cycle by cycle: its replayed against
+/// its recorded (`jt`) present position, per tick, and velocity, per [`VELOCITY_SCALE`]. The one
+/// definition Levenberg-Marquardt, the refinement's per-joint cost and the examples use.
+pub fn residuals<'a>(
+    out: &'a Replayed,
+    t: usize,
+    jt: &'a JointTrace,
+) -> impl Iterator<Item = (f64, f64)> + 'a {
+    (0..jt.q.len()).map(move |c| {
+        (
+            (out.q[t][c] - jt.q[c]) / POSITION_SCALE,
+            (out.qd[t][c] - jt.qd[c]) / VELOCITY_SCALE,
+        )
+    })
+}
 
 /// Each residual's identified-joint slot and row.
 type Owners = Vec<(usize, usize)>;
@@ -153,11 +169,11 @@ impl<'a> MotionFit<'a> {
                 let Some(k) = self.joints.iter().position(|&j| j == jt.joint) else {
                     continue;
                 };
-                for c in 0..rec.len() {
+                for (position, velocity) in residuals(&out, t, jt) {
                     owner.push((k, r.len()));
-                    r.push((out.q[t][c] - jt.q[c]) / POSITION_SCALE);
+                    r.push(position);
                     owner.push((k, r.len()));
-                    r.push((out.qd[t][c] - jt.qd[c]) / VELOCITY_SCALE);
+                    r.push(velocity);
                 }
             }
         }

@@ -15,7 +15,7 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 use nalgebra_lm::DVector;
 
-use super::fit::{MotionFit, POSITION_SCALE, VELOCITY_SCALE};
+use super::fit::{self, MotionFit};
 use super::params::MOTION;
 use super::rollout;
 use crate::error::Result;
@@ -79,10 +79,8 @@ impl JointCost<'_, '_> {
             let n = &self.tally.replays;
             n.set(n.get() + 1);
             let out = rollout::replay(&model, rec)?;
-            let jt = &rec.joints[t];
-            for c in 0..rec.len() {
-                cost += ((out.q[t][c] - jt.q[c]) / POSITION_SCALE).powi(2)
-                    + ((out.qd[t][c] - jt.qd[c]) / VELOCITY_SCALE).powi(2);
+            for (position, velocity) in fit::residuals(&out, t, &rec.joints[t]) {
+                cost += position.powi(2) + velocity.powi(2);
             }
         }
         Ok(cost)
