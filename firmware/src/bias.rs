@@ -28,6 +28,9 @@ pub struct JointCal {
     pub min_ticks: i32,
     /// Highest allowed goal, in ticks.
     pub max_ticks: i32,
+    /// The leg the joint belongs to (0 ..= 5 in LF, LM, LH, RF, RM, RH), if the table says: the
+    /// start ramp lifts a leg's joints together ([`crate::playback::start_lifts`]).
+    pub leg: Option<u8>,
 }
 
 /// Bias angle torque / k in microradians; no bias when `stiffness` is 0 (bias switched off).
@@ -88,6 +91,7 @@ mod tests {
             calibration: calibration(2048, 1),
             min_ticks: 0,
             max_ticks: 4095,
+            leg: None,
         };
         // pi/2 rad is a quarter turn: 1024 ticks.
         assert_eq!(goal_ticks(&cal, 1_570_796, 0, 8400), (2048 + 1024, false));
@@ -120,6 +124,7 @@ mod tests {
                 calibration: calibration(rng.i32(0..=4095), if rng.bool() { 1 } else { -1 }),
                 min_ticks: min,
                 max_ticks: min + rng.i32(1..=2048),
+                leg: None,
             };
             let angle = rng.i32(-3_141_593..=3_141_593);
             let torque = rng.i32(-6000..=6000);

@@ -62,6 +62,7 @@ pub fn check(bytes: &[u8]) -> Result<Checked, TableError> {
             calibration,
             min_ticks: a.min(b),
             max_ticks: a.max(b),
+            leg: m.leg,
         };
         if joints.push(cal).is_err() {
             break;
@@ -118,5 +119,11 @@ impl Gait for View<'_> {
     }
     fn torque_mnm(&self, slice: usize, joint: usize) -> i32 {
         self.sample(slice, joint, 2).into()
+    }
+    fn stance(&self, slice: usize) -> u8 {
+        let at = HEADER_LEN
+            + self.layout.joints * JOINT_RECORD_LEN
+            + slice * slice_len(self.layout.joints);
+        self.bytes.get(at).copied().unwrap_or(0)
     }
 }

@@ -62,6 +62,7 @@ pub fn sine_gait_with_torque(
             min_rad: -1.5,
             max_rad: 1.5,
             stiffness_nm_per_rad: STIFFNESS_NM_PER_RAD,
+            leg: None,
         })
         .collect();
     let mut b = GaitTableBuilder::new(name, 0.6, 0.6, joints);

@@ -272,6 +272,14 @@ pub fn strain_items(
     Ok(())
 }
 
+/// How old a gauge sample taken at `sample_s` is at a record of `record_s` (both the simulated
+/// clock, s). The record's time comes from the board's microseconds, the sample's from the body's
+/// summed timesteps, so a sample taken at the record's instant can land a rounding after it
+/// (-3e-14 s): that is an age of 0, not a negative one.
+pub fn strain_age_s(record_s: f64, sample_s: f64) -> f64 {
+    (record_s - sample_s).max(0.0)
+}
+
 /// On the physics robot, what each proprioception record knew of the strain gauges: the latest
 /// simulated sample at or before its time (`physics::PhysicsRobot::strain_at`; `strain`: per
 /// record its sample's time, s, and microstrain per gauge, None if none). Adds
@@ -293,7 +301,7 @@ pub fn proprioception_strain(
     });
     let age = Array1::from_iter(recs.iter().zip(strain).map(|(p, s)| {
         s.as_ref()
-            .map_or(f64::NAN, |s| p.time_us as f64 * 1e-6 - s.0)
+            .map_or(f64::NAN, |s| strain_age_s(p.time_us as f64 * 1e-6, s.0))
     }));
     d.set_item("strain_names", names)?;
     d.set_item("strain_microstrain", m.to_pyarray(py))?;

@@ -62,7 +62,7 @@ pub fn observation<'py>(
         let t = rec.time_us as f64 * 1e-6;
         // A sample holds a reading per gauge; the names are cloned only when none is kept yet.
         let (strain, age) = match p.strain_at(t) {
-            Some(s) => (s.microstrain(), t - s.time_s),
+            Some(s) => (s.microstrain(), records::strain_age_s(t, s.time_s)),
             None => (vec![f64::NAN; p.gauge_names().len()], f64::NAN),
         };
         d.set_item(

@@ -370,7 +370,7 @@ impl SubEnv {
         let (strain, strain_age_s) = match physics.strain_at(time_s) {
             Some(s) => (
                 s.readings.iter().map(|r| r.microstrain).collect(),
-                time_s - s.time_s,
+                crate::records::strain_age_s(time_s, s.time_s),
             ),
             None => (Vec::new(), f64::NAN),
         };

@@ -30,8 +30,10 @@ def play_and_record(port: str, plan: dbot.Plan, steps: int) -> dict[str, np.ndar
     board.upload_plan(0, plan, name="tripod", torques=True)
     board.set_telemetry(1)
     board.play(0, steps=steps)
-    # The start ramp to the first slice (about 0.6 s) comes before the steps.
-    rec = board.record(steps * plan.period_s + 2.0)
+    # The start ramp to the first slice comes before the steps: 2.3 s from the physics robot's
+    # resting posture, 5.8 s on the virtual robot, whose servos start at their centres (each leg
+    # pair lifted in turn, firmware::playback::ramp).
+    rec = board.record(steps * plan.period_s + 7.0)
     assert board.status()["fault"] is None
     board.close()
     return rec

@@ -7,7 +7,8 @@ use dynamixel::units::p_gain_for_stiffness;
 use embedded_storage::nor_flash::NorFlash;
 
 use super::Controller;
-use crate::playback::{MAX_JOINTS, Ramp};
+use crate::gait_view::View;
+use crate::playback::{MAX_JOINTS, Ramp, RampGroup, start_lifts};
 use crate::safety::{Event, SafeReason, State};
 use crate::store::FlashWindow;
 use crate::telemetry::SetpointStamp;
@@ -377,20 +378,34 @@ impl<F: NorFlash + FlashWindow> Controller<F> {
             self.bias_k = self.stiffness;
             self.bias_residual = [0; MAX_JOINTS];
         }
-        let ramp = self.ramp.get_or_insert_with(|| {
+        if self.ramp.is_none() {
             let mut from = [0i32; MAX_JOINTS];
             for (f, p) in from.iter_mut().zip(&self.present[..n]) {
                 *f = p.position;
             }
-            Ramp::new(
+            let mut lift = [0i32; MAX_JOINTS];
+            let mut group = [RampGroup::Whole; MAX_JOINTS];
+            if let Some(bytes) = self.store.table(sel.slot) {
+                let view = View::new(bytes, sel.layout);
+                start_lifts(&view, &self.joints, &mut lift[..n], &mut group[..n]);
+            }
+            self.ramp = Some(Ramp::stepping(
                 &from[..n],
                 &target[..n],
+                &lift[..n],
+                &group[..n],
                 self.config.ramp_ticks_per_s,
                 self.config.ramp_min_us,
-            )
-        });
+            ));
+        }
+        let Some(ramp) = self.ramp.as_mut() else {
+            return;
+        };
         let arrived = ramp.advance(dt);
         ramp.goals(&mut self.goals[..n]);
+        for (g, cal) in self.goals[..n].iter_mut().zip(&self.joints) {
+            *g = (*g).clamp(cal.min_ticks, cal.max_ticks);
+        }
         // The ramp has no load plan of its own: the servo is meant to reach the goal itself.
         self.planned[..n].copy_from_slice(&self.goals[..n]);
         if arrived {

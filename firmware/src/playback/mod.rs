@@ -5,6 +5,9 @@
 
 use crate::bias::{JointCal, goal_ticks};
 
+mod ramp;
+pub use ramp::{Ramp, RampGroup, start_lifts};
+
 /// Most joints a table may have (Drosophibot II has 22).
 pub const MAX_JOINTS: usize = protocol::MAX_JOINTS;
 
@@ -17,6 +20,11 @@ pub trait Gait {
     fn period_us(&self) -> u32;
     fn angle_urad(&self, slice: usize, joint: usize) -> i32;
     fn torque_mnm(&self, slice: usize, joint: usize) -> i32;
+    /// Stance flags of `slice` (bit i = leg i in LF, LM, LH, RF, RM, RH); a table without them
+    /// has every leg in the air, and no leg lifts in the start ramp.
+    fn stance(&self, _slice: usize) -> u8 {
+        0
+    }
 }
 
 /// Which way through the step the clock runs.
@@ -193,59 +201,6 @@ pub fn goals<G: Gait + ?Sized>(
         count += c as usize;
     }
     count
-}
-
-/// A straight move of every joint from where it is to where the gait starts, at a bounded speed.
-#[derive(Debug, Clone)]
-pub struct Ramp {
-    from: [i32; MAX_JOINTS],
-    to: [i32; MAX_JOINTS],
-    n: usize,
-    duration_us: u32,
-    elapsed_us: u32,
-}
-
-impl Ramp {
-    /// Plans the ramp: the joint with the longest way moves at `speed` ticks per second, the others
-    /// proportionally slower; it lasts at least `min_us`.
-    pub fn new(from: &[i32], to: &[i32], speed_ticks_per_s: u32, min_us: u32) -> Self {
-        let n = from.len().min(to.len()).min(MAX_JOINTS);
-        let mut r = Self {
-            from: [0; MAX_JOINTS],
-            to: [0; MAX_JOINTS],
-            n,
-            duration_us: min_us,
-            elapsed_us: 0,
-        };
-        r.from[..n].copy_from_slice(&from[..n]);
-        r.to[..n].copy_from_slice(&to[..n]);
-        let longest = (0..n)
-            .map(|j| (to[j] as i64 - from[j] as i64).unsigned_abs())
-            .max();
-        let speed = speed_ticks_per_s.max(1) as u64;
-        let needed = longest.unwrap_or(0) * 1_000_000 / speed;
-        r.duration_us = r.duration_us.max(needed.min(u32::MAX as u64) as u32);
-        r
-    }
-
-    pub fn duration_us(&self) -> u32 {
-        self.duration_us
-    }
-
-    /// Moves on by `dt_us`; true once the ramp has arrived.
-    pub fn advance(&mut self, dt_us: u32) -> bool {
-        self.elapsed_us = self.elapsed_us.saturating_add(dt_us).min(self.duration_us);
-        self.elapsed_us >= self.duration_us
-    }
-
-    /// Goals of the ramp now.
-    pub fn goals(&self, out: &mut [i32]) {
-        let d = self.duration_us.max(1) as u64;
-        let frac = (self.elapsed_us as u64 * 65536 / d) as u32;
-        for (j, g) in out.iter_mut().enumerate().take(self.n) {
-            *g = lerp(self.from[j], self.to[j], frac);
-        }
-    }
 }
 
 #[cfg(test)]

@@ -182,6 +182,7 @@ fn goals_bias_and_clamp_every_joint() {
         ),
         min_ticks: 1000,
         max_ticks: 3500,
+        leg: None,
     };
     let cals = [cal(0), cal(1)];
     let mut out = [0; 2];
@@ -220,4 +221,136 @@ fn the_ramp_moves_every_joint_in_a_straight_line_at_the_speed_limit() {
     assert_eq!(out, [1000, 100, 0]);
     // Short ways still take the minimum time.
     assert_eq!(Ramp::new(&[0], &[10], 1000, 200_000).duration_us(), 200_000);
+}
+
+#[test]
+fn the_ramp_moves_one_part_at_a_time_lifted_and_the_rest_straight() {
+    // Joint 0 in part 0 (150 ticks, lifted 25), joint 1 in part 1 (-150, lifted -25), joint 2
+    // straight over both (600). A lifted joint goes across in the first three quarters of its part
+    // and up in the first quarter, down in the last: at 1000 ticks/s its part lasts
+    // (4/3 x 150 + 4 x 25) / 1000 = 0.3 s, and the straight joint's 600 ticks fit in the 0.6 s.
+    let groups = [RampGroup::Part(0), RampGroup::Part(1), RampGroup::Whole];
+    let (from, to, lift) = ([0, 0, 0], [150, -150, 600], [25, -25, 0]);
+    let mut r = Ramp::stepping(&from, &to, &lift, &groups, 1000, 100_000);
+    assert_eq!(r.duration_us(), 600_000);
+    let mut out = [0; 3];
+    let mut at = |r: &mut Ramp, dt| {
+        let arrived = r.advance(dt);
+        r.goals(&mut out);
+        (out, arrived)
+    };
+    // Half way through part 0: joint 0 two thirds across (100) and up (+25); joint 1 waits.
+    assert_eq!(at(&mut r, 150_000), ([125, 0, 150], false));
+    // 0.9 of part 0: across, and down to 4 x 0.1 of the lift.
+    assert_eq!(at(&mut r, 120_000), ([160, 0, 270], false));
+    assert_eq!(at(&mut r, 30_000), ([150, 0, 300], false));
+    // A quarter of part 1: a third across (-50) and up (-25).
+    assert_eq!(at(&mut r, 75_000), ([150, -75, 375], false));
+    assert_eq!(at(&mut r, 225_000), ([150, -150, 600], true));
+    // No goal moves faster than the speed: 1 tick per millisecond, give or take the rounding.
+    let mut r = Ramp::stepping(&from, &to, &lift, &groups, 1000, 100_000);
+    let mut last = [0; 3];
+    for _ in 0..600 {
+        r.advance(1000);
+        let mut now = [0; 3];
+        r.goals(&mut now);
+        for (a, b) in now.iter().zip(&last) {
+            assert!((a - b).abs() <= 2, "{now:?} after {last:?}");
+        }
+        last = now;
+    }
+    // Without parts it is the straight ramp.
+    let straight = Ramp::stepping(&[0], &[10], &[], &[], 1000, 200_000);
+    assert_eq!(straight.duration_us(), 200_000);
+    // Each part as long as its own joints need: part 0 4/3 x 75 ticks, 0.1 s, part 1 0.3 s; the
+    // straight joint's 200 ticks fit in their 0.4 s.
+    let r = Ramp::stepping(
+        &[0, 0, 0],
+        &[75, 225, 200],
+        &[0, 0, 0],
+        &groups,
+        1000,
+        100_000,
+    );
+    assert_eq!(r.duration_us(), 400_000);
+    // A straight joint that needs longer stretches both parts alike: 800 ticks, 0.8 s.
+    let mut r = Ramp::stepping(
+        &[0, 0, 0],
+        &[75, 225, 800],
+        &[0, 0, 0],
+        &groups,
+        1000,
+        100_000,
+    );
+    assert_eq!(r.duration_us(), 800_000);
+    let mut out = [0; 3];
+    r.advance(200_000);
+    r.goals(&mut out);
+    assert_eq!(out, [75, 0, 200]);
+}
+
+/// Eight slices of four joints with stance flags: LF (joint 0) and LM (no joint here) stand in
+/// slices 0-3, RH (joint 1) in 4-7, LH (joint 2) always; joint 3 is no leg's.
+struct Legged {
+    angle_urad: [[i32; 4]; 8],
+}
+
+impl Gait for Legged {
+    fn joints(&self) -> usize {
+        4
+    }
+    fn slices(&self) -> usize {
+        8
+    }
+    fn period_us(&self) -> u32 {
+        800_000
+    }
+    fn angle_urad(&self, slice: usize, joint: usize) -> i32 {
+        self.angle_urad[slice][joint]
+    }
+    fn torque_mnm(&self, _: usize, _: usize) -> i32 {
+        0
+    }
+    fn stance(&self, slice: usize) -> u8 {
+        let lf_lm = u8::from(slice < 4) * 0b11;
+        let rh = u8::from(slice >= 4) << 5;
+        lf_lm | rh | 1 << 2
+    }
+}
+
+#[test]
+fn each_swinging_leg_gets_its_pairs_part_and_an_eighth_of_its_swings_rise() {
+    let mut angle_urad = [[0; 4]; 8];
+    // LF swings in slices 4-7: lift-off after slice 3, touch-down at slice 0, its middle slice 5.
+    angle_urad[5][0] = 800_000;
+    // RH swings in 0-3: lift-off after slice 7 (0.1 rad), middle slice 1 (0.6), touch-down 4 (0.3).
+    angle_urad[7][1] = 100_000;
+    angle_urad[1][1] = 600_000;
+    angle_urad[4][1] = 300_000;
+    angle_urad[5][2] = 500_000;
+    angle_urad[5][3] = 500_000;
+    let gait = Legged { angle_urad };
+    let cal = |leg| JointCal {
+        id: 1,
+        model: protocol::ServoModel::Mx28,
+        calibration: protocol::Calibration::new(
+            protocol::ServoModel::Mx28,
+            2048,
+            protocol::Sign::Positive,
+        ),
+        min_ticks: 0,
+        max_ticks: 4095,
+        leg,
+    };
+    let cals = [cal(Some(0)), cal(Some(5)), cal(Some(2)), cal(None)];
+    let (mut lift, mut group) = ([9; 4], [RampGroup::Part(9); 4]);
+    start_lifts(&gait, &cals, &mut lift, &mut group);
+    // Ticks by hand (4096 per turn, zero at 2048): 0.8 rad = 521.5 -> 2570, so the rise above the
+    // line 2048-2048 is 522, an eighth 65; RH: 0.1 rad 2113, 0.3 rad 2244, 0.6 rad 2439, the
+    // line's middle 2178, the rise 261, an eighth 32. LH never swings, joint 3 has no leg.
+    assert_eq!(lift, [65, 32, 0, 0]);
+    // The pairs LM RM, LH RF, RH LF in turn, counting those with a leg that swings: LM's pair
+    // is part 0 (LM swings, though no joint here is its), LH's pair has none, RH and LF part 1.
+    let part1 = RampGroup::Part(1);
+    assert_eq!(group, [part1, part1, RampGroup::Whole, RampGroup::Whole]);
 }

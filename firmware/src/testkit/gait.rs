@@ -43,6 +43,7 @@ impl SyntheticGait {
                 min_rad: -1.5,
                 max_rad: 1.5,
                 stiffness_nm_per_rad: STIFFNESS,
+                leg: None,
             })
             .collect();
         Self {

@@ -115,6 +115,9 @@ pub fn walk_and_record(
         each_poll(&mut b, &st)?;
         stood = walked && st.playback.is_none() && st.state == RunState::Standing;
         if stood && follow.end == End::Standing {
+            // One look more, so the log holds a cycle after the run ended (its last step
+            // boundary), whatever the look's phase against the step.
+            b.wait(follow.every)?;
             break;
         }
     }

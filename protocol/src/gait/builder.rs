@@ -3,8 +3,8 @@
 //! slice and field.
 
 use super::{
-    FORMAT_VERSION, GaitHeader, HEADER_LEN, MAGIC, MAX_SLICES, NAME_LEN, STANCE_MASK, ServoModel,
-    Sign, table_len,
+    FORMAT_VERSION, GaitHeader, HEADER_LEN, LEGS, MAGIC, MAX_SLICES, NAME_LEN, STANCE_MASK,
+    ServoModel, Sign, table_len,
 };
 use crate::units::{ANGLE_PER_RAD, DUTY_PER_UNIT, STIFFNESS_PER_NM_RAD, TORQUE_PER_NM, to_fixed};
 use crate::{MAX_JOINTS, crc32};
@@ -19,6 +19,7 @@ pub enum Field {
     Stiffness,
     ZeroOffset,
     ServoId,
+    Leg,
     StepPeriod,
     Duty,
 }
@@ -33,6 +34,7 @@ impl core::fmt::Display for Field {
             Self::Stiffness => "stiffness (N m/rad)",
             Self::ZeroOffset => "zero offset (ticks)",
             Self::ServoId => "servo ID",
+            Self::Leg => "leg (0 ..= 5 in LF, LM, LH, RF, RM, RH)",
             Self::StepPeriod => "step period (s)",
             Self::Duty => "duty factor",
         };
@@ -109,6 +111,9 @@ pub struct JointSpec {
     pub max_rad: f64,
     /// Servo stiffness used for the torque bias, N m/rad.
     pub stiffness_nm_per_rad: f64,
+    /// The leg the joint moves (0 ..= 5 in LF, LM, LH, RF, RM, RH), if any: the board's start
+    /// ramp lifts a leg's joints together.
+    pub leg: Option<u8>,
 }
 
 /// Collects a gait in SI units and writes the table bytes.
@@ -289,6 +294,9 @@ fn write_joint(out: &mut Vec<u8>, spec: &JointSpec) -> Result<(i16, i16), BuildE
     if spec.servo_id > 252 {
         return Err(err(Field::ServoId, spec.servo_id.into(), 0.0, 252.0));
     }
+    if let Some(leg) = spec.leg.filter(|&l| usize::from(l) >= LEGS) {
+        return Err(err(Field::Leg, leg.into(), 0.0, (LEGS - 1) as f64));
+    }
     if spec.zero_offset > 4095 {
         return Err(err(Field::ZeroOffset, spec.zero_offset.into(), 0.0, 4095.0));
     }
@@ -317,7 +325,7 @@ fn write_joint(out: &mut Vec<u8>, spec: &JointSpec) -> Result<(i16, i16), BuildE
     out.push(spec.servo_id);
     out.push(spec.model.table_code());
     out.push(spec.sign.as_i32() as i8 as u8);
-    out.push(0);
+    out.push(spec.leg.map_or(0, |l| l + 1));
     out.extend_from_slice(&spec.zero_offset.to_le_bytes());
     out.extend_from_slice(&(min as i16).to_le_bytes());
     out.extend_from_slice(&(max as i16).to_le_bytes());

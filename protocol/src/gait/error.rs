@@ -14,6 +14,8 @@ pub enum JointField {
     Limits,
     Stiffness,
     Reserved,
+    /// Added after `Reserved`, so that the wire's codes of the others stay as they were.
+    Leg,
 }
 
 impl JointField {
@@ -26,6 +28,7 @@ impl JointField {
             JointField::ZeroOffset => "zero offset",
             JointField::Limits => "limits",
             JointField::Stiffness => "stiffness",
+            JointField::Leg => "leg",
             JointField::Reserved => "reserved byte",
         }
     }

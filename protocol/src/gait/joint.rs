@@ -44,6 +44,9 @@ pub struct JointMap {
     pub max: i16,
     /// Servo stiffness for the torque bias, mN m/rad (> 0).
     pub stiffness: u32,
+    /// The leg the joint moves (0 ..= 5 in LF, LM, LH, RF, RM, RH), if the table gives it: the
+    /// board's start ramp lifts a leg's joints together, one leg at a time.
+    pub leg: Option<u8>,
 }
 
 impl JointMap {

@@ -14,7 +14,8 @@
 //! 20            16    name, UTF-8, NUL-padded
 //! 36            16*J  joint map, one record per joint (JointMap):
 //!                       +0 servo ID u8, +1 model u8 (0 MX-28, 1 MX-64), +2 sign i8 (+1/-1),
-//!                       +3 reserved 0, +4 zero offset u16 ticks (0..=4095), +6 min angle i16,
+//!                       +3 leg u8 (0 not given, 1..=6 LF LM LH RF RM RH),
+//!                       +4 zero offset u16 ticks (0..=4095), +6 min angle i16,
 //!                       +8 max angle i16, +10 reserved u16 0, +12 stiffness u32 mN m/rad (> 0)
 //! 36+16J        S*(2+4J) slices: stance u8 (bit i = leg i in LF LM LH RF RM RH), reserved u8 0,
 //!                       then per joint angle i16 (1e-4 rad) and torque i16 (mN m)
@@ -40,7 +41,9 @@ pub use view::{GaitTable, Sample, SliceView};
 
 /// First four bytes of every table.
 pub const MAGIC: [u8; 4] = *b"DBGT";
-/// Version of the table layout; bumped on every change of it.
+/// Version of the table layout; bumped on every change of it. (The joint record's leg byte was
+/// reserved, 0, before it named the leg: a table of before reads as one whose legs are not
+/// given, so the layout kept its version.)
 pub const FORMAT_VERSION: u16 = 1;
 /// Bytes of the header.
 pub const HEADER_LEN: usize = 36;

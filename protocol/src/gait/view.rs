@@ -207,6 +207,7 @@ impl<'a> GaitTable<'a> {
             min: le_i16(r, 6),
             max: le_i16(r, 8),
             stiffness: le_u32(r, 12),
+            leg: r[3].checked_sub(1),
         })
     }
 
@@ -293,7 +294,10 @@ fn check_joint(r: &[u8], joint: u8) -> Result<(), TableError> {
     if r[2] != 1 && r[2] as i8 != -1 {
         return bad(JointField::Sign);
     }
-    if r[3] != 0 || r[10] != 0 || r[11] != 0 {
+    if usize::from(r[3]) > super::LEGS {
+        return bad(JointField::Leg);
+    }
+    if r[10] != 0 || r[11] != 0 {
         return bad(JointField::Reserved);
     }
     if le_u16(r, 4) > 4095 {

@@ -14,6 +14,7 @@ fn builder(name: &str) -> GaitTableBuilder {
         min_rad: -1.0,
         max_rad: 1.0,
         stiffness_nm_per_rad: 8.0,
+        leg: None,
     };
     let mut b = GaitTableBuilder::new(name, 1.0, 0.5, vec![joint]);
     b.slice(0, &[0.0], &[0.0]);

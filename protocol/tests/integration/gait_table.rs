@@ -74,7 +74,8 @@ fn every_kind_of_bad_table_has_its_error() {
         (tampered(|t| t[36] = 253), joint_0(JointField::ServoId)),
         (tampered(|t| t[37] = 2), joint_0(JointField::Model)),
         (tampered(|t| t[38] = 0), joint_0(JointField::Sign)),
-        (tampered(|t| t[39] = 1), joint_0(JointField::Reserved)),
+        (tampered(|t| t[39] = 7), joint_0(JointField::Leg)),
+        (tampered(|t| t[46] = 1), joint_0(JointField::Reserved)),
         (
             tampered(|t| t[40..42].copy_from_slice(&4096u16.to_le_bytes())),
             joint_0(JointField::ZeroOffset),
@@ -148,6 +149,7 @@ fn joint(name: &str, id: u8) -> JointSpec {
         min_rad: -1.0,
         max_rad: 1.0,
         stiffness_nm_per_rad: 8.4,
+        leg: None,
     }
 }
 
@@ -336,6 +338,7 @@ fn joint_map_converts_angles_to_ticks_by_hand() {
         min: -30000,
         max: 30000,
         stiffness: 1,
+        leg: None,
     };
     // pi/2 = 15708 units is a quarter turn, 1024 ticks, subtracted for a negative sign.
     assert_eq!(map(Sign::Positive, 2048).angle_to_ticks(15708), 3072);
@@ -345,4 +348,27 @@ fn joint_map_converts_angles_to_ticks_by_hand() {
     // -196 * 2 pi / 4096 = -0.300 66 rad = -3007 units.
     assert_eq!(map(Sign::Positive, 100).ticks_to_angle(4000), -3007);
     assert_eq!(map(Sign::Negative, 100).ticks_to_angle(4000), 3007);
+}
+
+#[test]
+fn a_joints_leg_is_written_as_its_index_plus_one_and_read_back() {
+    let mut specs = vec![joint("RF_ThC1", 1), joint("LF_CTr", 2)];
+    specs[0].leg = Some(3);
+    let mut b = GaitTableBuilder::new("legs", 0.5, 0.75, specs.clone());
+    b.slice(0, &[0.0, 0.0], &[0.0, 0.0]);
+    let bytes = b.build().unwrap();
+    // The format: +3 of each 16-byte joint record after the 36-byte header, 0 = not given.
+    assert_eq!((bytes[36 + 3], bytes[36 + 16 + 3]), (4, 0));
+    let t = GaitTable::parse(&bytes).unwrap();
+    assert_eq!(t.joint(0).unwrap().leg, Some(3));
+    assert_eq!(t.joint(1).unwrap().leg, None);
+    // A seventh leg is refused, naming the joint and the field.
+    specs[0].leg = Some(6);
+    let mut b = GaitTableBuilder::new("legs", 0.5, 0.75, specs);
+    b.slice(0, &[0.0, 0.0], &[0.0, 0.0]);
+    let e = b.build().unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "joint RF_ThC1: leg (0 ..= 5 in LF, LM, LH, RF, RM, RH) = 6 outside 0 ..= 5"
+    );
 }

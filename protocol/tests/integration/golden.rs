@@ -313,6 +313,7 @@ fn builder_writes_the_hand_laid_table() {
             min_rad: -1.5,
             max_rad: 1.5,
             stiffness_nm_per_rad: 8.4,
+            leg: None,
         }],
     );
     b.slice(0b0000_1001, &[0.25], &[-1.2]);
@@ -339,6 +340,7 @@ fn view_reads_the_hand_laid_table() {
             min: -15000,
             max: 15000,
             stiffness: 8400,
+            leg: None,
         })
     );
     assert_eq!(t.stance(0), Some(0b1001));

@@ -28,6 +28,7 @@ fn table(seed: f64) -> Vec<u8> {
             min_rad: -2.0,
             max_rad: 2.0,
             stiffness_nm_per_rad: 8.4,
+            leg: None,
         })
         .collect();
     let mut b = GaitTableBuilder::new("upload", 1.2, 0.6, joints);

@@ -198,6 +198,7 @@ fn gaits_that_cannot_be_blended_and_commands_out_of_range_are_refused_with_the_r
             .enumerate()
             .map(|(j, s)| protocol::JointSpec {
                 stiffness_nm_per_rad: if j == 4 { 9.0 } else { STIFFNESS },
+                leg: None,
                 ..s.clone()
             })
             .collect(),

@@ -46,19 +46,19 @@ fn the_demo_reports_the_physics_robots_walk_within_physical_bounds() {
     let measured: [Walked; 2] = [
         (
             "forward",
-            0.1486,
-            1.48,
-            2.4,
-            2.09,
-            [5.8, 6.4, 3.5, 3.4, 7.3, 3.9],
+            0.1450,
+            0.34,
+            3.0,
+            0.99,
+            [4.0, 5.2, 8.5, 3.8, 5.0, 3.9],
         ),
         (
             "backward",
-            0.1406,
-            -0.03,
-            2.3,
-            0.97,
-            [3.4, 4.5, 3.4, 3.4, 4.5, 3.4],
+            0.1383,
+            -0.85,
+            4.1,
+            1.52,
+            [3.8, 5.1, 4.1, 3.8, 5.3, 3.7],
         ),
     ];
     for (label, distance_m, heading_deg, sag_mm, tilt_deg, slip_mm) in measured {

@@ -16,13 +16,16 @@ const SLICES: usize = 50;
 /// Steps per measured walk: the curve is measured over steps 1 to 3 (step 0 starts from standing).
 const STEPS: u32 = 3;
 
-/// The curves walked, as `dbot plan --turn DEG --radius M` takes them.
-const CURVES: [(Option<f64>, Option<f64>); 7] = [
+/// The curves walked, as `dbot plan --turn DEG --radius M` takes them (the two tight right turns
+/// faulted in a start ramp that did not lift the legs).
+const CURVES: [(Option<f64>, Option<f64>); 9] = [
     (None, Some(0.5)),
     (Some(10.0), None),
     (Some(30.0), None),
     (None, Some(-1.0)),
     (Some(-5.0), None),
+    (Some(-10.0), None),
+    (None, Some(-0.5)),
     (Some(20.0), Some(0.0)),
     (Some(-20.0), Some(0.0)),
 ];

@@ -25,9 +25,12 @@ fn walking_gauges_follow_the_prediction_where_they_carry_the_stance_load() {
     // Measured: 20 of 36 (every leg's trochanter axial gauge among them).
     assert!(bearing.len() >= 12, "{} load-bearing gauges", bearing.len());
     // Bias on, the load-bearing gauges follow the prediction's shape and size over the phase:
-    // measured median R^2 0.98, lowest 0.88 (RM_femur_minus45; the swing impacts, servo lag and
-    // the feet's real load sharing are what is left). Bounds with a margin for a new MuJoCo
-    // build's rounding.
+    // measured median R^2 0.946, lowest 0.89 (LM_femur_plus45; the swing impacts, servo lag and
+    // the feet's real load sharing are what is left). How the six feet share the load is not
+    // fixed by the plan: friction holds whatever internal forces the start left between them, so
+    // the start ramp moves the median (0.966 with the straight ramp that dragged the feet, 0.946
+    // with the one that lifts them, docs/validation.md). Bounds with a margin for that and a new
+    // MuJoCo build's rounding.
     for f in &bearing {
         let r2 = f.r2.unwrap();
         assert!(r2 > 0.8, "{}: R^2 {r2:.3} with the bias on", f.name);
@@ -35,7 +38,7 @@ fn walking_gauges_follow_the_prediction_where_they_carry_the_stance_load() {
     let median_on = on.load_bearing_median_r2().unwrap();
     let median_off = off.load_bearing_median_r2().unwrap();
     assert!(
-        median_on > 0.95,
+        median_on > 0.93,
         "median R^2 {median_on:.3} with the bias on"
     );
     // Without the bias the body sags by torque / stiffness and lags its goals: the feet land

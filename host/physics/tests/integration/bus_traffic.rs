@@ -51,8 +51,9 @@ fn walk(table: &[u8], cycles: usize, extra_reads: bool) -> (Vec<[f64; 7]>, Vec<V
 fn extra_bus_traffic_leaves_the_body_unchanged() {
     let model = builtin("drosophibot2").unwrap();
     let (_, _, table) = support::tripod(&model);
-    // 1.5 s at 100 Hz: the start ramp, gravity ramping in, the first swing.
-    let cycles = 150;
+    // 3 s at 100 Hz: the start ramp (2.3 s, each leg pair lifted in turn), gravity ramping in,
+    // the first swing.
+    let cycles = 300;
     let (poses, joints, bytes) = walk(&table, cycles, false);
     let (poses_read, joints_read, bytes_read) = walk(&table, cycles, true);
     // The reads went over the bus: 14 bytes each to the servos (header 4, ID, length 2, instruction, address 2, count 2, CRC 2).

@@ -20,16 +20,17 @@ fn logged_poses_rebuild_the_body_and_the_forces_carry_its_weight() {
     let mut robot = PhysicsRobot::drosophibot(&Ground::Flat).unwrap();
     robot.start_log(4);
     let mut b = support::walking(robot, &table, Direction::Forward, 1);
-    b.wait(Duration::from_millis(3000)).unwrap();
+    // The start ramp (2.3 s, each leg pair lifted in turn), then the first step.
+    b.wait(Duration::from_millis(4000)).unwrap();
     let servos = b.transport_mut().robot_mut().servos_mut();
     let plant_weight = servos.plant().weight_n();
     let planned_height = servos.planned_height_m();
     let log = servos.take_log().unwrap();
     assert!(servos.take_log().is_none(), "the log is handed over once");
     assert_eq!(log.pose_every, 4);
-    // 3 s at the board's 100 Hz bus cycle.
+    // 4 s at the board's 100 Hz bus cycle.
     assert!(
-        (290..=310).contains(&log.samples.len()),
+        (390..=410).contains(&log.samples.len()),
         "{}",
         log.samples.len()
     );

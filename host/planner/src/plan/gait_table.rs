@@ -82,6 +82,10 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
             min_rad: joint.limits.0,
             max_rad: joint.limits.1,
             stiffness_nm_per_rad: stiffness,
+            leg: Leg::ALL
+                .iter()
+                .position(|l| *l == joint.leg)
+                .map(|i| i as u8),
         });
         idx.push(j);
     }

@@ -30,6 +30,7 @@ fn joints() -> Vec<JointMeta> {
         min_rad: -1.0,
         max_rad: 1.0,
         stiffness_nm_per_rad: 5.0,
+        leg: None,
     };
     let mut b = GaitTableBuilder::new(
         "legend",

@@ -194,6 +194,7 @@ pub fn table_error() -> impl Strategy<Value = TableError> {
         Just(JointField::ZeroOffset),
         Just(JointField::Limits),
         Just(JointField::Stiffness),
+        Just(JointField::Leg),
         Just(JointField::Reserved),
     ];
     prop_oneof![
@@ -680,6 +681,7 @@ pub fn random_gait(max_joints: usize, max_slices: usize) -> impl Strategy<Value 
                         min_rad: min,
                         max_rad: max,
                         stiffness_nm_per_rad: k,
+                        leg: None,
                     })
                     .collect();
                 let slices = slices
