@@ -23,15 +23,14 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use board::robot::{VirtualRobot, VirtualTransport};
 use lab::demo::{DemoBody, DemoInput, DemoProgress, has_body, walk_all};
+use lab::plan_dir_write::{PlanSource, write_plan_dir};
+use lab::walk_words::{print_bias, print_body, print_fits, print_strain, print_tracking};
 use physics::PhysicsRobot;
 use planner::gait::StepParams;
 use planner::plan_dir;
 
 use crate::args::dynamics::DynamicsArgs;
-use crate::common::interrupt;
-use crate::common::output::replace;
-use lab::plan_dir_write::{PlanSource, write_plan_dir};
-use lab::walk_words::{print_bias, print_body, print_fits, print_strain, print_tracking};
+use crate::common::{interrupt, output::replace};
 
 /// The demo's gait name in its plan directory and step table.
 const GAIT_NAME: &str = "dbII tripod";
