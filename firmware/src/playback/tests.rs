@@ -264,24 +264,10 @@ fn the_ramp_moves_one_part_at_a_time_lifted_and_the_rest_straight() {
     assert_eq!(straight.duration_us(), 200_000);
     // Each part as long as its own joints need: part 0 4/3 x 75 ticks, 0.1 s, part 1 0.3 s; the
     // straight joint's 200 ticks fit in their 0.4 s.
-    let r = Ramp::stepping(
-        &[0, 0, 0],
-        &[75, 225, 200],
-        &[0, 0, 0],
-        &groups,
-        1000,
-        100_000,
-    );
-    assert_eq!(r.duration_us(), 400_000);
+    let unlifted = |to: &[i32; 3]| Ramp::stepping(&[0; 3], to, &[0; 3], &groups, 1000, 100_000);
+    assert_eq!(unlifted(&[75, 225, 200]).duration_us(), 400_000);
     // A straight joint that needs longer stretches both parts alike: 800 ticks, 0.8 s.
-    let mut r = Ramp::stepping(
-        &[0, 0, 0],
-        &[75, 225, 800],
-        &[0, 0, 0],
-        &groups,
-        1000,
-        100_000,
-    );
+    let mut r = unlifted(&[75, 225, 800]);
     assert_eq!(r.duration_us(), 800_000);
     let mut out = [0; 3];
     r.advance(200_000);
