@@ -89,13 +89,13 @@ impl<'a> View<'a> {
         Self { bytes, layout }
     }
 
+    /// Where slice `slice` starts in the table's bytes (its stance flags).
+    fn slice_at(&self, slice: usize) -> usize {
+        HEADER_LEN + self.layout.joints * JOINT_RECORD_LEN + slice * slice_len(self.layout.joints)
+    }
+
     fn sample(&self, slice: usize, joint: usize, field: usize) -> i16 {
-        let at = HEADER_LEN
-            + self.layout.joints * JOINT_RECORD_LEN
-            + slice * slice_len(self.layout.joints)
-            + SLICE_PREFIX_LEN
-            + joint * SAMPLE_LEN
-            + field;
+        let at = self.slice_at(slice) + SLICE_PREFIX_LEN + joint * SAMPLE_LEN + field;
         // Out of range only if bytes and layout do not belong together: read as 0, never panic.
         match self.bytes.get(at..at + 2) {
             Some(b) => i16::from_le_bytes([b[0], b[1]]),
@@ -121,9 +121,6 @@ impl Gait for View<'_> {
         self.sample(slice, joint, 2).into()
     }
     fn stance(&self, slice: usize) -> u8 {
-        let at = HEADER_LEN
-            + self.layout.joints * JOINT_RECORD_LEN
-            + slice * slice_len(self.layout.joints);
-        self.bytes.get(at).copied().unwrap_or(0)
+        self.bytes.get(self.slice_at(slice)).copied().unwrap_or(0)
     }
 }

@@ -3,10 +3,12 @@
 //! own while the other four legs stand (the middle legs, then LH with RF, then RH with LF: the four
 //! feet down always surround the body). A moving leg rises by an eighth of what it rises in the
 //! middle of its swing, goes across, and comes down where it goes: no foot is dragged over the
-//! ground under the body's weight (a loaded foot that friction holds while its joint is asked to turn is what the stuck
-//! rule calls a jam; docs/validation.md, the right turns). Joints of no leg, and every joint of a
+//! ground under the body's weight (a loaded foot that friction holds while its joint is asked to
+//! turn is what the stuck rule calls a jam; docs/validation.md, the right turns). Joints of no leg, and every joint of a
 //! table whose legs never swing (a suspended excitation, a posture change) or whose joint map does
 //! not name the legs, move together in a straight line over the whole ramp.
+
+use protocol::gait::LEGS;
 
 use super::{Gait, MAX_JOINTS, lerp};
 use crate::bias::JointCal;
@@ -187,7 +189,7 @@ pub fn start_lifts<G: Gait + ?Sized>(
         return;
     }
     let swings = swings_of(gait);
-    let mut part = [0u8; 6];
+    let mut part = [0u8; LEGS];
     let mut next = 0u8;
     for pair in &LEG_PAIRS {
         for &leg in pair {
@@ -196,7 +198,7 @@ pub fn start_lifts<G: Gait + ?Sized>(
         next += u8::from(pair.iter().any(|&l| swings[usize::from(l)].is_some()));
     }
     for j in 0..n {
-        let Some(l) = cals[j].leg.map(usize::from).filter(|&l| l < 6) else {
+        let Some(l) = cals[j].leg.map(usize::from).filter(|&l| l < LEGS) else {
             continue;
         };
         let Some((a, m, b)) = swings[l] else {
@@ -216,15 +218,15 @@ pub fn start_lifts<G: Gait + ?Sized>(
 /// the middle of the swing and the first stance slice after it; `None` for a leg that never swings
 /// or never stands. One pass over the slices' stance flags and at most one more for swings that
 /// wrap past the last slice (on the board the flags are read from flash, one byte a slice).
-fn swings_of<G: Gait + ?Sized>(gait: &G) -> [Option<(usize, usize, usize)>; 6] {
+fn swings_of<G: Gait + ?Sized>(gait: &G) -> [Option<(usize, usize, usize)>; LEGS] {
     let s = gait.slices();
-    let mut lift_off = [None; 6];
-    let mut touch_down = [None; 6];
+    let mut lift_off = [None; LEGS];
+    let mut touch_down = [None; LEGS];
     if s >= 2 {
         let mut before = gait.stance(0);
         for k in 1..=2 * s {
             let now = gait.stance(k % s);
-            for leg in 0..6 {
+            for leg in 0..LEGS {
                 let bit = 1 << leg;
                 match lift_off[leg] {
                     None if k <= s && before & bit != 0 && now & bit == 0 => {
@@ -237,13 +239,13 @@ fn swings_of<G: Gait + ?Sized>(gait: &G) -> [Option<(usize, usize, usize)>; 6] {
                 }
             }
             before = now;
-            let open = (0..6).any(|l| lift_off[l].is_some() && touch_down[l].is_none());
+            let open = (0..LEGS).any(|l| lift_off[l].is_some() && touch_down[l].is_none());
             if k >= s && !open {
                 break;
             }
         }
     }
-    let mut out = [None; 6];
+    let mut out = [None; LEGS];
     for (o, (a, b)) in out.iter_mut().zip(lift_off.iter().zip(&touch_down)) {
         if let (Some(a), Some(b)) = (*a, *b) {
             let len = b - a;

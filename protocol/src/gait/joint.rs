@@ -45,7 +45,7 @@ pub struct JointMap {
     /// Servo stiffness for the torque bias, mN m/rad (> 0).
     pub stiffness: u32,
     /// The leg the joint moves (0 ..= 5 in LF, LM, LH, RF, RM, RH), if the table gives it: the
-    /// board's start ramp lifts a leg's joints together, one leg at a time.
+    /// board's start ramp lifts a leg's joints together, a pair of legs at a time.
     pub leg: Option<u8>,
 }
 

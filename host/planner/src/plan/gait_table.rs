@@ -82,14 +82,16 @@ pub fn joint_specs(model: &Model) -> Result<(Vec<usize>, Vec<JointSpec>), TableE
             min_rad: joint.limits.0,
             max_rad: joint.limits.1,
             stiffness_nm_per_rad: stiffness,
-            leg: Leg::ALL
-                .iter()
-                .position(|l| *l == joint.leg)
-                .map(|i| i as u8),
+            leg: leg_index(joint.leg).map(|i| i as u8),
         });
         idx.push(j);
     }
     Ok((idx, specs))
+}
+
+/// A leg's index in [`Leg::ALL`]: its stance bit and the table's leg number.
+fn leg_index(leg: Leg) -> Option<usize> {
+    Leg::ALL.iter().position(|a| *a == leg)
 }
 
 /// Stance byte: bit i set when leg i of [`Leg::ALL`] is in stance.
@@ -97,7 +99,7 @@ pub fn stance_bits(legs: &[Leg], stance: &[bool]) -> u8 {
     legs.iter()
         .zip(stance)
         .filter(|(_, s)| **s)
-        .filter_map(|(l, _)| Leg::ALL.iter().position(|a| a == l))
+        .filter_map(|(l, _)| leg_index(*l))
         .fold(0u8, |b, i| b | (1 << i))
 }
 
