@@ -5,7 +5,11 @@
 # so binaries and tests find it without LD_LIBRARY_PATH. The same wheel's Python package goes into `.venv`
 # as an independent reader of exported MJCF (host/physics/tests/test_mjcf.py).
 # 3.17.0 is the release mujoco-rs 7.0.0 binds: change both together. Idempotent and quick when done.
+# `--lib-only`: the library and headers alone, no venv (scripts/demo.sh: the demo links the library and
+# never runs the Python reader; the venv and its wheel were about 10 s of a fresh clone's demo).
 set -euo pipefail
+lib_only=0
+[ "${1:-}" = "--lib-only" ] && lib_only=1
 cd "$(dirname "$0")/../.."
 
 version=3.17.0
@@ -38,6 +42,10 @@ with zipfile.ZipFile(wheel) as z:
 PY
 fi
 ln -sfn "libmujoco.so.$version" "$lib/libmujoco.so"
+if [ "$lib_only" = 1 ]; then
+    echo "MuJoCo $version library ready in $lib"
+    exit 0
+fi
 
 # The Python reader, in the shared venv (10-venv.sh creates it; this keeps the script usable alone).
 if [ ! -x .venv/bin/python ]; then
