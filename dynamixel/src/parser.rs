@@ -146,6 +146,35 @@ impl<const N: usize> Parser<N> {
         length >= 3 && total <= N && b.len() < total
     }
 
+    /// How many more bytes can be fed before [`Self::next_frame`] could return anything: while
+    /// the buffer holds the start of one packet with a valid LEN, the bytes before its last
+    /// (0 otherwise, also while only a header or a prefix of one is buffered). A caller that
+    /// feeds byte by byte (a simulated servo) may take that many at once without asking; the
+    /// frames and errors it gets are the same, found at the same byte.
+    pub fn quiet_bytes(&self) -> usize {
+        let b = &self.buf[self.consumed..self.len];
+        if b.len() < PRE_INST || b[..HEADER.len()] != HEADER {
+            return 0;
+        }
+        let length = u16::from_le_bytes([b[5], b[6]]);
+        let total = PRE_INST + length as usize;
+        if length < 3 || total > N || b.len() >= total {
+            return 0;
+        }
+        total - b.len() - 1
+    }
+
+    /// Feeds one byte (as `feed(&[byte])`, without the slice copy); false when the buffer is full.
+    pub fn push(&mut self, byte: u8) -> bool {
+        self.compact();
+        if self.len == N {
+            return false;
+        }
+        self.buf[self.len] = byte;
+        self.len += 1;
+        true
+    }
+
     /// Gives up on an incomplete packet at the front (after a timeout): drops its first byte so
     /// that packets hidden behind a false header are found by the next `next_frame`.
     pub fn abandon_partial(&mut self) {

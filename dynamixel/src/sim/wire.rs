@@ -27,6 +27,24 @@ use std::rc::Rc;
 /// A servo drops a half-received packet after this much silence (e-manual: 1.5 ms).
 const INTER_BYTE_TIMEOUT_NS: u64 = 1_500_000;
 
+/// Which byte arrivals at the servos [`State::hear`] processes.
+#[derive(Debug, Clone, Copy)]
+enum Heard {
+    /// Those before the time, or all when there is none.
+    Before(Option<u64>),
+    /// Those at or before the time.
+    UpTo(u64),
+}
+
+impl Heard {
+    fn holds(self, at_ns: u64) -> bool {
+        match self {
+            Heard::Before(limit) => limit.is_none_or(|l| at_ns < l),
+            Heard::UpTo(t) => at_ns <= t,
+        }
+    }
+}
+
 /// Wire settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct WireConfig {
@@ -167,23 +185,16 @@ impl SimWire {
             }
             // The burst's end stays the same while the servos hear bytes and queue no reply.
             let wake = [next_to_master, s.timer_ns].into_iter().flatten().min();
-            loop {
-                match (s.to_servos.front().map(|b| b.0), wake) {
-                    (Some(t), w) if w.is_none_or(|w| t < w) => {
-                        let queued = s.to_master.len();
-                        s.run_until(t);
-                        if s.to_master.len() != queued {
-                            break;
-                        }
-                    }
-                    (_, Some(t)) => {
-                        s.run_until(t);
-                        break;
-                    }
-                    (_, None) => panic!(
-                        "simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"
-                    ),
-                }
+            // The servos hear the bytes due before the wake-up; a reply they queue wakes the
+            // future at once (at the time of the byte that completed the request).
+            if s.hear(Heard::Before(wake), true) {
+                continue;
+            }
+            match wake {
+                Some(t) => s.run_until(t),
+                None => panic!(
+                    "simulated bus: the future waits for nothing that can happen (no byte in flight, no deadline)"
+                ),
             }
         }
     }
@@ -203,15 +214,46 @@ impl State {
 
     /// Processes every byte arrival at the servos up to `t_ns`, then sets the clock to `t_ns`.
     fn run_until(&mut self, t_ns: u64) {
+        self.hear(Heard::UpTo(t_ns), false);
+        self.now_ns = self.now_ns.max(t_ns);
+    }
+
+    /// The servos hear the bytes arriving in `heard`, each at its time (the clock follows them);
+    /// with `stop_at_reply`, only until a byte makes a servo queue a reply: then true.
+    ///
+    /// Inside a packet whose length is known, the bytes before its last cannot complete it
+    /// (`Parser::quiet_bytes`): they are buffered as they come, without the per-byte checks,
+    /// as long as none comes after the inter-byte timeout. The servos see the same bytes at the
+    /// same times either way (a property test pins the parser's side of this).
+    fn hear(&mut self, heard: Heard, stop_at_reply: bool) -> bool {
         while let Some(&(at, byte)) = self.to_servos.front() {
-            if at > t_ns {
+            if !heard.holds(at) {
                 break;
             }
             self.to_servos.pop_front();
             self.now_ns = at;
+            let queued = self.to_master.len();
             self.servo_hears(at, byte);
+            if stop_at_reply && self.to_master.len() != queued {
+                return true;
+            }
+            for _ in 0..self.servo_parser.quiet_bytes() {
+                match self.to_servos.front() {
+                    Some(&(at, byte))
+                        if heard.holds(at)
+                            && at.saturating_sub(self.last_servo_byte_ns)
+                                <= INTER_BYTE_TIMEOUT_NS =>
+                    {
+                        self.to_servos.pop_front();
+                        self.now_ns = at;
+                        self.last_servo_byte_ns = at;
+                        self.servo_parser.push(byte);
+                    }
+                    _ => break,
+                }
+            }
         }
-        self.now_ns = self.now_ns.max(t_ns);
+        false
     }
 
     fn servo_hears(&mut self, at: u64, byte: u8) {
@@ -219,7 +261,7 @@ impl State {
             self.servo_parser.reset();
         }
         self.last_servo_byte_ns = at;
-        self.servo_parser.feed(&[byte]);
+        self.servo_parser.push(byte);
         // Inside a packet whose last byte is still to come nothing can complete: the parser is
         // not asked (it was asked at every byte, a tenth of the simulated bus's time).
         if self.servo_parser.awaiting_rest() {
