@@ -72,6 +72,10 @@ struct State {
     last_servo_byte_ns: u64,
     /// Earliest deadline a pending future waits for (reset before each poll).
     timer_ns: Option<u64>,
+    /// The last byte of the burst toward the master that [`SimWire::block_on`] found, kept
+    /// while no byte is queued toward the master (then the burst's end is the same from any of
+    /// its bytes, and finding it again was most of the executor's own time).
+    burst_end_ns: Option<u64>,
     bytes_to_servos: u64,
     bytes_to_master: u64,
 }
@@ -99,6 +103,7 @@ impl SimWire {
             servo_parser: Parser::new(),
             last_servo_byte_ns: 0,
             timer_ns: None,
+            burst_end_ns: None,
             bytes_to_servos: 0,
             bytes_to_master: 0,
         };
@@ -128,11 +133,14 @@ impl SimWire {
             s.to_master.push_back((start + (i as u64 + 1) * byte_ns, b));
         }
         s.to_master.make_contiguous().sort_by_key(|b| b.0);
+        s.burst_end_ns = None;
     }
 
     /// Changes the line rate (after the servos were told to switch).
     pub fn set_baud(&self, baud: u32) {
-        self.state.borrow_mut().config.baud = baud;
+        let mut s = self.state.borrow_mut();
+        s.config.baud = baud;
+        s.burst_end_ns = None;
     }
 
     /// The chain with its motors stepped to the current time: set external torques, faults, read state.
@@ -174,15 +182,14 @@ impl SimWire {
             // time in the physics robot (docs/performance.md).
             // Only future events: bytes already due may sit unread while the future waits on a timer.
             let now = s.now_ns;
-            let byte_ns = s.byte_ns();
-            let mut next_to_master = None;
-            let first = s.to_master.partition_point(|b| b.0 <= now);
-            for t in s.to_master.range(first..).map(|b| b.0) {
-                match next_to_master {
-                    Some(end) if t > end + byte_ns => break,
-                    _ => next_to_master = Some(t),
+            let next_to_master = match s.burst_end_ns {
+                Some(end) if end > now => Some(end),
+                _ => {
+                    let end = s.burst_end(now);
+                    s.burst_end_ns = end;
+                    end
                 }
-            }
+            };
             // The burst's end stays the same while the servos hear bytes and queue no reply.
             let wake = [next_to_master, s.timer_ns].into_iter().flatten().min();
             // The servos hear the bytes due before the wake-up; a reply they queue wakes the
@@ -203,6 +210,35 @@ impl SimWire {
 impl State {
     fn byte_ns(&self) -> u64 {
         10_000_000_000 / self.config.baud as u64
+    }
+
+    /// Bytes were queued toward the master after its first `from`: the queue is put back in time
+    /// order (a stable sort, as before; skipped when they came in order, as replies after the
+    /// request's echo do), and the burst end found last no longer holds.
+    fn queued_to_master(&mut self, from: usize) {
+        let q = &self.to_master;
+        let in_order = q
+            .range(from.saturating_sub(1)..)
+            .zip(q.range(from.max(1)..))
+            .all(|(a, b)| a.0 <= b.0);
+        if !in_order {
+            self.to_master.make_contiguous().sort_by_key(|b| b.0);
+        }
+        self.burst_end_ns = None;
+    }
+
+    /// The last byte of the first burst toward the master after `now_ns` (bytes back to back).
+    fn burst_end(&self, now_ns: u64) -> Option<u64> {
+        let byte_ns = self.byte_ns();
+        let mut end = None;
+        let first = self.to_master.partition_point(|b| b.0 <= now_ns);
+        for t in self.to_master.range(first..).map(|b| b.0) {
+            match end {
+                Some(e) if t > e + byte_ns => break,
+                _ => end = Some(t),
+            }
+        }
+        end
     }
 
     fn step_physics(&mut self, to_ns: u64) {
@@ -306,7 +342,7 @@ impl State {
         // heard queue no reply: then the queue is as it was, already in order, and sorting it
         // on every byte was a tenth of the physics robot's firmware-side time.
         if self.to_master.len() > queued {
-            self.to_master.make_contiguous().sort_by_key(|b| b.0);
+            self.queued_to_master(queued);
         }
     }
 }
@@ -323,16 +359,10 @@ impl embedded_io_async::Read for SimWire {
         core::future::poll_fn(|_| {
             let mut s = self.state.borrow_mut();
             let now = s.now_ns;
-            let mut n = 0;
-            while n < buf.len() {
-                match s.to_master.front() {
-                    Some(&(at, b)) if at <= now => {
-                        buf[n] = b;
-                        n += 1;
-                        s.to_master.pop_front();
-                    }
-                    _ => break,
-                }
+            // The bytes due, in time order (the queue is kept sorted).
+            let n = s.to_master.partition_point(|b| b.0 <= now).min(buf.len());
+            for (slot, (_, b)) in buf.iter_mut().zip(s.to_master.drain(..n)) {
+                *slot = b;
             }
             if n > 0 {
                 Poll::Ready(Ok(n))
@@ -356,6 +386,7 @@ impl embedded_io_async::Write for SimWire {
         let mut s = self.state.borrow_mut();
         let byte_ns = s.byte_ns();
         let mut t = s.master_tx_end_ns.max(s.now_ns);
+        let queued = s.to_master.len();
         for &b in buf {
             t += byte_ns;
             s.to_servos.push_back((t, b));
@@ -366,7 +397,7 @@ impl embedded_io_async::Write for SimWire {
         s.master_tx_end_ns = t;
         s.bytes_to_servos += buf.len() as u64;
         if s.config.echo {
-            s.to_master.make_contiguous().sort_by_key(|b| b.0);
+            s.queued_to_master(queued);
         }
         Ok(buf.len())
     }
