@@ -10,6 +10,19 @@ each sample to a part of the step by the innermost frame of its call stack that 
 (imports, the first reset) is in the samples too, about 3 % of them. Needs the package built
 optimised (`maturin develop --profile quick-release`). The parts are matched by symbol, so an
 inlined function counts for its caller.
+
+The same step in instructions, which do not depend on the machine's load (callgrind, about a
+minute): MuJoCo's own against the rest, per bus cycle,
+
+    valgrind --tool=callgrind --callgrind-out-file=/tmp/step.cg --collect-atstart=no \
+        --toggle-collect='_native::vector::VectorCore::__pymethod_step_env__' \
+        .venv/bin/python bench/step_profile.py run --steps 1200
+    callgrind_annotate --inclusive=yes --tree=calling /tmp/step.cg \
+        | .venv/bin/python bench/step_profile.py instructions
+
+(only `VectorCore.step_env` is counted: the first step also runs the first reset's settling,
+whose bus cycles are counted as cycles). An instruction of MuJoCo's vectorised solver does more
+than one of the byte-wise bus code, so shares of instructions are not shares of time.
 """
 
 from __future__ import annotations
@@ -102,14 +115,37 @@ def attribute(lines: collections.abc.Iterable[str]) -> None:
         print(f"| {name} | {100 * n / total:.1f} % |")
 
 
+def instructions(lines: collections.abc.Iterable[str]) -> None:
+    """Totals of `callgrind_annotate --inclusive=yes --tree=calling`: all, MuJoCo's `mj_step`,
+    the rest, per bus cycle (the calls of the physics robot's `before_cycle`)."""
+    count = lambda text: int(text.replace(",", ""))  # noqa: E731
+    total = mj = cycles = None
+    for line in lines:
+        if "PROGRAM TOTALS" in line:
+            total = count(line.split()[0])
+        elif re.search(r"\*\s+\S*:mj_step \[", line):
+            mj = count(line.split()[0])
+        elif cycles is None and re.search(r">\s+.*ServoDynamics>::before_cycle \(", line):
+            cycles = count(re.search(r"\(([0-9,]+)x\)", line).group(1))
+    if total is None or mj is None or not cycles:
+        raise SystemExit("not callgrind_annotate --inclusive=yes --tree=calling of a `run`")
+    print(f"| instructions (callgrind, {cycles} bus cycles) | all | per bus cycle |")
+    print("|---|---|---|")
+    print(f"| the step (`VectorCore.step_env`) | {total:,} | {total // cycles:,} |")
+    print(f"| MuJoCo (`mj_step`) | {mj:,} | {mj // cycles:,} |")
+    print(f"| the rest: firmware, bus, link, Python | {total - mj:,} | {(total - mj) // cycles:,} |")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("mode", choices=["run", "attribute"])
+    ap.add_argument("mode", choices=["run", "attribute", "instructions"])
     ap.add_argument("--steps", type=int, default=20_000)
     ap.add_argument("--dbot-env", action="store_true", help="step DbotEnv instead")
     a = ap.parse_args()
     if a.mode == "run":
         run(a.steps, a.dbot_env)
+    elif a.mode == "instructions":
+        instructions(sys.stdin)
     else:
         attribute(sys.stdin)
     return 0
