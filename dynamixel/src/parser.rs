@@ -141,9 +141,7 @@ impl<const N: usize> Parser<N> {
         if b.len() < PRE_INST {
             return true;
         }
-        let length = u16::from_le_bytes([b[5], b[6]]);
-        let total = PRE_INST + length as usize;
-        length >= 3 && total <= N && b.len() < total
+        Self::front_total(b).is_some_and(|total| b.len() < total)
     }
 
     /// How many more bytes can be fed before [`Self::next_frame`] could return anything: while
@@ -153,15 +151,18 @@ impl<const N: usize> Parser<N> {
     /// frames and errors it gets are the same, found at the same byte.
     pub fn quiet_bytes(&self) -> usize {
         let b = &self.buf[self.consumed..self.len];
+        Self::front_total(b).map_or(0, |total| total.saturating_sub(b.len() + 1))
+    }
+
+    /// The whole length of the packet `b` starts with, when its header and a valid LEN (at
+    /// least 3, the packet fitting the buffer) are there.
+    fn front_total(b: &[u8]) -> Option<usize> {
         if b.len() < PRE_INST || b[..HEADER.len()] != HEADER {
-            return 0;
+            return None;
         }
         let length = u16::from_le_bytes([b[5], b[6]]);
         let total = PRE_INST + length as usize;
-        if length < 3 || total > N || b.len() >= total {
-            return 0;
-        }
-        total - b.len() - 1
+        (length >= 3 && total <= N).then_some(total)
     }
 
     /// Feeds one byte (as `feed(&[byte])`, without the slice copy); false when the buffer is full.

@@ -129,11 +129,11 @@ impl SimWire {
         let mut s = self.state.borrow_mut();
         let byte_ns = s.byte_ns();
         let start = s.now_ns;
+        let queued = s.to_master.len();
         for (i, &b) in bytes.iter().enumerate() {
             s.to_master.push_back((start + (i as u64 + 1) * byte_ns, b));
         }
-        s.to_master.make_contiguous().sort_by_key(|b| b.0);
-        s.burst_end_ns = None;
+        s.queued_to_master(queued);
     }
 
     /// Changes the line rate (after the servos were told to switch).
