@@ -230,6 +230,8 @@ impl DrawingBackend for Bitmap<'_> {
         let font = FontRef::try_from_slice(dejavu::sans::regular())
             .map_err(|e| DrawingErrorKind::FontError(Box::new(e)))?;
         let scaled = font.as_scaled(size);
+        // One backend over the pixels for the whole text, not one per pixel drawn.
+        let mut backend = self.backend();
         let mut pen = 0.0f32;
         let mut prev = None;
         for c in text.chars() {
@@ -259,7 +261,7 @@ impl DrawingBackend for Bitmap<'_> {
                         alpha: colour.alpha * f64::from(coverage.min(1.0)),
                         rgb: colour.rgb,
                     };
-                    result = self.backend().draw_pixel((x, y), c);
+                    result = backend.draw_pixel((x, y), c);
                 }
             });
             result?;
