@@ -159,3 +159,21 @@ fn echoed_bytes_wake_the_master_once_per_burst_not_once_per_byte() {
         polls.get()
     );
 }
+
+/// An empty noise burst or write queues nothing toward the master (the soak's bursts are 0 to 47
+/// bytes): the wire takes it, on an empty queue too, and the next cycle is answered in full.
+#[test]
+fn an_empty_noise_burst_or_write_changes_nothing() {
+    use embedded_io_async::Write;
+    let (wire, mut m) = bus();
+    wire.inject_noise(&[]);
+    let mut w = wire.clone();
+    assert_eq!(wire.block_on(w.write(&[])), Ok(0));
+    for r in cycle(&wire, &mut m) {
+        assert!(matches!(r, Ok(f) if f.position == 2048), "{r:?}");
+    }
+    wire.inject_noise(&[]);
+    for r in cycle(&wire, &mut m) {
+        assert!(matches!(r, Ok(f) if f.position == 2048), "{r:?}");
+    }
+}

@@ -217,6 +217,10 @@ impl State {
     /// request's echo do), and the burst end found last no longer holds.
     fn queued_to_master(&mut self, from: usize) {
         let q = &self.to_master;
+        if q.len() <= from {
+            // Nothing was queued (an empty write or noise burst): the queue is as it was.
+            return;
+        }
         let in_order = q
             .range(from.saturating_sub(1)..)
             .zip(q.range(from.max(1)..))
