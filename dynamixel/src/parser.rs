@@ -134,8 +134,7 @@ impl<const N: usize> Parser<N> {
     /// same, found at the same byte.
     pub fn awaiting_rest(&self) -> bool {
         let b = &self.buf[self.consumed..self.len];
-        let n = b.len().min(HEADER.len());
-        if b.is_empty() || b[..n] != HEADER[..n] {
+        if b.is_empty() || !b.iter().zip(HEADER).all(|(a, h)| *a == h) {
             return false;
         }
         if b.len() < PRE_INST {
@@ -245,8 +244,9 @@ impl<const N: usize> Parser<N> {
         let mut start = 0;
         while start < self.len {
             let rest = &self.buf[start..self.len];
-            let n = rest.len().min(HEADER.len());
-            if rest[..n] == HEADER[..n] {
+            // Byte by byte: a slice comparison calls `memcmp` for these few bytes, and this runs
+            // at every frame.
+            if rest.iter().zip(HEADER).all(|(a, b)| *a == b) {
                 break;
             }
             start += 1;

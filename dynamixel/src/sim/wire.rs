@@ -129,11 +129,10 @@ impl SimWire {
         let mut s = self.state.borrow_mut();
         let byte_ns = s.byte_ns();
         let start = s.now_ns;
-        let queued = s.to_master.len();
-        for (i, &b) in bytes.iter().enumerate() {
-            s.to_master.push_back((start + (i as u64 + 1) * byte_ns, b));
+        let in_order = s.queue_to_master(start, byte_ns, bytes);
+        if !bytes.is_empty() {
+            s.queued_to_master(in_order);
         }
-        s.queued_to_master(queued);
     }
 
     /// Changes the line rate (after the servos were told to switch).
@@ -212,19 +211,29 @@ impl State {
         10_000_000_000 / self.config.baud as u64
     }
 
-    /// Bytes were queued toward the master after its first `from`: the queue is put back in time
-    /// order (a stable sort, as before; skipped when they came in order, as replies after the
-    /// request's echo do), and the burst end found last no longer holds.
-    fn queued_to_master(&mut self, from: usize) {
-        let q = &self.to_master;
-        if q.len() <= from {
-            // Nothing was queued (an empty write or noise burst): the queue is as it was.
-            return;
-        }
-        let in_order = q
-            .range(from.saturating_sub(1)..)
-            .zip(q.range(from.max(1)..))
-            .all(|(a, b)| a.0 <= b.0);
+    /// Queues `bytes` toward the master back to back, the first ending `byte_ns` after
+    /// `start_ns`; returns whether the queue is still in time order. The bytes of one call are
+    /// in order among themselves, so only the first can come before the byte queued last.
+    fn queue_to_master(&mut self, start_ns: u64, byte_ns: u64, bytes: &[u8]) -> bool {
+        let in_order = match (self.to_master.back(), bytes.is_empty()) {
+            (Some(&(last, _)), false) => last <= start_ns + byte_ns,
+            _ => true,
+        };
+        self.to_master.extend(
+            bytes
+                .iter()
+                .enumerate()
+                .map(|(i, &b)| (start_ns + (i as u64 + 1) * byte_ns, b)),
+        );
+        in_order
+    }
+
+    /// Bytes were queued toward the master ([`Self::queue_to_master`], `in_order` whether they all
+    /// came in time order): the queue is put back in time order (a stable sort, as before;
+    /// skipped when they came in order, as replies after the request's echo do), and the burst
+    /// end found last no longer holds. Nothing queued (an empty write or noise burst) leaves
+    /// the queue as it was, in order.
+    fn queued_to_master(&mut self, in_order: bool) {
         if !in_order {
             self.to_master.make_contiguous().sort_by_key(|b| b.0);
         }
@@ -324,7 +333,8 @@ impl State {
         }
         let byte_ns = self.byte_ns();
         let mut prev_end = at;
-        let queued = self.to_master.len();
+        let mut queued = false;
+        let mut in_order = true;
         for r in planned {
             let base = if r.chained {
                 prev_end.max(self.reply_end_ns).max(at)
@@ -333,10 +343,8 @@ impl State {
             };
             let start = base + r.delay_us as u64 * 1_000;
             if let Some(bytes) = r.bytes {
-                for (i, &b) in bytes.iter().enumerate() {
-                    self.to_master
-                        .push_back((start + (i as u64 + 1) * byte_ns, b));
-                }
+                in_order &= self.queue_to_master(start, byte_ns, &bytes);
+                queued |= !bytes.is_empty();
                 prev_end = start + bytes.len() as u64 * byte_ns;
                 self.reply_end_ns = prev_end;
                 self.bytes_to_master += bytes.len() as u64;
@@ -345,8 +353,8 @@ impl State {
         // Keep the master's queue in time order (echo and replies may interleave). Most bytes
         // heard queue no reply: then the queue is as it was, already in order, and sorting it
         // on every byte was a tenth of the physics robot's firmware-side time.
-        if self.to_master.len() > queued {
-            self.queued_to_master(queued);
+        if queued {
+            self.queued_to_master(in_order);
         }
     }
 }
@@ -389,19 +397,17 @@ impl embedded_io_async::Write for SimWire {
     async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
         let mut s = self.state.borrow_mut();
         let byte_ns = s.byte_ns();
-        let mut t = s.master_tx_end_ns.max(s.now_ns);
-        let queued = s.to_master.len();
-        for &b in buf {
-            t += byte_ns;
-            s.to_servos.push_back((t, b));
-            if s.config.echo {
-                s.to_master.push_back((t, b));
-            }
-        }
-        s.master_tx_end_ns = t;
+        let start = s.master_tx_end_ns.max(s.now_ns);
+        s.to_servos.extend(
+            buf.iter()
+                .enumerate()
+                .map(|(i, &b)| (start + (i as u64 + 1) * byte_ns, b)),
+        );
+        s.master_tx_end_ns = start + buf.len() as u64 * byte_ns;
         s.bytes_to_servos += buf.len() as u64;
-        if s.config.echo {
-            s.queued_to_master(queued);
+        if s.config.echo && !buf.is_empty() {
+            let in_order = s.queue_to_master(start, byte_ns, buf);
+            s.queued_to_master(in_order);
         }
         Ok(buf.len())
     }

@@ -80,3 +80,20 @@ fn control_table_lookups() {
         (30, 311)
     );
 }
+
+#[test]
+fn the_fields_are_in_address_order_without_overlaps() {
+    // The virtual servo's write finds the fields it touches by bisection on this order.
+    use dynamixel::control_table::FIELDS;
+    for w in FIELDS.windows(2) {
+        assert!(
+            w[0].addr + w[0].size as u16 <= w[1].addr,
+            "{} ({}+{}) runs into {} ({})",
+            w[0].name,
+            w[0].addr,
+            w[0].size,
+            w[1].name,
+            w[1].addr
+        );
+    }
+}
