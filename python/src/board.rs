@@ -1059,7 +1059,7 @@ impl Board {
         s.map(|s| {
             let d = PyDict::new(py);
             d.set_item("time_s", s.time_s)?;
-            d.set_item("names", s.names.clone())?;
+            d.set_item("names", &s.names[..])?;
             d.set_item(
                 "microstrain",
                 numpy::ndarray::Array1::from(s.microstrain()).to_pyarray(py),

@@ -50,6 +50,21 @@ pub struct PlantJoint {
     actuator: usize,
 }
 
+impl PlantJoint {
+    /// The control law's gains now.
+    fn gains(&self) -> Gains {
+        Gains {
+            kp: self.kp,
+            ki: self.ki,
+            kd: self.kd,
+            stall: self.stall,
+            kv: self.kv,
+            deadband: self.params.deadband_rad,
+            backlash: self.params.backlash_rad,
+        }
+    }
+}
+
 /// A model in MuJoCo.
 pub struct Plant {
     pub(crate) data: MjData<Box<MjModel>>,
@@ -62,6 +77,9 @@ pub struct Plant {
     /// Simulated time at which every servo first held, s.
     held_since: Option<f64>,
     weight_n: f64,
+    /// [`Self::step`]'s scratch: each joint's speed before the step (kept to spare an
+    /// allocation per MuJoCo step; not state).
+    speeds: Vec<f64>,
 }
 
 impl std::fmt::Debug for Plant {
@@ -189,6 +207,7 @@ impl Plant {
             gravity,
             held_since: None,
             weight_n,
+            speeds: Vec::new(),
         })
     }
 
@@ -247,20 +266,6 @@ impl Plant {
             (0.0, 0.0)
         };
         self.write_actuator(i, kp, kv);
-    }
-
-    /// Joint `i`'s control law gains now.
-    fn gains(&self, i: usize) -> Gains {
-        let j = &self.joints[i];
-        Gains {
-            kp: j.kp,
-            ki: j.ki,
-            kd: j.kd,
-            stall: j.stall,
-            kv: j.kv,
-            deadband: j.params.deadband_rad,
-            backlash: j.params.backlash_rad,
-        }
     }
 
     /// The PWM duty joint `i`'s controller outputs at its present angle: the proportional term
@@ -397,25 +402,37 @@ impl Plant {
             self.data.model_opt_mut().gravity = gravity;
         }
         let h = self.timestep();
-        let mut speeds = Vec::with_capacity(self.joints.len());
-        for i in 0..self.joints.len() {
-            let g = self.gains(i);
-            let j = &self.joints[i];
-            let (q, qd) = (self.data.qpos()[j.qpos], self.data.qvel()[j.dof]);
-            let d = drive::drive(q, qd, j.goal, j.torque_on, &g, &j.state, h);
-            self.data.ctrl_mut()[j.actuator] = d.ctrl;
-            self.set_engaged(i, d.engaged);
-            self.joints[i].last = Some(d);
+        // Three passes over the joints (the drives, then MuJoCo's controls, then the gears that
+        // engage or part) instead of one doing all three: each joint's drive reads only its own
+        // state, so the order changes nothing, and the slices are borrowed once per step.
+        let mut speeds = std::mem::take(&mut self.speeds);
+        speeds.clear();
+        let (qpos, qvel) = (self.data.qpos(), self.data.qvel());
+        for j in &mut self.joints {
+            let g = j.gains();
+            let (q, qd) = (qpos[j.qpos], qvel[j.dof]);
+            j.last = Some(drive::drive(q, qd, j.goal, j.torque_on, &g, &j.state, h));
             speeds.push(qd);
         }
+        let ctrl = self.data.ctrl_mut();
+        for j in &self.joints {
+            if let Some(d) = &j.last {
+                ctrl[j.actuator] = d.ctrl;
+            }
+        }
+        for i in 0..self.joints.len() {
+            if let Some(d) = self.joints[i].last {
+                self.set_engaged(i, d.engaged);
+            }
+        }
         self.data.step();
-        for (i, qd) in speeds.into_iter().enumerate() {
-            let g = self.gains(i);
-            let j = &mut self.joints[i];
+        for (j, &qd) in self.joints.iter_mut().zip(&speeds) {
+            let g = j.gains();
             if let Some(d) = j.last {
                 drive::advance(&mut j.state, &d, j.torque_on, qd, &g, h);
             }
         }
+        self.speeds = speeds;
     }
 
     /// Steps until simulated time reaches `t_s` (to within half a step).

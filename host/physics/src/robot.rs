@@ -534,36 +534,31 @@ impl PhysicsRobot {
     /// Shows the servos of `chain` the body's state (their own motors stay still), their Present
     /// Load as the model's servo dynamics read it ([`servo::present_load`]).
     fn push_state(&self, chain: &mut VirtualChain) {
-        let mut loads = Vec::new();
-        let states: Vec<(u8, dynamixel::sim::physics::MotorState)> = (0..self.plant.joints().len())
-            .map(|i| {
-                let j = &self.plant.joints()[i];
-                let (q, qd, tau) = self.plant.joint_state(i);
-                let d = self.plant.duty(i);
-                let state = servo::motor_state(&j.map, q, qd, tau, d);
-                let normal = if j.params.load_noise_nm > 0.0 {
-                    standard_normal(&self.load_rng)
-                } else {
-                    0.0
-                };
-                let load = servo::present_load(j.map.model, &j.params, state.torque_nm, normal);
-                loads.push((j.map.id, load));
-                (j.map.id, state)
-            })
-            .chain(self.platform_motor())
-            .collect();
         for s in chain.servos_mut() {
             s.external_plant = true;
         }
-        for (id, state) in states {
-            if let Ok(s) = chain.servo_mut(id) {
+        // Each joint's servo gets its state and then its noisy load (the load overwrites the
+        // one the state sets), one servo lookup per joint and no lists: the platform's servo
+        // and the joints' are distinct, so the order across servos changes nothing.
+        for (i, j) in self.plant.joints().iter().enumerate() {
+            let (q, qd, tau) = self.plant.joint_state(i);
+            let d = self.plant.duty(i);
+            let state = servo::motor_state(&j.map, q, qd, tau, d);
+            let normal = if j.params.load_noise_nm > 0.0 {
+                standard_normal(&self.load_rng)
+            } else {
+                0.0
+            };
+            let load = servo::present_load(j.map.model, &j.params, state.torque_nm, normal);
+            if let Ok(s) = chain.servo_mut(j.map.id) {
                 s.set_motor_state(state);
-            }
-        }
-        for (id, load) in loads {
-            if let Ok(s) = chain.servo_mut(id) {
                 s.put(ct::PRESENT_LOAD_OR_CURRENT, u32::from(load as u16));
             }
+        }
+        if let Some((id, state)) = self.platform_motor()
+            && let Ok(s) = chain.servo_mut(id)
+        {
+            s.set_motor_state(state);
         }
     }
 }
