@@ -159,7 +159,7 @@ struct Active {
     header: GaitHeader,
     total_len: u32,
     received: u32,
-    crc: crc::Digest<'static, u32>,
+    crc: crc32::Digest,
 }
 
 /// The upload state machine (see the module docs).

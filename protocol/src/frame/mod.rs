@@ -54,92 +54,90 @@ impl fmt::Display for FrameError {
 
 impl core::error::Error for FrameError {}
 
-/// A postcard flavor that COBS-encodes on the fly into a slice and keeps a CRC of the raw bytes,
-/// so encoding needs no scratch buffer.
-struct CobsCrcWriter<'b> {
+/// A postcard flavor that writes the raw message into a slice. Unlike postcard's `Slice` it copies
+/// short slices (the varints that make up most of a message) byte by byte instead of calling
+/// `memcpy` for each.
+struct RawWriter<'b> {
     out: &'b mut [u8],
-    /// Index of the code byte of the block being written.
-    code_at: usize,
-    /// Next free index.
     pos: usize,
-    raw_len: usize,
-    crc: crc::Digest<'static, u32>,
 }
 
-impl<'b> CobsCrcWriter<'b> {
-    fn new(out: &'b mut [u8]) -> Result<Self, FrameError> {
-        if out.is_empty() {
-            return Err(FrameError::BufferTooSmall);
-        }
-        Ok(Self {
-            out,
-            code_at: 0,
-            pos: 1,
-            raw_len: 0,
-            crc: crc32::digest(),
-        })
-    }
-
-    fn close_block(&mut self) -> Result<(), FrameError> {
-        let code = self.pos - self.code_at;
-        self.out[self.code_at] = code as u8;
-        self.code_at = self.pos;
-        *self
-            .out
-            .get_mut(self.pos)
-            .ok_or(FrameError::BufferTooSmall)? = 0;
-        self.pos += 1;
-        Ok(())
-    }
-
-    fn push_cobs(&mut self, byte: u8) -> Result<(), FrameError> {
-        if byte == 0 {
-            return self.close_block();
-        }
-        *self
-            .out
-            .get_mut(self.pos)
-            .ok_or(FrameError::BufferTooSmall)? = byte;
-        self.pos += 1;
-        if self.pos - self.code_at == 0xFF {
-            self.close_block()?;
-        }
-        Ok(())
-    }
-
-    /// Appends the CRC, closes the last block and the frame; returns the frame length.
-    fn finish(mut self) -> Result<usize, FrameError> {
-        let crc = self.crc.clone().finalize();
-        for b in crc.to_le_bytes() {
-            self.push_cobs(b)?;
-        }
-        let code = self.pos - self.code_at;
-        self.out[self.code_at] = code as u8;
-        *self
-            .out
-            .get_mut(self.pos)
-            .ok_or(FrameError::BufferTooSmall)? = 0;
-        Ok(self.pos + 1)
-    }
-}
-
-impl postcard::ser_flavors::Flavor for CobsCrcWriter<'_> {
+impl postcard::ser_flavors::Flavor for RawWriter<'_> {
     type Output = usize;
 
+    #[inline]
     fn try_push(&mut self, data: u8) -> postcard::Result<()> {
-        self.raw_len += 1;
-        if self.raw_len > MAX_MESSAGE_LEN {
-            return Err(postcard::Error::SerializeBufferFull);
+        let slot = self
+            .out
+            .get_mut(self.pos)
+            .ok_or(postcard::Error::SerializeBufferFull)?;
+        *slot = data;
+        self.pos += 1;
+        Ok(())
+    }
+
+    #[inline]
+    fn try_extend(&mut self, data: &[u8]) -> postcard::Result<()> {
+        let to = self
+            .out
+            .get_mut(self.pos..self.pos + data.len())
+            .ok_or(postcard::Error::SerializeBufferFull)?;
+        if data.len() <= 8 {
+            for (t, &d) in to.iter_mut().zip(data) {
+                *t = d;
+            }
+        } else {
+            to.copy_from_slice(data);
         }
-        self.crc.update(&[data]);
-        self.push_cobs(data)
-            .map_err(|_| postcard::Error::SerializeBufferFull)
+        self.pos += data.len();
+        Ok(())
     }
 
     fn finalize(self) -> postcard::Result<usize> {
-        self.finish()
-            .map_err(|_| postcard::Error::SerializeBufferFull)
+        Ok(self.pos)
     }
+}
+
+/// COBS-encodes in place the message and CRC that `buf[1..end]` holds, leaving the frame
+/// (delimiter included) at the start of `buf`; returns its length.
+///
+/// Data bytes stay where they are: each zero becomes the code byte of the block that follows it,
+/// and the code byte of a block is written once its end is known. Only a block that fills up (254
+/// non-zero bytes) moves the rest right by one, for the code byte of the next block. The blocks
+/// are the ones a byte-at-a-time encoder makes: a full block is closed at once, so a frame that
+/// ends with one ends with an empty block (code 1).
+fn cobs_in_place(buf: &mut [u8], mut end: usize) -> Result<usize, FrameError> {
+    let mut code_at = 0;
+    let mut from = 1;
+    loop {
+        // The next zero, within what is left of the current block.
+        let block_end = code_at + 0xFF;
+        let limit = block_end.min(end);
+        match buf[from..limit].iter().position(|&b| b == 0) {
+            Some(i) => {
+                let zero = from + i;
+                buf[code_at] = (zero - code_at) as u8;
+                code_at = zero;
+                from = zero + 1;
+            }
+            None if block_end <= end => {
+                // The block is full: its code is 0xFF and the next block's code byte goes in at
+                // `block_end`, so the bytes after it move right by one.
+                if end >= buf.len() {
+                    return Err(FrameError::BufferTooSmall);
+                }
+                buf.copy_within(block_end..end, block_end + 1);
+                buf[code_at] = 0xFF;
+                code_at = block_end;
+                from = block_end + 1;
+                end += 1;
+            }
+            None => break,
+        }
+    }
+    buf[code_at] = (end - code_at) as u8;
+    *buf.get_mut(end).ok_or(FrameError::BufferTooSmall)? = 0;
+    Ok(end + 1)
 }
 
 /// Encodes `message` as one frame (delimiter included) into `buf`; returns the frame's bytes.
@@ -149,10 +147,22 @@ pub fn encode_frame<'b, T: Serialize + ?Sized>(
     message: &T,
     buf: &'b mut [u8],
 ) -> Result<&'b [u8], FrameError> {
-    let writer = CobsCrcWriter::new(&mut *buf)?;
-    let len =
-        postcard::serialize_with_flavor(message, writer).map_err(|_| FrameError::BufferTooSmall)?;
-    Ok(&buf[..len])
+    // The message goes to `buf[1..]`, where its bytes stay in the frame (one code byte before
+    // them); the CRC is taken over them in one piece and follows them; then COBS is done in
+    // place. No scratch buffer, and on the host the sliced CRC runs over the whole message (a
+    // byte-at-a-time encoder that kept a running CRC was a hot spot of the link). Whatever does
+    // not fit (a message past MAX_MESSAGE_LEN, a frame past `buf`) is BufferTooSmall.
+    let body = buf.len().min(1 + MAX_MESSAGE_LEN);
+    let raw = buf.get_mut(1..body).ok_or(FrameError::BufferTooSmall)?;
+    let len = postcard::serialize_with_flavor(message, RawWriter { out: raw, pos: 0 })
+        .map_err(|_| FrameError::BufferTooSmall)?;
+    let crc = crc32::checksum(&buf[1..1 + len]);
+    let end = 1 + len + FRAME_CRC_LEN;
+    buf.get_mut(1 + len..end)
+        .ok_or(FrameError::BufferTooSmall)?
+        .copy_from_slice(&crc.to_le_bytes());
+    let frame_len = cobs_in_place(buf, end)?;
+    Ok(&buf[..frame_len])
 }
 
 /// Encodes `message` as one frame into a new `Vec` (host side).
@@ -185,3 +195,6 @@ pub fn decode_message<T: DeserializeOwned>(decoded: &[u8]) -> Result<T, FrameErr
     }
     Ok(value)
 }
+
+#[cfg(test)]
+mod tests;

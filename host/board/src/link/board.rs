@@ -29,12 +29,17 @@ pub const BOOT_WAIT: Duration = Duration::from_secs(1);
 /// Telemetry records kept while nobody reads them; older ones are dropped (and counted).
 const TELEMETRY_BACKLOG: usize = 100_000;
 
+/// Most bytes taken from the transport at a time.
+const RX_CHUNK: usize = 4096;
+
 /// A connected board whose protocol and table format versions match this host's.
 #[derive(Debug)]
 pub struct Board<T: Transport> {
     transport: T,
     client: Client,
     acc: FrameAccumulator,
+    /// Receive buffer of [`Board::next_message`], kept so that each call does not zero 4 KB anew.
+    rx: Box<[u8; RX_CHUNK]>,
     inbox: VecDeque<DeviceMessage>,
     telemetry: VecDeque<Telemetry>,
     /// Streaming feedback set aside for [`Board::proprioception`] (see `stream.rs`).
@@ -65,6 +70,7 @@ impl<T: Transport> Board<T> {
             transport,
             client: Client::new(),
             acc: FrameAccumulator::new(),
+            rx: Box::new([0; RX_CHUNK]),
             inbox: VecDeque::new(),
             telemetry: VecDeque::new(),
             proprioception: VecDeque::new(),
@@ -499,7 +505,6 @@ impl<T: Transport> Board<T> {
         &mut self,
         deadline: Duration,
     ) -> Result<Option<DeviceMessage>, LinkError> {
-        let mut buf = [0u8; 4096];
         loop {
             if let Some(m) = self.inbox.pop_front() {
                 return Ok(Some(m));
@@ -510,12 +515,12 @@ impl<T: Transport> Board<T> {
             }
             let n = self
                 .transport
-                .recv(&mut buf, deadline - now)
+                .recv(&mut self.rx[..], deadline - now)
                 .map_err(|source| vanished(self.transport.name(), source))?;
-            for &byte in &buf[..n] {
-                let Some(frame) = self.acc.push(byte) else {
-                    continue;
-                };
+            // The whole chunk at once (the accumulator copies a block's data in one piece): the
+            // same frames as byte by byte, for less time per byte.
+            let mut input = &self.rx[..n];
+            while let Some(frame) = self.acc.push_slice(&mut input) {
                 let Ok(frame) = frame else {
                     self.bad_frames += 1;
                     continue;

@@ -103,8 +103,8 @@ impl<T: Transport> Board<T> {
                 request: "Setpoint",
                 error,
             })?;
-        let frame = frame.to_vec();
-        self.send_raw(&frame)
+        // Sent from the stack buffer, without a copy to the heap (one per bus cycle).
+        self.send_raw(frame)
     }
 
     /// The next proprioception record, waiting up to `timeout` on the transport's clock.
