@@ -62,7 +62,9 @@ def env_steps(steps: int, walk: bool) -> dict[str, float]:
     return {"steps": steps, "cpu_s": c1 - c0, "wall_s": w1 - w0, "x_m": x}
 
 
-def bare_mujoco(cycles: int) -> dict[str, float]:
+def bare_model():  # noqa: ANN201 (mujoco's types)
+    """The bare rollout's model and data: the MJCF export at the physics robot's 1 ms timestep,
+    islands off, in the stance keyframe (its actuators holding it)."""
     import mujoco
 
     dbot_bin = ROOT / "target" / "debug" / "dbot"
@@ -76,6 +78,13 @@ def bare_mujoco(cycles: int) -> dict[str, float]:
     m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_ISLAND
     data = mujoco.MjData(m)
     mujoco.mj_resetDataKeyframe(m, data, 0)
+    return m, data
+
+
+def bare_mujoco(cycles: int) -> dict[str, float]:
+    import mujoco
+
+    m, data = bare_model()
     c0, w0 = time.process_time(), time.perf_counter()
     for _ in range(cycles * 10):
         mujoco.mj_step(m, data)

@@ -3,10 +3,14 @@ throughput for N = 1 and 2, the single environment's overhead against bare MuJoC
 same model, a reset against stepping the same simulated span, and rollouts over Ray actors
 against a process pool (`dbot.vector_pool.RolloutPool`).
 
-The overhead column is issue 38's: (environment - bare MuJoCo) / bare MuJoCo, CPU time per step
+The overhead columns are issue 38's: (environment - bare MuJoCo) / bare MuJoCo, CPU time per step
 of one environment against bare MuJoCo stepping the same model for the same 10 ms, what the
-firmware, bus, link and Python add as a share of the physics (target: at most 15 %), the median over
-interleaved rounds of each round's pair (the machine's speed drifts within a run).
+firmware, bus, link and Python add as a share of the physics (target: at most 15 %). Standing:
+each environment built once and stepped past its reset's transient, in short blocks each paired
+with a block of bare MuJoCo (the median of the pairs, and their middle half: the machine's speed
+drifts within a run). After a reset: a fresh robot per round of a third of the steps, its
+physics still settling for the first seconds (MuJoCo's own work is then a few percent higher, which
+this column counts as overhead too).
 
     .venv/bin/python bench/vector_env.py            # the figures of docs/performance.md
     .venv/bin/python bench/vector_env.py --quick    # a short run that checks it still works
@@ -36,7 +40,7 @@ from collections.abc import Callable  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from env_steps import bare_mujoco  # noqa: E402
+from env_steps import bare_model, bare_mujoco  # noqa: E402
 
 from dbot.env import DbotEnv, VectorEnv  # noqa: E402
 from dbot.vector_pool import RolloutPool, residual_walks  # noqa: E402
@@ -87,6 +91,55 @@ def dbot_env_rate(steps: int) -> dict[str, float]:
     c1, w1 = time.process_time(), time.perf_counter()
     env.close()
     return {"robot_steps": steps, "cpu_s": c1 - c0, "wall_s": w1 - w0}
+
+
+def steady_blocks(blocks: int, per: int, warm: int) -> dict[str, list[float]]:
+    """CPU time (s) of ``blocks`` short blocks of ``per`` steps of each single environment, each
+    block beside bare MuJoCo's block of the same span: every environment built once and stepped
+    ``warm`` steps past its reset first, bare MuJoCo likewise, then the blocks interleaved (for
+    each environment in turn a block of bare MuJoCo, then the environment's). Blocks of a few tens of milliseconds pair each environment with bare
+    MuJoCo at the same machine speed; stepping past the reset compares the standing robot with
+    the standing bare model (in the first few seconds after a reset MuJoCo itself works about 6 %
+    harder on the physics robot's settling body, counted in instructions: docs/performance.md)."""
+    import mujoco
+
+    m, data = bare_model()
+    n = warm + blocks * per + 10
+    made = {
+        "core": VectorEnv(1, threads=0, max_episode_steps=n),
+        "inline": VectorEnv(1, threads=0, max_episode_steps=n),
+        "worker1": VectorEnv(1, threads=1, max_episode_steps=n),
+        "single": DbotEnv("physics", max_episode_steps=n),
+    }
+    steppers: dict[str, Callable[[np.ndarray], object]] = {}
+    acts: dict[str, list[np.ndarray]] = {}
+    for k, env in made.items():
+        env.reset(seed=0)
+        rest = env.rest_rad.copy()
+        acts[k] = [wiggle(rest, i) for i in range(warm + blocks * per)]
+        steppers[k] = (lambda a, c=env._core: c.step_env(a, None)) if k == "core" else env.step
+    for _ in range(warm * 10):
+        mujoco.mj_step(m, data)
+    for k, step in steppers.items():
+        for a in acts[k][:warm]:
+            step(a)
+    got: dict[str, list[float]] = {k: [] for k in steppers}
+    bare: dict[str, list[float]] = {k: [] for k in steppers}
+    for b in range(blocks):
+        for k, step in steppers.items():
+            c = time.process_time()
+            for _ in range(per * 10):
+                mujoco.mj_step(m, data)
+            bare[k].append(time.process_time() - c)
+            todo = acts[k][warm + b * per:warm + (b + 1) * per]
+            c = time.process_time()
+            for a in todo:
+                step(a)
+            got[k].append(time.process_time() - c)
+    for env in made.values():
+        env.close()
+    return {"bare": [t for k in steppers for t in bare[k]], **got,
+            **{f"bare_{k}": v for k, v in bare.items()}}
 
 
 def resets(repeats: int) -> dict[str, float]:
@@ -190,6 +243,8 @@ def main() -> int:
         "single": lambda: dbot_env_rate(short),
     })
     us = {k: [1e6 * m["cpu_s"] / m["robot_steps"] for m in v] for k, v in one.items()}
+    blocks, per_block = (3, 20) if a.quick else (40, 100)
+    steady = steady_blocks(blocks, per_block, 30 if a.quick else 300)
     r = resets(3 if a.quick else 10)
     os.sched_setaffinity(0, affinity)
 
@@ -201,15 +256,22 @@ def main() -> int:
     per = lambda m: 1e6 * m["cpu_s"] / m["robot_steps"]  # noqa: E731
     # The overhead as issue 38 defines it: what the firmware, bus, link and Python add, as a
     # share of bare MuJoCo stepping the same model, (env - bare) / bare (target: at most 15 %).
-    print(f"\n| what (one core, CPU time per step of 10 ms; {3 * rounds} interleaved rounds of {short} steps) "
-          "| us per step (median) | overhead: (this - bare) / bare, median of the rounds' pairs |")
-    print("|---|---|---|")
-    print(f"| bare MuJoCo, same model, 10 x 1 ms | {np.median(us['bare']):.0f} | - |")
+    print(f"\n| what (one core, CPU time per step of 10 ms) | us per step, standing (median of "
+          f"{blocks} blocks of {per_block} steps) | overhead: (this - bare) / bare, standing: "
+          f"median of the blocks' pairs (middle half) | us per step, after a reset ({3 * rounds} "
+          f"rounds of {short} steps, each a fresh robot) | overhead after a reset |")
+    print("|---|---|---|---|---|")
+    print(f"| bare MuJoCo, same model, 10 x 1 ms | {1e6 * np.median(steady['bare']) / per_block:.0f} "
+          f"| - | {np.median(us['bare']):.0f} | - |")
     for name, k in (("its Rust core alone (VectorCore.step_env)", "core"),
                     ("VectorEnv(1, threads=0)", "inline"), ("VectorEnv(1, threads=1)", "worker1"),
                     ("DbotEnv", "single")):
-        paired = np.median([e / b - 1 for e, b in zip(us[k], us["bare"])])
-        print(f"| {name} | {np.median(us[k]):.0f} | {100 * paired:.0f} % |")
+        pairs = [e / b - 1 for e, b in zip(steady[k], steady[f"bare_{k}"])]
+        q1, q3 = np.percentile(pairs, [25, 75])
+        fresh = np.median([e / b - 1 for e, b in zip(us[k], us["bare"])])
+        print(f"| {name} | {1e6 * np.median(steady[k]) / per_block:.0f} | "
+              f"{100 * np.median(pairs):.1f} % ({100 * q1:.1f} to {100 * q3:.1f}) | "
+              f"{np.median(us[k]):.0f} | {100 * fresh:.0f} % |")
 
     print("\n| vector throughput (every core) | robot steps/s, wall | x N = 1 | CPU us per robot step |")
     print("|---|---|---|---|")

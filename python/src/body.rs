@@ -2,57 +2,63 @@
 //! units, world frame, the feet in the model's order (`feet`: leg names). Everything comes from
 //! `physics::Body`; this file only converts.
 
-use numpy::ToPyArray;
-use numpy::ndarray::{Array1, Array2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 
 /// `body` as a dict: `time_s`, `thorax_position_m` (3), `thorax_orientation` (w, x, y, z),
 /// `thorax_rpy_rad` (roll, pitch, yaw), `thorax_velocity_m_s` (3), `thorax_angular_velocity_rad_s`
 /// (3), `feet` (names), `foot_force_n` (feet x 3), `foot_contact` (feet, bool), `foot_slip_m_s`
 /// (feet).
+///
+/// `DbotEnv` builds this every step (its `info["body"]`): the arrays are made straight from
+/// the values (no intermediate vectors) and the keys and leg names are interned strings.
 pub fn body_dict<'py>(py: Python<'py>, body: &physics::Body) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let t = &body.thorax;
-    d.set_item("time_s", body.time_s)?;
+    d.set_item(intern!(py, "time_s"), body.time_s)?;
     d.set_item(
-        "thorax_position_m",
-        Array1::from(t.position_m.to_vec()).to_pyarray(py),
+        intern!(py, "thorax_position_m"),
+        PyArray1::from_slice(py, &t.position_m),
     )?;
     d.set_item(
-        "thorax_orientation",
-        Array1::from(t.orientation.to_vec()).to_pyarray(py),
+        intern!(py, "thorax_orientation"),
+        PyArray1::from_slice(py, &t.orientation),
     )?;
     d.set_item(
-        "thorax_rpy_rad",
-        Array1::from(t.roll_pitch_yaw().to_vec()).to_pyarray(py),
+        intern!(py, "thorax_rpy_rad"),
+        PyArray1::from_slice(py, &t.roll_pitch_yaw()),
     )?;
     d.set_item(
-        "thorax_velocity_m_s",
-        Array1::from(t.velocity_m_s.to_vec()).to_pyarray(py),
+        intern!(py, "thorax_velocity_m_s"),
+        PyArray1::from_slice(py, &t.velocity_m_s),
     )?;
     d.set_item(
-        "thorax_angular_velocity_rad_s",
-        Array1::from(t.angular_velocity_rad_s.to_vec()).to_pyarray(py),
+        intern!(py, "thorax_angular_velocity_rad_s"),
+        PyArray1::from_slice(py, &t.angular_velocity_rad_s),
     )?;
     let feet = &body.feet;
     d.set_item(
-        "feet",
+        intern!(py, "feet"),
         feet.iter()
-            .map(|f| f.leg.name().to_owned())
+            .map(|f| PyString::intern(py, f.leg.name()))
             .collect::<Vec<_>>(),
     )?;
+    let forces = PyArray2::<f64>::zeros(py, [feet.len(), 3], false);
+    // SAFETY: the array was just made here and nothing else holds it.
+    let cells = unsafe { forces.as_slice_mut() }.expect("a new array is contiguous");
+    for (row, f) in cells.chunks_exact_mut(3).zip(feet) {
+        row.copy_from_slice(&f.force_n);
+    }
+    d.set_item(intern!(py, "foot_force_n"), forces)?;
     d.set_item(
-        "foot_force_n",
-        Array2::from_shape_fn((feet.len(), 3), |(i, k)| feet[i].force_n[k]).to_pyarray(py),
+        intern!(py, "foot_contact"),
+        PyArray1::from_iter(py, feet.iter().map(|f| f.contact)),
     )?;
     d.set_item(
-        "foot_contact",
-        Array1::from_iter(feet.iter().map(|f| f.contact)).to_pyarray(py),
-    )?;
-    d.set_item(
-        "foot_slip_m_s",
-        Array1::from_iter(feet.iter().map(|f| f.slip_m_s)).to_pyarray(py),
+        intern!(py, "foot_slip_m_s"),
+        PyArray1::from_iter(py, feet.iter().map(|f| f.slip_m_s)),
     )?;
     Ok(d)
 }

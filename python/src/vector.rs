@@ -23,7 +23,7 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 
 use numpy::ndarray::ArrayView2;
-use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
 use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -406,7 +406,15 @@ fn step_jobs(
 
 /// A fresh array of N booleans, all `v` (one per info key: Gymnasium's masks are not shared).
 fn flags<'py>(py: Python<'py>, n: usize, v: bool) -> Bound<'py, PyArray1<bool>> {
-    PyArray1::from_vec(py, vec![v; n])
+    // NumPy's own zeroed memory, no Rust vector behind it (six of these a step).
+    let a = PyArray1::<bool>::zeros(py, n, false);
+    if v {
+        // SAFETY: the array was just made here and nothing else holds it.
+        unsafe { a.as_slice_mut() }
+            .expect("a new 1-D array is contiguous")
+            .fill(true);
+    }
+    a
 }
 
 #[pymethods]
@@ -636,9 +644,9 @@ impl VectorCore {
         };
         (
             obs,
-            PyArray1::from_vec(py, reward),
-            PyArray1::from_vec(py, terminated),
-            PyArray1::from_vec(py, truncated),
+            PyArray1::from_slice(py, &reward),
+            PyArray1::from_slice(py, &terminated),
+            PyArray1::from_slice(py, &truncated),
             infos,
             rest,
         )

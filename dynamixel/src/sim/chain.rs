@@ -145,8 +145,20 @@ impl VirtualChain {
         }
         let total: f64 = self.servos.iter().map(|s| s.motor_current_a()).sum();
         let volts = self.supply.at_servos(total);
+        // One exponential per time constant (every servo has the same one unless a test gives
+        // it another), not one per servo: the same value either way.
+        let mut memo: Option<(f64, f64)> = None;
         for s in &mut self.servos {
-            s.heat(dt_s, volts);
+            let tau = s.thermal.tau_s;
+            let decay = match memo {
+                Some((t, d)) if t == tau => d,
+                _ => {
+                    let d = s.thermal.decay(dt_s);
+                    memo = Some((tau, d));
+                    d
+                }
+            };
+            s.heat_decayed(decay, volts);
         }
     }
 

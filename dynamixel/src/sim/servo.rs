@@ -285,8 +285,15 @@ impl VirtualServo {
     /// Voltage to `volts` (the chain's supply at the servos). Past the Temperature Limit the servo
     /// latches the overheating error and, if its Shutdown register has that bit, drops torque.
     pub fn heat(&mut self, dt_s: f64, volts: f64) {
+        self.heat_decayed(self.thermal.decay(dt_s), volts);
+    }
+
+    /// [`Self::heat`] with the step's [`Thermal::decay`] given.
+    pub(crate) fn heat_decayed(&mut self, decay: f64, volts: f64) {
         let i = self.motor_current_a();
-        self.temperature_c = self.thermal.step_c(self.model, self.temperature_c, i, dt_s);
+        self.temperature_c = self
+            .thermal
+            .step_c_decayed(self.model, self.temperature_c, i, decay);
         self.refresh_health(Some(volts));
     }
 

@@ -50,12 +50,22 @@ impl Thermal {
 
     /// The temperature `dt_s` seconds after `t_c` at a constant current (exact first-order step).
     pub fn step_c(&self, model: ServoModel, t_c: f64, current_a: f64, dt_s: f64) -> f64 {
-        let steady = self.steady_c(model, current_a);
-        let decay = if self.tau_s > 0.0 {
+        self.step_c_decayed(model, t_c, current_a, self.decay(dt_s))
+    }
+
+    /// The share of the distance to the steady temperature left after `dt_s` seconds.
+    pub fn decay(&self, dt_s: f64) -> f64 {
+        if self.tau_s > 0.0 {
             (-dt_s.max(0.0) / self.tau_s).exp()
         } else {
             0.0
-        };
+        }
+    }
+
+    /// [`Self::step_c`] with the step's [`Self::decay`] given (a chain of servos with the same
+    /// time constant computes it once per step).
+    pub fn step_c_decayed(&self, model: ServoModel, t_c: f64, current_a: f64, decay: f64) -> f64 {
+        let steady = self.steady_c(model, current_a);
         steady + (t_c - steady) * decay
     }
 }

@@ -73,8 +73,9 @@ struct State {
     /// Earliest deadline a pending future waits for (reset before each poll).
     timer_ns: Option<u64>,
     /// The last byte of the burst toward the master that [`SimWire::block_on`] found, kept
-    /// while no byte is queued toward the master (then the burst's end is the same from any of
-    /// its bytes, and finding it again was most of the executor's own time).
+    /// while the bytes queued toward the master leave it so or extend it
+    /// ([`State::queue_to_master`]; the burst's end is the same from any of its bytes, and
+    /// finding it again was most of the executor's own time).
     burst_end_ns: Option<u64>,
     bytes_to_servos: u64,
     bytes_to_master: u64,
@@ -214,10 +215,23 @@ impl State {
     /// Queues `bytes` toward the master back to back, the first ending `byte_ns` after
     /// `start_ns`; returns whether the queue is still in time order. The bytes of one call are
     /// in order among themselves, so only the first can come before the byte queued last.
+    ///
+    /// The burst end found last ([`SimWire::block_on`]) is kept when it still holds: bytes that
+    /// come in order after a later burst, or after a gap, leave the first burst as it was;
+    /// bytes that continue it (within a byte time of its end, the queue's last byte) extend it
+    /// to their last. Finding it again meant walking every reply byte of a Sync Read.
     fn queue_to_master(&mut self, start_ns: u64, byte_ns: u64, bytes: &[u8]) -> bool {
-        let in_order = match (self.to_master.back(), bytes.is_empty()) {
-            (Some(&(last, _)), false) => last <= start_ns + byte_ns,
-            _ => true,
+        if bytes.is_empty() {
+            return true;
+        }
+        let first = start_ns + byte_ns;
+        let last = start_ns + bytes.len() as u64 * byte_ns;
+        let back = self.to_master.back().map(|b| b.0);
+        let in_order = back.is_none_or(|b| b <= first);
+        self.burst_end_ns = match (self.burst_end_ns, back) {
+            (Some(end), Some(b)) if in_order && (end < b || first > end + byte_ns) => Some(end),
+            (Some(end), Some(b)) if in_order && end == b => Some(last),
+            _ => None,
         };
         self.to_master.extend(
             bytes
@@ -229,15 +243,13 @@ impl State {
     }
 
     /// Bytes were queued toward the master ([`Self::queue_to_master`], `in_order` whether they all
-    /// came in time order): the queue is put back in time order (a stable sort, as before;
-    /// skipped when they came in order, as replies after the request's echo do), and the burst
-    /// end found last no longer holds. Nothing queued (an empty write or noise burst) leaves
-    /// the queue as it was, in order.
+    /// came in time order): if not, the queue is put back in time order (a stable sort, as
+    /// before) and the burst end found last no longer holds.
     fn queued_to_master(&mut self, in_order: bool) {
         if !in_order {
             self.to_master.make_contiguous().sort_by_key(|b| b.0);
+            self.burst_end_ns = None;
         }
-        self.burst_end_ns = None;
     }
 
     /// The last byte of the first burst toward the master after `now_ns` (bytes back to back).
@@ -371,11 +383,16 @@ impl embedded_io_async::Read for SimWire {
         core::future::poll_fn(|_| {
             let mut s = self.state.borrow_mut();
             let now = s.now_ns;
-            // The bytes due, in time order (the queue is kept sorted).
+            // The bytes due, in time order (the queue is kept sorted), copied from the queue's
+            // two slices and then dropped from its front (draining element by element was
+            // most of a read's time).
             let n = s.to_master.partition_point(|b| b.0 <= now).min(buf.len());
-            for (slot, (_, b)) in buf.iter_mut().zip(s.to_master.drain(..n)) {
-                *slot = b;
+            let (front, back) = s.to_master.as_slices();
+            let k = n.min(front.len());
+            for (slot, b) in buf.iter_mut().zip(front[..k].iter().chain(&back[..n - k])) {
+                *slot = b.1;
             }
+            s.to_master.drain(..n);
             if n > 0 {
                 Poll::Ready(Ok(n))
             } else {
@@ -435,5 +452,65 @@ impl Clock for SimWire {
             Poll::Pending
         })
         .await
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The burst end kept across queued bytes is the one found afresh: bursts queued in order
+    /// (continuing the last, after a gap, at the same time as the last byte) and out of order
+    /// (sorted, then found again), as the clock moves on and the master reads.
+    #[test]
+    fn the_kept_burst_end_is_the_one_found_afresh() {
+        let chain = VirtualChain::drosophibot(2, 1_000_000).expect("chain");
+        let wire = SimWire::new(
+            chain,
+            WireConfig {
+                baud: 1_000_000,
+                echo: false,
+            },
+        );
+        let mut s = wire.state.borrow_mut();
+        let byte_ns = s.byte_ns();
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let mut checked = 0;
+        for _ in 0..2000 {
+            let now = s.now_ns;
+            // Cache as block_on does it.
+            if !matches!(s.burst_end_ns, Some(e) if e > now) {
+                s.burst_end_ns = s.burst_end(now);
+            }
+            let back = s.to_master.back().map_or(now, |b| b.0);
+            let start = match next(5) {
+                0 => back,                                   // continues the last byte
+                1 => back.saturating_sub(byte_ns),           // same time as the last byte
+                2 => back + byte_ns * (1 + next(40)),        // after a gap
+                3 => now.saturating_sub(next(20) * byte_ns), // maybe before queued bytes
+                _ => now + next(30) * byte_ns,
+            };
+            let bytes = vec![0xA5; next(30) as usize];
+            let in_order = s.queue_to_master(start, byte_ns, &bytes);
+            s.queued_to_master(in_order);
+            if let Some(end) = s.burst_end_ns
+                && end > now
+            {
+                assert_eq!(Some(end), s.burst_end(now), "after queueing at {start}");
+                checked += 1;
+            }
+            // Time moves on and the master reads what is due.
+            s.now_ns += next(60) * byte_ns;
+            let due = s.to_master.partition_point(|b| b.0 <= s.now_ns);
+            let take = due.min(next(40) as usize);
+            s.to_master.drain(..take);
+        }
+        assert!(checked > 300, "only {checked} kept ends were compared");
     }
 }

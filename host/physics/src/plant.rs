@@ -402,9 +402,9 @@ impl Plant {
             self.data.model_opt_mut().gravity = gravity;
         }
         let h = self.timestep();
-        // Three passes over the joints (the drives, then MuJoCo's controls, then the gears that
-        // engage or part) instead of one doing all three: each joint's drive reads only its own
-        // state, so the order changes nothing, and the slices are borrowed once per step.
+        // Three passes over the joints before the step (the drives, MuJoCo's controls, the gears
+        // that engage or part) and one after: each joint's drive reads only its own state, so
+        // the order changes nothing, and MuJoCo's slices are borrowed once per step.
         let mut speeds = std::mem::take(&mut self.speeds);
         speeds.clear();
         let (qpos, qvel) = (self.data.qpos(), self.data.qvel());
@@ -421,15 +421,15 @@ impl Plant {
             }
         }
         for i in 0..self.joints.len() {
-            if let Some(d) = self.joints[i].last {
-                self.set_engaged(i, d.engaged);
+            if let Some(engaged) = self.joints[i].last.as_ref().map(|d| d.engaged) {
+                self.set_engaged(i, engaged);
             }
         }
         self.data.step();
         for (j, &qd) in self.joints.iter_mut().zip(&speeds) {
             let g = j.gains();
-            if let Some(d) = j.last {
-                drive::advance(&mut j.state, &d, j.torque_on, qd, &g, h);
+            if let Some(d) = &j.last {
+                drive::advance(&mut j.state, d, j.torque_on, qd, &g, h);
             }
         }
         self.speeds = speeds;

@@ -45,6 +45,8 @@ pub struct PhysicsRobot {
     scene: Ground,
     substrate: Substrate,
     monitor: Monitor,
+    /// Whether the monitor samples the body every bus cycle ([`Self::set_figures`]).
+    figures_on: bool,
     /// The model's joint count (the length of a logged pose).
     model_joints: usize,
     /// The thorax height of the planner's stance (the keyframe), m.
@@ -197,6 +199,7 @@ impl PhysicsRobot {
             scene: *scene,
             substrate: Substrate::Sandpaper,
             monitor: Monitor::new(),
+            figures_on: true,
             model_joints: model.joints.len(),
             planned_height_m,
             log: None,
@@ -456,6 +459,13 @@ impl PhysicsRobot {
         self.monitor.figures()
     }
 
+    /// Switches the figures' sampling on (the default) or off: a caller that never reads
+    /// [`Self::figures`] (the vector environment's robots) spares the monitor's work every bus
+    /// cycle. Off, the figures stay as they were (None from power-on).
+    pub fn set_figures(&mut self, on: bool) {
+        self.figures_on = on;
+    }
+
     /// Starts the figures afresh (e.g. when a walk starts).
     pub fn reset_figures(&mut self) {
         self.monitor.reset();
@@ -613,7 +623,9 @@ impl ServoDynamics for PhysicsRobot {
             }
         }
         self.push_state(chain);
-        self.monitor.sample(&self.plant);
+        if self.figures_on {
+            self.monitor.sample(&self.plant);
+        }
         self.log_sample(controller);
         if self.strain.sample(&self.plant)
             && let Some(last) = self.log.as_mut().and_then(|l| l.samples.last_mut())
