@@ -14,6 +14,7 @@ this column counts as overhead too).
 
     .venv/bin/python bench/vector_env.py            # the figures of docs/performance.md
     .venv/bin/python bench/vector_env.py --quick    # a short run that checks it still works
+    .venv/bin/python bench/vector_env.py --standing # the standing overhead alone (two builds: A/B)
 
 Needs the package built optimised (scripts/setup.d/40-python.sh: `maturin develop --profile
 quick-release`); `target/debug/dbot` or cargo for the MJCF export of the bare MuJoCo rollout.
@@ -142,6 +143,26 @@ def steady_blocks(blocks: int, per: int, warm: int) -> dict[str, list[float]]:
             **{f"bare_{k}": v for k, v in bare.items()}}
 
 
+def standing_only() -> int:
+    """The standing overhead of every single environment, one core, 40 blocks of 100 steps."""
+    affinity = os.sched_getaffinity(0)
+    os.sched_setaffinity(0, {min(affinity)})
+    steady = steady_blocks(40, 100, 300)
+    os.sched_setaffinity(0, affinity)
+    import dbot
+
+    print(f"package: {pathlib.Path(dbot.__file__).parent}")
+    print("| standing, one core, 40 blocks of 100 steps | us per step | overhead (middle half) |")
+    print("|---|---|---|")
+    print(f"| bare MuJoCo | {1e4 * np.median(steady['bare']):.0f} | - |")
+    for k in ("core", "inline", "worker1", "single"):
+        pairs = [e / b - 1 for e, b in zip(steady[k], steady[f"bare_{k}"])]
+        q1, q3 = np.percentile(pairs, [25, 75])
+        print(f"| {k} | {1e4 * np.median(steady[k]):.0f} | {100 * np.median(pairs):.1f} % "
+              f"({100 * q1:.1f} to {100 * q3:.1f}) |")
+    return 0
+
+
 def resets(repeats: int) -> dict[str, float]:
     """Median CPU time of a full reset, a cheap one, and of stepping the settling's span."""
     out: dict[str, list[float]] = {"full": [], "cheap": [], "span": []}
@@ -222,7 +243,12 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=3000, help="steps per throughput figure")
     ap.add_argument("--quick", action="store_true", help="short: 200 steps, 2 x 2 rollouts")
+    ap.add_argument("--standing", action="store_true",
+                    help="only the standing overhead (about 15 s): for comparing two builds, "
+                         "each run with its package first on PYTHONPATH, alternately")
     a = ap.parse_args()
+    if a.standing:
+        return standing_only()
     steps = 200 if a.quick else a.steps
     cpus = os.cpu_count() or 1
     print(f"load average at start: {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {cpus} cores")
