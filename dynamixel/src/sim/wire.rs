@@ -130,10 +130,7 @@ impl SimWire {
         let mut s = self.state.borrow_mut();
         let byte_ns = s.byte_ns();
         let start = s.now_ns;
-        let in_order = s.queue_to_master(start, byte_ns, bytes);
-        if !bytes.is_empty() {
-            s.queued_to_master(in_order);
-        }
+        s.queue_to_master(start, byte_ns, bytes);
     }
 
     /// Changes the line rate (after the servos were told to switch).
@@ -213,16 +210,17 @@ impl State {
     }
 
     /// Queues `bytes` toward the master back to back, the first ending `byte_ns` after
-    /// `start_ns`; returns whether the queue is still in time order. The bytes of one call are
-    /// in order among themselves, so only the first can come before the byte queued last.
+    /// `start_ns`, and keeps the queue in time order: the bytes of one call are in order among
+    /// themselves, so only when the first comes before the byte queued last is the queue sorted
+    /// again (a stable sort, as before; replies after their request's echo never need it).
     ///
     /// The burst end found last ([`SimWire::block_on`]) is kept when it still holds: bytes that
     /// come in order after a later burst, or after a gap, leave the first burst as it was;
     /// bytes that continue it (within a byte time of its end, the queue's last byte) extend it
     /// to their last. Finding it again meant walking every reply byte of a Sync Read.
-    fn queue_to_master(&mut self, start_ns: u64, byte_ns: u64, bytes: &[u8]) -> bool {
+    fn queue_to_master(&mut self, start_ns: u64, byte_ns: u64, bytes: &[u8]) {
         if bytes.is_empty() {
-            return true;
+            return;
         }
         let first = start_ns + byte_ns;
         let last = start_ns + bytes.len() as u64 * byte_ns;
@@ -239,16 +237,8 @@ impl State {
                 .enumerate()
                 .map(|(i, &b)| (start_ns + (i as u64 + 1) * byte_ns, b)),
         );
-        in_order
-    }
-
-    /// Bytes were queued toward the master ([`Self::queue_to_master`], `in_order` whether they all
-    /// came in time order): if not, the queue is put back in time order (a stable sort, as
-    /// before) and the burst end found last no longer holds.
-    fn queued_to_master(&mut self, in_order: bool) {
         if !in_order {
             self.to_master.make_contiguous().sort_by_key(|b| b.0);
-            self.burst_end_ns = None;
         }
     }
 
@@ -345,8 +335,8 @@ impl State {
         }
         let byte_ns = self.byte_ns();
         let mut prev_end = at;
-        let mut queued = false;
-        let mut in_order = true;
+        // Echo and replies may interleave: `queue_to_master` keeps the master's queue in time
+        // order, sorting only when they do.
         for r in planned {
             let base = if r.chained {
                 prev_end.max(self.reply_end_ns).max(at)
@@ -355,18 +345,11 @@ impl State {
             };
             let start = base + r.delay_us as u64 * 1_000;
             if let Some(bytes) = r.bytes {
-                in_order &= self.queue_to_master(start, byte_ns, &bytes);
-                queued |= !bytes.is_empty();
+                self.queue_to_master(start, byte_ns, &bytes);
                 prev_end = start + bytes.len() as u64 * byte_ns;
                 self.reply_end_ns = prev_end;
                 self.bytes_to_master += bytes.len() as u64;
             }
-        }
-        // Keep the master's queue in time order (echo and replies may interleave). Most bytes
-        // heard queue no reply: then the queue is as it was, already in order, and sorting it
-        // on every byte was a tenth of the physics robot's firmware-side time.
-        if queued {
-            self.queued_to_master(in_order);
         }
     }
 }
@@ -422,9 +405,8 @@ impl embedded_io_async::Write for SimWire {
         );
         s.master_tx_end_ns = start + buf.len() as u64 * byte_ns;
         s.bytes_to_servos += buf.len() as u64;
-        if s.config.echo && !buf.is_empty() {
-            let in_order = s.queue_to_master(start, byte_ns, buf);
-            s.queued_to_master(in_order);
+        if s.config.echo {
+            s.queue_to_master(start, byte_ns, buf);
         }
         Ok(buf.len())
     }
@@ -497,8 +479,7 @@ mod tests {
                 _ => now + next(30) * byte_ns,
             };
             let bytes = vec![0xA5; next(30) as usize];
-            let in_order = s.queue_to_master(start, byte_ns, &bytes);
-            s.queued_to_master(in_order);
+            s.queue_to_master(start, byte_ns, &bytes);
             if let Some(end) = s.burst_end_ns
                 && end > now
             {
