@@ -2,10 +2,12 @@
 //! units, world frame, the feet in the model's order (`feet`: leg names). Everything comes from
 //! `physics::Body`; this file only converts.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::PyArray1;
 use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
+
+use crate::arrays::written;
 
 /// `body` as a dict: `time_s`, `thorax_position_m` (3), `thorax_orientation` (w, x, y, z),
 /// `thorax_rpy_rad` (roll, pitch, yaw), `thorax_velocity_m_s` (3), `thorax_angular_velocity_rad_s`
@@ -45,12 +47,11 @@ pub fn body_dict<'py>(py: Python<'py>, body: &physics::Body) -> PyResult<Bound<'
             .map(|f| PyString::intern(py, f.leg.name()))
             .collect::<Vec<_>>(),
     )?;
-    let forces = PyArray2::<f64>::zeros(py, [feet.len(), 3], false);
-    // SAFETY: the array was just made here and nothing else holds it.
-    let cells = unsafe { forces.as_slice_mut() }.expect("a new array is contiguous");
-    for (row, f) in cells.chunks_exact_mut(3).zip(feet) {
-        row.copy_from_slice(&f.force_n);
-    }
+    let forces = written(py, [feet.len(), 3], |cells: &mut [f64]| {
+        for (row, f) in cells.chunks_exact_mut(3).zip(feet) {
+            row.copy_from_slice(&f.force_n);
+        }
+    });
     d.set_item(intern!(py, "foot_force_n"), forces)?;
     d.set_item(
         intern!(py, "foot_contact"),

@@ -22,11 +22,12 @@ use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+use crate::arrays::written;
 use crate::errors::{board_error, value_error};
 use crate::vector_sub::{Options, Row, SubEnv};
 
@@ -209,20 +210,18 @@ fn mat<'py>(
     g: impl Fn(&Row) -> &[f64],
 ) -> Bound<'py, PyArray2<f64>> {
     // Written straight into NumPy's array (no vector in between: eight of these a step).
-    let a = PyArray2::<f64>::zeros(py, [rows.len(), k], false);
-    // SAFETY: the array was just made here and nothing else holds it.
-    let cells = unsafe { a.as_slice_mut() }.expect("a new array is contiguous");
-    for (row, r) in cells.chunks_exact_mut(k.max(1)).zip(rows) {
-        let v = g(r);
-        if v.len() == k {
-            row.copy_from_slice(v);
-        } else {
-            for (j, c) in row.iter_mut().enumerate() {
-                *c = v.get(j).copied().unwrap_or(f64::NAN);
+    written(py, [rows.len(), k], |cells: &mut [f64]| {
+        for (row, r) in cells.chunks_exact_mut(k.max(1)).zip(rows) {
+            let v = g(r);
+            if v.len() == k {
+                row.copy_from_slice(v);
+            } else {
+                for (j, c) in row.iter_mut().enumerate() {
+                    *c = v.get(j).copied().unwrap_or(f64::NAN);
+                }
             }
         }
-    }
-    a
+    })
 }
 
 /// One value of each row as an array of N.
@@ -407,15 +406,8 @@ fn step_jobs(
 
 /// A fresh array of N booleans, all `v` (one per info key: Gymnasium's masks are not shared).
 fn flags<'py>(py: Python<'py>, n: usize, v: bool) -> Bound<'py, PyArray1<bool>> {
-    // NumPy's own zeroed memory, no Rust vector behind it (six of these a step).
-    let a = PyArray1::<bool>::zeros(py, n, false);
-    if v {
-        // SAFETY: the array was just made here and nothing else holds it.
-        unsafe { a.as_slice_mut() }
-            .expect("a new 1-D array is contiguous")
-            .fill(true);
-    }
-    a
+    // NumPy's own memory, no Rust vector behind it (six of these a step).
+    written(py, n, |cells: &mut [bool]| cells.fill(v))
 }
 
 #[pymethods]
