@@ -820,6 +820,31 @@ def stand_in_trials(
 ) -> dict[str, Any]: ...
 
 @final
+class EnvStepper:
+    """``DbotEnv.step`` on the physics robot in one call (made by ``DbotEnv.reset``): targets
+    clipped to ``[low, high]`` (rad), torques to ``[-stall, stall]`` (N m), ``cycles`` bus cycles
+    a step, each record awaited up to ``timeout_s``; the strain keys observed when ``strain``."""
+
+    def __new__(
+        cls,
+        board: Board,
+        low: npt.ArrayLike,
+        high: npt.ArrayLike,
+        stall: npt.ArrayLike,
+        cycles: int,
+        timeout_s: float,
+        strain: bool,
+        fall_height_m: float,
+        fall_tilt_rad: float,
+    ) -> EnvStepper: ...
+    def step(
+        self, angles_rad: npt.ArrayLike, torques_nm: npt.ArrayLike | None = None
+    ) -> tuple[dict[str, npt.NDArray[np.float64]], dict[str, Any], float, bool] | None:
+        """``(obs, info, x, fell)``: the observation, ``info`` (``time_s``, ``state``,
+        ``body``), the thorax's world x (m) and the fall rule's verdict; None if streaming
+        stopped."""
+
+@final
 class VectorOptions:
     """What every sub-environment of ``VectorCore`` is built with, as
     ``dbot.env.DbotEnv`` takes it (python/src/vector_sub.rs); ``table`` the step table's bytes."""

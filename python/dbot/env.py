@@ -75,7 +75,16 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ._native import Board, Model, Plan, camera_half_extent, plan, render_pose, write_walk_gif
+from ._native import (
+    Board,
+    EnvStepper,
+    Model,
+    Plan,
+    camera_half_extent,
+    plan,
+    render_pose,
+    write_walk_gif,
+)
 
 if TYPE_CHECKING:  # the records' TypedDicts exist only in the stubs
     from ._native import Proprioception
@@ -207,6 +216,10 @@ class DbotEnv(gym.Env):
             )
         self.observation_space = spaces.Dict(observed)
         self.board: Board | None = None
+        # The physics robot's step in one native call, made at reset (None: `_step_general`).
+        self._fast: EnvStepper | None = None
+        # The thorax's world x after the last step, m (the default reward's previous value).
+        self._x = 0.0
         self._last_record: Mapping[str, Any] | None = None
         self._steps = 0
         self._info: dict[str, Any] = {}
@@ -242,6 +255,7 @@ class DbotEnv(gym.Env):
         robot only: ``flat``, ``incline:DEG``, ``ball``, ``ball-fixed``) and ``stiffness_nm_rad``
         (every servo's stiffness, N m/rad: P gain and torque bias; None: the model's)."""
         super().reset(seed=seed)
+        self._fast = None
         board = self._prepare_board(options, [(0, self._table)])
         board.enter_streaming(timeout_cycles=self.timeout_cycles, feedback_every=1)
         first = self._next(board)
@@ -255,7 +269,21 @@ class DbotEnv(gym.Env):
             raise RuntimeError(f"{self.port}: streaming stopped at once: {board.status()}")
         obs, time_s = got
         self._t0 = time_s
-        return self._begin_episode(obs, self._make_info(time_s))
+        episode = self._begin_episode(obs, self._make_info(time_s))
+        if self.physics:
+            self._x = float(self._info["body"]["thorax_position_m"][0])
+            self._fast = EnvStepper(
+                board,
+                self._angles_space.low,
+                self._angles_space.high,
+                self.stall_nm,
+                self.cycles_per_step,
+                1.0,
+                self.has_strain,
+                self.fall_height_fraction * self._start_height,
+                self.fall_tilt_rad,
+            )
+        return episode
 
     def _prepare_board(self, options: dict[str, Any] | None, uploads: list) -> Board:
         """A fresh board with each ``(slot, table)`` of ``uploads`` uploaded, the reset
@@ -355,6 +383,36 @@ class DbotEnv(gym.Env):
     def step(
         self, action: Any
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        fast = self._fast
+        if fast is None or self.reward_fn is not forward_progress:
+            return self._step_general(action)
+        # The physics robot with the default reward: clip, exchange, observation, info and the
+        # fall rule in one call (`EnvStepper`, python/src/env_step.rs); the same values as
+        # `_step_general` (python/tests/test_env_fast_step.py).
+        if self.torques:
+            got = fast.step(action["angles_rad"], action["torques_nm"])
+        else:
+            got = fast.step(action)
+        self._steps += 1
+        truncated = self._steps >= self.max_episode_steps
+        self._last_record = None
+        if got is None:
+            return self._stopped(truncated)
+        obs, info, x, fell = got
+        reward = x - self._x
+        self._x = x
+        self._last_obs = obs
+        if self._predicted is not None:
+            self._add_plan(info)
+        self._info = info
+        if self.render_mode is not None:
+            self._poses.append(self._pose(obs))
+        return obs, reward, fell, truncated, dict(info)
+
+    def _step_general(
+        self, action: Any
+    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        """`step` on any port with any reward: each part in Python, over `Board.stream_step`."""
         if self.board is None:
             raise RuntimeError("call reset() before step()")
         target, torque = self._split(action)
@@ -363,21 +421,30 @@ class DbotEnv(gym.Env):
         self._steps += 1
         truncated = self._steps >= self.max_episode_steps
         if got is None:
-            # Streaming stopped: the firmware went safe (or the link broke).
-            info = {"state": self.board.status()["state"], "time_s": before.get("time_s", 0.0)}
-            if self.physics:
-                info["body"] = self.board.body()
-            self._info = info
-            obs = self._last_obs
-            return obs, 0.0, True, truncated, dict(info)
+            return self._stopped(truncated)
         obs, time_s = got
         info = self._make_info(time_s)
         self._info = info
+        if self.physics:
+            self._x = float(info["body"]["thorax_position_m"][0])
         if self.render_mode is not None:
             self._poses.append(self._pose(obs))
         terminated = info["state"] == "Fault" or self._fell(info)
         reward = float(self.reward_fn(before, info, obs, target))
         return obs, reward, terminated, truncated, dict(info)
+
+    def _stopped(
+        self, truncated: bool
+    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        """The step's return when streaming stopped: the firmware went safe (or the link broke).
+        The last observation stays; reward 0, terminated."""
+        assert self.board is not None
+        info = {"state": self.board.status()["state"], "time_s": self._info.get("time_s", 0.0)}
+        if self.physics:
+            info["body"] = self.board.body()
+            self._x = float(info["body"]["thorax_position_m"][0])
+        self._info = info
+        return self._last_obs, 0.0, True, truncated, dict(info)
 
     def _next(self, board: Board) -> Proprioception | None:
         timeout = 1.0 if self.physics else self.reply_timeout_s
@@ -445,10 +512,14 @@ class DbotEnv(gym.Env):
         if self.physics:
             info["body"] = self.board.body()
         if self._predicted is not None:
-            phase = self.plan_phase(info["time_s"])
-            info["plan_phase"] = phase
-            info["predicted_strain_microstrain"] = self.predicted_strain(phase)
+            self._add_plan(info)
         return info
+
+    def _add_plan(self, info: dict[str, Any]) -> None:
+        """``plan_phase`` and ``predicted_strain_microstrain`` at ``info["time_s"]``."""
+        phase = self.plan_phase(info["time_s"])
+        info["plan_phase"] = phase
+        info["predicted_strain_microstrain"] = self.predicted_strain(phase)
 
     def plan_phase(self, time_s: float) -> float:
         """The plan's phase at ``time_s`` (the proprioception clock): the time since reset over
@@ -522,6 +593,7 @@ class DbotEnv(gym.Env):
         return write_walk_gif(self.model, poses, path, self._scene_text(), delay_ms)
 
     def close(self) -> None:
+        self._fast = None
         if self.board is not None:
             try:
                 if not self.physics and self.board.status()["state"] == "Streaming":

@@ -44,7 +44,7 @@ pub struct Board {
 /// A record as a dict, or None (none came).
 type MaybeDict<'py> = PyResult<Option<Bound<'py, PyDict>>>;
 
-fn seconds(s: f64, what: &str) -> PyResult<Duration> {
+pub(crate) fn seconds(s: f64, what: &str) -> PyResult<Duration> {
     Duration::try_from_secs_f64(s)
         .map_err(|_| value_error(format!("{what} = {s} s: give a finite, non-negative time")))
 }
@@ -107,7 +107,7 @@ impl Board {
     }
 
     /// Runs `f` on the link.
-    fn with<R>(
+    pub(crate) fn with<R>(
         &self,
         py: Python<'_>,
         f: impl FnOnce(&mut Link) -> Result<R, ::board::link::LinkError>,
@@ -186,6 +186,38 @@ impl Board {
     }
 
     /// The next setpoint's sequence number (taken).
+    /// `stream_step`'s exchange: for each of `cycles` (1 or more) bus cycles the setpoint of
+    /// `angles` (rad, and `torques`, N m) sent and that cycle's record taken (waiting up to
+    /// `wait`); the last record, None if one did not come (streaming stopped).
+    pub(crate) fn exchange(
+        &self,
+        py: Python<'_>,
+        angles: &[f64],
+        torques: Option<&[f64]>,
+        cycles: u32,
+        wait: Duration,
+    ) -> PyResult<Option<protocol::Proprioception>> {
+        let mut rec = None;
+        for _ in 0..cycles {
+            let sp = ::board::link::setpoint_from_si(self.take_seq(), angles, torques)
+                .map_err(value_error)?;
+            self.with(py, |l| l.send_setpoint(&sp))?;
+            match self.with(py, |l| l.proprioception(wait))? {
+                Some(p) => {
+                    self.note_beside(std::slice::from_ref(&p));
+                    rec = Some(p);
+                }
+                None => return Ok(None),
+            }
+        }
+        Ok(rec)
+    }
+
+    /// Keeps `rec` as the last step's record (`last_stream_record`).
+    pub(crate) fn keep_step(&self, rec: protocol::Proprioception) {
+        *self.last_step.lock().unwrap_or_else(|e| e.into_inner()) = Some(rec);
+    }
+
     fn take_seq(&self) -> u32 {
         let mut s = self.next_seq.lock().unwrap_or_else(|e| e.into_inner());
         let v = *s;
@@ -924,20 +956,9 @@ impl Board {
         }
         let wait = seconds(timeout_s, "timeout_s")?;
         let (angles, torques) = stream::vectors(angles_rad, torques_nm)?;
-        let mut rec = None;
-        for _ in 0..cycles {
-            let sp = ::board::link::setpoint_from_si(self.take_seq(), &angles, torques.as_deref())
-                .map_err(value_error)?;
-            self.with(py, |l| l.send_setpoint(&sp))?;
-            match self.with(py, |l| l.proprioception(wait))? {
-                Some(p) => {
-                    self.note_beside(std::slice::from_ref(&p));
-                    rec = Some(p);
-                }
-                None => return Ok(None),
-            }
-        }
-        let rec = rec.expect("cycles >= 1");
+        let Some(rec) = self.exchange(py, &angles, torques.as_deref(), cycles, wait)? else {
+            return Ok(None);
+        };
         let obs = self.with(py, |l| {
             Ok(crate::stream::observation(
                 py,
@@ -946,7 +967,7 @@ impl Board {
             ))
         })??;
         let time_s = rec.time_us as f64 * 1e-6;
-        *self.last_step.lock().unwrap_or_else(|e| e.into_inner()) = Some(rec);
+        self.keep_step(rec);
         Ok(Some((obs, time_s)))
     }
 

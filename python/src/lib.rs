@@ -9,6 +9,7 @@ mod board;
 mod body;
 mod compare;
 mod doctor;
+mod env_step;
 mod errors;
 mod excitation;
 mod identify;
@@ -43,6 +44,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan_dir::read_plan_dir, m)?)?;
     m.add_class::<board::Board>()?;
     m.add_class::<bench::Bench>()?;
+    m.add_class::<env_step::EnvStepper>()?;
     m.add_class::<vector_sub::Options>()?;
     m.add_class::<vector::VectorCore>()?;
     m.add_function(wrap_pyfunction!(trial::read_trial, m)?)?;

@@ -93,7 +93,7 @@ struct Limits {
 }
 
 /// `np.clip(x, lo, hi)` as NumPy computes it, `minimum(maximum(x, lo), hi)`: a NaN stays NaN.
-fn clip(x: f64, lo: f64, hi: f64) -> f64 {
+pub(crate) fn clip(x: f64, lo: f64, hi: f64) -> f64 {
     let y = if x < lo { lo } else { x };
     if y > hi { hi } else { y }
 }

@@ -178,7 +178,7 @@ fn clear_upload_fault(l: &mut Robot) -> Result<(), String> {
 }
 
 /// `acos` of the thorax z axis against the world's (`dbot.env.tilt_rad`).
-fn tilt_rad(q: &[f64; 4]) -> f64 {
+pub(crate) fn tilt_rad(q: &[f64; 4]) -> f64 {
     let (x, y) = (q[1], q[2]);
     (1.0 - 2.0 * (x * x + y * y)).clamp(-1.0, 1.0).acos()
 }
