@@ -8,8 +8,9 @@ step on ``threads`` Rust worker threads with the GIL released (python/src/vector
 lives on thread ``i % threads`` and shares nothing with the others, so results are identical
 whatever the thread count. ``threads=0`` steps them on the calling thread instead, the GIL held
 (no hand-over of each step to a worker: the cheapest for one robot, or for a process that
-parallelises otherwise, e.g. a process pool or Ray actors); default: one thread per robot up to
-the CPU count. Either way a ``VectorEnv`` stays on the Python thread that made it (its Rust core
+parallelises otherwise, e.g. a process pool or Ray actors); default: the calling thread for one
+robot (a worker would only add the hand-over, about 4 % of a step: docs/performance.md), one
+thread per robot up to the CPU count for more. Either way a ``VectorEnv`` stays on the Python thread that made it (its Rust core
 is one ``unsendable`` class, as the robots of ``threads=0`` must be): a call from another thread
 raises ``PanicException`` ("... is unsendable, but sent to another thread").
 
@@ -98,7 +99,9 @@ class VectorEnv(_GymVectorEnv):
                 f"model {self._single.model.name}: the physics robot is Drosophibot II"
             )
         self.num_envs = int(num_envs)
-        self.threads = int(threads) if threads is not None else min(self.num_envs, os.cpu_count() or 1)
+        if threads is None:
+            threads = 0 if self.num_envs == 1 else min(self.num_envs, os.cpu_count() or 1)
+        self.threads = int(threads)
         self.torques = one.torques
         self.single_observation_space = self._single.observation_space
         assert isinstance(self.single_observation_space, spaces.Dict)

@@ -6,7 +6,8 @@
   Python environment driving `dbot.Board`), observation, reward and flags bit for bit, through a
   next-step autoreset;
 * results are bit-identical for 1 and 2 worker threads and on the calling thread (`threads=0`),
-  and `gymnasium.make_vec` builds it;
+  and `gymnasium.make_vec` builds it; by default a thread per robot up to the CPU count, and
+  one robot on the calling thread;
 * a reset from the stored settled state (a cheap reset) gives the same episode, bit for bit, as
   a reset that simulates the settling again;
 * actions beyond the action space's bounds step as the same actions clipped by `np.clip` (the
@@ -17,6 +18,7 @@
 
 from __future__ import annotations
 
+import os
 import pathlib
 
 import gymnasium as gym
@@ -97,6 +99,11 @@ def test_identical_for_any_thread_count_and_made_by_make_vec() -> None:
                 assert a[key].tobytes() == b[key].tobytes(), key
     made = gym.make_vec(ENV_ID, num_envs=3)
     assert isinstance(made.unwrapped, VectorEnv) and made.num_envs == 3
+    # The default: a thread per robot up to the CPU count; one robot on the calling thread.
+    assert made.unwrapped.threads == min(3, os.cpu_count() or 1)
+    one = VectorEnv(1)
+    assert one.threads == 0
+    one.close()
     assert made.observation_space["present_rad"].shape == (3, 22)
     made.close()
 
