@@ -102,7 +102,7 @@ def test_same_seed_and_actions_give_bit_identical_observations() -> None:
 
 def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
     phys = DescendingEnv("physics", max_episode_steps=5)
-    env = DescendingEnv(emulator_port, max_episode_steps=40, cycles_per_step=10)
+    env = DescendingEnv(emulator_port, max_episode_steps=150, cycles_per_step=10)
     assert env.action_space == phys.action_space
     assert phys.observation_space == DbotEnv("physics").observation_space
     # The board's space is the physics robot's without the gauges (no strain board beside it).
@@ -118,7 +118,11 @@ def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
     cycles = [int(env.last_record["cycle"][0])]
     states = []
     walking = []
-    for _ in range(30):
+    # The start ramp's length depends on where the servos are: from the posture an earlier test
+    # of the session left, about a second; from the fresh emulator's servo centres (this test
+    # alone), about 6 s, each leg group lifted and moved in turn (the stepping ramp, #37). So
+    # the board is stepped until it has walked 10 steps, up to 15 s of its cycles.
+    for _ in range(150):
         obs, reward, terminated, truncated, info = env.step(np.array([RANGE_RAD / 2, 1.0]))
         assert env.observation_space.contains(obs)
         assert "body" not in info and reward == 0.0 and not terminated, info
@@ -126,11 +130,16 @@ def test_the_same_class_runs_on_the_emulated_board(emulator_port) -> None:
         states.append(info["state"])
         if info["state"] == "Walking":
             walking.append(env.last_record)
+            if len(walking) == 10:
+                break
     # Each step is 10 of the board's own bus cycles (one telemetry record each).
     assert set(np.diff(cycles)) == {10}, cycles
-    # The board ramped to the blend's first slice, then walked it: 300 cycles of a 250-cycle
-    # step after the ramp (about a second) reach the slices of step 0.
-    assert states[0] == "Ramping" and states[-1] == "Walking", states
+    # The board ramped to the blend's first slice, then walked it, and only that: 100 cycles
+    # of a 250-cycle step reach past its first slice.
+    assert "Walking" in states, states
+    ramp = states.index("Walking")
+    assert ramp > 0 and set(states[:ramp]) == {"Ramping"}, states
+    assert set(states[ramp:]) == {"Walking"}, states
     assert info["slice"] > 0 or info["step"] > 0, info
     # The heading reached the board: half of RANGE_RAD is the blend halfway between the straight
     # and the left gait (protocol::steer), so every walking goal lies between the blended angles
