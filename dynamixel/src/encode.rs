@@ -63,8 +63,21 @@ impl<'a> PacketWriter<'a> {
         self.prev = [self.prev[1], b];
     }
 
-    /// Appends unstuffed bytes.
+    /// Appends unstuffed bytes: copied at once when they fit and hold no `FD` (so nothing
+    /// needs stuffing), byte by byte through [`Self::push`] otherwise.
     pub fn extend(&mut self, bytes: &[u8]) {
+        let n = bytes.len();
+        // `put`'s room rule for each byte: two bytes left free for the CRC.
+        if n > 0 && self.len + n + 2 <= self.buf.len() && !bytes.contains(&0xFD) {
+            self.buf[self.len..self.len + n].copy_from_slice(bytes);
+            self.len += n;
+            self.prev = if n >= 2 {
+                [bytes[n - 2], bytes[n - 1]]
+            } else {
+                [self.prev[1], bytes[0]]
+            };
+            return;
+        }
         for &b in bytes {
             self.push(b);
         }

@@ -260,9 +260,28 @@ impl<const N: usize> Parser<N> {
 /// Removes stuffing in place (after every `FF FF FD` of the stream, a following `FD` is dropped);
 /// returns the unstuffed length. A sender that did not stuff (the Python SDK's transmit path) is
 /// accepted: `FF FF FD` followed by anything else is kept as is.
+///
+/// Nothing moves before the first `FF FF FD FD`, so that is looked for first (most packets
+/// have none: then the region is left as it is); from there on each byte is copied down.
 pub fn unstuff(region: &mut [u8]) -> usize {
-    let (mut i, mut j) = (0, 0);
-    let (mut p0, mut p1) = (0u8, 0u8);
+    let n = region.len();
+    let mut k = 2;
+    let first = loop {
+        if k + 1 >= n {
+            return n;
+        }
+        if region[k] == 0xFD
+            && region[k + 1] == 0xFD
+            && region[k - 1] == 0xFF
+            && region[k - 2] == 0xFF
+        {
+            break k;
+        }
+        k += 1;
+    };
+    // At the first stuffed FD the two bytes before are FF FF, and nothing was dropped yet.
+    let (mut i, mut j) = (first, first);
+    let (mut p0, mut p1) = (0xFFu8, 0xFFu8);
     while i < region.len() {
         let b = region[i];
         region[j] = b;

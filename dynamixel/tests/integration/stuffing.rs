@@ -118,3 +118,111 @@ fn unstuffed_sender_is_still_understood() {
         (1, 0x03, vec![0x74, 0x00, 0xFF, 0xFF, 0xFD, 0x00])
     );
 }
+
+/// The byte-by-byte unstuffing `parser::unstuff` did before its scan for the first stuffed
+/// byte: the reference it is held to.
+fn unstuff_reference(region: &mut [u8]) -> usize {
+    let (mut i, mut j) = (0, 0);
+    let (mut p0, mut p1) = (0u8, 0u8);
+    while i < region.len() {
+        let b = region[i];
+        region[j] = b;
+        j += 1;
+        if b == 0xFD && p0 == 0xFF && p1 == 0xFF && region.get(i + 1) == Some(&0xFD) {
+            i += 2;
+            p0 = 0xFD;
+            p1 = 0xFD;
+            continue;
+        }
+        p0 = p1;
+        p1 = b;
+        i += 1;
+    }
+    j
+}
+
+/// Every sequence of up to 8 bytes over FF, FD and 00 (the bytes stuffing turns on; 9 841 of
+/// them), and longer ones built from them: the unstuffed bytes and length are the reference's.
+#[test]
+fn unstuff_is_the_byte_by_byte_reference_over_every_short_sequence() {
+    let alphabet = [0xFF, 0xFD, 0x00];
+    let mut checked = 0;
+    for len in 0..=8u32 {
+        for code in 0..3usize.pow(len) {
+            let mut c = code;
+            let bytes: Vec<u8> = (0..len)
+                .map(|_| {
+                    let b = alphabet[c % 3];
+                    c /= 3;
+                    b
+                })
+                .collect();
+            // Alone, and after a prefix that shifts it (a stuffed byte late in a region).
+            for prefix in [&[][..], &[0x01, 0xFF, 0xFF, 0xFD, 0xFD, 0x07][..]] {
+                let mut region = [prefix, &bytes[..]].concat();
+                let mut want = region.clone();
+                let n_want = unstuff_reference(&mut want);
+                let n = dynamixel::parser::unstuff(&mut region);
+                assert_eq!(n, n_want, "{bytes:02X?} after {prefix:02X?}");
+                assert_eq!(
+                    region[..n],
+                    want[..n_want],
+                    "{bytes:02X?} after {prefix:02X?}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 2 * 9841);
+}
+
+/// `PacketWriter::extend` (a copy when nothing needs stuffing and the bytes fit) writes what
+/// pushing each byte does, for parameters cut into pieces at every point, around FF FF FD
+/// across the cut, and in buffers from too small to roomy: the same packet, or the same refusal.
+#[test]
+fn extend_writes_what_pushing_each_byte_writes() {
+    let params: [&[u8]; 8] = [
+        &[0x74, 0x00, 0xFF, 0xFF, 0xFD, 0x00],
+        &[0xFF, 0xFD, 0x00],
+        &[0xFD, 0xFD, 0xFF],
+        &[0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09],
+        &[0xFF, 0xFF, 0xFF, 0xFD, 0xFD, 0xFF, 0xFF, 0xFD],
+        &[0x00, 0xFF],
+        &[0xFF],
+        &[],
+    ];
+    for p in params {
+        for cut in 0..=p.len() {
+            for cap in 8..(p.len() * 2 + 14) {
+                let mut a = vec![0u8; cap];
+                let mut b = vec![0u8; cap];
+                let got = encode::PacketWriter::new(&mut a, 3, 0x03).map(|mut w| {
+                    w.push(0xFF); // an FF before the cut: FF FF FD can span it
+                    w.extend(&p[..cut]);
+                    w.extend(&p[cut..]);
+                    w.finish()
+                });
+                let want = encode::PacketWriter::new(&mut b, 3, 0x03).map(|mut w| {
+                    w.push(0xFF);
+                    for &x in p {
+                        w.push(x);
+                    }
+                    w.finish()
+                });
+                assert_eq!(got, want, "{p:02X?} cut at {cut}, {cap} bytes");
+                assert_eq!(a, b, "{p:02X?} cut at {cut}, {cap} bytes");
+                // Each byte through `extend` on its own (the one-byte copy).
+                let mut c = vec![0u8; cap];
+                let each = encode::PacketWriter::new(&mut c, 3, 0x03).map(|mut w| {
+                    w.push(0xFF);
+                    for x in p.chunks(1) {
+                        w.extend(x);
+                    }
+                    w.finish()
+                });
+                assert_eq!(each, want, "{p:02X?} byte by byte, {cap} bytes");
+                assert_eq!(c, b, "{p:02X?} byte by byte, {cap} bytes");
+            }
+        }
+    }
+}
