@@ -10,9 +10,10 @@ whatever the thread count. ``threads=0`` steps them on the calling thread instea
 (no hand-over of each step to a worker: the cheapest for one robot, or for a process that
 parallelises otherwise, e.g. a process pool or Ray actors); default: the calling thread for one
 robot (a worker would only add the hand-over, about 4 % of a step: docs/performance.md), one
-thread per robot up to the CPU count for more. Either way a ``VectorEnv`` stays on the Python thread that made it (its Rust core
-is one ``unsendable`` class, as the robots of ``threads=0`` must be): a call from another thread
-raises ``PanicException`` ("... is unsendable, but sent to another thread").
+thread per robot up to the CPU count for more. Either way a ``VectorEnv`` stays on the Python
+thread that made it (its Rust core is one ``unsendable`` class, as the robots of ``threads=0``
+must be): a call from another thread raises ``PanicException`` ("... is unsendable, but sent to
+another thread").
 
 Spaces: ``single_observation_space`` and ``single_action_space`` are ``DbotEnv``'s (the ``Dict``
 observation with the strain gauges; the 22 joint targets, or with ``torques=True`` the ``Dict``

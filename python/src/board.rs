@@ -185,7 +185,6 @@ impl Board {
         warn_overridden(py, warning.as_ref())
     }
 
-    /// The next setpoint's sequence number (taken).
     /// `stream_step`'s exchange: for each of `cycles` (1 or more) bus cycles the setpoint of
     /// `angles` (rad, and `torques`, N m) sent and that cycle's record taken (waiting up to
     /// `wait`); the last record, None if one did not come (streaming stopped).
@@ -218,6 +217,7 @@ impl Board {
         *self.last_step.lock().unwrap_or_else(|e| e.into_inner()) = Some(rec);
     }
 
+    /// The next setpoint's sequence number (taken).
     fn take_seq(&self) -> u32 {
         let mut s = self.next_seq.lock().unwrap_or_else(|e| e.into_inner());
         let v = *s;

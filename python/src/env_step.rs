@@ -14,8 +14,8 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::board::{Board, seconds};
 use crate::errors::{board_error, value_error};
 use crate::stream;
-use crate::vector::clip;
-use crate::vector_sub::tilt_rad;
+use crate::vector::clip_row;
+use crate::vector_sub::fell;
 
 /// One episode's step rule on a physics robot's `Board`, made by `DbotEnv` at reset.
 #[pyclass(module = "dbot._native", unsendable)]
@@ -44,9 +44,7 @@ fn clipped(name: &str, values: &mut [f64], low: &[f64], high: &[f64]) -> PyResul
             low.len()
         )));
     }
-    for ((v, &lo), &hi) in values.iter_mut().zip(low).zip(high) {
-        *v = clip(*v, lo, hi);
-    }
+    clip_row(values, low, high);
     Ok(())
 }
 
@@ -130,9 +128,13 @@ impl EnvStepper {
         info.set_item(intern!(py, "time_s"), time_s)?;
         info.set_item(intern!(py, "state"), intern!(py, "Streaming"))?;
         info.set_item(intern!(py, "body"), crate::body::body_dict(py, &body)?)?;
-        let p = &body.thorax.position_m;
-        let fell =
-            p[2] < self.fall_height_m || tilt_rad(&body.thorax.orientation) > self.fall_tilt_rad;
-        Ok(Some((obs, info, p[0], fell).into_pyobject(py)?))
+        let t = &body.thorax;
+        let fell = fell(
+            &t.position_m,
+            &t.orientation,
+            self.fall_height_m,
+            self.fall_tilt_rad,
+        );
+        Ok(Some((obs, info, t.position_m[0], fell).into_pyobject(py)?))
     }
 }

@@ -93,9 +93,16 @@ struct Limits {
 }
 
 /// `np.clip(x, lo, hi)` as NumPy computes it, `minimum(maximum(x, lo), hi)`: a NaN stays NaN.
-pub(crate) fn clip(x: f64, lo: f64, hi: f64) -> f64 {
+fn clip(x: f64, lo: f64, hi: f64) -> f64 {
     let y = if x < lo { lo } else { x };
     if y > hi { hi } else { y }
+}
+
+/// Each of `values` clipped to its `[lo, hi]` ([`clip`]; the slices are equally long).
+pub(crate) fn clip_row(values: &mut [f64], lo: &[f64], hi: &[f64]) {
+    for ((v, &lo), &hi) in values.iter_mut().zip(lo).zip(hi) {
+        *v = clip(*v, lo, hi);
+    }
 }
 
 /// The message when the core was closed.
@@ -333,13 +340,12 @@ fn rows_of(
         )));
     }
     Ok(a.outer_iter()
-        .map(|r| match bounds {
-            Some((lo, hi)) => r
-                .iter()
-                .zip(lo.iter().zip(hi))
-                .map(|(&x, (&lo, &hi))| clip(x, lo, hi))
-                .collect(),
-            None => r.to_vec(),
+        .map(|r| {
+            let mut row = r.to_vec();
+            if let Some((lo, hi)) = bounds {
+                clip_row(&mut row, lo, hi);
+            }
+            row
         })
         .collect())
 }

@@ -178,9 +178,20 @@ fn clear_upload_fault(l: &mut Robot) -> Result<(), String> {
 }
 
 /// `acos` of the thorax z axis against the world's (`dbot.env.tilt_rad`).
-pub(crate) fn tilt_rad(q: &[f64; 4]) -> f64 {
+fn tilt_rad(q: &[f64; 4]) -> f64 {
     let (x, y) = (q[1], q[2]);
     (1.0 - 2.0 * (x * x + y * y)).clamp(-1.0, 1.0).acos()
+}
+
+/// `DbotEnv`'s fall rule: the thorax (at `position`, oriented `q`) below `fall_height_m` or
+/// tilted past `fall_tilt_rad`.
+pub(crate) fn fell(
+    position: &[f64; 3],
+    q: &[f64; 4],
+    fall_height_m: f64,
+    fall_tilt_rad: f64,
+) -> bool {
+    position[2] < fall_height_m || tilt_rad(q) > fall_tilt_rad
 }
 
 impl SubEnv {
@@ -328,9 +339,12 @@ impl SubEnv {
             return Ok(row);
         };
         let mut row = self.row(&rec)?;
-        let fell = row.position[2] < self.options.fall_height_fraction * self.start_height_m
-            || tilt_rad(&row.orientation) > self.options.fall_tilt_rad;
-        row.terminated = fell;
+        row.terminated = fell(
+            &row.position,
+            &row.orientation,
+            self.options.fall_height_fraction * self.start_height_m,
+            self.options.fall_tilt_rad,
+        );
         row.truncated = truncated;
         row.reward = row.position[0] - before_x;
         self.last = row.clone();
